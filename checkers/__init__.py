@@ -1,0 +1,1 @@
+"""swarmproof.checkers (see DESIGN.md section 1)."""

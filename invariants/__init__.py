@@ -1,0 +1,1 @@
+"""swarmproof.invariants (see DESIGN.md section 1)."""

@@ -1,0 +1,73 @@
+"""Three-valued verdicts, never two (DESIGN.md section 1, "Verdicts").
+
+* ``PROVED`` — a proof (z3 ``unsat`` of the negation, with satisfiable premises);
+* ``HELD`` — a check held over everything it examined (a decision procedure
+  that examined everything, or exploration that examined *some* things:
+  exploration never says proved);
+* ``VIOLATED`` — a counterexample exists and is attached;
+* ``INCONCLUSIVE`` — timeout, z3 ``unknown``, budget spent, vacuous premises.
+  Never a pass.
+
+Exit codes of the command line (DESIGN.md section 2) derive from verdicts:
+0 all hold, 1 something violated, 3 inconclusive (2 is for usage errors).
+
+Examples
+--------
+>>> Verdict.combine([Verdict.PROVED, Verdict.HELD])
+<Verdict.HELD: 'held'>
+>>> Verdict.combine([Verdict.HELD, Verdict.INCONCLUSIVE]).exit_code
+3
+>>> Verdict.combine([Verdict.INCONCLUSIVE, Verdict.VIOLATED]).exit_code
+1
+>>> Verdict.combine([]).exit_code
+3
+"""
+
+from __future__ import annotations
+
+import enum
+from typing import Iterable
+
+__all__ = ["Verdict", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE"]
+
+EXIT_OK = 0
+EXIT_VIOLATED = 1
+EXIT_USAGE = 2
+EXIT_INCONCLUSIVE = 3
+
+
+class Verdict(str, enum.Enum):
+    PROVED = "proved"
+    HELD = "held"
+    VIOLATED = "violated"
+    INCONCLUSIVE = "inconclusive"
+
+    @property
+    def passed(self) -> bool:
+        """True only for PROVED and HELD."""
+        return self in (Verdict.PROVED, Verdict.HELD)
+
+    @property
+    def exit_code(self) -> int:
+        if self.passed:
+            return EXIT_OK
+        return EXIT_VIOLATED if self is Verdict.VIOLATED else EXIT_INCONCLUSIVE
+
+    @staticmethod
+    def combine(verdicts: Iterable["Verdict"]) -> "Verdict":
+        """Worst of several: violated > inconclusive > held > proved.
+
+        An empty collection is INCONCLUSIVE (nothing was checked)."""
+        vs = list(verdicts)
+        if not vs:
+            return Verdict.INCONCLUSIVE
+        if Verdict.VIOLATED in vs:
+            return Verdict.VIOLATED
+        if Verdict.INCONCLUSIVE in vs:
+            return Verdict.INCONCLUSIVE
+        if Verdict.HELD in vs:
+            return Verdict.HELD
+        return Verdict.PROVED
+
+    def __str__(self) -> str:
+        return self.value

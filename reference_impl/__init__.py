@@ -1,0 +1,1 @@
+"""swarmproof.reference_impl (see DESIGN.md section 1)."""

@@ -1,0 +1,236 @@
+"""The algorithm protocol: the one small contract between the engine and an algorithm.
+
+DESIGN.md section 1 ("The algorithm protocol").  A robot *controller* sees
+only what its paper lets it see (an :class:`Observation`) and returns a
+:class:`Command` (a message to broadcast and a motion).  The *engine* owns
+global poses, sensing, message delivery, motion limits, the scheduler and
+faults; a controller never receives global coordinates unless its model
+says so (``sensing="global"``), which is enforced by construction: the
+engine builds the observation, the controller only ever sees that.
+
+One protocol fits the five papers:
+
+=====================  ===========  ==============  ===================  ============
+paper                  sensing      communication   motion               clocks
+=====================  ===========  ==============  ===================  ============
+Song & O'Kane 2014/16  ``local``    ``neighbors``   ``differential``     ``sync``
+Jiang et al.           ``global``   ``all``         ``differential``     ``sync``
+Lee & Chong            ``anonymous````none``        ``holonomic``        ``sync``
+Wang & Rubenstein      ``global``   ``neighbors``   ``grid``             ``async``
+=====================  ===========  ==============  ===================  ============
+
+``local``: IDs and body-frame poses of neighbors within range phi.
+``anonymous``: body-frame poses of all robots, no IDs (``neighbor_ids`` is None).
+``global``: additionally ``own_pose`` in the common frame.
+
+Motion (``differential``, 000 Sec. III-A-3 and 001 Sec. III-A): a command is
+"turn in place by ``turn``, then drive straight ``forward``".  The engine
+clamps ``|turn|`` to ``omega*dt`` and ``forward`` to
+``v * (dt - |turn|/omega)`` (time spent turning is not available for
+driving), so no robot ever moves farther than ``v*dt`` in a step.  The
+helper :func:`steer_toward` computes such a command toward a body-frame
+target point and final heading.
+
+An algorithm declares its :class:`RobotModel` and the :class:`Assumption`
+s its paper makes; the engine refuses parameters that break an assumption
+(:class:`~swarmproof.models.errors.AssumptionError` naming it) unless the
+caller passes ``allow_violations=True``, and the explorer (fault models) can
+break them on purpose and says which it broke.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Hashable, Mapping, Protocol, Sequence, runtime_checkable
+
+import numpy as np
+
+__all__ = [
+    "Assumption", "RobotModel", "Params", "Observation", "Command", "Controller",
+    "Algorithm", "steer_toward",
+]
+
+
+@dataclass(frozen=True)
+class Assumption:
+    """One assumption a paper makes, checkable on parameters and the initial state.
+
+    Attributes
+    ----------
+    name : str
+        Short id, e.g. ``"v_dt_below_range"``; reports and errors use it.
+    statement : str
+        The assumption in words, e.g. ``"v*dt < phi"``.
+    cites : str
+        Where the paper makes it, e.g. ``"001 Lemma 7"``.
+    check : callable ``(params, n, ids) -> str | None``
+        Returns ``None`` when it holds, else a message naming the offending
+        values as ``name=value``.  ``ids`` are the robot IDs (may be None for
+        anonymous robots).
+    """
+
+    name: str
+    statement: str
+    cites: str
+    check: Callable[["Params", int, Sequence[int] | None], str | None] = field(compare=False)
+
+
+@dataclass(frozen=True)
+class RobotModel:
+    """What a robot can sense, say, do, and how it is clocked (see module table)."""
+
+    sensing: str = "local"          # "local" | "anonymous" | "global"
+    communication: str = "neighbors"  # "neighbors" | "all" | "none"
+    motion: str = "differential"    # "differential" | "holonomic" | "grid"
+    clocks: str = "sync"            # "sync" | "async"
+
+
+@dataclass(frozen=True)
+class Params:
+    """Physical parameters of the robots and the step.
+
+    Attributes
+    ----------
+    range : float
+        phi, the sensing/communication range; robots strictly closer than
+        phi are neighbors.
+    v : float
+        Maximum linear speed (distance per unit time).
+    omega : float
+        Maximum angular speed (radians per unit time).
+    dt : float
+        Length of one synchronous step.
+    extra : mapping
+        Algorithm-specific parameters (e.g. ``d_s``, timeouts), read by the
+        algorithm; the engine ignores them.
+    """
+
+    range: float
+    v: float = 0.05
+    omega: float = math.pi / 4
+    dt: float = 1.0
+    extra: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def step_length(self) -> float:
+        """``v * dt``: the farthest a robot moves in one step."""
+        return self.v * self.dt
+
+
+@dataclass(frozen=True)
+class Observation:
+    """Everything one robot perceives at the start of one step.
+
+    Attributes
+    ----------
+    step : int
+        The step number (0-based); a local clock, not a global one.
+    robot_id : int or None
+        The robot's own ID (None for anonymous robots).
+    neighbor_ids : tuple of int, or None
+        IDs of the sensed robots (None when the model is anonymous), in
+        increasing ID order.
+    neighbor_poses : numpy.ndarray, shape (k, 3)
+        Their poses ``[x, y, theta]`` in this robot's body frame, row i for
+        ``neighbor_ids[i]``.  Read-only.
+    messages : mapping
+        ID -> message that robot broadcast in the previous step, for the
+        robots this one can hear now (only those that sent one).
+    own_pose : numpy.ndarray or None
+        ``[x, y, theta]`` in the common frame, only when ``sensing="global"``.
+    """
+
+    step: int
+    robot_id: int | None
+    neighbor_ids: tuple[int, ...] | None
+    neighbor_poses: np.ndarray
+    messages: Mapping[int, Any]
+    own_pose: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Command:
+    """What a controller returns for one step.
+
+    Attributes
+    ----------
+    message : object
+        Broadcast to the robots that can hear this one (delivered at the
+        next step).  ``None`` means silent.  Must be immutable
+        (tuples, frozen dataclasses) and compare by value: traces record and
+        compare messages.
+    turn : float
+        Turn in place, radians (counter-clockwise positive), done first.
+    forward : float
+        Then drive straight this far (>= 0).
+    """
+
+    message: Any = None
+    turn: float = 0.0
+    forward: float = 0.0
+
+
+@runtime_checkable
+class Controller(Protocol):
+    """One robot's decision procedure.  Created by :meth:`Algorithm.controller`."""
+
+    def step(self, obs: Observation) -> Command:
+        """Decide this step's message and motion from local information only."""
+        ...
+
+    def state(self) -> Hashable:
+        """A hashable, JSON-friendly snapshot of the controller's internal state
+        (e.g. ``(("role", "A"), ("parent", 7), ("stable", True))``).
+
+        Checkers (oscillation, deadlock, premise monitors) read it; it must
+        change whenever the controller's future behaviour may change."""
+        ...
+
+
+@runtime_checkable
+class Algorithm(Protocol):
+    """A formation algorithm, as the engine and the checkers see it."""
+
+    #: Registry name, e.g. ``"song2016"``.
+    name: str
+    #: What the robots can sense, say and do.
+    model: RobotModel
+    #: The paper's assumptions (checked before a run).
+    assumptions: tuple[Assumption, ...]
+
+    def controller(self, robot_id: int | None, params: Params, lattice, rng: np.random.Generator) -> Controller:
+        """A fresh controller for one robot.  ``rng`` is this robot's own
+        generator, spawned by the engine from the run's seed."""
+        ...
+
+    def finished(self, states: Sequence[Hashable]) -> bool:
+        """The algorithm's own end condition, judged by the omniscient observer
+        from every controller's :meth:`Controller.state` (e.g. song2016: no
+        unstable robot remains).  Return False if the paper has none; the
+        engine then stops on a static state or the step cap."""
+        ...
+
+
+def steer_toward(target_xy, params: Params, heading: float | None = None,
+                 arrive_eps: float = 1e-9, message: Any = None) -> Command:
+    """A differential-drive command toward a body-frame point, then a heading.
+
+    Turn toward the target, then drive; once within ``arrive_eps`` of the
+    target, turn to ``heading`` (body-frame angle) if one is given.  The
+    engine applies the limits; this only chooses the intent.
+
+    Examples
+    --------
+    >>> p = Params(range=1.0, v=0.1, omega=math.pi, dt=1.0)
+    >>> c = steer_toward((0.0, 2.0), p)
+    >>> round(c.turn, 6), round(c.forward, 6)
+    (1.570796, 2.0)
+    >>> steer_toward((0.0, 0.0), p, heading=0.5).turn
+    0.5
+    """
+    x, y = float(target_xy[0]), float(target_xy[1])
+    dist = math.hypot(x, y)
+    if dist <= arrive_eps:
+        return Command(message=message, turn=0.0 if heading is None else float(heading), forward=0.0)
+    return Command(message=message, turn=math.atan2(y, x), forward=dist)
