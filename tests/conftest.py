@@ -1,0 +1,24 @@
+"""Test-suite configuration.
+
+Hypothesis: the suite is deterministic by default (derandomize, no example
+database, no deadline: timings on a shared 2-core machine are noise).  When
+``CI`` is set Hypothesis would load its own "ci" profile, which is the same
+in spirit; we load ours explicitly so local and CI runs agree.  Set
+``HYPOTHESIS_PROFILE=explore`` to search randomly with more examples.
+"""
+
+from __future__ import annotations
+
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+from hypothesis import HealthCheck, settings  # noqa: E402
+
+settings.register_profile("swarmproof", derandomize=True, database=None, deadline=None,
+                          print_blob=True, suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile("explore", parent=settings.get_profile("swarmproof"),
+                          derandomize=False, max_examples=1000)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "swarmproof"))
