@@ -48,7 +48,7 @@ import numpy as np
 
 __all__ = [
     "Assumption", "RobotModel", "Params", "Observation", "Command", "Controller",
-    "Algorithm", "steer_toward",
+    "Algorithm", "steer_toward", "connected_start",
 ]
 
 
@@ -68,12 +68,22 @@ class Assumption:
         Returns ``None`` when it holds, else a message naming the offending
         values as ``name=value``.  ``ids`` are the robot IDs (may be None for
         anonymous robots).
+    check_start : callable ``(params, ids, poses) -> str | None``, optional
+        A check that needs the initial poses too (e.g. a connected start);
+        the engine calls it with the global initial poses (never a
+        controller).  Added by the engine helper; default None.
+
+    See :func:`connected_start` for the ready-made "connected start"
+    assumption (001 Sec. III: "starting from an unknown but connected
+    distribution of initial poses").
     """
 
     name: str
     statement: str
     cites: str
     check: Callable[["Params", int, Sequence[int] | None], str | None] = field(compare=False)
+    check_start: Callable[["Params", Sequence[int] | None, np.ndarray], str | None] | None = field(
+        default=None, compare=False)
 
 
 @dataclass(frozen=True)
@@ -234,3 +244,33 @@ def steer_toward(target_xy, params: Params, heading: float | None = None,
     if dist <= arrive_eps:
         return Command(message=message, turn=0.0 if heading is None else float(heading), forward=0.0)
     return Command(message=message, turn=math.atan2(y, x), forward=dist)
+
+
+def connected_start(cites: str = "001 Sec. III") -> Assumption:
+    """The assumption "the communication graph is connected at the start".
+
+    Neighbors are robots strictly closer than ``params.range``
+    (:func:`swarmproof.models.sensing.is_connected`, the engine's own rule).
+
+    Examples
+    --------
+    >>> a = connected_start()
+    >>> a.name, a.check(Params(range=1.0), 2, [0, 1]) is None
+    ('connected_start', True)
+    >>> a.check_start(Params(range=1.0), [0, 1], np.array([[0.0, 0, 0], [2.0, 0, 0]]))
+    'the communication graph at range=1.0 is not connected at the start (2 components)'
+    """
+    from swarmproof.models.sensing import components, is_connected, neighbor_pairs
+
+    def _start(params: Params, ids, poses) -> str | None:
+        xy = np.asarray(poses, dtype=float)[:, :2]
+        if is_connected(xy, params.range):
+            return None
+        i, j, _ = neighbor_pairs(xy, params.range)
+        k = len(components(len(xy), i, j))
+        return (f"the communication graph at range={params.range!r} is not connected at the "
+                f"start ({k} components)")
+
+    return Assumption(name="connected_start",
+                      statement="the communication graph is connected at the start",
+                      cites=cites, check=lambda params, n, ids: None, check_start=_start)

@@ -1,0 +1,633 @@
+"""The deterministic simulation engine: it owns global poses, sensing, messages, motion and faults.
+
+The model is that of 001 Sec. III-A (and 000 Sec. III-A): n robots with
+unique comparable IDs and poses in a global frame that only the engine
+knows; time runs in synchronous steps of ``dt``.  In every step:
+
+1. *Faults (start of step)*: robots crash or join (:class:`FaultModel`),
+   and the schedule picks which robots act (all of them by default).
+2. *Sensing*: every robot senses the IDs and body-frame poses of the robots
+   strictly closer than phi (:func:`swarmproof.models.sensing.neighbor_pairs`,
+   one ``cKDTree`` per step), in increasing ID order.  Anonymous models see
+   every robot, without IDs, ordered by body-frame ``(x, y)``.
+3. *Messages*: every robot receives the messages its current neighbors
+   broadcast in the previous step (``communication="all"``: from every
+   robot; ``"none"``: nothing).
+4. *Decision*: every acting robot's controller gets an
+   :class:`~swarmproof.reference_impl.protocol.Observation` (read-only
+   arrays, no global coordinates unless ``sensing="global"``) and returns a
+   :class:`~swarmproof.reference_impl.protocol.Command`.
+5. *Motion* (vectorized): differential drive, turn in place then drive
+   straight: ``|turn|`` is clamped to ``omega*dt`` and ``forward`` to
+   ``[0, v*(dt - |turn|/omega)]`` (docs/decisions.md "Model and geometry");
+   a clamp is recorded as an ``Event(kind="clamp")``.
+
+The run stops when ``algorithm.finished(states)`` holds (status
+``"finished"``), when the system has been quiet (no pose, message or
+controller state changed) for ``static_window`` consecutive steps (status
+``"static"``), or at ``max_steps`` (status ``"step_cap"``).
+
+Randomness: the only source is the ``seed``.  Robot slot ``k`` gets
+``numpy.random.default_rng(SeedSequence(seed, spawn_key=(0, k)))``, the
+fault model gets ``SeedSequence(seed, spawn_key=(1,))``; so the same
+inputs and seed give a bit-identical trace, and adding a fault model does
+not change the robots' own random draws.
+
+References
+----------
+001_7a4e517b856331bc.txt (Song & O'Kane 2016), Sec. III-A (robot model),
+Defs. 5-6 (static, execution time), Lemma 7 (a robot moves at most v*dt).
+000_3ad33c5b62f11d5f.txt (Song & O'Kane 2014), Sec. III-A-3 (differential drive).
+
+Examples
+--------
+>>> from swarmproof.reference_impl.examples import GatherToLowestId
+>>> from swarmproof.reference_impl.protocol import Params
+>>> from swarmproof.models.trace import InitialConfiguration
+>>> init = InitialConfiguration([0, 1, 2], [[0, 0, 0], [0.8, 0, 0], [1.6, 0, 0]])
+>>> r = simulate(GatherToLowestId(), None, init, Params(range=1.0, v=0.1), seed=0)
+>>> r.status, r.steps
+('finished', 12)
+>>> [round(float(x), 6) for x in r.trace.poses[-1][:, 0]]
+[0.0, 0.5, 1.0]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+
+from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError, check_type
+from swarmproof.models.sensing import neighbor_pairs
+from swarmproof.models.se2 import wrap_angle
+from swarmproof.models.trace import Event, InitialConfiguration, Trace, to_jsonable
+
+from .protocol import Command, Observation, Params
+
+__all__ = [
+    "simulate", "SimulationResult", "Trace", "FaultModel", "default_max_steps",
+    "default_static_window", "ENGINE_ASSUMPTIONS",
+]
+
+#: The engine's own assumption names (checked before every run).
+ENGINE_ASSUMPTIONS = ("unique_ids",)
+
+#: How often (in steps) the progress callback is called.
+PROGRESS_EVERY = 50
+
+
+def default_max_steps(n: int, params: Params) -> int:
+    """The step cap when the caller and the algorithm give none.
+
+    ``1000 + 20 * n * ceil(range / (v*dt))``: twenty times the steps needed for
+    each of the n robots, one after the other, to cross one range at full speed,
+    plus a constant.  An algorithm can override it with a method
+    ``default_max_steps(params, n)`` (song2016 uses the Theorem 13 bound).
+
+    >>> default_max_steps(10, Params(range=1.2, v=0.05))
+    5800
+    """
+    step = max(params.v * params.dt, 1e-6)
+    return int(1000 + 20 * n * math.ceil(params.range / step))
+
+
+def default_static_window(n: int) -> int:
+    """Quiet steps needed to call a run static: ``2*n + 10``.
+
+    A quiet step changes no pose, no broadcast and no controller state.  A
+    controller's state must change whenever its future behaviour may
+    (protocol), so one quiet step is a strong hint; the window (longer than
+    the timeouts of n steps song2016 uses) guards against controllers that
+    read the step counter or draw random numbers.
+
+    >>> default_static_window(10)
+    30
+    """
+    return 2 * int(n) + 10
+
+
+@dataclass(frozen=True)
+class FaultModel:
+    """Hook points for faults (issue 6); every field is optional.
+
+    Attributes
+    ----------
+    schedule : callable ``(step, ids, rng) -> mask``, optional
+        Which robots act in this step (asynchronous activation).  ``ids`` are
+        the IDs of the present robots in slot order; return a boolean array of
+        the same length.  A robot that does not act neither moves nor
+        broadcasts in that step (its neighbors hear nothing from it next step)
+        and its controller is not called.
+    crashes : mapping ``step -> IDs``
+        Robots that crash at the start of that step: they vanish (no longer
+        sensed, no messages, no motion); their trace slot keeps the last pose
+        with ``present=False``.
+    additions : mapping ``step -> [(id, [x, y, theta]), ...]``
+        Robots that join at the start of that step with a fresh controller.
+    drop_message : callable ``(step, sender_id, receiver_id, rng) -> bool``, optional
+        True drops that delivery.
+    message_loss : float
+        Probability that each delivery is lost (drawn from the fault
+        generator), applied after ``drop_message``.
+    sensing_noise : callable ``(step, robot_id, rel, rng) -> rel``, optional
+        Perturb the ``(k, 3)`` body-frame poses a robot senses (return a new array).
+    noise_std : (float, float)
+        Gaussian noise standard deviations on sensed (x, y) and theta.
+
+    Every random draw uses the fault generator, spawned from the run's seed.
+    """
+
+    schedule: Callable[[int, np.ndarray, np.random.Generator], Any] | None = None
+    crashes: Mapping[int, Sequence[int]] = field(default_factory=dict)
+    additions: Mapping[int, Sequence[tuple[int, Sequence[float]]]] = field(default_factory=dict)
+    drop_message: Callable[[int, int, int, np.random.Generator], bool] | None = None
+    message_loss: float = 0.0
+    sensing_noise: Callable[[int, int, np.ndarray, np.random.Generator], np.ndarray] | None = None
+    noise_std: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        p = float(self.message_loss)
+        if not 0.0 <= p <= 1.0:
+            raise UsageError(f"message_loss={self.message_loss!r} must be in [0, 1]")
+        for k, s in enumerate(self.noise_std):
+            if not (math.isfinite(float(s)) and float(s) >= 0):
+                raise UsageError(f"noise_std[{k}]={s!r} must be a finite number >= 0")
+
+    @property
+    def drops_messages(self) -> bool:
+        return self.drop_message is not None or self.message_loss > 0
+
+    @property
+    def noisy(self) -> bool:
+        return self.sensing_noise is not None or any(float(s) > 0 for s in self.noise_std)
+
+    def broken_model_assumptions(self, model) -> list[str]:
+        """Names of the robot-model assumptions this fault model breaks."""
+        out = []
+        if self.schedule is not None and getattr(model, "clocks", "sync") == "sync":
+            out.append("synchronous_clocks")
+        if any(self.crashes.values()):
+            out.append("no_crashes")
+        if any(self.additions.values()):
+            out.append("fixed_robot_set")
+        if self.drops_messages:
+            out.append("reliable_messages")
+        if self.noisy:
+            out.append("exact_sensing")
+        return out
+
+    def describe(self) -> dict:
+        """JSON-friendly summary for traces and reports."""
+        return {
+            "schedule": None if self.schedule is None else getattr(self.schedule, "__name__", "custom"),
+            "crashes": {str(k): [int(i) for i in v] for k, v in sorted(self.crashes.items())},
+            "additions": {str(k): [[int(i), [float(x) for x in p]] for i, p in v]
+                          for k, v in sorted(self.additions.items())},
+            "drop_message": None if self.drop_message is None else getattr(
+                self.drop_message, "__name__", "custom"),
+            "message_loss": float(self.message_loss),
+            "sensing_noise": None if self.sensing_noise is None else getattr(
+                self.sensing_noise, "__name__", "custom"),
+            "noise_std": [float(s) for s in self.noise_std],
+        }
+
+
+@dataclass
+class SimulationResult:
+    """What :func:`simulate` returns.
+
+    Attributes
+    ----------
+    status : str
+        ``"finished"`` (the algorithm's own end condition), ``"static"``
+        (quiet for ``static_window`` steps) or ``"step_cap"`` (inconclusive).
+    steps : int
+        Steps run (T).
+    trace : Trace
+    broken_assumptions : tuple of str
+        Assumptions broken on purpose (``allow_violations=True`` or a fault model).
+    seed : int
+    static_window : int
+    max_steps : int
+    """
+
+    status: str
+    steps: int
+    trace: Trace
+    broken_assumptions: tuple[str, ...]
+    seed: int
+    static_window: int
+    max_steps: int
+
+    @property
+    def final_poses(self) -> np.ndarray:
+        return self.trace.final_poses()
+
+    @property
+    def final_ids(self) -> np.ndarray:
+        return self.trace.final_ids()
+
+    @property
+    def final_states(self) -> tuple:
+        present = self.trace.present_at(self.steps)
+        return tuple(s for s, p in zip(self.trace.states[-1], present) if p)
+
+    @property
+    def static(self) -> bool:
+        """All robots were static at the end: the run stopped quiet, or it
+        finished and no robot moved in its last step (a one-step view; the
+        future of a finished run is the algorithm's claim, Def. 5 of 001)."""
+        if self.status == "static":
+            return True
+        if self.status == "finished":
+            if self.steps == 0:
+                return True
+            return bool(np.array_equal(self.trace.poses[-1], self.trace.poses[-2]))
+        return False
+
+
+def _check_params(params: Params) -> None:
+    if not isinstance(params, Params):
+        raise UsageError(f"params={params!r} must be a Params", fix="build it with Params(range=...)")
+    for name in ("range", "omega", "dt"):
+        v = getattr(params, name)
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise UsageError(f"params.{name}={v!r} must be a finite number > 0")
+    if not (isinstance(params.v, (int, float)) and math.isfinite(params.v) and params.v >= 0):
+        raise UsageError(f"params.v={params.v!r} must be a finite number >= 0")
+
+
+def _rel_rows(frames: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """Row-wise ``frames[k]^-1 @ poses[k]`` (same formulas as ``se2.relative_many``)."""
+    c = np.cos(frames[:, 2])
+    s = np.sin(frames[:, 2])
+    dx = poses[:, 0] - frames[:, 0]
+    dy = poses[:, 1] - frames[:, 1]
+    out = np.empty_like(poses)
+    out[:, 0] = c * dx + s * dy
+    out[:, 1] = -s * dx + c * dy
+    out[:, 2] = wrap_angle(poses[:, 2] - frames[:, 2])
+    return out
+
+
+def _robot_rng(seed: int, slot: int) -> np.random.Generator:
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
+
+
+def _check_command(cmd: Any, robot_id, step: int) -> tuple[float, float]:
+    if not isinstance(cmd, Command):
+        raise ProtocolError(f"controller of robot {robot_id!r} returned {cmd!r} at step {step}, "
+                            "expected a Command")
+    try:
+        turn = float(cmd.turn)
+        fwd = float(cmd.forward)
+    except (TypeError, ValueError):
+        raise ProtocolError(f"robot {robot_id!r} step {step}: Command turn={cmd.turn!r}, "
+                            f"forward={cmd.forward!r} must be numbers") from None
+    if not (math.isfinite(turn) and math.isfinite(fwd)):
+        raise ProtocolError(f"robot {robot_id!r} step {step}: Command turn={turn!r}, "
+                            f"forward={fwd!r} must be finite")
+    if fwd < 0:
+        raise ProtocolError(f"robot {robot_id!r} step {step}: Command forward={fwd!r} must be >= 0 "
+                            "(turn first, then drive forward)")
+    return turn, fwd
+
+
+def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, *, seed: int,
+             max_steps: int | None = None, allow_violations: bool = False,
+             record_messages: bool = False, stop_when_static: bool | int = True,
+             faults: FaultModel | None = None,
+             progress: Callable[[int, int], None] | None = None,
+             record_clamps: bool = True) -> SimulationResult:
+    """Run ``algorithm`` from ``initial`` until it finishes, goes static or hits the cap.
+
+    Parameters
+    ----------
+    algorithm : protocol.Algorithm
+        Provides ``name``, ``model``, ``assumptions``, ``controller(...)``,
+        ``finished(states)``; optionally ``default_max_steps(params, n)``.
+    lattice : LatticeGraph or None
+        Passed to every controller (the engine does not read it).
+    initial : InitialConfiguration
+    params : Params
+    seed : int
+        Non-negative; the only source of randomness.
+    max_steps : int, optional
+        Step cap; default ``algorithm.default_max_steps(params, n)`` if the
+        algorithm defines it, else :func:`default_max_steps`.
+    allow_violations : bool
+        Run even if an assumption is broken; the result lists the broken ones.
+    record_messages : bool
+        Keep every step's broadcasts in the trace.
+    stop_when_static : bool or int
+        True: stop after :func:`default_static_window` quiet steps; an int K:
+        after K quiet steps; False: never stop on quiet.
+    faults : FaultModel, optional
+        Fault hooks (schedule, crashes, additions, lost messages, noise).
+    progress : callable ``(step, max_steps)``, optional
+        Called every :data:`PROGRESS_EVERY` steps and at the end.
+    record_clamps : bool
+        Record an Event per step listing the robots whose command was clamped.
+
+    Returns
+    -------
+    SimulationResult
+
+    Raises
+    ------
+    AssumptionError
+        An assumption (the engine's ``unique_ids``, or one of the
+        algorithm's) is broken and ``allow_violations`` is False.
+    UsageError
+        Bad arguments (no robots, bad params, negative seed ...).
+    ProtocolError
+        A controller returned something that is not a valid Command.
+    """
+    check_type("seed", seed, (int, np.integer))
+    seed = int(seed)
+    if seed < 0:
+        raise UsageError(f"seed={seed!r} must be >= 0", fix="pass a non-negative integer seed")
+    if not isinstance(initial, InitialConfiguration):
+        raise UsageError(f"initial={initial!r} must be an InitialConfiguration",
+                         fix="build one with reference_impl.initial.random_connected or from_file")
+    _check_params(params)
+    n0 = initial.n
+    if n0 < 1:
+        raise UsageError("initial configuration has n=0 robots", fix="give at least one robot")
+    faults = faults if faults is not None else FaultModel()
+    model = algorithm.model
+    anonymous = model.sensing == "anonymous"
+    events: list[Event] = []
+    broken: list[str] = []
+
+    # -- assumptions -----------------------------------------------------
+    ids0 = initial.ids.tolist()
+    if len(set(ids0)) != len(ids0):
+        dup = sorted({i for i in ids0 if ids0.count(i) > 1})
+        msg = f"ids contain duplicates {dup!r} (001 Sec. III-A: unique comparable IDs)"
+        if not allow_violations:
+            raise AssumptionError("unique_ids", msg,
+                                  fix="give every robot its own ID, or pass allow_violations=True")
+        broken.append("unique_ids")
+    for a in algorithm.assumptions:
+        msg = a.check(params, n0, None if anonymous else ids0)
+        if msg is None and a.check_start is not None:
+            msg = a.check_start(params, None if anonymous else ids0, initial.poses.copy())
+        if msg is not None:
+            if not allow_violations:
+                raise AssumptionError(a.name, f"{msg} ({a.statement}; {a.cites})",
+                                      fix="change the value, or pass allow_violations=True "
+                                          "to break the assumption on purpose")
+            broken.append(a.name)
+    for name in broken:
+        events.append(Event(0, "assumption_broken", (), (("assumption", name),)))
+    broken.extend(faults.broken_model_assumptions(model))
+
+    # -- slots -----------------------------------------------------------
+    add_rows = []
+    for step_k in sorted(faults.additions):
+        for rid, pose in faults.additions[step_k]:
+            p = np.asarray(pose, dtype=float)
+            if p.shape != (3,) or not np.isfinite(p).all():
+                raise UsageError(f"faults.additions[{step_k}] pose={pose!r} must be finite [x, y, theta]")
+            add_rows.append((int(step_k), int(rid), p))
+    n_total = n0 + len(add_rows)
+    ids = np.array(ids0 + [r[1] for r in add_rows], dtype=np.int64)
+    ids_list = ids.tolist()
+    poses = np.zeros((n_total, 3))
+    poses[:n0] = initial.poses
+    poses[:, 2] = wrap_angle(poses[:, 2])
+    present = np.zeros(n_total, dtype=bool)
+    present[:n0] = True
+    slot_of_add = {}
+    for k, (step_k, rid, p) in enumerate(add_rows):
+        slot_of_add.setdefault(step_k, []).append((n0 + k, p))
+    any_presence_change = bool(add_rows) or any(faults.crashes.values())
+
+    fault_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
+    controllers: list = [None] * n_total
+    for k in range(n0):
+        controllers[k] = algorithm.controller(None if anonymous else ids_list[k], params, lattice,
+                                              _robot_rng(seed, k))
+
+    if max_steps is None:
+        f = getattr(algorithm, "default_max_steps", None)
+        max_steps = int(f(params, n0)) if callable(f) else default_max_steps(n0, params)
+    check_type("max_steps", max_steps, (int, np.integer))
+    max_steps = int(max_steps)
+    if max_steps < 0:
+        raise UsageError(f"max_steps={max_steps!r} must be >= 0")
+    if stop_when_static is True:
+        window = default_static_window(n0)
+    elif stop_when_static is False or stop_when_static is None:
+        window = 0
+    else:
+        check_type("stop_when_static", stop_when_static, (int, np.integer))
+        window = int(stop_when_static)
+        if window < 1:
+            raise UsageError(f"stop_when_static={stop_when_static!r} must be True, False or an int >= 1")
+
+    def _states() -> tuple:
+        return tuple(None if c is None or not present[k] else c.state()
+                     for k, c in enumerate(controllers))
+
+    pose_hist = [poses.copy()]
+    present_hist = [present.copy()] if any_presence_change else None
+    states = _states()
+    state_hist = [states]
+    msg_hist: list | None = [] if record_messages else None
+    last_msgs: list = [None] * n_total
+
+    phi = float(params.range)
+    max_turn = params.omega * params.dt
+    differential = model.motion == "differential"
+    global_sensing = model.sensing == "global"
+    comm = model.communication
+    std_xy, std_th = (float(s) for s in faults.noise_std)
+    status = "step_cap"
+    quiet = 0
+    finished = bool(algorithm.finished(tuple(s for s, p in zip(states, present) if p)))
+    if finished:
+        status = "finished"
+    t = 0
+    while not finished and t < max_steps:
+        # 1. faults at the start of the step
+        for rid in faults.crashes.get(t, ()):
+            for k in range(n_total):
+                if present[k] and ids_list[k] == int(rid):
+                    present[k] = False
+                    controllers[k] = None
+                    last_msgs[k] = None
+                    events.append(Event(t, "crash", (int(rid),)))
+        for slot, p in slot_of_add.get(t, ()):
+            poses[slot] = p
+            poses[slot, 2] = wrap_angle(p[2])
+            present[slot] = True
+            controllers[slot] = algorithm.controller(None if anonymous else ids_list[slot], params,
+                                                     lattice, _robot_rng(seed, slot))
+            events.append(Event(t, "add", (ids_list[slot],)))
+        idx = np.flatnonzero(present)
+        m = len(idx)
+        pres_ids = ids[idx]
+        if faults.schedule is not None:
+            act = np.asarray(faults.schedule(t, pres_ids.copy(), fault_rng), dtype=bool)
+            if act.shape != (m,):
+                raise UsageError(f"faults.schedule returned shape={act.shape!r}, expected ({m},)")
+        else:
+            act = np.ones(m, dtype=bool)
+
+        # 2. sensing (vectorized)
+        pp = poses[idx]
+        if anonymous:
+            ii, jj = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
+            mask = ii != jj
+            src, dst = ii[mask], jj[mask]
+            rel = _rel_rows(pp[src], pp[dst])
+            order = np.lexsort((rel[:, 1], rel[:, 0], src))
+        else:
+            i, j, _ = neighbor_pairs(pp[:, :2], phi)
+            src = np.concatenate((i, j))
+            dst = np.concatenate((j, i))
+            order = np.lexsort((pres_ids[dst], src))
+            rel = None
+        src = src[order]
+        dst = dst[order]
+        rel = _rel_rows(pp[src], pp[dst]) if rel is None else rel[order]
+        off = np.zeros(m + 1, dtype=np.intp)
+        np.cumsum(np.bincount(src, minlength=m), out=off[1:])
+        if faults.noisy:
+            for a in range(m):
+                lo, hi = off[a], off[a + 1]
+                if hi == lo:
+                    continue
+                block = rel[lo:hi]
+                if std_xy > 0 or std_th > 0:
+                    block = block + np.column_stack((
+                        fault_rng.normal(0.0, std_xy, (hi - lo, 2)) if std_xy > 0 else np.zeros((hi - lo, 2)),
+                        fault_rng.normal(0.0, std_th, hi - lo) if std_th > 0 else np.zeros(hi - lo)))
+                    block[:, 2] = wrap_angle(block[:, 2])
+                if faults.sensing_noise is not None:
+                    block = np.asarray(faults.sensing_noise(t, int(pres_ids[a]), block.copy(), fault_rng),
+                                       dtype=float)
+                    if block.shape != (hi - lo, 3):
+                        raise UsageError(f"faults.sensing_noise returned shape={block.shape!r}, "
+                                         f"expected ({hi - lo}, 3)")
+                rel[lo:hi] = block
+        rel.setflags(write=False)
+        dst_slots = idx[dst]
+        dst_ids = ids[dst_slots].tolist()
+        dst_slots_l = dst_slots.tolist()
+        off_l = off.tolist()
+
+        # 3.-4. messages and decisions (per robot)
+        turns = np.zeros(m)
+        fwds = np.zeros(m)
+        new_msgs: list = [None] * n_total
+        dropped = []
+        idx_l = idx.tolist()
+        pres_ids_l = pres_ids.tolist()
+        all_senders = [(ids_list[s], s) for s in idx_l] if comm == "all" else None
+        for a in range(m):
+            if not act[a]:
+                continue
+            k = idx_l[a]
+            lo, hi = off_l[a], off_l[a + 1]
+            my_id = pres_ids_l[a]
+            if comm == "none":
+                heard = ()
+            elif comm == "all":
+                heard = [(sid, s) for sid, s in all_senders if s != k]
+            else:
+                heard = zip(dst_ids[lo:hi], dst_slots_l[lo:hi])
+            msgs = {}
+            for sid, s in heard:
+                msg = last_msgs[s]
+                if msg is None:
+                    continue
+                if faults.drops_messages:
+                    if faults.drop_message is not None and faults.drop_message(t, sid, my_id, fault_rng):
+                        dropped.append((sid, my_id))
+                        continue
+                    if faults.message_loss > 0 and fault_rng.random() < faults.message_loss:
+                        dropped.append((sid, my_id))
+                        continue
+                msgs[sid] = msg
+            own = None
+            if global_sensing:
+                own = poses[k].copy()
+                own.setflags(write=False)
+            obs = Observation(step=t, robot_id=None if anonymous else my_id,
+                              neighbor_ids=None if anonymous else tuple(dst_ids[lo:hi]),
+                              neighbor_poses=rel[lo:hi], messages=msgs, own_pose=own)
+            cmd = controllers[k].step(obs)
+            turns[a], fwds[a] = _check_command(cmd, my_id, t)
+            new_msgs[k] = cmd.message
+        if dropped:
+            events.append(Event(t, "drop", (), (("deliveries", tuple(dropped)),)))
+
+        # 5. motion (vectorized)
+        if differential:
+            tc = np.clip(turns, -max_turn, max_turn)
+            limit = np.maximum(params.v * (params.dt - np.abs(tc) / params.omega), 0.0)
+        else:  # holonomic / grid: free turn, drive at most v*dt
+            tc = turns
+            limit = np.full(m, params.v * params.dt)
+        fc = np.minimum(fwds, limit)
+        if record_clamps:
+            clamped = (tc != turns) | (fc != fwds)
+            if clamped.any():
+                events.append(Event(t, "clamp", tuple(pres_ids[clamped].tolist())))
+        moving = (tc != 0) | (fc != 0)
+        old = poses.copy()
+        if moving.any():
+            mv = idx[moving]
+            th = wrap_angle(poses[mv, 2] + tc[moving])
+            poses[mv, 0] += fc[moving] * np.cos(th)
+            poses[mv, 1] += fc[moving] * np.sin(th)
+            poses[mv, 2] = th
+        t += 1
+        pose_hist.append(poses.copy())
+        if present_hist is not None:
+            present_hist.append(present.copy())
+        new_states = _states()
+        state_hist.append(new_states)
+        if msg_hist is not None:
+            msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
+        quiet_step = (np.array_equal(old, poses) and new_msgs == last_msgs and new_states == states)
+        last_msgs = new_msgs
+        states = new_states
+        quiet = quiet + 1 if quiet_step else 0
+        if progress is not None and t % PROGRESS_EVERY == 0:
+            progress(t, max_steps)
+        if algorithm.finished(tuple(s for s, p in zip(states, present) if p)):
+            status = "finished"
+            break
+        if window and quiet >= window:
+            status = "static"
+            break
+    if progress is not None:
+        progress(t, max_steps)
+
+    meta = {
+        "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
+        "lattice": None if lattice is None else getattr(lattice, "name", None),
+        "params": {"range": params.range, "v": params.v, "omega": params.omega, "dt": params.dt,
+                   "extra": to_jsonable(dict(params.extra))},
+        "seed": seed,
+        "status": status,
+        "steps": t,
+        "max_steps": max_steps,
+        "static_window": window,
+        "broken_assumptions": list(broken),
+        "faults": faults.describe(),
+        "model": {"sensing": model.sensing, "communication": model.communication,
+                  "motion": model.motion, "clocks": model.clocks},
+    }
+    trace = Trace(ids=ids, poses=np.stack(pose_hist), states=state_hist, events=events,
+                  messages=msg_hist,
+                  present=None if present_hist is None else np.stack(present_hist), meta=meta)
+    return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
+                            seed=seed, static_window=window, max_steps=max_steps)
