@@ -64,7 +64,7 @@ from .protocol import Assumption, Command, Observation, Params, RobotModel
 
 __all__ = [
     "Song2014", "Song2014Controller", "Song2014Message", "authority_key", "is_higher",
-    "select_parent", "weight_matrix", "solve_matching", "descendant_motion",
+    "select_parent", "weight_matrix", "solve_matching", "match_positions", "descendant_motion",
     "unmatched_steps", "ROLE_UNMATCHED",
 ]
 
@@ -320,6 +320,49 @@ def solve_matching(w: np.ndarray, n_edges: int, forced: tuple[int, int] | None =
     return out
 
 
+def match_positions(neighbor_xy: np.ndarray, edge_xy: np.ndarray,
+                    forced: tuple[int, int] | None = None) -> list[int | None]:
+    """:func:`solve_matching` of :func:`weight_matrix`, fused for the hot path.
+
+    Builds the same finite encoding directly from positions (no ``inf``
+    matrix), solves it and checks the forced cell.  The tests check that it
+    returns exactly what ``solve_matching(weight_matrix(...))`` returns.
+
+    Examples
+    --------
+    >>> match_positions(np.array([[1.0, 0], [0, 1], [3, 0]]), np.array([[1.0, 0], [0, 1]]))
+    [0, 1, None]
+    """
+    n, e = len(neighbor_xy), len(edge_xy)
+    if n == 0:
+        return []
+    m = n if n > e else e
+    cost = np.empty((n, m))
+    if e:
+        diff = neighbor_xy[:, None, :] - edge_xy[None, :, :]
+        d = np.sqrt(diff[..., 0] ** 2 + diff[..., 1] ** 2)
+        if forced is not None:
+            d[forced[0], :] = 0.0
+            d[:, forced[1]] = 0.0
+        fmax = float(d.max())
+        cost[:, :e] = d
+    else:
+        fmax = 0.0
+    null_cost = n * (fmax + 1.0)
+    cost[:, e:] = null_cost
+    if forced is not None:
+        r, c = forced
+        forbid_cost = (n + 1) * (null_cost + fmax + 1.0)
+        cost[r, :] = forbid_cost
+        cost[:, c] = forbid_cost
+        cost[r, c] = 0.0
+    rows, cols = linear_sum_assignment(cost)
+    out: list[int | None] = [c if c < e else None for c in cols.tolist()]
+    if forced is not None and out[forced[0]] != forced[1]:
+        raise ProtocolError(f"forced cell {forced!r} of Sec. IV-B-2 was not chosen: {out!r}")
+    return out
+
+
 # ---------------------------------------------------------------------------
 # Sec. IV-C and IV-D: motion
 # ---------------------------------------------------------------------------
@@ -544,7 +587,7 @@ class Song2014Controller:
                 turn, forward, dest = descendant_motion(
                     tuple(poses[prow]), self.table.edge_pose[assigned], self.params,
                     self.arrive_tol, self.heading_tol)
-                self.target = (round(dest[0], 9), round(dest[1], 9), round(dest[2], 9))
+                self.target = dest
         self.role = role
         if role is None:
             self.matching = ()
@@ -554,8 +597,7 @@ class Song2014Controller:
         forced = None
         if forced_edge is not None:
             forced = (row_of[parent], idx.index(forced_edge))
-        w = weight_matrix(np.asarray(poses[:, :2], dtype=float), exy, forced)
-        cols = solve_matching(w, len(idx), forced)
+        cols = match_positions(np.asarray(poses[:, :2], dtype=float), exy, forced)
         self.matching = tuple((nid, None if c is None else idx[c]) for nid, c in zip(ids, cols))
         return Command(message=Song2014Message(authority, self.matching), turn=turn, forward=forward)
 
@@ -563,7 +605,9 @@ class Song2014Controller:
         """Hashable snapshot (see the class docstring for the keys)."""
         return (("role", self.role), ("parent", self.parent), ("root", self.root),
                 ("authority", self.authority), ("unmatched_until", self.unmatched_until),
-                ("edge", self.edge), ("target", self.target), ("matching", self.matching),
+                ("edge", self.edge),
+                ("target", None if self.target is None else tuple(round(float(x), 9) for x in self.target)),
+                ("matching", self.matching),
                 ("away_turn", round(self.away_turn, 12)))
 
 

@@ -20,7 +20,7 @@ from swarmproof.models.se2 import SE2
 from swarmproof.reference_impl.protocol import Observation, Params
 from swarmproof.reference_impl.song2014 import (
     ROLE_UNMATCHED, Song2014, Song2014Message, authority_key, descendant_motion, is_higher,
-    select_parent, solve_matching, unmatched_steps, weight_matrix,
+    match_positions, select_parent, solve_matching, unmatched_steps, weight_matrix,
 )
 
 SQUARE = LatticeGraph("square", ["A"], [("A", "A", SE2(1, 0, 0)), ("A", "A", SE2(0, 1, 0)),
@@ -113,6 +113,16 @@ def test_solve_matching_is_the_paper_optimum(n, e, seed, with_forced):
         assert cols[forced[0]] == forced[1]
     total = sum(w[r, c] for r, c in enumerate(cols) if c is not None)
     assert total == pytest.approx(brute_force(w, e, forced), abs=1e-9)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.integers(0, 7), st.integers(0, 6), st.integers(0, 10**6), st.booleans())
+def test_fused_matching_equals_paper_matrix_matching(n, e, seed, with_forced):
+    rng = np.random.default_rng(seed)
+    nb = rng.uniform(-2, 2, size=(n, 2))
+    ex = rng.uniform(-2, 2, size=(e, 2)).reshape(e, 2)
+    forced = (int(rng.integers(n)), int(rng.integers(e))) if with_forced and n and e else None
+    assert match_positions(nb, ex, forced) == solve_matching(weight_matrix(nb, ex, forced), e, forced)
 
 
 def test_root_matching_sends_the_farthest_extra_robot_to_null():
