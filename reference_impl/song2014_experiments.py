@@ -113,7 +113,8 @@ class RobustnessResult:
         The same run replayed with the removal at step ``removed_at``,
         continued until static again or the cap.
     removed_at : int
-        The step at which the robots crash (the step the first run stopped).
+        The step at which the robots crash: the first run's execution time
+        (Def. 3), i.e. the first step from which no pose changes.
     removed : tuple of int
         The IDs removed.
     """
@@ -128,11 +129,13 @@ def run_robustness(seed: int, *, lattice_name: str = "hexagon", n: int = 150, re
                    params: Params | None = None, max_steps: int | None = None) -> RobustnessResult:
     """Sec. V's robustness experiment (Fig. 10): form, remove ``remove`` robots, re-form.
 
-    The first run stops at its first static state (step ``T1``).  The engine
+    The first run stops when the engine sees it static; its execution time
+    ``T1`` (Def. 3) is the first step from which no pose changes.  The engine
     is deterministic, so the second run replays it with a fault model that
     crashes ``remove`` robots, chosen uniformly with a generator spawned from
     ``seed``, at the start of step ``T1``; the survivors keep their last
-    messages, as physical robots would.
+    messages, as physical robots would.  The time to re-form is
+    ``execution_time(after, start=T1) - T1``.
 
     Raises
     ------
@@ -149,7 +152,9 @@ def run_robustness(seed: int, *, lattice_name: str = "hexagon", n: int = 150, re
     if not before.static:
         raise UsageError(f"the first phase ended with status={before.status!r} after "
                          f"{before.steps} steps, not static", fix="raise max_steps or change seed")
-    t1 = before.steps
+    # Remove at the first static time of Def. 3 (poses final from here on),
+    # not at the step the engine noticed it: the replay would stop there first.
+    t1 = execution_time(before)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(8,)))
     removed = tuple(sorted(int(i) for i in rng.choice(init.ids, size=remove, replace=False)))
     cap = None if max_steps is None else t1 + int(max_steps)
