@@ -25,6 +25,7 @@ from swarmproof.models.verdict import EXIT_USAGE
 #: Subcommand modules, in the order ``--help`` lists them.
 COMMAND_MODULES: tuple[str, ...] = (
     "check_lattice",
+    "simulate",
     "verify",
 )
 

@@ -1,0 +1,147 @@
+"""Connectivity of the communication graph, and survival of spanning-tree links.
+
+* :func:`connected_throughout`: if the communication graph (neighbors
+  strictly closer than phi) is connected at the start, it is connected after
+  every step (001 Lemma 11).
+* :func:`first_disconnection`: the first step at which it is not, with its
+  components.
+* :func:`tree_links_survive`: every child-parent link of the spanning tree a
+  step decided is still a neighbor pair after the step moved the robots
+  (the mechanism of 001 Lemma 11's proof: NCLB keeps each child in range of
+  its parent, Lemma 7 and Def. 8).  Parents are read from the controllers'
+  states under the documented key ``"parent"`` (an ID or None;
+  :func:`~swarmproof.invariants.result.state_value`).
+
+Blind spots: poses are checked at step ends only (a link broken and restored
+within one step cannot be seen, though straight-line motion makes that
+impossible for two robots moving at most v*dt each from a distance < phi - v dt);
+robots absent from the trace (crashed) are left out.
+
+References
+----------
+001_7a4e517b856331bc.txt (Song & O'Kane 2016), Sec. III-A (range), Lemma 7,
+Def. 8, Lemma 11.
+
+Examples
+--------
+>>> import numpy as np
+>>> from swarmproof.models.trace import Trace
+>>> poses = np.array([[[0, 0, 0], [0.5, 0, 0]], [[0, 0, 0], [1.5, 0, 0]]], dtype=float)
+>>> t = Trace(ids=[4, 9], poses=poses, states=[(None, (("parent", 4),))] * 2)
+>>> first_disconnection(t, 1.0)
+(1, [[4], [9]])
+>>> connected_throughout(t, 1.0).witness
+{'step': 1, 'components': [[4], [9]]}
+>>> tree_links_survive(t, 1.0).witness["child"]
+9
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from swarmproof.models.sensing import components, neighbor_pairs
+
+from .result import InvariantResult, state_value
+
+__all__ = ["first_disconnection", "connected_throughout", "tree_links_survive", "components_at"]
+
+LEMMA_11 = "001 Lemma 11 (connectivity is preserved)"
+
+
+def components_at(trace, t: int, phi: float) -> list[list[int]]:
+    """Components (as sorted lists of robot IDs) of the communication graph after ``t`` steps."""
+    mask = trace.present_at(t)
+    idx = np.flatnonzero(mask)
+    xy = trace.poses[t][idx, :2]
+    i, j, _ = neighbor_pairs(xy, phi)
+    ids = trace.ids[idx]
+    comps = [sorted(int(ids[k]) for k in c) for c in components(len(idx), i, j)]
+    return sorted(comps, key=lambda c: c[0])
+
+
+def first_disconnection(trace, phi: float):
+    """``(step, components)`` of the first disconnected step, or None if never.
+
+    Steps whose poses and presence equal the previous step's are skipped (same
+    graph).  Step 0 counts: a disconnected start returns ``(0, ...)``.
+    """
+    prev = None
+    for t in range(trace.steps + 1):
+        cur = (trace.poses[t], trace.present_at(t))
+        if prev is not None and np.array_equal(cur[0], prev[0]) and np.array_equal(cur[1], prev[1]):
+            continue
+        prev = cur
+        comps = components_at(trace, t, phi)
+        if len(comps) > 1:
+            return t, comps
+    return None
+
+
+def connected_throughout(trace, phi: float) -> InvariantResult:
+    """The communication graph is connected at every step when it was at the start (Lemma 11).
+
+    Returns a vacuous ``held`` (``applicable=False``) when the start is
+    disconnected.
+    """
+    start = components_at(trace, 0, phi)
+    if len(start) > 1:
+        return InvariantResult("connectivity", "held", LEMMA_11, None,
+                               f"vacuous: the start is disconnected ({len(start)} components)",
+                               applicable=False)
+    hit = first_disconnection(trace, phi)
+    if hit is None:
+        return InvariantResult("connectivity", "held", LEMMA_11, None,
+                               f"connected at all {trace.steps + 1} recorded steps")
+    t, comps = hit
+    return InvariantResult("connectivity", "violated", LEMMA_11, {"step": t, "components": comps},
+                           f"the communication graph splits after step {t} into {len(comps)} "
+                           f"components: {comps}")
+
+
+def tree_links_survive(trace, phi: float, key: str = "parent") -> InvariantResult:
+    """Each child-parent link a step decided is still a neighbor pair after that step.
+
+    For every step ``t`` (poses ``t`` -> ``t+1``) and robot with
+    ``parent = state_value(states[t+1][k], key)`` not None, if the two were
+    neighbors at ``poses[t]`` they must be neighbors at ``poses[t+1]``.
+    Links to a robot that was not a neighbor when chosen are counted in
+    ``detail["unsensed_parents"]`` (a protocol oddity, not this claim).
+    """
+    slot = {int(i): k for k, i in enumerate(trace.ids.tolist())}
+    checked = 0
+    unsensed = 0
+    any_parent = False
+    for t in range(trace.steps):
+        states = trace.states[t + 1]
+        p0, p1 = trace.poses[t], trace.poses[t + 1]
+        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
+        for k, s in enumerate(states):
+            par = state_value(s, key)
+            if par is None:
+                continue
+            any_parent = True
+            q = slot.get(int(par))
+            if q is None or not (pres0[k] and pres0[q] and pres1[k] and pres1[q]):
+                continue
+            d0 = float(np.hypot(*(p0[q, :2] - p0[k, :2])))
+            if not d0 < phi:
+                unsensed += 1
+                continue
+            checked += 1
+            d1 = float(np.hypot(*(p1[q, :2] - p1[k, :2])))
+            if not d1 < phi:
+                child = int(trace.ids[k])
+                return InvariantResult(
+                    "tree_links", "violated", LEMMA_11,
+                    {"step": t, "child": child, "parent": int(par), "distance_before": d0,
+                     "distance_after": d1},
+                    f"step {t}: the link child {child} -> parent {int(par)} broke "
+                    f"(distance {d0:.6g} -> {d1:.6g}, range {phi:g})",
+                    detail={"links_checked": checked, "unsensed_parents": unsensed})
+    if not any_parent:
+        return InvariantResult("tree_links", "held", LEMMA_11, None,
+                               f"vacuous: no controller state has a {key!r} entry", applicable=False)
+    return InvariantResult("tree_links", "held", LEMMA_11, None,
+                           f"{checked} link-steps checked, none broke",
+                           detail={"links_checked": checked, "unsensed_parents": unsensed})

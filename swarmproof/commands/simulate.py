@@ -1,0 +1,246 @@
+"""``swarmproof simulate``: run a reference implementation and check what it claims.
+
+Runs ALGORITHM (a registry name, :mod:`swarmproof.reference_impl.registry`)
+from a random connected start of ``--robots`` robots (seeded; or
+``--initial FILE``) on a lattice (a bundled name or a ``lattice-graph/1``
+file), then checks the final formation against the lattice (001 Def. 2),
+connectivity at every step (001 Lemma 11) and reports the metrics of
+001 Sec. III-C / 000 Eq. 3.
+
+Exit codes: 0 the run ended (finished or static), the final formation
+satisfies the lattice and connectivity held; 1 a checked property failed;
+2 usage error or unreadable input; 3 the step cap was reached first
+(inconclusive).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+
+from swarmproof.commands import emit_json, human
+from swarmproof.models.errors import UsageError
+from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK
+from swarmproof.models.verdict import EXIT_VIOLATED as EXIT_DEFECT
+
+NAME = "simulate"
+HELP = "run a reference implementation from a random connected start and check the result"
+DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
+
+
+
+def add_arguments(p) -> None:
+    p.add_argument("algorithm", metavar="ALGORITHM", help="registry name, e.g. song2016, song2014, example-gather")
+    p.add_argument("--lattice", required=True, metavar="NAME|FILE", help="bundled lattice name or lattice-graph/1 file")
+    p.add_argument("--robots", type=int, metavar="N", help="number of robots (random connected start)")
+    p.add_argument("--seed", type=int, required=True, metavar="S", help="seed of the start and of the run")
+    p.add_argument("--range", type=float, dest="range_", metavar="PHI",
+                   help="sensing/communication range phi (default: the lattice file's range)")
+    p.add_argument("--max-steps", type=int, metavar="K", help="step cap (default: the algorithm's)")
+    p.add_argument("--initial", metavar="FILE", help="start from a swarmproof-initial/1 file instead")
+    p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default 0.05)")
+    p.add_argument("--omega", type=float, metavar="W", help="maximum angular speed, rad per time (default pi/4)")
+    p.add_argument("--dt", type=float, metavar="DT", help="step length (default 1)")
+    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="algorithm parameter (Params.extra), repeatable; numbers are parsed")
+    p.add_argument("--min-separation", type=float, metavar="D",
+                   help="minimum separation of the random start (default range/4)")
+    p.add_argument("--allow-violations", action="store_true",
+                   help="run even when a paper assumption is broken (reported)")
+    p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
+    p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
+    p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
+
+
+def _parse_extra(items) -> dict:
+    out = {}
+    for item in items:
+        key, sep, val = item.partition("=")
+        if not sep or not key:
+            raise UsageError(f"--param {item!r} must be KEY=VALUE", fix="e.g. --param d_s=0.5")
+        try:
+            v: object = int(val)
+        except ValueError:
+            try:
+                v = float(val)
+            except ValueError:
+                v = {"true": True, "false": False}.get(val.lower(), val)
+        out[key] = v
+    return out
+
+
+def _progress_printer():
+    if not sys.stderr.isatty():
+        return None
+
+    def show(step: int, cap: int) -> None:
+        sys.stderr.write(f"\rsimulate: step {step}/{cap}")
+        sys.stderr.flush()
+        if step >= cap:
+            sys.stderr.write("\n")
+
+    return show
+
+
+def build_params(algorithm, phi: float, n: int, args) -> "object":
+    """Params from the algorithm's defaults (if it offers ``default_params(range, n)``) and the options."""
+    from swarmproof.reference_impl.protocol import Params
+
+    f = getattr(algorithm, "default_params", None)
+    params = f(range=phi, n=n) if callable(f) else Params(range=phi)
+    changes = {}
+    for name in ("v", "omega", "dt"):
+        val = getattr(args, name, None)
+        if val is not None:
+            if not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
+                raise UsageError(f"--{name} {val!r} must be a finite positive number")
+            changes[name] = val
+    extra = _parse_extra(getattr(args, "param", []) or [])
+    if extra:
+        changes["extra"] = {**dict(params.extra), **extra}
+    return dataclasses.replace(params, **changes) if changes else params
+
+
+def run(args) -> int:
+    from swarmproof.invariants.connectivity import connected_throughout, tree_links_survive
+    from swarmproof.invariants.metrics import (execution_steps, fulfillment_ratio, min_separation,
+                                               non_fulfillment_ratio, total_distance)
+    from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
+                                                    satisfies_lattice)
+    from swarmproof.models.library import resolve
+    from swarmproof.reference_impl import initial as initial_mod
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    algorithm = get_algorithm(args.algorithm)
+    lattice = resolve(args.lattice)
+    if args.seed < 0:
+        raise UsageError(f"--seed {args.seed!r} must be >= 0")
+    phi = args.range_ if args.range_ is not None else lattice.range
+    if phi is None:
+        raise UsageError(f"lattice {lattice.name!r} has no default range", fix="pass --range PHI")
+    if not (math.isfinite(phi) and phi > 0):
+        raise UsageError(f"--range {phi!r} must be a finite number > 0")
+    if args.max_steps is not None and args.max_steps < 0:
+        raise UsageError(f"--max-steps {args.max_steps!r} must be >= 0")
+    if args.initial is not None:
+        init = initial_mod.from_file(args.initial)
+        if args.robots is not None and args.robots != init.n:
+            raise UsageError(f"--robots {args.robots} disagrees with {args.initial!r} ({init.n} robots)",
+                             fix="drop --robots or make them agree")
+    else:
+        if args.robots is None:
+            raise UsageError("--robots N is required without --initial", fix="e.g. --robots 10")
+        if args.robots < 1:
+            raise UsageError(f"--robots {args.robots!r} must be >= 1")
+        init = initial_mod.random_connected(args.robots, args.seed, range=phi,
+                                            min_separation=args.min_separation)
+    params = build_params(algorithm, phi, init.n, args)
+    result = simulate(algorithm, lattice, init, params, seed=args.seed, max_steps=args.max_steps,
+                      allow_violations=args.allow_violations, progress=_progress_printer())
+    trace = result.trace
+    pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
+    ids, poses = result.final_ids, result.final_poses
+    sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
+    conn = connected_throughout(trace, phi)
+    links = tree_links_survive(trace, phi)
+    q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+    nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+    doc = {
+        "algorithm": algorithm.name,
+        "lattice": lattice.name,
+        "robots": int(init.n),
+        "seed": int(args.seed),
+        "range": float(phi),
+        "steps": int(result.steps),
+        "status": result.status,
+        "static": bool(result.static),
+        "execution_steps": int(execution_steps(trace)),
+        "satisfies_lattice": sat.held if sat.status != "inconclusive" else None,
+        "satisfaction": sat.as_dict(),
+        "fulfillment_ratio": q,
+        "non_fulfillment_ratio": nq,
+        "connected_throughout": conn.held,
+        "connectivity": conn.as_dict(),
+        "tree_links": links.as_dict(),
+        "total_distance": total_distance(trace),
+        "min_separation": min_separation(trace),
+        "broken_assumptions": list(result.broken_assumptions),
+        "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
+    }
+    if args.trace:
+        doc["trace"] = trace.save(args.trace)
+    if args.plot:
+        doc["plot"] = plot_run(trace, lattice, sat.roles, args.plot, phi)
+    if conn.violated or links.violated:
+        code = EXIT_DEFECT
+    elif result.status == "step_cap":
+        code = EXIT_INCONCLUSIVE
+    elif not sat.held:
+        code = EXIT_DEFECT if sat.violated else EXIT_INCONCLUSIVE
+    else:
+        code = EXIT_OK
+    doc["exit_code"] = code
+    if args.json:
+        emit_json(doc)
+    else:
+        q_txt = "undefined (lattice not satisfied)" if q is None else f"{q:.4f}"
+        lines = [
+            f"{algorithm.name} on {lattice.name}: {init.n} robots, seed {args.seed}, range {phi:g}",
+            f"  run: {result.status} after {result.steps} steps (static from step {doc['execution_steps']})",
+            f"  satisfies lattice: {sat.status} - {sat.message}",
+            f"  connectivity: {conn.status} - {conn.message}",
+            f"  tree links: {links.status} - {links.message}",
+            f"  fulfillment ratio Q: {q_txt}",
+            f"  total distance: {doc['total_distance']:.6g}, min separation: "
+            + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"),
+        ]
+        if result.broken_assumptions:
+            lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
+        if args.trace:
+            lines.append(f"  trace: {doc['trace']}")
+        if args.plot:
+            lines.append(f"  plot: {doc['plot']}")
+        lines.append({0: "result: ok", 1: "result: a checked property failed",
+                      3: "result: inconclusive (step cap reached)"}[code])
+        human(args, *lines)
+    return code
+
+
+def plot_run(trace, lattice, roles, path, phi) -> str:
+    """Draw trajectories (thin), the final formation (roles coloured), headings and the
+    spanning tree read from the final controller states' ``"parent"``."""
+    import numpy as np
+
+    from swarmproof.checkers.plotting import ROLE_COLORS, new_figure, save_png
+    from swarmproof.invariants.result import state_value
+
+    fig, ax = new_figure()
+    present = trace.present_at(trace.steps)
+    ids = trace.ids.tolist()
+    slot = {rid: k for k, rid in enumerate(ids)}
+    for k in range(trace.n):
+        ax.plot(trace.poses[:, k, 0], trace.poses[:, k, 1], lw=0.6, color="0.75", zorder=1)
+    final = trace.poses[-1]
+    for k, s in enumerate(trace.states[-1]):
+        par = state_value(s, "parent")
+        if par is not None and par in slot and present[k]:
+            q = slot[par]
+            ax.plot([final[k, 0], final[q, 0]], [final[k, 1], final[q, 1]], color="0.2", lw=1.2, zorder=2)
+    for k in range(trace.n):
+        if not present[k]:
+            continue
+        role = (roles or {}).get(ids[k])
+        if role is None:
+            role = state_value(trace.states[-1][k], "role")
+        ci = lattice.roles.index(role) if role in lattice.roles else None
+        color = ROLE_COLORS[ci % len(ROLE_COLORS)] if ci is not None else "#999999"
+        x, y, th = final[k]
+        ax.scatter([x], [y], s=40, color=color, edgecolors="black", linewidths=0.5, zorder=3)
+        ax.arrow(x, y, 0.15 * phi * np.cos(th), 0.15 * phi * np.sin(th), width=0.005 * phi,
+                 color="black", zorder=4, length_includes_head=True)
+        ax.annotate(str(ids[k]), (x, y), xytext=(3, 3), textcoords="offset points", fontsize=7)
+    ax.set_title(f"{trace.meta.get('algorithm')} on {lattice.name}: {trace.n} robots, "
+                 f"{trace.steps} steps ({trace.meta.get('status')})")
+    return save_png(fig, path)
