@@ -333,6 +333,15 @@ class _Inconclusive(Exception):
     """Raised inside the analysis when a budget is spent."""
 
 
+class _Crowded(Exception):
+    """Raised when the pattern provably needs more edges than the graph has, too many to list."""
+
+    def __init__(self, message: str, details: dict) -> None:
+        super().__init__(message)
+        self.message = message
+        self.details = details
+
+
 class _Dense(Exception):
     """Raised when the holonomy is proven dense (or too fine for any finite graph)."""
 
@@ -435,9 +444,9 @@ class _Analysis:
                     raise _Dense(
                         f"the closed walk {self._walk_text(self.gen_words[i])} turns by "
                         f"{math.degrees(g.theta):.9g}deg, not a multiple of 360/n for any "
-                        f"n <= {bound}: its powers put infinitely many robots (or more than the "
-                        f"{m_start} out-edges of role {self.start!r}) within range of one "
-                        "robot; a rotation of infinite order makes the pattern dense",
+                        f"n <= {self.max_rot}: a rotation of infinite order (or of order above "
+                        f"{bound}) puts infinitely many robots (or more than the {m_start} "
+                        f"out-edges of role {self.start!r}) within range of one robot",
                         {"cycle": self.gen_words[i], "cycle_pose": _pose_json(g)})
                 raise _Inconclusive(
                     f"the closed walk {self._walk_text(self.gen_words[i])} turns by "
@@ -695,6 +704,14 @@ class _Analysis:
                 offs = np.arange(lo - ext, hi + ext + 1)[:, None]
             total = len(base) * len(offs)
             if total > self.budget:
+                lam = min(math.hypot(*b) for b in Bm)
+                if lam < radius / (self.m_min / 2 + 1):
+                    raise _Crowded(
+                        f"the pattern repeats with a translation of length {lam:.9g}: more than "
+                        f"{self.m_min} robots of one role lie within range {radius:g} of each "
+                        f"robot, but some role has only {self.m_min} out-edges; the "
+                        f"{total} candidate points are over budget={self.budget} to list",
+                        {"translation_basis": [[_r(b[0]), _r(b[1])] for b in Bm]})
                 raise _Inconclusive(
                     f"the pattern window holds {total} candidate points, over budget={self.budget}")
             red = base[:, :2] - cb @ Bm
@@ -923,7 +940,14 @@ def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: f
         defects.append(Defect("dense", exc.message + "; no finite set of edges can fix it",
                               dict(exc.details, fix="change the edge transforms so that every "
                                    "closed walk turns by a multiple of 360/n degrees and the "
-                                   "translations form a lattice")))
+                                   "translations form a lattice (if the file rounds numbers, "
+                                   "e.g. 0.866 for sqrt(3)/2, give more digits or a larger "
+                                   "--pos-tol/--ang-tol)")))
+        self_consistent = False
+    except _Crowded as exc:
+        defects.append(Defect("self_consistency", exc.message + " (001 Def. 4)", dict(
+            exc.details, fix="add an edge for every pattern point closer than the range, or "
+                             "lengthen the translations")))
         self_consistent = False
     except _Inconclusive as exc:
         inconclusive_reason = str(exc)
@@ -1084,7 +1108,7 @@ def unroll(graph: LatticeGraph, start_role: str | None = None, radius: float | N
         hits, cand, cz, ck, _ = an.points_near(np.zeros((1, 2)), radius)
         for ci in hits[0]:
             pts.append((an.roles[int(cz[ci])], SE2(*cand[ci])))
-    except (_Dense, _Inconclusive):
+    except (_Dense, _Crowded, _Inconclusive):
         pts = _unroll_bfs(full, start, radius, pt, at, max_points)
     pts = _dedupe(pts, pt, at)
     idx = {r: i for i, r in enumerate(graph.roles)}

@@ -41,6 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="print one JSON document on stdout and nothing else there")
     parser.add_argument("--plot", metavar="PNG", default=None,
                         help="draw the unrolled pattern with any defect highlighted to PNG")
+    parser.add_argument("--pos-tol", dest="pos_tol", type=_positive_float, default=None,
+                        metavar="TOL", help="position tolerance (default 1e-7 x longest edge)")
+    parser.add_argument("--ang-tol", dest="ang_tol", type=_positive_float, default=None,
+                        metavar="RAD", help="angle tolerance in radians (default 1e-7)")
 
 
 def run(args) -> int:
@@ -50,7 +54,7 @@ def run(args) -> int:
     from swarmproof.models import library
 
     graph = library.resolve(args.file)
-    report = check_lattice(graph, args.range)
+    report = check_lattice(graph, args.range, pos_tol=args.pos_tol, ang_tol=args.ang_tol)
     if args.plot:
         plot_lattice_check(graph, report, args.plot)
     if args.json:
