@@ -369,7 +369,9 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
         seen[r] = i
     edges = data["edges"]
     if edges is None:
-        edges = []
+        raise ctx.error(("edges",), "edges=None has no rows",
+                        "write the rows under `edges:` as `- [from, to, x, y, theta]`, "
+                        "or `edges: []` for a graph without edges")
     if not isinstance(edges, list):
         raise ctx.error(("edges",), f"edges={_r(edges)} must be a list of rows [from, to, x, y, theta]",
                         "write one row per line: `- [A, A, 1, 0, 0]`")
