@@ -1,0 +1,104 @@
+"""`swarmproof simulate`: JSON fields (DESIGN.md section 2), exit codes, outputs, bad input."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from swarmproof.cli import main
+from swarmproof.models.trace import Trace
+
+FIELDS = {"algorithm", "lattice", "robots", "seed", "range", "steps", "static", "satisfies_lattice",
+          "fulfillment_ratio", "connected_throughout", "total_distance", "min_separation"}
+
+
+def run(capsys, *argv):
+    code = main(["simulate", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_single_robot_satisfies_any_lattice_exit_0(capsys):
+    code, out, err = run(capsys, "example-gather", "--lattice", "square", "--robots", "1",
+                         "--seed", "3", "--json")
+    doc = json.loads(out)
+    assert code == 0 and FIELDS <= set(doc)
+    assert doc["satisfies_lattice"] is True and doc["connected_throughout"] is True
+    assert doc["fulfillment_ratio"] == 0.0 and doc["non_fulfillment_ratio"] == 1.0
+    assert doc["status"] == "finished" and doc["range"] == 1.2 and doc["robots"] == 1
+    assert doc["min_separation"] is None and doc["total_distance"] == 0.0
+
+
+def test_example_gather_fails_the_lattice_exit_1_and_writes_files(capsys, tmp_path):
+    code, out, err = run(capsys, "example-gather", "--lattice", "square", "--robots", "6", "--seed", "1",
+                         "--json", "--trace", str(tmp_path / "t.json"), "--plot", str(tmp_path / "f.png"))
+    doc = json.loads(out)
+    assert code == 1 and doc["satisfies_lattice"] is False and doc["fulfillment_ratio"] is None
+    assert doc["satisfaction"]["witness"]["pair"]
+    t = Trace.load(doc["trace"])
+    assert t.steps == doc["steps"] and t.meta["seed"] == 1
+    assert (tmp_path / "f.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # the same command gives the same JSON (determinism), and the same trace bytes
+    first = (tmp_path / "t.json").read_bytes()
+    code2, out2, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "6", "--seed", "1",
+                         "--json", "--trace", str(tmp_path / "t.json"), "--plot", str(tmp_path / "f.png"))
+    assert out2 == out and (tmp_path / "t.json").read_bytes() == first
+
+
+def test_step_cap_is_inconclusive_exit_3(capsys):
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "6", "--seed", "1",
+                       "--max-steps", "2", "--json")
+    doc = json.loads(out)
+    assert code == 3 and doc["status"] == "step_cap" and doc["steps"] == 2
+
+
+def test_human_output(capsys):
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "1", "--seed", "0")
+    lines = out.splitlines()
+    assert lines[0] == "example-gather on square: 1 robots, seed 0, range 1.2"
+    assert lines[-1] == "result: ok"
+
+
+def test_initial_file_and_params(capsys, tmp_path):
+    p = tmp_path / "s.yaml"
+    p.write_text("format: swarmproof-initial/1\nrobots:\n  - {id: 3, pose: [0, 0, 0]}\n"
+                 "  - {id: 1, pose: [1.0, 0, 0]}\n")
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--initial", str(p), "--seed", "0",
+                       "--param", "gap=1.0", "--v", "0.1", "--json")
+    doc = json.loads(out)
+    # robot 3 is already 1.0 from robot 1 facing the same way: a square-lattice pair
+    assert code == 0 and doc["robots"] == 2 and doc["fulfillment_ratio"] == 0.25
+    assert doc["params"]["v"] == 0.1
+
+
+BAD = [
+    ("unknown-algorithm", ["nope", "--lattice", "square", "--robots", "3", "--seed", "0"],
+     "algorithm='nope' is not known; fix: use one of"),
+    ("unknown-lattice", ["example-gather", "--lattice", "nolattice", "--robots", "3", "--seed", "0"],
+     "nolattice: no such file and no bundled lattice"),
+    ("zero-robots", ["example-gather", "--lattice", "square", "--robots", "0", "--seed", "0"],
+     "--robots 0 must be >= 1"),
+    ("no-robots", ["example-gather", "--lattice", "square", "--seed", "0"], "--robots N is required"),
+    ("negative-seed", ["example-gather", "--lattice", "square", "--robots", "2", "--seed", "-1"],
+     "--seed -1 must be >= 0"),
+    ("bad-range", ["example-gather", "--lattice", "square", "--robots", "2", "--seed", "0", "--range", "0"],
+     "--range 0.0 must be a finite number > 0"),
+    ("bad-param", ["example-gather", "--lattice", "square", "--robots", "2", "--seed", "0", "--param", "gap"],
+     "--param 'gap' must be KEY=VALUE"),
+    ("assumption", ["example-gather", "--lattice", "square", "--robots", "2", "--seed", "0", "--v", "5"],
+     "assumption 'v_dt_below_range' broken"),
+]
+
+
+@pytest.mark.parametrize("argv,match", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
+def test_bad_input_exit_2_without_traceback(capsys, argv, match):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert match in err and "Traceback" not in err
+
+
+def test_allow_violations_reports_them(capsys):
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "2", "--seed", "0",
+                       "--v", "5", "--allow-violations", "--json")
+    assert json.loads(out)["broken_assumptions"] == ["v_dt_below_range"]
