@@ -1,0 +1,998 @@
+"""Song & O'Kane 2016: forming repeating lattice patterns, provably (reference implementation).
+
+The algorithm of 001_7a4e517b856331bc.txt Sec. V, line by line:
+
+* every robot is *stable* or *unstable* (Sec. V-A); the highest-ID robot
+  becomes stable with role v0 once the communication timeout (Def. 10) has
+  passed since its known highest ID last changed (Sec. V-B);
+* a stable robot's *vacancies* (Def. 9) are the out-edges of its role whose
+  pose holds no stable robot; the first one in out-edge order is its *most
+  important vacancy* (docs/decisions.md, "## song2016");
+* every robot broadcasts the message of Table I, computed by Algorithm 1
+  (:func:`compute_message`, line numbers in comments), with the path lists
+  that stop the "rumor problem";
+* the root is the highest-ID stable robot with a vacancy, the relocate robot
+  the highest-ID unstable robot; parents are chosen as Sec. V-B says
+  (:func:`get_parent_msg`), and the "subtree" marker (line 29) tells the
+  robots of the moving subtree;
+* motion (Sec. V-C, No Child Left Behind): the relocate robot moves toward
+  its parent, or toward the vacancy when its parent is the root; every other
+  robot of the moving subtree moves toward its parent when farther than the
+  safe distance d_s; every moving robot ends its step inside the intersection
+  of its children's bounded ranges (Def. 8), and does not move when that
+  safe region is empty;
+* the relocate robot becomes stable on reaching the vacancy (within an
+  epsilon, footnote 2, then turned to the vacancy's orientation, Sec. V-A);
+* the run ends when no unstable robot remains (:meth:`Song2016.finished`).
+
+The mapping paper item -> function is the table in docs/song2016.md; every
+choice where the paper is silent is in docs/decisions.md ("## song2016").
+
+Controller state
+----------------
+:meth:`Song2016Controller.state` returns a tuple of ``(key, value)`` pairs,
+always in this order (JSON-friendly: bools, ints, strs, floats, tuples, None):
+
+``stable`` (bool), ``role`` (role name or None), ``parent`` (ID or None, the
+spanning-tree parent chosen this step, Algorithm 1 line 28), ``children``
+(sorted tuple of the IDs whose last message named this robot as parent: the
+children whose bounded ranges formed this step's safe region), ``relocate``
+(bool: this robot is the confirmed relocate robot), ``subtree`` (bool, Table I
+"subtree"), ``moving`` (bool: this step's command translates the robot),
+``goal`` (body-frame ``(x, y)`` of the goal of this step: the parent or the
+vacancy, else None), ``target`` (body-frame ``(x, y)`` where the command ends
+the step: inside the safe region when ``moving``; else None),
+``safe_radius`` (float, ``phi - v*dt`` shrunk by
+:data:`~swarmproof.reference_impl.song2016_geometry.SAFE_MARGIN`),
+``highest_id``/``highest_since``, ``root_id``, ``relocate_id``/``relocate_since``
+(the principal information and the step at which it last changed, which
+drive the communication timeouts), ``mover``/``mover_since`` (``"relocate"``,
+``"subtree"`` or None, and since when: the movement timeout) and
+``vacancy`` (the most important vacancy of this robot when stable, as
+``(x, y, theta, role, edge)`` in its body frame, else None).
+
+References
+----------
+001_7a4e517b856331bc.txt: Sec. III-A (model), Defs. 1-6, Sec. III-C-2 (Q),
+Lemma 7, Def. 8, Sec. V-A (Def. 9), Sec. V-B (Table I, Def. 10, Algorithm 1),
+Sec. V-C (NCLB), Lemmas 11-12, Theorem 13, Sec. VI (experiments).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Hashable, Iterable, Mapping, Sequence
+
+import numpy as np
+
+from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError  # noqa: F401
+from swarmproof.models.se2 import wrap_angle
+from .protocol import Assumption, Command, Observation, Params, RobotModel, connected_start
+from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
+                                in_discs, reachable_point)
+
+__all__ = [
+    "Vacancy", "Song2016Message", "Song2016Config", "Song2016", "Song2016Controller",
+    "vacancies", "vacancy_in_observer_frame", "compute_message", "get_parent_msg",
+    "sequential_fill", "RUMOR_FILTERS",
+]
+
+#: The two readings of the rumor rule (docs/decisions.md, "## song2016"):
+#: ``"message"`` is Algorithm 1 line 12 as printed (a message whose
+#: pathFromRoot *or* pathFromRelocate contains my ID is ignored entirely);
+#: ``"field"`` is the prose of Sec. V-B ("a robot rejects information for which
+#: its own ID appears in the pathFromRoot or pathFromRelocate lists") read per
+#: field: root information is ignored when my ID is in pathFromRoot, relocate
+#: information when my ID is in pathFromRelocate.
+RUMOR_FILTERS = ("message", "field")
+
+
+# ---------------------------------------------------------------------------
+# Data: vacancies and messages (Def. 9, Table I)
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True, slots=True)
+class Vacancy:
+    """A vacancy ``(p_hat, w)`` of a stable robot (001 Def. 9).
+
+    Attributes
+    ----------
+    x, y, theta : float
+        The pose p_hat in the body frame of the stable robot that owns it
+        (the transform ``T(e)`` of out-edge ``e``).
+    role : str
+        The role vertex ``w`` (the target of ``e``), the role the robot that
+        fills the vacancy takes.
+    edge : int
+        The index of ``e`` in the lattice graph (its out-edge order ranks
+        vacancies).
+    """
+
+    x: float
+    y: float
+    theta: float
+    role: str
+    edge: int
+
+    def as_tuple(self) -> tuple:
+        """``(x, y, theta, role, edge)``."""
+        return (self.x, self.y, self.theta, self.role, self.edge)
+
+
+@dataclass(frozen=True, slots=True)
+class Song2016Message:
+    """The message of 001 Table I, field by field (snake_case names).
+
+    ``None`` stands for the paper's ``-inf`` (Algorithm 1 lines 6-7): no root
+    known, no unstable robot known.
+
+    Attributes
+    ----------
+    sender_id : int
+        senderID: ID of the robot that sent this message.
+    highest_id : int
+        highestID: highest robot ID in the system (as far as the sender knows).
+    root_id : int or None
+        rootID: ID of the root robot (highest-ID stable robot with a vacancy).
+    relocate_id : int or None
+        relocateID: ID of the relocate robot (highest-ID unstable robot).
+    parent_id : int or None
+        parentID: ID of the sender's spanning-tree parent (None for the root
+        and for robots that know no root).
+    vacancy : Vacancy or None
+        vacancy: the most important vacancy of the root robot, in the root's
+        body frame.
+    subtree : bool
+        subtree: whether the sender is in the subtree rooted at the relocate
+        robot.
+    stable : bool
+        stable: whether the sender is stable.
+    path_from_root : tuple of int
+        pathFromRoot: IDs on the shortest path from the root to the sender.
+    path_from_relocate : tuple of int
+        pathFromRelocate: IDs on the shortest path from the relocate robot to
+        the sender.
+    """
+
+    sender_id: int
+    highest_id: int
+    root_id: int | None
+    relocate_id: int | None
+    parent_id: int | None
+    vacancy: Vacancy | None
+    subtree: bool
+    stable: bool
+    path_from_root: tuple[int, ...]
+    path_from_relocate: tuple[int, ...]
+
+    def as_dict(self) -> dict:
+        """A JSON-friendly dict (Table I names in snake_case)."""
+        return {
+            "sender_id": self.sender_id, "highest_id": self.highest_id,
+            "root_id": self.root_id, "relocate_id": self.relocate_id,
+            "parent_id": self.parent_id,
+            "vacancy": None if self.vacancy is None else list(self.vacancy.as_tuple()),
+            "subtree": self.subtree, "stable": self.stable,
+            "path_from_root": list(self.path_from_root),
+            "path_from_relocate": list(self.path_from_relocate),
+        }
+
+
+def _gt(a: int | None, b: int | None) -> bool:
+    """``a > b`` with ``None`` as -inf (Algorithm 1 lines 6-7, 14)."""
+    if a is None:
+        return False
+    return b is None or a > b
+
+
+def _max(a: int | None, b: int | None) -> int | None:
+    """``max(a, b)`` with ``None`` as -inf (Algorithm 1 line 18)."""
+    return a if not _gt(b, a) else b
+
+
+# ---------------------------------------------------------------------------
+# Definition 9: vacancies, and their transformation into the observer's frame
+# ---------------------------------------------------------------------------
+
+def vacancies(out_edges: Sequence[tuple[float, float, float, str, int]],
+              stable_neighbor_xy: Iterable[tuple[float, float]],
+              tolerance: float) -> tuple[Vacancy, ...]:
+    """The vacancies of a stable robot, in out-edge order (001 Def. 9).
+
+    "For each out-edge e of u in the lattice graph, there is a pose p_hat,
+    relative to u, corresponding to the vertex w. If there is no stable robot
+    at p_hat, then (p_hat, w) is a vacancy of r_s. (If, by chance, there is an
+    unstable robot at p_hat, we still consider (p_hat, w) a vacancy of r_s.)"
+
+    Parameters
+    ----------
+    out_edges : sequence of (x, y, theta, target_role, edge_index)
+        The out-edges of the robot's role vertex, in lattice order.
+    stable_neighbor_xy : iterable of (x, y)
+        Body-frame positions of the neighbors whose last message said
+        ``stable`` (only stable robots fill a vacancy).
+    tolerance : float
+        A stable robot within this distance of p_hat fills it (footnote 2:
+        half the smallest correct distance between final positions).
+
+    Returns
+    -------
+    tuple of Vacancy
+        The first is the most important vacancy (docs/decisions.md).
+
+    Examples
+    --------
+    >>> sq = [(1.0, 0.0, 0.0, "A", 0), (0.0, 1.0, 0.0, "A", 1),
+    ...       (-1.0, 0.0, 0.0, "A", 2), (0.0, -1.0, 0.0, "A", 3)]
+    >>> [v.edge for v in vacancies(sq, [(1.0, 1e-9)], 0.5)]
+    [1, 2, 3]
+
+    References
+    ----------
+    001_7a4e517b856331bc.txt, Sec. V-A, Definition 9.
+    """
+    occupied = list(stable_neighbor_xy)
+    tol2 = tolerance * tolerance
+    out = []
+    for x, y, th, role, idx in out_edges:
+        filled = False
+        for ox, oy in occupied:
+            dx, dy = ox - x, oy - y
+            if dx * dx + dy * dy <= tol2:
+                filled = True
+                break
+        if not filled:
+            out.append(Vacancy(x, y, th, role, idx))
+    return tuple(out)
+
+
+def vacancy_in_observer_frame(observed_owner: Sequence[float], vacancy: Vacancy
+                              ) -> tuple[float, float, float]:
+    """A vacancy of r_s expressed in the body frame of an observer r_i (001 Sec. V-A).
+
+    r_s computes the vacancy pose p_hat^(s) in its body frame; r_i observes
+    r_s at p_s^(i) = (x, y, theta) in its own.  The vacancy in r_i's frame
+    is the composition ``p_s^(i) o p_hat^(s)``: position
+    ``M_s^(i) [x_hat^(s), y_hat^(s), 1]^T`` and heading
+    ``theta_hat^(i) = theta_hat^(s) + theta_s^(i)`` (as printed).  The paper
+    prints the matrix product as ``M^(s) M_s^(i) [0, 0, 1]^T``; that order
+    does not put the vacancy at p_hat relative to r_s unless r_s's heading in
+    r_i's frame is 0 (see docs/decisions.md and the unit test), so the
+    composition is used (a typo in the formula, not a change to the
+    algorithm).
+
+    Examples
+    --------
+    >>> v = Vacancy(1.0, 0.0, 0.0, "A", 0)
+    >>> x, y, th = vacancy_in_observer_frame((2.0, 0.0, math.pi / 2), v)
+    >>> round(x, 12), round(y, 12), round(th, 12)
+    (2.0, 1.0, 1.570796326795)
+
+    References
+    ----------
+    001_7a4e517b856331bc.txt, Sec. V-A (the equations after Def. 9).
+    """
+    ox, oy, oth = float(observed_owner[0]), float(observed_owner[1]), float(observed_owner[2])
+    c, s = math.cos(oth), math.sin(oth)
+    return (ox + c * vacancy.x - s * vacancy.y, oy + s * vacancy.x + c * vacancy.y,
+            wrap_angle(oth + vacancy.theta))
+
+
+# ---------------------------------------------------------------------------
+# Algorithm 1: compute message (001 Sec. V-B)
+# ---------------------------------------------------------------------------
+
+def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
+                   relocate_id: int | None) -> Song2016Message | None:
+    """Algorithm 1 line 27: the message of the robot chosen as spanning-tree parent.
+
+    Sec. V-B: "Each robot that has at least one stable neighbor, chooses for
+    its parent in this tree the stable neighbor that is the fewest hops from
+    the root.  Each robot with no stable neighbors also chooses a parent to
+    minimize hops to the root [...].  A special exception [...] is that no
+    robot chooses the relocate robot as its parent, if it has another
+    neighbor with the same or fewer hops to the root.  Ties, if any, are
+    broken in favor of the highest ID."
+
+    Candidates are the eligible messages that carry a path from the same root
+    (``root_id``); hops are ``len(path_from_root) - 1``.
+
+    Examples
+    --------
+    >>> def m(i, path, stable=False):
+    ...     return Song2016Message(i, 9, 9, 5, None, None, False, stable, path, (5,))
+    >>> get_parent_msg([m(5, (9, 5)), m(3, (9, 2, 3))], 9, 5).sender_id  # 5 is relocate, 3 farther
+    5
+    >>> get_parent_msg([m(5, (9, 5)), m(3, (9, 3))], 9, 5).sender_id     # same hops: not the relocate robot
+    3
+    >>> get_parent_msg([m(4, (9, 4)), m(6, (9, 2, 6), stable=True)], 9, 5).sender_id  # stable first
+    6
+
+    References
+    ----------
+    001_7a4e517b856331bc.txt, Sec. V-B, Algorithm 1 lines 26-30; Lemma 12.
+    """
+    if root_id is None:
+        return None
+    cands = [m for m in eligible if m.root_id == root_id and m.path_from_root]
+    if not cands:
+        return None
+    stable = [m for m in cands if m.stable]
+    if stable:
+        cands = stable
+    if relocate_id is not None:
+        rel = [m for m in cands if m.sender_id == relocate_id]
+        if rel:
+            hops = len(rel[0].path_from_root)
+            if any(len(m.path_from_root) <= hops for m in cands if m.sender_id != relocate_id):
+                cands = [m for m in cands if m.sender_id != relocate_id]
+    best = cands[0]
+    for m in cands[1:]:
+        lm, lb = len(m.path_from_root), len(best.path_from_root)
+        if lm < lb or (lm == lb and m.sender_id > best.sender_id):
+            best = m
+    return best
+
+
+def _shortest(msgs: Sequence[Song2016Message], attr: str) -> tuple[int, ...]:
+    """Shortest path among ``msgs`` (ties: the highest sender ID); () if none."""
+    best: Song2016Message | None = None
+    for m in msgs:
+        p = getattr(m, attr)
+        if best is None:
+            best = m
+            continue
+        bp = getattr(best, attr)
+        if len(p) < len(bp) or (len(p) == len(bp) and m.sender_id > best.sender_id):
+            best = m
+    return () if best is None else getattr(best, attr)
+
+
+def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
+                    in_messages: Sequence[Song2016Message], rumor_filter: str = "message"
+                    ) -> tuple[Song2016Message, Song2016Message | None]:
+    """Algorithm 1 of 001 ("Compute message"), line by line.
+
+    Parameters
+    ----------
+    my_id : int
+        myID.
+    stable : bool
+        Whether this robot is stable (line 4).
+    my_vacancy : Vacancy or None
+        getVacancy() (line 5): this robot's most important vacancy, or None.
+    in_messages : sequence of Song2016Message
+        inMessages, iterated in this order (the controller passes them in
+        increasing sender ID).
+    rumor_filter : {"message", "field"}
+        How line 12 rejects information (see :data:`RUMOR_FILTERS`).
+
+    Returns
+    -------
+    (Song2016Message, Song2016Message or None)
+        myMsg, and parentMsg of line 27 (None for the root or when no
+        candidate exists).
+
+    Examples
+    --------
+    A robot that hears the root (9) and an unstable robot (7):
+
+    >>> root = Song2016Message(9, 9, 9, None, None, Vacancy(1, 0, 0, "A", 0), False, True, (9,), (9,))
+    >>> r7 = Song2016Message(7, 9, 9, 7, 9, Vacancy(1, 0, 0, "A", 0), True, False, (9, 7), (7,))
+    >>> msg, parent = compute_message(5, False, None, [r7, root])
+    >>> msg.root_id, msg.relocate_id, msg.parent_id, msg.path_from_root, msg.path_from_relocate
+    (9, 7, 9, (9, 5), (7, 5))
+
+    The rumor rule (line 12): information that went through me is rejected.
+
+    >>> stale = Song2016Message(4, 9, 8, None, 5, None, False, True, (8, 5, 4), (4,))
+    >>> compute_message(5, False, None, [stale])[0].root_id is None
+    True
+
+    References
+    ----------
+    001_7a4e517b856331bc.txt, Sec. V-B, Table I, Algorithm 1.
+    """
+    if rumor_filter not in RUMOR_FILTERS:
+        raise UsageError(f"rumor_filter={rumor_filter!r} is not one of {RUMOR_FILTERS!r}")
+    # 1 myMsg <- empty message;  2 myMsg.senderID <- myID
+    # 3 myMsg.highestID <- myID
+    highest = my_id
+    # 4 myMsg.stable <- I am stable ? true : false  (argument `stable`)
+    # 5 myVacancy <- getVacancy()  (argument `my_vacancy`)
+    # 6 myMsg.rootID <- (myMsg.stable and myVacancy != null) ? myID : -inf
+    root = my_id if (stable and my_vacancy is not None) else None
+    # 7 myMsg.relocateID <- (not myMsg.stable) ? myID : -inf
+    relocate = my_id if not stable else None
+    # 8 eligibleMsgs <- {}   (root_ok / reloc_ok: the "field" reading keeps two sets)
+    eligible: list[Song2016Message] = []
+    root_ok: list[Song2016Message] = []
+    reloc_ok: list[Song2016Message] = []
+    # 9 vacancyFromMsgs <- null
+    vacancy_from_msgs: Vacancy | None = None
+    per_message = rumor_filter == "message"
+    # 10 foreach inMsg in inMessages do
+    for m in in_messages:
+        # 11 myMsg.highestID <- max(myMsg.highestID, inMsg.highestID)
+        if m.highest_id > highest:
+            highest = m.highest_id
+        in_root_path = my_id in m.path_from_root
+        in_reloc_path = my_id in m.path_from_relocate
+        if per_message:
+            # 12 if not inMsg.pathFromRoot.contains(myID) and not
+            #       inMsg.pathFromRelocate.contains(myID) then
+            if not in_root_path and not in_reloc_path:
+                # 13 insert inMsg into eligibleMsgs
+                eligible.append(m)
+                # 14 if inMsg.rootID > myMsg.rootID then
+                if _gt(m.root_id, root):
+                    # 15 myMsg.rootID <- inMsg.rootID;  16 vacancyFromMsgs <- inMsg.vacancy
+                    root = m.root_id
+                    vacancy_from_msgs = m.vacancy
+                # 17 end
+                # 18 myMsg.relocateID <- max(myMsg.relocateID, inMsg.relocateID)
+                relocate = _max(relocate, m.relocate_id)
+            # 19 end
+        else:
+            # line 12 read per field (Sec. V-B prose): root information (lines 14-16)
+            # needs myID not in pathFromRoot, relocate information (line 18) needs
+            # myID not in pathFromRelocate.
+            if not in_root_path:
+                root_ok.append(m)
+                if _gt(m.root_id, root):
+                    root = m.root_id
+                    vacancy_from_msgs = m.vacancy
+            if not in_reloc_path:
+                reloc_ok.append(m)
+                relocate = _max(relocate, m.relocate_id)
+    # 20 end
+    if per_message:
+        root_ok = reloc_ok = eligible
+    # 21 minRootPath <- getShortestPathFromRoot(eligibleMsgs): the shortest path from
+    #    *this* root among eligible messages that carry it; none -> empty list.
+    min_root_path = (_shortest([m for m in root_ok if m.root_id == root], "path_from_root")
+                     if root is not None else ())
+    # 22 minRelocatePath <- getShortestPathFromRelocate(eligibleMsgs)
+    min_reloc_path = (_shortest([m for m in reloc_ok if m.relocate_id == relocate],
+                                "path_from_relocate") if relocate is not None else ())
+    # 23 myMsg.vacancy <- (myID = myMsg.rootID) ? myVacancy : vacancyFromMsgs
+    vacancy = my_vacancy if my_id == root else vacancy_from_msgs
+    # 24 myMsg.pathFromRoot <- minRootPath.append(myID)
+    path_from_root = min_root_path + (my_id,)
+    # 25 myMsg.pathFromRelocate <- minRelocatePath.append(myID)
+    path_from_relocate = min_reloc_path + (my_id,)
+    parent_msg = None
+    parent_id = None
+    subtree = False
+    # 26 if myID != myMsg.rootID then
+    if my_id != root:
+        # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
+        parent_msg = get_parent_msg(root_ok, root, relocate)
+        # 28 myMsg.parentID <- parentMsg.senderID
+        parent_id = None if parent_msg is None else parent_msg.sender_id
+        # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
+        subtree = (my_id == relocate) or (parent_msg is not None and parent_msg.subtree)
+    # 30 end
+    # 31 return myMsg
+    msg = Song2016Message(my_id, highest, root, relocate, parent_id, vacancy, subtree, stable,
+                          path_from_root, path_from_relocate)
+    return msg, parent_msg
+
+
+# ---------------------------------------------------------------------------
+# Configuration and assumptions
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Song2016Config:
+    """The algorithm-specific values, resolved (see :meth:`Song2016.config`).
+
+    Attributes
+    ----------
+    communication_timeout : int
+        Def. 10, in steps (default: the number of robots, 001 Sec. VI).
+    movement_timeout : int
+        Steps a robot waits, once it is supposed to move, before it moves
+        (default: the number of robots, 001 Sec. VI; docs/decisions.md).
+    d_s : float
+        The safe distance of Sec. V-C (default ``(phi - v*dt)/2``).
+    arrival_epsilon : float
+        Footnote 2's epsilon: arrival distance at the vacancy.
+    heading_epsilon : float
+        Arrival tolerance of the orientation (radians).
+    vacancy_tolerance : float
+        A stable robot this close to p_hat fills the vacancy (Def. 9); default
+        half the shortest lattice edge (footnote 2).
+    rumor_filter : str
+        One of :data:`RUMOR_FILTERS`.
+    """
+
+    communication_timeout: int
+    movement_timeout: int
+    d_s: float
+    arrival_epsilon: float
+    heading_epsilon: float
+    vacancy_tolerance: float
+    rumor_filter: str
+
+
+_EXTRA_KEYS = ("communication_timeout", "movement_timeout", "d_s", "arrival_epsilon",
+               "heading_epsilon", "vacancy_tolerance", "rumor_filter")
+
+
+def _check_count(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise UsageError(f"{name}={value!r} must be a whole number of steps >= 0",
+                         fix=f"set {name} to e.g. the number of robots (001 Sec. VI)")
+    return int(value)
+
+
+def _check_pos(name: str, value: Any) -> float:
+    if isinstance(value, bool):
+        raise UsageError(f"{name}={value!r} must be a number > 0")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise UsageError(f"{name}={value!r} must be a number > 0") from None
+    if not (math.isfinite(x) and x > 0):
+        raise UsageError(f"{name}={value!r} must be a finite number > 0")
+    return x
+
+
+# ---------------------------------------------------------------------------
+# The sequential fill of 001 Sec. VI (the predicted final formation)
+# ---------------------------------------------------------------------------
+
+def sequential_fill(lattice, n: int, tolerance: float | None = None
+                    ) -> list[tuple[tuple[float, float, float], str]]:
+    """The final formation 001 Sec. VI predicts, from the lattice graph alone.
+
+    "starting from the first stable (the highest ID) robot, the pattern is
+    constructed sequentially by filling all of its vacancies first, then
+    filling the vacancies of the second stable (the second highest ID)
+    robot" (Sec. VI).  Robot k (k = 0 the highest ID) gets the k-th pose in
+    the frame of robot 0 (role v0 at the origin); each new robot fills the
+    most important vacancy (first out-edge without a robot, Def. 9) of the
+    earliest-placed robot that still has one.
+
+    This is the simulator-free prediction used by the acceptance tests; it
+    shares no code with the controller except the lattice graph itself.
+
+    Returns
+    -------
+    list of ((x, y, theta), role)
+        In fill order (index = rank of the robot's ID from the highest).
+
+    Examples
+    --------
+    >>> from swarmproof.models.lattice import LatticeGraph
+    >>> from swarmproof.models.se2 import SE2
+    >>> sq = LatticeGraph("square", ["A"], [("A", "A", SE2(1, 0, 0)), ("A", "A", SE2(0, 1, 0)),
+    ...                                     ("A", "A", SE2(-1, 0, 0)), ("A", "A", SE2(0, -1, 0))])
+    >>> [tuple(round(c, 9) for c in p[:2]) for p, _ in sequential_fill(sq, 6)]
+    [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0), (2.0, 0.0)]
+    """
+    if tolerance is None:
+        tolerance = 0.5 * min(e.transform.norm() for e in lattice.edges)
+    placed: list[tuple[tuple[float, float, float], str]] = [((0.0, 0.0, 0.0), lattice.v0)]
+    tol2 = tolerance * tolerance
+    while len(placed) < n:
+        done = False
+        for (px, py, pth), role in placed:
+            c, s = math.cos(pth), math.sin(pth)
+            for e in lattice.out_edges(role):
+                t = e.transform
+                x, y = px + c * t.x - s * t.y, py + s * t.x + c * t.y
+                if any((x - q[0][0]) ** 2 + (y - q[0][1]) ** 2 <= tol2 for q in placed):
+                    continue
+                placed.append(((x, y, wrap_angle(pth + t.theta)), e.target))
+                done = True
+                break
+            if done:
+                break
+        if not done:
+            raise UsageError(f"lattice {lattice.name!r} has no vacancy left after {len(placed)} robots",
+                             fix="a finite lattice graph holds fewer robots than requested")
+    return placed
+
+
+# ---------------------------------------------------------------------------
+# The controller
+# ---------------------------------------------------------------------------
+
+_NO_MOVE = None  # sentinel doc: a Command(message=msg) with no motion
+
+
+class Song2016Controller:
+    """One robot running 001 Sec. V (stable/unstable, Algorithm 1, NCLB motion).
+
+    Created by :meth:`Song2016.controller`; see the module docstring for the
+    :meth:`state` keys.
+    """
+
+    __slots__ = ("robot_id", "params", "lattice", "cfg", "_out_edges", "_v0", "_radius",
+                 "_safe_radius", "stable", "role", "highest_id", "highest_since",
+                 "relocate_id", "relocate_since", "root_id", "mover", "mover_since",
+                 "_state", "_last_msg")
+
+    def __init__(self, robot_id: int, params: Params, lattice, cfg: Song2016Config) -> None:
+        self.robot_id = robot_id
+        self.params = params
+        self.lattice = lattice
+        self.cfg = cfg
+        self._out_edges = {
+            role: tuple((e.transform.x, e.transform.y, e.transform.theta, e.target, e.index)
+                        for e in lattice.out_edges(role))
+            for role in lattice.roles
+        }
+        self._v0 = lattice.v0
+        self._radius = bounded_range_radius(params.range, params.v, params.dt)
+        self._safe_radius = self._radius * (1.0 - SAFE_MARGIN)
+        # Sec. V-A: "Each robot begins in the unstable state".
+        self.stable = False
+        self.role: str | None = None
+        # Def. 10 clocks: the value last known and the step it last changed.
+        self.highest_id = robot_id
+        self.highest_since = 0
+        self.relocate_id: int | None = robot_id
+        self.relocate_since = 0
+        self.root_id: int | None = None
+        self.mover: str | None = None
+        self.mover_since = 0
+        self._last_msg: Song2016Message | None = None
+        self._state: tuple = self._snapshot(None, False, (), False, False, None, None, None)
+
+    # -- helpers -------------------------------------------------------------
+    def _my_vacancy(self, pose_of: Mapping[int, Sequence[float]],
+                    messages: Mapping[int, Any]) -> Vacancy | None:
+        """getVacancy() (Algorithm 1 line 5): the most important vacancy (Def. 9)."""
+        if not self.stable:
+            return None
+        stable_xy = [(pose_of[i][0], pose_of[i][1]) for i, m in messages.items()
+                     if m.stable and i in pose_of]
+        vac = vacancies(self._out_edges[self.role], stable_xy, self.cfg.vacancy_tolerance)
+        return vac[0] if vac else None
+
+    def _snapshot(self, parent, relocate, children, subtree, moving, goal, target, vacancy) -> tuple:
+        return (
+            ("stable", self.stable), ("role", self.role), ("parent", parent),
+            ("children", children), ("relocate", relocate), ("subtree", subtree),
+            ("moving", moving), ("goal", goal), ("target", target),
+            ("safe_radius", self._safe_radius),
+            ("highest_id", self.highest_id), ("highest_since", self.highest_since),
+            ("root_id", self.root_id),
+            ("relocate_id", self.relocate_id), ("relocate_since", self.relocate_since),
+            ("mover", self.mover), ("mover_since", self.mover_since),
+            ("vacancy", None if vacancy is None else vacancy.as_tuple()),
+        )
+
+    # -- protocol ------------------------------------------------------------
+    def state(self) -> Hashable:
+        """The snapshot described in the module docstring (after the last step)."""
+        return self._state
+
+    def step(self, obs: Observation) -> Command:
+        """One synchronous step: Algorithm 1, the state changes, NCLB motion."""
+        t = obs.step
+        me = self.robot_id
+        cfg = self.cfg
+        ids = obs.neighbor_ids or ()
+        poses = obs.neighbor_poses
+        pose_of = {i: (float(poses[k, 0]), float(poses[k, 1]), float(poses[k, 2]))
+                   for k, i in enumerate(ids)}
+        messages: dict[int, Song2016Message] = {}
+        for sid in sorted(obs.messages):
+            m = obs.messages[sid]
+            if not isinstance(m, Song2016Message):
+                raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
+                                    "not a Song2016Message")
+            messages[sid] = m
+        inbox = list(messages.values())  # Algorithm 1 line 10: increasing sender ID
+
+        # Algorithm 1 (lines 1-31) with this robot's state at the start of the step.
+        my_vac = self._my_vacancy(pose_of, messages)
+        msg, _ = compute_message(me, self.stable, my_vac, inbox, cfg.rumor_filter)
+
+        # Def. 10 / Sec. V-B: the timeouts count from the last change of the
+        # principal information.
+        if msg.highest_id != self.highest_id:
+            self.highest_id = msg.highest_id
+            self.highest_since = t
+        if msg.relocate_id != self.relocate_id:
+            self.relocate_id = msg.relocate_id
+            self.relocate_since = t
+        self.root_id = msg.root_id
+        changed = False
+        # Sec. V-A/V-B: the robot that has the highest ID becomes stable (role v0)
+        # once the communication timeout has passed since its highest ID last changed.
+        if (not self.stable and msg.highest_id == me
+                and t - self.highest_since >= cfg.communication_timeout):
+            self.stable = True
+            self.role = self._v0
+            changed = True
+        # Sec. V-B: the highest-ID unstable robot becomes the relocate robot after
+        # the same timeout on relocateID.
+        relocate = (not self.stable and msg.relocate_id == me
+                    and t - self.relocate_since >= cfg.communication_timeout)
+        # Sec. V-C: only the relocate robot and its descendants (the moving subtree,
+        # Table I "subtree") move; the movement timeout (Sec. VI) runs from when
+        # the robot became one of them.
+        if relocate:
+            mover = "relocate"
+        elif not self.stable and msg.subtree and msg.relocate_id != me:
+            mover = "subtree"
+        else:
+            mover = None
+        if mover != self.mover:
+            self.mover = mover
+            self.mover_since = t
+        may_move = mover is not None and t - self.mover_since >= cfg.movement_timeout
+
+        parent = msg.parent_id
+        goal: tuple[float, float] | None = None
+        heading: float | None = None
+        if may_move and parent is not None and parent in pose_of:
+            px, py, _ = pose_of[parent]
+            if mover == "relocate":
+                # Sec. V-C case 2: toward the parent, or toward the vacancy when the
+                # parent is the root.
+                if parent == msg.root_id:
+                    root_msg = messages.get(parent)
+                    vac = None if root_msg is None else root_msg.vacancy
+                    if vac is not None:
+                        vx, vy, vth = vacancy_in_observer_frame(pose_of[parent], vac)
+                        if (math.hypot(vx, vy) <= cfg.arrival_epsilon
+                                and abs(wrap_angle(vth)) <= cfg.heading_epsilon):
+                            # Sec. V-A: "Robot ri will change its state from unstable to
+                            # stable after it reaches this pose" (footnote 2: within eps).
+                            self.stable = True
+                            self.role = vac.role
+                            changed = True
+                        else:
+                            goal = (vx, vy)
+                            heading = vth
+                else:
+                    goal = (px, py)
+            else:
+                # Sec. V-C case 3: toward the parent only when farther than d_s.
+                if math.hypot(px, py) > cfg.d_s:
+                    goal = (px, py)
+        if changed:
+            # The broadcast reflects the state after this step's change.
+            relocate = False
+            self.mover = None
+            self.mover_since = t
+            goal = None
+            my_vac = self._my_vacancy(pose_of, messages)
+            msg, _ = compute_message(me, self.stable, my_vac, inbox, cfg.rumor_filter)
+            self.root_id = msg.root_id
+            if msg.relocate_id != self.relocate_id:
+                self.relocate_id = msg.relocate_id
+                self.relocate_since = t
+            parent = msg.parent_id
+
+        # NCLB (Sec. V-C): the children are the robots whose last message named me
+        # as parent; the safe region is the intersection of their bounded ranges.
+        children = tuple(sid for sid, m in messages.items() if m.parent_id == me and sid in pose_of)
+        turn = forward = 0.0
+        target = None
+        if goal is not None:
+            centers = [(pose_of[c][0], pose_of[c][1]) for c in children]
+            if math.hypot(goal[0], goal[1]) <= cfg.arrival_epsilon:
+                # At the vacancy: turn to its orientation (Sec. V-A), no translation.
+                if heading is not None:
+                    turn = float(heading)
+                target = (0.0, 0.0)
+            else:
+                way = closest_point_in_discs(goal, centers, self._safe_radius)
+                if way is not None and (way[0] != 0.0 or way[1] != 0.0):
+                    tr, fw, ex, ey = reachable_point(way, self.params.v, self.params.omega,
+                                                     self.params.dt)
+                    if fw > 0.0 and not in_discs(ex, ey, centers, self._safe_radius):
+                        # The end of the step would leave the safe region (possible only
+                        # when the robot starts outside it): do not move.
+                        tr = fw = 0.0
+                    if fw > 0.0 or tr != 0.0:
+                        turn, forward = tr, fw
+                        target = (ex, ey) if fw > 0.0 else (0.0, 0.0)
+                # way is None: empty safe region -> "the robot does not move".
+        self._last_msg = msg
+        self._state = self._snapshot(parent, relocate, children, msg.subtree, forward > 0.0,
+                                     goal, target, my_vac)
+        return Command(message=msg, turn=turn, forward=forward)
+
+
+# ---------------------------------------------------------------------------
+# The algorithm
+# ---------------------------------------------------------------------------
+
+class Song2016:
+    """The Song & O'Kane 2016 algorithm (001 Sec. V), for the engine.
+
+    Parameters
+    ----------
+    n_robots : int, optional
+        The number of robots; the default of both timeouts (001 Sec. VI: "we
+        set both of the communication timeout and the movement timeout as the
+        same as the number of robots").  Robots do not know it; it only sets
+        the timeouts.  Without it, ``params.extra`` (or the keyword
+        arguments) must give both timeouts.
+    communication_timeout, movement_timeout, d_s, arrival_epsilon,
+    heading_epsilon, vacancy_tolerance, rumor_filter : optional
+        Defaults for the values of the same names; ``params.extra`` overrides
+        them.  See :class:`Song2016Config`.
+
+    Examples
+    --------
+    >>> alg = Song2016(n_robots=4)
+    >>> p = Params(range=1.2, v=0.05)
+    >>> cfg = alg.config(p, 0.5)
+    >>> cfg.communication_timeout, cfg.movement_timeout, cfg.d_s
+    (4, 4, 0.575)
+    >>> [a.name for a in alg.assumptions]
+    ['v_dt_below_range', 'safe_distance_in_range', 'communication_timeout_sufficient', 'connected_start']
+
+    References
+    ----------
+    001_7a4e517b856331bc.txt, Sec. V and VI.
+    """
+
+    name = "song2016"
+    model = RobotModel(sensing="local", communication="neighbors", motion="differential",
+                       clocks="sync")
+
+    def __init__(self, n_robots: int | None = None, *, communication_timeout: int | None = None,
+                 movement_timeout: int | None = None, d_s: float | None = None,
+                 arrival_epsilon: float = 1e-6, heading_epsilon: float = 1e-6,
+                 vacancy_tolerance: float | None = None, rumor_filter: str = "field") -> None:
+        if n_robots is not None:
+            n_robots = _check_count("n_robots", n_robots)
+        self.n_robots = n_robots
+        self._defaults = {
+            "communication_timeout": communication_timeout, "movement_timeout": movement_timeout,
+            "d_s": d_s, "arrival_epsilon": arrival_epsilon, "heading_epsilon": heading_epsilon,
+            "vacancy_tolerance": vacancy_tolerance, "rumor_filter": rumor_filter,
+        }
+        self.assumptions = self._make_assumptions()
+
+    def __repr__(self) -> str:
+        given = {k: v for k, v in self._defaults.items() if v is not None}
+        return f"Song2016(n_robots={self.n_robots!r}, {given!r})"
+
+    # -- configuration ---------------------------------------------------
+    def _value(self, params: Params, key: str):
+        extra = params.extra or {}
+        if key in extra:
+            return extra[key], f"params.extra[{key!r}]"
+        return self._defaults[key], key
+
+    def config(self, params: Params, min_edge: float, n: int | None = None) -> Song2016Config:
+        """Resolve the algorithm's values: ``params.extra`` > constructor > default.
+
+        Parameters
+        ----------
+        params : Params
+        min_edge : float
+            The shortest lattice edge (for the default vacancy tolerance).
+        n : int, optional
+            The number of robots, if known here (else ``n_robots``).
+
+        Raises
+        ------
+        UsageError
+            A value of the wrong type or range, naming it, or no way to set a
+            timeout (neither ``n_robots`` nor an explicit timeout).
+        """
+        unknown = sorted(set(params.extra or {}) - set(_EXTRA_KEYS))
+        if unknown:
+            raise UsageError(f"params.extra has unknown key(s) {unknown!r} for song2016",
+                             fix=f"use only {list(_EXTRA_KEYS)!r}")
+        n_eff = self.n_robots if self.n_robots is not None else n
+        vals: dict[str, Any] = {}
+        for key in ("communication_timeout", "movement_timeout"):
+            value, name = self._value(params, key)
+            if value is None:
+                if n_eff is None:
+                    raise UsageError(f"{key} is unknown: song2016 sets it to the number of robots",
+                                     fix="construct Song2016(n_robots=N) or set "
+                                         f"params.extra[{key!r}]")
+                value = n_eff
+            vals[key] = _check_count(name, value)
+        value, name = self._value(params, "d_s")
+        vals["d_s"] = (0.5 * bounded_range_radius(params.range, params.v, params.dt)
+                       if value is None else _check_pos(name, value))
+        for key in ("arrival_epsilon", "heading_epsilon"):
+            value, name = self._value(params, key)
+            vals[key] = _check_pos(name, value)
+        value, name = self._value(params, "vacancy_tolerance")
+        vals["vacancy_tolerance"] = 0.5 * min_edge if value is None else _check_pos(name, value)
+        value, name = self._value(params, "rumor_filter")
+        if value not in RUMOR_FILTERS:
+            raise UsageError(f"{name}={value!r} is not one of {RUMOR_FILTERS!r}",
+                             fix="'message' (Algorithm 1 line 12 as printed) or 'field'")
+        vals["rumor_filter"] = value
+        return Song2016Config(**vals)
+
+    # -- assumptions (checked by the engine) ------------------------------
+    def _make_assumptions(self) -> tuple[Assumption, ...]:
+        def v_dt(params: Params, n, ids):
+            if not params.v * params.dt < params.range:
+                return (f"v*dt={params.v * params.dt!r} must be < phi=range={params.range!r}")
+            return None
+
+        def d_s(params: Params, n, ids):
+            r = bounded_range_radius(params.range, params.v, params.dt)
+            value, name = self._value(params, "d_s")
+            if value is None:
+                return None if r > 0 else f"phi - v*dt={r!r} must be > 0 for any d_s"
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                return f"{name}={value!r} is not a number"
+            if not 0 < x < r:
+                return f"{name}={value!r} must lie in (0, phi - v*dt) = (0, {r!r})"
+            return None
+
+        def timeout(params, n, ids):
+            value, name = self._value(params, "communication_timeout")
+            if value is None:
+                value = self.n_robots if self.n_robots is not None else n
+                name = "communication_timeout (default: n_robots)"
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                return f"{name}={value!r} is not a whole number of steps"
+            if value < n - 1:
+                return (f"{name}={value!r} < n - 1 = {n - 1}: information may need n - 1 "
+                        "steps to cross the network")
+            return None
+
+        return (
+            Assumption("v_dt_below_range", "v*dt < phi", "001 Lemma 7, Def. 8", v_dt),
+            Assumption("safe_distance_in_range", "0 < d_s < phi - v*dt", "001 Sec. V-C", d_s),
+            Assumption("communication_timeout_sufficient",
+                       "communication_timeout >= n - 1 (long enough for information to cross "
+                       "the network)", "001 Def. 10, Lemma 12 (O(m) steps for m hops)", timeout),
+            # The engine checks it on the initial poses (protocol.connected_start).
+            connected_start("001 Lemma 11, Theorem 13, Sec. VI (random but connected starts)"),
+        )
+
+    # -- protocol --------------------------------------------------------
+    def controller(self, robot_id: int, params: Params, lattice, rng: np.random.Generator
+                   ) -> Song2016Controller:
+        """A fresh controller (``rng`` is unused: the algorithm is deterministic)."""
+        if isinstance(robot_id, bool) or not isinstance(robot_id, (int, np.integer)):
+            raise UsageError(f"robot_id={robot_id!r} must be an int (comparable IDs, 001 Sec. III-A)")
+        min_edge = min((e.transform.norm() for e in lattice.edges), default=0.0)
+        if not min_edge > 0:
+            raise UsageError(f"lattice {lattice.name!r} has no edge of positive length",
+                             fix="give a lattice graph with edges (001 Def. 1)")
+        cfg = self.config(params, min_edge)
+        return Song2016Controller(int(robot_id), params, lattice, cfg)
+
+    def default_max_steps(self, params: Params, n: int) -> int:
+        """The engine's step cap: twice the Theorem 13 bound, with our constants.
+
+        001 Theorem 13: ``T = sum_{i=1}^{n-1} T_i + O(n)`` with
+        ``T_i <= T_timeout + (n-1)(phi/v + 2 pi/omega)``.  Per relocation we
+        count the communication timeout twice (stale information must die out
+        before the new relocate robot's timeout runs, Sec. V-B) plus the
+        movement timeout (Sec. VI), convert times to steps with ``ceil``, and
+        double the sum.  A run that hits the cap is inconclusive, not a pass.
+
+        >>> Song2016(n_robots=3).default_max_steps(Params(range=1.2, v=0.05), 3)
+        398
+        """
+        min_edge = 1.0
+        try:
+            cfg = self.config(params, min_edge, n)
+            tc, tm = cfg.communication_timeout, cfg.movement_timeout
+        except UsageError:
+            tc = tm = int(n)
+        v = max(params.v, 1e-9)
+        hop = math.ceil((params.range / v + 2 * math.pi / params.omega) / params.dt)
+        n1 = max(int(n) - 1, 0)
+        return int(2 * (n1 * (2 * tc + tm + n1 * hop) + tc) + 100)
+
+    def finished(self, states: Sequence[Hashable]) -> bool:
+        """True when no unstable robot remains (001 Sec. V-C, last paragraph)."""
+        return all(dict(s)["stable"] for s in states)
