@@ -447,6 +447,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     global_sensing = model.sensing == "global"
     comm = model.communication
     std_xy, std_th = (float(s) for s in faults.noise_std)
+    drops = faults.drops_messages
+    noisy = faults.noisy
     status = "step_cap"
     quiet = 0
     finished = bool(algorithm.finished(tuple(s for s, p in zip(states, present) if p)))
@@ -498,7 +500,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         rel = _rel_rows(pp[src], pp[dst]) if rel is None else rel[order]
         off = np.zeros(m + 1, dtype=np.intp)
         np.cumsum(np.bincount(src, minlength=m), out=off[1:])
-        if faults.noisy:
+        if noisy:
             for a in range(m):
                 lo, hi = off[a], off[a + 1]
                 if hi == lo:
@@ -542,19 +544,21 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 heard = [(sid, s) for sid, s in all_senders if s != k]
             else:
                 heard = zip(dst_ids[lo:hi], dst_slots_l[lo:hi])
-            msgs = {}
-            for sid, s in heard:
-                msg = last_msgs[s]
-                if msg is None:
-                    continue
-                if faults.drops_messages:
+            if not drops:
+                msgs = {sid: last_msgs[s] for sid, s in heard if last_msgs[s] is not None}
+            else:
+                msgs = {}
+                for sid, s in heard:
+                    msg = last_msgs[s]
+                    if msg is None:
+                        continue
                     if faults.drop_message is not None and faults.drop_message(t, sid, my_id, fault_rng):
                         dropped.append((sid, my_id))
                         continue
                     if faults.message_loss > 0 and fault_rng.random() < faults.message_loss:
                         dropped.append((sid, my_id))
                         continue
-                msgs[sid] = msg
+                    msgs[sid] = msg
             own = None
             if global_sensing:
                 own = poses[k].copy()
