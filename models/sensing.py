@@ -39,6 +39,24 @@ __all__ = ["neighbor_pairs", "components", "is_connected", "pair_distances"]
 #: in the last bits; candidates are filtered exactly afterwards.
 _INFLATE = 1.0 + 1e-9
 
+#: Up to this many robots, all pairs are candidates (no tree).
+_BRUTE_MAX = 40
+
+_TRIU: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _triu(n: int):
+    """Index pairs ``i < j`` of ``0..n-1`` in lexicographic order (cached, read-only)."""
+    got = _TRIU.get(n)
+    if got is None:
+        i, j = np.triu_indices(n, 1)
+        i = i.astype(np.intp)
+        j = j.astype(np.intp)
+        i.setflags(write=False)
+        j.setflags(write=False)
+        got = _TRIU[n] = (i, j)
+    return got
+
 
 def pair_distances(xy: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """``hypot`` distances between rows ``i`` and ``j`` of ``xy`` (the canonical distance)."""
@@ -70,6 +88,13 @@ def neighbor_pairs(xy, phi: float):
     if n < 2:
         e = np.empty(0, dtype=np.intp)
         return e, e.copy(), np.empty(0)
+    if n <= _BRUTE_MAX:
+        # small swarms: every pair is a candidate (cheaper than building a tree);
+        # the exact filter below makes the result identical to the tree's.
+        iu, ju = _triu(n)
+        d = pair_distances(xy, iu, ju)
+        keep = d < phi
+        return iu[keep], ju[keep], d[keep]
     pairs = cKDTree(xy).query_pairs(r=float(phi) * _INFLATE, output_type="ndarray")
     if len(pairs) == 0:
         e = np.empty(0, dtype=np.intp)

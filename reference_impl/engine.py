@@ -273,6 +273,26 @@ def _rel_rows(frames: np.ndarray, poses: np.ndarray) -> np.ndarray:
     return out
 
 
+_OBS_FIELDS = ("step", "robot_id", "neighbor_ids", "neighbor_poses", "messages", "own_pose")
+
+
+def _new_observation(step, robot_id, neighbor_ids, neighbor_poses, messages, own_pose) -> Observation:
+    """Build a frozen Observation without the dataclass ``__init__`` overhead (hot path).
+
+    Equivalent to ``Observation(step, robot_id, ...)``: the object is the same
+    frozen dataclass (assignment still raises), only its fields are filled directly.
+    """
+    obs = object.__new__(Observation)
+    d = obs.__dict__
+    d["step"] = step
+    d["robot_id"] = robot_id
+    d["neighbor_ids"] = neighbor_ids
+    d["neighbor_poses"] = neighbor_poses
+    d["messages"] = messages
+    d["own_pose"] = own_pose
+    return obs
+
+
 def _robot_rng(seed: int, slot: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
 
@@ -525,15 +545,16 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         off_l = off.tolist()
 
         # 3.-4. messages and decisions (per robot)
-        turns = np.zeros(m)
-        fwds = np.zeros(m)
+        turns_l = [0.0] * m
+        fwds_l = [0.0] * m
+        act_l = act.tolist()
         new_msgs: list = [None] * n_total
         dropped = []
         idx_l = idx.tolist()
         pres_ids_l = pres_ids.tolist()
         all_senders = [(ids_list[s], s) for s in idx_l] if comm == "all" else None
         for a in range(m):
-            if not act[a]:
+            if not act_l[a]:
                 continue
             k = idx_l[a]
             lo, hi = off_l[a], off_l[a + 1]
@@ -563,16 +584,25 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             if global_sensing:
                 own = poses[k].copy()
                 own.setflags(write=False)
-            obs = Observation(step=t, robot_id=None if anonymous else my_id,
-                              neighbor_ids=None if anonymous else tuple(dst_ids[lo:hi]),
-                              neighbor_poses=rel[lo:hi], messages=msgs, own_pose=own)
+            obs = _new_observation(t, None if anonymous else my_id,
+                                   None if anonymous else tuple(dst_ids[lo:hi]), rel[lo:hi], msgs, own)
             cmd = controllers[k].step(obs)
-            turns[a], fwds[a] = _check_command(cmd, my_id, t)
+            if type(cmd) is Command:  # fast path; anything unusual gets the full check
+                tu, fw = cmd.turn, cmd.forward
+                if not (type(tu) is float and type(fw) is float and fw >= 0.0
+                        and tu - tu == 0.0 and fw - fw == 0.0):
+                    tu, fw = _check_command(cmd, my_id, t)
+            else:
+                tu, fw = _check_command(cmd, my_id, t)
+            turns_l[a] = tu
+            fwds_l[a] = fw
             new_msgs[k] = cmd.message
         if dropped:
             events.append(Event(t, "drop", (), (("deliveries", tuple(dropped)),)))
 
         # 5. motion (vectorized)
+        turns = np.array(turns_l, dtype=float)
+        fwds = np.array(fwds_l, dtype=float)
         if differential:
             tc = np.clip(turns, -max_turn, max_turn)
             limit = np.maximum(params.v * (params.dt - np.abs(tc) / params.omega), 0.0)
