@@ -66,7 +66,7 @@ from typing import Any, Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError  # noqa: F401
+from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError, check_finite  # noqa: F401
 from swarmproof.models.se2 import wrap_angle
 from .protocol import Assumption, Command, Observation, Params, RobotModel, connected_start
 from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
@@ -900,8 +900,10 @@ class Song2016:
                 value = n_eff
             vals[key] = _check_count(name, value)
         value, name = self._value(params, "d_s")
+        # any finite d_s is accepted here; the assumption safe_distance_in_range
+        # refuses one outside (0, phi - v*dt) unless violations are allowed
         vals["d_s"] = (0.5 * bounded_range_radius(params.range, params.v, params.dt)
-                       if value is None else _check_pos(name, value))
+                       if value is None else check_finite(name, value))
         for key in ("arrival_epsilon", "heading_epsilon"):
             value, name = self._value(params, key)
             vals[key] = _check_pos(name, value)
