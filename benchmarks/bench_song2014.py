@@ -97,7 +97,7 @@ def mode_figs(args):
             runs = []
             for seed in range(args.seeds):
                 t0 = time.perf_counter()
-                res = run_formation(lname, n, seed=seed)
+                res = run_formation(lname, n, seed=seed, spread_factor=args.spread_factor)
                 s = summary(res, lat, lat.range)
                 s.update(lattice=lname, n=n, seed=seed, seconds=time.perf_counter() - t0)
                 runs.append(s)
@@ -115,7 +115,7 @@ def mode_robustness(args):
     lat = load("hexagon")
     for seed in range(args.seeds):
         t0 = time.perf_counter()
-        r = run_robustness(seed, n=args.robots, remove=args.remove)
+        r = run_robustness(seed, n=args.robots, remove=args.remove, spread_factor=args.spread_factor)
         b = summary(r.before, lat, lat.range)
         a = summary(r.after, lat, lat.range, start=r.removed_at)
         rows.append({"seed": seed, "removed_at": r.removed_at, "before": b, "after": a,
@@ -134,6 +134,8 @@ def main(argv=None):
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--robots", type=int, default=150)
     p.add_argument("--remove", type=int, default=50)
+    p.add_argument("--spread-factor", type=float, default=None,
+                   help="start in a square of side F*sqrt(n)*phi (denser); default: unconfined")
     p.add_argument("--json", default=None)
     args = p.parse_args(argv)
     if args.sizes is None:

@@ -18,6 +18,7 @@ References
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,18 +76,23 @@ def execution_time(result: SimulationResult, *, start: int = 0) -> int | None:
     return t
 
 
-def _initial(lattice, n: int, seed: int):
+def _initial(lattice, n: int, seed: int, spread_factor: float | None = None):
+    """The random connected start of ``seed``; with ``spread_factor`` the robots
+    lie in a square of side ``spread_factor * sqrt(n) * phi`` (a denser start)."""
+    phi = float(lattice.range)
+    spread = None if spread_factor is None else float(spread_factor) * math.sqrt(n) * phi
     return random_connected(n, np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(7,))),
-                            range=float(lattice.range))
+                            range=phi, spread=spread)
 
 
 def run_formation(lattice_name: str, n: int, seed: int, *, params: Params | None = None,
-                  max_steps: int | None = None) -> SimulationResult:
+                  max_steps: int | None = None, spread_factor: float | None = None) -> SimulationResult:
     """One run of Sec. V's formation experiment (Figs. 8-9).
 
     ``n`` robots start from :func:`~swarmproof.reference_impl.initial.random_connected`
     (range = the lattice's, minimum separation phi/4) drawn from ``seed``, and
-    run song2014 until static or the cap.
+    run song2014 until static or the cap.  ``spread_factor`` confines the start
+    to a square of side ``spread_factor * sqrt(n) * phi`` (denser starts).
 
     Examples
     --------
@@ -97,8 +103,8 @@ def run_formation(lattice_name: str, n: int, seed: int, *, params: Params | None
     check_type("n", n, (int, np.integer))
     lattice = load(lattice_name)
     params = params or default_params(lattice)
-    return simulate(Song2014(), lattice, _initial(lattice, int(n), seed), params, seed=seed,
-                    max_steps=max_steps)
+    return simulate(Song2014(), lattice, _initial(lattice, int(n), seed, spread_factor), params,
+                    seed=seed, max_steps=max_steps)
 
 
 @dataclass(frozen=True)
@@ -126,7 +132,8 @@ class RobustnessResult:
 
 
 def run_robustness(seed: int, *, lattice_name: str = "hexagon", n: int = 150, remove: int = 50,
-                   params: Params | None = None, max_steps: int | None = None) -> RobustnessResult:
+                   params: Params | None = None, max_steps: int | None = None,
+                   spread_factor: float | None = None) -> RobustnessResult:
     """Sec. V's robustness experiment (Fig. 10): form, remove ``remove`` robots, re-form.
 
     The first run stops when the engine sees it static; its execution time
@@ -147,7 +154,7 @@ def run_robustness(seed: int, *, lattice_name: str = "hexagon", n: int = 150, re
         raise UsageError(f"remove={remove!r} must be in [0, n={n!r})")
     lattice = load(lattice_name)
     params = params or default_params(lattice)
-    init = _initial(lattice, n, seed)
+    init = _initial(lattice, n, seed, spread_factor)
     before = simulate(Song2014(), lattice, init, params, seed=seed, max_steps=max_steps)
     if not before.static:
         raise UsageError(f"the first phase ended with status={before.status!r} after "

@@ -128,3 +128,29 @@ def test_robustness_experiment_reforms_after_removing_50_of_150():
     present = r.after.trace.present_at(r.after.steps)
     assert int(present.sum()) == 100
     assert r.after.status in ("static", "step_cap")
+
+
+def test_robustness_replay_removes_at_the_first_static_time():
+    """Small version of Fig. 10: the replay equals the first run up to the removal."""
+    r = run_robustness(2, n=20, remove=5)
+    t1 = r.removed_at
+    assert t1 == execution_time(r.before) and t1 < r.before.steps
+    assert np.array_equal(r.after.trace.poses[t1], r.before.trace.poses[t1])
+    assert np.array_equal(r.after.trace.poses[t1], r.before.trace.poses[-1])
+    assert len(r.removed) == 5 and set(r.removed) <= set(r.before.final_ids.tolist())
+    assert sorted(set(r.before.final_ids.tolist()) - set(r.after.final_ids.tolist())) == list(r.removed)
+    assert r.after.status in ("static", "step_cap")
+
+
+@pytest.mark.parametrize("n, remove", [(10, 10), (10, -1)], ids=["remove-all", "remove-negative"])
+def test_robustness_rejects_bad_removal_counts(n, remove):
+    from swarmproof.models.errors import UsageError
+    with pytest.raises(UsageError, match=rf"remove={remove} must be in \[0, n={n}\)"):
+        run_robustness(0, n=n, remove=remove)
+
+
+def test_denser_start_stays_in_its_square():
+    res = run_formation("square", 12, seed=4, spread_factor=0.5, max_steps=0)
+    side = 0.5 * math.sqrt(12) * load("square").range
+    xy = res.trace.poses[0][:, :2]
+    assert xy.min() >= 0 and xy.max() <= side
