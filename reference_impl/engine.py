@@ -68,7 +68,7 @@ from swarmproof.models.trace import Event, InitialConfiguration, Trace, to_jsona
 from .protocol import Command, Observation, Params
 
 __all__ = [
-    "simulate", "SimulationResult", "Trace", "FaultModel", "default_max_steps",
+    "simulate", "SimulationResult", "Trace", "FaultModel", "TableSchedule", "DropSet", "default_max_steps",
     "default_static_window", "ENGINE_ASSUMPTIONS",
 ]
 
@@ -180,19 +180,125 @@ class FaultModel:
         return out
 
     def describe(self) -> dict:
-        """JSON-friendly summary for traces and reports."""
+        """JSON-friendly summary for traces, reports and counterexample files.
+
+        Data-driven hooks (:class:`TableSchedule`, :class:`DropSet`) are written
+        as their data, so :meth:`from_dict` rebuilds the same fault model;
+        other callables are written by name only (not replayable).
+        """
+        def hook(f):
+            if f is None:
+                return None
+            if hasattr(f, "as_dict"):
+                return f.as_dict()
+            return {"kind": "callable", "name": getattr(f, "__name__", type(f).__name__)}
+
         return {
-            "schedule": None if self.schedule is None else getattr(self.schedule, "__name__", "custom"),
+            "schedule": hook(self.schedule),
             "crashes": {str(k): [int(i) for i in v] for k, v in sorted(self.crashes.items())},
             "additions": {str(k): [[int(i), [float(x) for x in p]] for i, p in v]
                           for k, v in sorted(self.additions.items())},
-            "drop_message": None if self.drop_message is None else getattr(
-                self.drop_message, "__name__", "custom"),
+            "drop_message": hook(self.drop_message),
             "message_loss": float(self.message_loss),
-            "sensing_noise": None if self.sensing_noise is None else getattr(
-                self.sensing_noise, "__name__", "custom"),
+            "sensing_noise": hook(self.sensing_noise),
             "noise_std": [float(s) for s in self.noise_std],
         }
+
+    @staticmethod
+    def from_dict(d: Mapping) -> "FaultModel":
+        """Rebuild a fault model written by :meth:`describe` (data-driven hooks only).
+
+        Raises
+        ------
+        UsageError
+            A hook given only by name (a Python callable cannot be rebuilt from JSON).
+
+        Examples
+        --------
+        >>> f = FaultModel(schedule=TableSchedule({2: (1, 3)}), drop_message=DropSet({(0, 1, 3)}),
+        ...                crashes={4: [3]}, noise_std=(0.01, 0.0))
+        >>> FaultModel.from_dict(f.describe()).describe() == f.describe()
+        True
+        """
+        def hook(v, name):
+            if v is None:
+                return None
+            kind = v.get("kind") if isinstance(v, Mapping) else None
+            if kind == "table_schedule":
+                return TableSchedule.from_dict(v)
+            if kind == "drop_set":
+                return DropSet.from_dict(v)
+            raise UsageError(f"faults.{name}={v!r} cannot be rebuilt from data",
+                             fix="use TableSchedule / DropSet for replayable faults")
+
+        try:
+            return FaultModel(
+                schedule=hook(d.get("schedule"), "schedule"),
+                crashes={int(k): [int(i) for i in v] for k, v in dict(d.get("crashes") or {}).items()},
+                additions={int(k): [(int(i), [float(x) for x in p]) for i, p in v]
+                           for k, v in dict(d.get("additions") or {}).items()},
+                drop_message=hook(d.get("drop_message"), "drop_message"),
+                message_loss=float(d.get("message_loss", 0.0)),
+                sensing_noise=hook(d.get("sensing_noise"), "sensing_noise"),
+                noise_std=tuple(float(x) for x in d.get("noise_std", (0.0, 0.0))),
+            )
+        except (TypeError, ValueError, AttributeError) as exc:
+            if isinstance(exc, UsageError):
+                raise
+            raise UsageError(f"faults={dict(d)!r} is malformed ({exc})") from None
+
+
+@dataclass(frozen=True)
+class TableSchedule:
+    """A replayable asynchronous schedule: ``table[step]`` lists the IDs that act.
+
+    Steps missing from the table let every present robot act.
+
+    >>> s = TableSchedule({1: (2,)})
+    >>> s(1, np.array([1, 2, 3]), None).tolist(), s(0, np.array([1, 2]), None).tolist()
+    ([False, True, False], [True, True])
+    """
+
+    table: Mapping[int, Sequence[int]]
+
+    __name__ = "table_schedule"
+
+    def __call__(self, step, ids, rng):
+        act = self.table.get(int(step))
+        if act is None:
+            return np.ones(len(ids), dtype=bool)
+        return np.isin(ids, np.asarray(list(act), dtype=np.int64))
+
+    def as_dict(self) -> dict:
+        return {"kind": "table_schedule",
+                "table": {str(k): sorted(int(i) for i in v) for k, v in sorted(self.table.items())}}
+
+    @staticmethod
+    def from_dict(d: Mapping) -> "TableSchedule":
+        return TableSchedule({int(k): tuple(int(i) for i in v) for k, v in dict(d["table"]).items()})
+
+
+@dataclass(frozen=True)
+class DropSet:
+    """Replayable lost messages: the deliveries ``(step, sender_id, receiver_id)`` in ``drops``.
+
+    >>> DropSet({(3, 1, 2)})(3, 1, 2, None), DropSet({(3, 1, 2)})(3, 2, 1, None)
+    (True, False)
+    """
+
+    drops: frozenset | set
+
+    __name__ = "drop_set"
+
+    def __call__(self, step, sender, receiver, rng) -> bool:
+        return (int(step), int(sender), int(receiver)) in self.drops
+
+    def as_dict(self) -> dict:
+        return {"kind": "drop_set", "drops": sorted([int(a), int(b), int(c)] for a, b, c in self.drops)}
+
+    @staticmethod
+    def from_dict(d: Mapping) -> "DropSet":
+        return DropSet(frozenset((int(a), int(b), int(c)) for a, b, c in d["drops"]))
 
 
 @dataclass

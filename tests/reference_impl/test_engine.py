@@ -234,3 +234,26 @@ def test_fault_hooks_schedule_crash_add_drop_noise():
     assert algo.seen[0][0].neighbor_poses[1, 0] != 0.9
     again = simulate(algo, None, init, P, seed=0, max_steps=4, faults=faults, stop_when_static=False)
     assert again.trace.to_json() == r.trace.to_json()
+
+
+def test_data_driven_faults_replay_identically_from_their_json():
+    from swarmproof.reference_impl.engine import DropSet, TableSchedule
+
+    init = random_connected(6, 2, range=1.0, min_separation=0.3)
+    faults = FaultModel(schedule=TableSchedule({1: (0, 1, 2), 3: ()}),
+                        drop_message=DropSet({(2, 0, 1), (2, 1, 0)}), crashes={4: [5]},
+                        noise_std=(0.005, 0.001))
+    a = simulate(Scripted(random_walk), None, init, P, seed=9, max_steps=8, faults=faults,
+                 record_messages=True)
+    rebuilt = FaultModel.from_dict(a.trace.meta["faults"])
+    b = simulate(Scripted(random_walk), None, init, P, seed=9, max_steps=8, faults=rebuilt,
+                 record_messages=True)
+    assert a.trace.to_json() == b.trace.to_json()
+    # step 3: nobody acts, so nobody moves
+    assert np.array_equal(a.trace.poses[4], a.trace.poses[3])
+
+
+def test_callable_faults_are_not_rebuildable():
+    f = FaultModel(schedule=lambda step, ids, rng: ids >= 0)
+    with pytest.raises(UsageError, match="cannot be rebuilt from data"):
+        FaultModel.from_dict(f.describe())
