@@ -472,19 +472,24 @@ _junk = st.one_of(st.none(), st.booleans(), st.integers(-5, 5), st.text(string.p
 
 
 @st.composite
-def mutated_lattice_documents(draw, with_kind: bool = False):
+def mutated_lattice_documents(draw, with_kind: bool = False, kinds=MUTATION_KINDS):
     """Invalid ``lattice-graph/1`` documents: a valid one broken in exactly one way.
 
     Parameters
     ----------
     with_kind : bool
         Return ``(document, kind)`` with ``kind`` one of :data:`MUTATION_KINDS`.
+    kinds : sequence of str
+        The mutation kinds to draw from (default: all of :data:`MUTATION_KINDS`).
 
     Every returned document must be rejected by a correct loader (JSON
     serialisation needs ``allow_nan=True`` for the non-finite kind).
     """
     doc = draw(lattice_graph_documents())
-    kind = draw(st.sampled_from(MUTATION_KINDS))
+    unknown = [k for k in kinds if k not in MUTATION_KINDS]
+    if unknown or not kinds:
+        raise ValueError(f"kinds={list(kinds)!r}: use a non-empty subset of {list(MUTATION_KINDS)!r}")
+    kind = draw(st.sampled_from(list(kinds)))
     roles = doc["roles"]
     if kind in ("row_not_list", "row_length", "unknown_role", "non_finite_number", "bool_number",
                 "wrong_type_number") and not doc["edges"]:
