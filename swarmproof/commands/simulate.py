@@ -169,11 +169,18 @@ def run(args) -> int:
         "broken_assumptions": list(result.broken_assumptions),
         "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
     }
+    bound_fn = getattr(algorithm, "termination_bound", None)
+    term = None
+    if callable(bound_fn):
+        from swarmproof.invariants.termination import static_by_bound
+
+        term = static_by_bound(trace, int(bound_fn(params, init.n)))
+        doc["termination"] = term.as_dict()
     if args.trace:
         doc["trace"] = trace.save(args.trace)
     if args.plot:
         doc["plot"] = plot_run(trace, lattice, sat.roles, args.plot, phi)
-    if conn.violated or links.violated:
+    if conn.violated or links.violated or (term is not None and term.violated):
         code = EXIT_DEFECT
     elif result.status == "step_cap":
         code = EXIT_INCONCLUSIVE
@@ -196,6 +203,8 @@ def run(args) -> int:
             f"  total distance: {doc['total_distance']:.6g}, min separation: "
             + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"),
         ]
+        if term is not None:
+            lines.append(f"  termination: {term.status} - {term.message}")
         if result.broken_assumptions:
             lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
         if args.trace:

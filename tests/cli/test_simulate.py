@@ -102,3 +102,17 @@ def test_allow_violations_reports_them(capsys):
     code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "2", "--seed", "0",
                        "--v", "5", "--allow-violations", "--json")
     assert json.loads(out)["broken_assumptions"] == ["v_dt_below_range"]
+
+
+def test_termination_bound_is_checked_when_the_algorithm_gives_one(capsys, monkeypatch):
+    from swarmproof.reference_impl.examples import GatherToLowestId
+
+    monkeypatch.setattr(GatherToLowestId, "termination_bound", lambda self, params, n: 1, raising=False)
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "3", "--seed", "2",
+                       "--json")
+    doc = json.loads(out)
+    assert doc["termination"]["status"] == "violated" and code == 1
+    monkeypatch.setattr(GatherToLowestId, "termination_bound", lambda self, params, n: 10**6, raising=False)
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "3", "--seed", "2",
+                       "--json")
+    assert json.loads(out)["termination"]["status"] == "held"
