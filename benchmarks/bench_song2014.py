@@ -24,6 +24,7 @@ import time
 
 import numpy as np
 
+from swarmproof.invariants.connectivity import components_at, first_disconnection
 from swarmproof.invariants.metrics import non_fulfillment_ratio
 from swarmproof.invariants.satisfaction import satisfies_lattice
 from swarmproof.models.fileio import atomic_write_text, dumps_json
@@ -56,6 +57,8 @@ def summary(result, lattice, phi, start=0):
         "ratio": ratio_of(result, lattice, phi),
         "roots": sum(1 for s in states if s["root"]),
         "satisfies": bool(sat.held),
+        "first_split": None if (hit := first_disconnection(result.trace, phi)) is None else hit[0],
+        "components_end": len(components_at(result.trace, result.steps, phi)),
     }
 
 
@@ -106,7 +109,9 @@ def mode_figs(args):
             static = [r for r in runs if r["status"] == "static"]
             print(f"| {lname} | {n} | {len(static)}/{len(runs)} | {_ms([r['t_exe'] for r in static])} | "
                   f"{_ms([r['ratio'] for r in static])} | {_ms([r['roots'] for r in runs])} | "
-                  f"{sum(r['satisfies'] for r in runs)}/{len(runs)} |", flush=True)
+                  f"{sum(r['satisfies'] for r in runs)}/{len(runs)} | "
+                  f"{sum(r['first_split'] is not None for r in runs)}/{len(runs)} | "
+                  f"{_ms([r['components_end'] for r in runs])} |", flush=True)
     return rows
 
 
@@ -120,8 +125,9 @@ def mode_robustness(args):
         a = summary(r.after, lat, lat.range, start=r.removed_at)
         rows.append({"seed": seed, "removed_at": r.removed_at, "before": b, "after": a,
                      "seconds": time.perf_counter() - t0})
-        print(f"| {seed} | {b['t_exe']} | {b['ratio']:.3f} | {a['status']} | {a['t_exe']} | "
-              f"{'-' if a['ratio'] is None else format(a['ratio'], '.3f')} | {a['roots']} |", flush=True)
+        print(f"| {seed} | {b['t_exe']} | {b['ratio']:.3f} | {b['components_end']} | {a['status']} | "
+              f"{a['t_exe']} | {'-' if a['ratio'] is None else format(a['ratio'], '.3f')} | "
+              f"{a['components_end']} |", flush=True)
     return rows
 
 
@@ -141,12 +147,13 @@ def main(argv=None):
     if args.sizes is None:
         args.sizes = [50, 250] if args.mode == "perf" else [50, 100, 150, 200, 250]
     if args.mode == "figs":
-        print("| lattice | robots | static | t_exe (steps) | ratio (Eq. 3) | roots | satisfies Def. 2 |")
-        print("|---|---:|---:|---:|---:|---:|---:|")
+        print("| lattice | robots | static | t_exe (steps) | ratio (Eq. 3) | roots | satisfies Def. 2 "
+              "| disconnected | components at end |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     if args.mode == "robustness":
-        print(f"| seed | t_exe before | ratio before | status after | t_exe after removal | "
-              f"ratio after | roots after |")
-        print("|---:|---:|---:|---|---:|---:|---:|")
+        print("| seed | t_exe before | ratio before | components before | status after | "
+              "t_exe after removal | ratio after | components after |")
+        print("|---:|---:|---:|---:|---|---:|---:|---:|")
     rows = {"perf": mode_perf, "figs": mode_figs, "robustness": mode_robustness}[args.mode](args)
     if args.json:
         atomic_write_text(args.json, dumps_json({"mode": args.mode, "argv": sys.argv[1:], "rows": rows}))
