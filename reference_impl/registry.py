@@ -21,6 +21,7 @@ swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use
 from __future__ import annotations
 
 import importlib
+import inspect
 
 from swarmproof.models.errors import UsageError
 
@@ -56,6 +57,22 @@ def algorithm_factory(name: str):
                          fix=f"use one of {algorithm_names()!r}") from None
 
 
-def get_algorithm(name: str, **options):
-    """A fresh algorithm object for ``name``, built with keyword ``options``."""
-    return algorithm_factory(name)(**options)
+def get_algorithm(name: str, *, n_robots: int | None = None, **options):
+    """A fresh algorithm object for ``name``, built with keyword ``options``.
+
+    ``n_robots`` is passed on only to factories that accept a keyword of that
+    name (song2016 sets its timeouts to the number of robots, 001 Sec. VI);
+    others never see it.
+
+    >>> get_algorithm("example-gather", n_robots=5).name
+    'example-gather'
+    """
+    factory = algorithm_factory(name)
+    if n_robots is not None:
+        try:
+            accepts = "n_robots" in inspect.signature(factory).parameters
+        except (TypeError, ValueError):  # pragma: no cover - builtins without signatures
+            accepts = False
+        if accepts:
+            options["n_robots"] = n_robots
+    return factory(**options)

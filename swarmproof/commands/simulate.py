@@ -111,9 +111,9 @@ def run(args) -> int:
     from swarmproof.models.library import resolve
     from swarmproof.reference_impl import initial as initial_mod
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.registry import get_algorithm
+    from swarmproof.reference_impl.registry import algorithm_factory, get_algorithm
 
-    algorithm = get_algorithm(args.algorithm)
+    algorithm_factory(args.algorithm)  # unknown names fail first, listing the valid ones
     lattice = resolve(args.lattice)
     if args.seed < 0:
         raise UsageError(f"--seed {args.seed!r} must be >= 0")
@@ -136,6 +136,7 @@ def run(args) -> int:
             raise UsageError(f"--robots {args.robots!r} must be >= 1")
         init = initial_mod.random_connected(args.robots, args.seed, range=phi,
                                             min_separation=args.min_separation)
+    algorithm = get_algorithm(args.algorithm, n_robots=init.n)
     params = build_params(algorithm, phi, init.n, args)
     result = simulate(algorithm, lattice, init, params, seed=args.seed, max_steps=args.max_steps,
                       allow_violations=args.allow_violations, progress=_progress_printer())
@@ -144,7 +145,7 @@ def run(args) -> int:
     ids, poses = result.final_ids, result.final_poses
     sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
     conn = connected_throughout(trace, phi)
-    links = tree_links_survive(trace, phi)
+    links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
     q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
     nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
     doc = {

@@ -72,3 +72,17 @@ def test_result_and_state_value():
     S = namedtuple("S", "parent role")
     assert state_value(S(3, "A"), "parent") == 3
     assert state_value((("role", "B"),), "parent", "none") == "none"
+
+
+def test_tree_link_modes_differ_on_a_one_step_parent_switch():
+    poses = np.array([[[0, 0, 0], [0.5, 0, 0], [1.4, 0, 0]],
+                      [[0, 0, 0], [0.5, 0, 0], [1.6, 0, 0]]], dtype=float)
+    before = ((("parent", None),), (("parent", 10),), (("parent", 11),))
+    after = ((("parent", None),), (("parent", 10),), (("parent", 10),))  # 12 switches to 10 in step 0
+    t = Trace(ids=[10, 11, 12], poses=poses, states=[before, after])
+    assert tree_links_survive(t, 1.0, mode="standing").violated        # 12 -> 11 broke
+    assert tree_links_survive(t, 1.0, mode="decided").held             # 12 -> 10 was never in range
+    assert tree_links_survive(t, 1.0, mode="decided").detail["unsensed_parents"] == 1
+    assert tree_links_survive(t, 1.0).held                             # persistent: only 11 -> 10
+    with pytest.raises(ValueError, match="mode='sometimes'"):
+        tree_links_survive(t, 1.0, mode="sometimes")
