@@ -614,10 +614,13 @@ class Song2016Controller:
     __slots__ = ("robot_id", "params", "lattice", "cfg", "_out_edges", "_v0", "_radius",
                  "_safe_radius", "stable", "role", "highest_id", "highest_since",
                  "relocate_id", "relocate_since", "root_id", "mover", "mover_since",
-                 "_state", "_last_msg")
+                 "_state", "_last_msg", "memoize", "_last_inbox", "_last_stable",
+                 "_vac_key", "_vac", "_children", "_values", "_last_vac_in")
 
-    def __init__(self, robot_id: int, params: Params, lattice, cfg: Song2016Config) -> None:
+    def __init__(self, robot_id: int, params: Params, lattice, cfg: Song2016Config,
+                 memoize: bool = True) -> None:
         self.robot_id = robot_id
+        self.memoize = memoize
         self.params = params
         self.lattice = lattice
         self.cfg = cfg
@@ -641,18 +644,49 @@ class Song2016Controller:
         self.mover: str | None = None
         self.mover_since = 0
         self._last_msg: Song2016Message | None = None
+        # Memo of the last step (performance only; the results are identical, see
+        # tests): the inbox (message objects), the vacancy inputs, the children.
+        self._last_inbox: list = []
+        self._last_stable = False
+        self._last_vac_in: Vacancy | None = None
+        self._vac_key: tuple | None = None
+        self._vac: Vacancy | None = None
+        self._children: tuple = ()
+        self._values: tuple | None = None
         self._state: tuple = self._snapshot(None, False, (), False, False, None, None, None)
 
     # -- helpers -------------------------------------------------------------
     def _my_vacancy(self, pose_of: Mapping[int, Sequence[float]],
-                    messages: Mapping[int, Any]) -> Vacancy | None:
-        """getVacancy() (Algorithm 1 line 5): the most important vacancy (Def. 9)."""
+                    messages: Iterable[tuple[int, Any]]) -> Vacancy | None:
+        """getVacancy() (Algorithm 1 line 5): the most important vacancy (Def. 9).
+
+        ``messages`` are ``(sender, message)`` pairs; a neighbor is stable when
+        its last message said so (Table I "stable")."""
         if not self.stable:
             return None
-        stable_xy = [(pose_of[i][0], pose_of[i][1]) for i, m in messages.items()
-                     if m.stable and i in pose_of]
+        stable_xy = tuple((pose_of[i][0], pose_of[i][1]) for i, m in messages
+                          if m.stable and i in pose_of)
+        key = (self.role, stable_xy)
+        if self.memoize and key == self._vac_key:
+            return self._vac
         vac = vacancies(self._out_edges[self.role], stable_xy, self.cfg.vacancy_tolerance)
-        return vac[0] if vac else None
+        self._vac_key = key
+        self._vac = vac[0] if vac else None
+        return self._vac
+
+    def _message(self, my_vac: Vacancy | None, inbox: list, same_inbox: bool) -> Song2016Message:
+        """Algorithm 1, or the last message when none of its inputs (my stable
+        flag, my vacancy, the inbox) changed (performance only)."""
+        last = self._last_msg
+        if (self.memoize and same_inbox and last is not None and self.stable == self._last_stable
+                and my_vac == self._last_vac_in):
+            return last
+        msg, _ = compute_message(self.robot_id, self.stable, my_vac, inbox, self.cfg.rumor_filter)
+        self._last_stable = self.stable
+        self._last_vac_in = my_vac
+        if self.memoize and last is not None and msg == last:
+            return last  # keep the object: receivers then see an unchanged inbox
+        return msg
 
     def _snapshot(self, parent, relocate, children, subtree, moving, goal, target, vacancy) -> tuple:
         return (
@@ -678,21 +712,23 @@ class Song2016Controller:
         me = self.robot_id
         cfg = self.cfg
         ids = obs.neighbor_ids or ()
-        poses = obs.neighbor_poses
-        pose_of = {i: (float(poses[k, 0]), float(poses[k, 1]), float(poses[k, 2]))
-                   for k, i in enumerate(ids)}
-        messages: dict[int, Song2016Message] = {}
-        for sid in sorted(obs.messages):
-            m = obs.messages[sid]
-            if not isinstance(m, Song2016Message):
-                raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
-                                    "not a Song2016Message")
-            messages[sid] = m
-        inbox = list(messages.values())  # Algorithm 1 line 10: increasing sender ID
+        pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
+        obs_msgs = obs.messages
+        keys = sorted(obs_msgs)
+        inbox = [obs_msgs[k] for k in keys]  # Algorithm 1 line 10: increasing sender ID
+        # unchanged inbox: the same message objects (or equal ones: same content)
+        same_inbox = inbox == self._last_inbox
+        if not same_inbox:
+            for sid, m in zip(keys, inbox):
+                if not isinstance(m, Song2016Message):
+                    raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
+                                        "not a Song2016Message")
+            self._last_inbox = inbox
+        messages = obs_msgs
 
         # Algorithm 1 (lines 1-31) with this robot's state at the start of the step.
-        my_vac = self._my_vacancy(pose_of, messages)
-        msg, _ = compute_message(me, self.stable, my_vac, inbox, cfg.rumor_filter)
+        my_vac = self._my_vacancy(pose_of, zip(keys, inbox)) if self.stable else None
+        msg = self._message(my_vac, inbox, same_inbox)
 
         # Def. 10 / Sec. V-B: the timeouts count from the last change of the
         # principal information.
@@ -764,8 +800,8 @@ class Song2016Controller:
             self.mover = None
             self.mover_since = t
             goal = None
-            my_vac = self._my_vacancy(pose_of, messages)
-            msg, _ = compute_message(me, self.stable, my_vac, inbox, cfg.rumor_filter)
+            my_vac = self._my_vacancy(pose_of, zip(keys, inbox))
+            msg = self._message(my_vac, inbox, same_inbox)
             self.root_id = msg.root_id
             if msg.relocate_id != self.relocate_id:
                 self.relocate_id = msg.relocate_id
@@ -774,7 +810,7 @@ class Song2016Controller:
 
         # NCLB (Sec. V-C): the children are the robots whose last message named me
         # as parent; the safe region is the intersection of their bounded ranges.
-        children = tuple(sid for sid, m in messages.items() if m.parent_id == me and sid in pose_of)
+        children = tuple(sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in pose_of)
         turn = forward = 0.0
         target = None
         if goal is not None:
@@ -798,8 +834,13 @@ class Song2016Controller:
                         target = (ex, ey) if fw > 0.0 else (0.0, 0.0)
                 # way is None: empty safe region -> "the robot does not move".
         self._last_msg = msg
-        self._state = self._snapshot(parent, relocate, children, msg.subtree, forward > 0.0,
-                                     goal, target, my_vac)
+        values = (self.stable, self.role, parent, children, relocate, msg.subtree, forward > 0.0,
+                  goal, target, self.highest_id, self.highest_since, self.root_id,
+                  self.relocate_id, self.relocate_since, self.mover, self.mover_since, my_vac)
+        if not (self.memoize and values == self._values):
+            self._values = values
+            self._state = self._snapshot(parent, relocate, children, msg.subtree, forward > 0.0,
+                                         goal, target, my_vac)
         return Command(message=msg, turn=turn, forward=forward)
 
 
@@ -822,6 +863,10 @@ class Song2016:
     heading_epsilon, vacancy_tolerance, rumor_filter : optional
         Defaults for the values of the same names; ``params.extra`` overrides
         them.  See :class:`Song2016Config`.
+    memoize : bool
+        Reuse the last step's message, vacancy and state snapshot when their
+        inputs are unchanged (performance only: traces are identical either
+        way, which the tests check).
 
     Examples
     --------
@@ -845,7 +890,9 @@ class Song2016:
     def __init__(self, n_robots: int | None = None, *, communication_timeout: int | None = None,
                  movement_timeout: int | None = None, d_s: float | None = None,
                  arrival_epsilon: float = 1e-6, heading_epsilon: float = 1e-6,
-                 vacancy_tolerance: float | None = None, rumor_filter: str = "field") -> None:
+                 vacancy_tolerance: float | None = None, rumor_filter: str = "field",
+                 memoize: bool = True) -> None:
+        self.memoize = bool(memoize)
         if n_robots is not None:
             n_robots = _check_count("n_robots", n_robots)
         self.n_robots = n_robots
@@ -969,7 +1016,7 @@ class Song2016:
             raise UsageError(f"lattice {lattice.name!r} has no edge of positive length",
                              fix="give a lattice graph with edges (001 Def. 1)")
         cfg = self.config(params, min_edge)
-        return Song2016Controller(int(robot_id), params, lattice, cfg)
+        return Song2016Controller(int(robot_id), params, lattice, cfg, memoize=self.memoize)
 
     def default_max_steps(self, params: Params, n: int) -> int:
         """The engine's step cap: twice the Theorem 13 bound, with our constants.

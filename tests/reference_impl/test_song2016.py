@@ -66,9 +66,9 @@ def test_controller_vacancy_ignores_unstable_neighbor_at_the_vacancy():
     c.stable, c.role = True, "A"
     pose_of = {3: (1.0, 0.0, 0.0), 4: (0.0, -1.0, 0.0)}
     msgs = {3: msg(3, stable=False), 4: msg(4, stable=True)}
-    assert c._my_vacancy(pose_of, msgs).edge == 0   # robot 3 sits there, unstable
+    assert c._my_vacancy(pose_of, msgs.items()).edge == 0   # robot 3 sits there, unstable
     msgs[3] = msg(3, stable=True)
-    assert c._my_vacancy(pose_of, msgs).edge == 2
+    assert c._my_vacancy(pose_of, msgs.items()).edge == 2
 
 
 @settings(max_examples=60)
@@ -531,3 +531,19 @@ def test_same_seed_gives_the_same_trace():
 def test_one_robot_is_stable_after_the_timeout():
     r = simulate(Song2016(n_robots=1), SQUARE, InitialConfiguration([4], [[0, 0, 0]]), P, seed=0)
     assert (r.status, r.steps, dict(r.final_states[0])["role"]) == ("finished", 2, "A")
+
+
+@pytest.mark.parametrize("lattice, n, seed", [("square", 6, 3), ("octagon-square", 7, 1)])
+def test_memoized_controller_gives_the_identical_trace(lattice, n, seed):
+    """docs/performance.md: the optimisation must not change a single bit of the trace."""
+    lat = load(lattice)
+    init = random_connected(n, seed, range=lat.range, min_separation=0.3)
+    p = Params(range=lat.range, v=0.05)
+    fast = simulate(Song2016(n_robots=n), lat, init, p, seed=seed, record_messages=True)
+    plain = simulate(Song2016(n_robots=n, memoize=False), lat, init, p, seed=seed,
+                     record_messages=True)
+    assert fast.status == "finished" and fast.steps == plain.steps
+    assert np.array_equal(fast.trace.poses, plain.trace.poses)
+    assert fast.trace.states == plain.trace.states
+    assert fast.trace.messages == plain.trace.messages
+    assert fast.trace.to_json() == plain.trace.to_json()
