@@ -563,6 +563,13 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     pose_hist = [poses.copy()]
     present_hist = [present.copy()] if any_presence_change else None
     states = _states()
+    for k, st in enumerate(states):
+        try:
+            hash(st)
+        except TypeError:
+            raise ProtocolError(f"controller of robot {ids_list[k]!r}: state() returned an unhashable "
+                                f"{type(st).__name__} ({st!r:.80}); return tuples of (key, value) "
+                                "pairs, a namedtuple or a frozen dataclass") from None
     state_hist = [states]
     msg_hist: list | None = [] if record_messages else None
     last_msgs: list = [None] * n_total

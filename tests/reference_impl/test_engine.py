@@ -257,3 +257,28 @@ def test_callable_faults_are_not_rebuildable():
     f = FaultModel(schedule=lambda step, ids, rng: ids >= 0)
     with pytest.raises(UsageError, match="cannot be rebuilt from data"):
         FaultModel.from_dict(f.describe())
+
+
+def test_unhashable_state_is_a_protocol_error():
+    class Bad(Scripted):
+        def controller(self, robot_id, params, lattice, rng):
+            class C:
+                def step(self, obs):
+                    return Command()
+
+                def state(self):
+                    return {"parent": None}
+            return C()
+
+    with pytest.raises(ProtocolError, match="unhashable dict"):
+        simulate(Bad(None), None, InitialConfiguration([0], [[0, 0, 0]]), P, seed=0, max_steps=1)
+
+
+def test_progress_is_reported_and_messages_recorded():
+    calls = []
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0, 0]])
+    r = simulate(Scripted(lambda rid, obs, rng: Command(message=("m", rid))), None, init, P, seed=0,
+                 max_steps=120, stop_when_static=False, record_messages=True,
+                 progress=lambda step, cap: calls.append((step, cap)))
+    assert calls == [(50, 120), (100, 120), (120, 120)]
+    assert r.trace.messages[0] == {0: ("m", 0), 1: ("m", 1)} and len(r.trace.messages) == 120
