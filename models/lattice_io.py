@@ -158,12 +158,19 @@ def _parse_yaml(text: str, source: str) -> tuple[Any, dict[Path, int]]:
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
-        what = " ".join(str(p) for p in (exc.context, exc.problem) if p)
+        what = " ".join(" ".join(str(p).split()) for p in (exc.context, exc.problem) if p)
         raise InputFileError(f"malformed YAML: {what}", file=source, line=line,
                              fix="check indentation, brackets and quoting near this line; "
                                  "quote values that contain ':' or '#'") from None
+    except yaml.reader.ReaderError as exc:
+        line = text.count("\n", 0, exc.position) + 1 if isinstance(exc.position, int) else None
+        ch = chr(exc.character) if isinstance(exc.character, int) else exc.character
+        raise InputFileError(f"malformed YAML: character {ch!r} is not allowed in YAML text",
+                             file=source, line=line,
+                             fix="remove control characters; save the file as plain UTF-8 text") from None
     except yaml.YAMLError as exc:
-        raise InputFileError(f"malformed YAML: {exc}", file=source,
+        what = " ".join(str(exc).split())
+        raise InputFileError(f"malformed YAML: {what}", file=source,
                              fix="check the file is one YAML document") from None
     except RecursionError:
         raise InputFileError("malformed YAML: nesting is too deep", file=source,

@@ -138,6 +138,9 @@ BAD_YAML = [
      r"^t\.yaml:1: malformed YAML: .*could not determine a constructor"),
     ("bad-timestamp", _y("name: t", "name: 2020-13-45"),
      r"^t\.yaml: malformed YAML: a value cannot be read"),
+    ("control-character", _y("name: t", "name: t\x01"),
+     r"^t\.yaml:2: malformed YAML: character '\\x01' is not allowed in YAML text; fix: remove control"),
+    ("deep-nesting", "[" * 3000 + "]" * 3000, r"^t\.yaml: malformed YAML: nesting is too deep"),
     ("tab-indent", _y("  - [A, B, 1, 0, 0]", "\t- [A, B, 1, 0, 0]"),
      r"^t\.yaml:7: malformed YAML"),
 ]
@@ -147,7 +150,7 @@ BAD_YAML = [
 def test_bad_yaml_documents_name_file_line_field_and_fix(text, pattern):
     with pytest.raises(InputFileError, match=pattern) as info:
         loads_lattice(text, "yaml", source="t.yaml")
-    assert "fix: " in str(info.value)
+    assert "fix: " in str(info.value) and "\n" not in str(info.value)
     assert info.value.file == "t.yaml"
 
 
@@ -210,7 +213,7 @@ BAD_JSON = [
     ("empty", "", r"^t\.json:1: the file is empty"),
     ("huge-int", _j('"range": 1.2', '"range": 1' + "0" * 5000),
      r"^t\.json: malformed JSON: a value cannot be read"),
-    ("deep-nesting", "[" * 100000 + "]" * 100000, r"^t\.json: malformed JSON: nesting is too deep"),
+    ("deep-nesting", "[" * 3000 + "]" * 3000, r"^t\.json: malformed JSON: nesting is too deep"),
 ]
 
 
@@ -375,7 +378,7 @@ def _serialize(doc, fmt: str) -> str:
     return json.dumps(doc) if fmt == "json" else yaml.safe_dump(doc, allow_unicode=True)
 
 
-@settings(max_examples=150)
+@settings(max_examples=100)
 @given(lattice_graph_documents(), st.sampled_from(["yaml", "json"]))
 def test_valid_documents_load_with_their_values(doc, fmt):
     g = loads_lattice(_serialize(doc, fmt), fmt, source="doc")
@@ -391,7 +394,7 @@ def test_valid_documents_load_with_their_values(doc, fmt):
     assert lattice_to_document(g, doc.get("angle_unit", "deg"))["roles"] == doc["roles"]
 
 
-@settings(max_examples=300)
+@settings(max_examples=150)
 @given(mutated_lattice_documents(with_kind=True), st.sampled_from(["yaml", "json"]))
 def test_mutated_documents_are_rejected_with_input_file_error(doc_kind, fmt):
     doc, kind = doc_kind
@@ -401,7 +404,7 @@ def test_mutated_documents_are_rejected_with_input_file_error(doc_kind, fmt):
     assert msg.startswith("fuzz.in") and "; fix: " in msg, (kind, msg)
 
 
-@settings(max_examples=200)
+@settings(max_examples=150)
 @given(st.data(), st.sampled_from(["yaml", "json"]))
 def test_damaged_text_never_raises_anything_else(data, fmt):
     doc = data.draw(st.one_of(lattice_graph_documents(), mutated_lattice_documents()))
@@ -412,7 +415,7 @@ def test_damaged_text_never_raises_anything_else(data, fmt):
     try:
         g = loads_lattice(damaged, fmt, source="fuzz.in")
     except InputFileError as exc:
-        assert str(exc).startswith("fuzz.in")
+        assert str(exc).startswith("fuzz.in") and "\n" not in str(exc)
     else:
         assert isinstance(g, LatticeGraph)
 
