@@ -326,7 +326,7 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
     for key in data:
         if key not in ALLOWED_KEYS:
             kname = key if isinstance(key, str) else _r(key)
-            raise ctx.error((key,), f"unknown key {kname!r}",
+            raise ctx.error((kname,), f"unknown key {kname!r}",
                             f"use only the keys {list(ALLOWED_KEYS)}; check the spelling")
     # format first: another version may mean other keys
     if "format" not in data:
