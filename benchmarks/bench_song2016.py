@@ -1,0 +1,83 @@
+"""song2016: execution time (steps) against n, the fitted exponent, and robot-steps/s.
+
+Usage: ``python benchmarks/bench_song2016.py [--quick] [--lattice square] [--seeds 3]``.
+
+For each n, runs song2016 (001 Sec. V; timeouts = n as in Sec. VI; range = the
+library's, v = 0.05, omega = pi/4, dt = 1) from ``random_connected`` starts to
+completion, and prints the steps (execution time T in steps, Def. 6), CPU and wall
+seconds and robot-steps per second.  Then fits ``steps ~ c * n^k`` by least squares
+on log-log (Theorem 13 predicts k <= 2; the Sec. VI text "scaling quadratically").
+The last line says whether n = 100 on the square lattice finished within 60 s (wall).
+Numbers go to docs/performance.md ("### song2016").
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import platform
+import time
+
+import numpy as np
+
+from swarmproof.models.library import load
+from swarmproof.reference_impl.engine import simulate
+from swarmproof.reference_impl.initial import random_connected
+from swarmproof.reference_impl.protocol import Params
+from swarmproof.reference_impl.song2016 import Song2016
+
+
+def run(lattice, n: int, seed: int):
+    init = random_connected(n, seed, range=lattice.range, min_separation=0.3)
+    p = Params(range=lattice.range, v=0.05, omega=math.pi / 4, dt=1.0)
+    c0, w0 = time.process_time(), time.perf_counter()
+    r = simulate(Song2016(n_robots=n), lattice, init, p, seed=seed)
+    cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    return r.status, r.steps, cpu, wall
+
+
+def fit_exponent(ns, steps) -> tuple[float, float]:
+    """Least-squares ``log steps = log c + k log n``; returns (k, c)."""
+    k, logc = np.polyfit(np.log(np.asarray(ns, float)), np.log(np.asarray(steps, float)), 1)
+    return float(k), float(math.exp(logc))
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="n = 10, 20, 40 only, one seed")
+    ap.add_argument("--lattice", default="square")
+    ap.add_argument("--seeds", type=int, default=3, help="starts per n (n >= 60: one)")
+    args = ap.parse_args(argv)
+    lattice = load(args.lattice)
+    sizes = (10, 20, 40) if args.quick else (10, 20, 30, 40, 60, 80, 100)
+    print(f"song2016 on {lattice.name} (range {lattice.range}), {platform.machine()} "
+          f"{platform.python_version()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    print(f"{'n':>4} {'seed':>4} {'status':>9} {'steps':>7} {'cpu_s':>7} {'wall_s':>7} "
+          f"{'robot-steps/s (cpu)':>20}")
+    ns, steps, rates, n100 = [], [], [], None
+    for n in sizes:
+        seeds = 1 if (args.quick or n >= 60) else args.seeds
+        for seed in range(seeds):
+            status, t, cpu, wall = run(lattice, n, seed)
+            print(f"{n:>4} {seed:>4} {status:>9} {t:>7} {cpu:>7.2f} {wall:>7.2f} "
+                  f"{n * t / cpu:>20,.0f}", flush=True)
+            if status == "finished":
+                ns.append(n)
+                steps.append(t)
+                rates.append(n * t / cpu)
+            if n == 100 and seed == 0:
+                n100 = (status, wall, cpu)
+    k, c = fit_exponent(ns, steps)
+    print(f"fit: steps ~ {c:.3g} * n^{k:.2f} over n = {sorted(set(ns))} "
+          f"(Theorem 13: O(n^2))")
+    print(f"robot-steps/s (cpu): median {np.median(rates):,.0f}, min {min(rates):,.0f}")
+    if n100 is not None:
+        status, wall, cpu = n100
+        verdict = "yes" if status == "finished" and wall < 60 else "NO"
+        print(f"n = 100 on {lattice.name}: {status} in {wall:.1f} s wall ({cpu:.1f} s cpu); "
+              f"under 60 s: {verdict}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
