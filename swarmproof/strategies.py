@@ -66,6 +66,7 @@ __all__ = [
     "lattice_graph_documents",
     "mutated_lattice_documents",
     "MUTATION_KINDS",
+    "SCHEMA_BLIND_KINDS",
     "lattice_from_points",
     "sample_pattern",
     "bounded_defects",
