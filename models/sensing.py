@@ -40,7 +40,7 @@ __all__ = ["neighbor_pairs", "components", "is_connected", "pair_distances"]
 _INFLATE = 1.0 + 1e-9
 
 #: Up to this many robots, all pairs are candidates (no tree).
-_BRUTE_MAX = 40
+_BRUTE_MAX = 50
 
 _TRIU: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
