@@ -739,11 +739,21 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         pose_hist.append(poses.copy())
         if present_hist is not None:
             present_hist.append(present.copy())
-        new_states = _states()
+        # Unchanged states are stored as the previous object (a trace of a long
+        # run keeps one copy per change, not one per step); equal values, same trace.
+        fresh = _states()
+        changed = False
+        merged = list(fresh)
+        for k, st in enumerate(fresh):
+            if st is not states[k] and st == states[k]:
+                merged[k] = states[k]
+            elif st is not states[k]:
+                changed = True
+        new_states = tuple(merged) if changed else states
         state_hist.append(new_states)
         if msg_hist is not None:
             msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
-        quiet_step = (np.array_equal(old, poses) and new_msgs == last_msgs and new_states == states)
+        quiet_step = (not changed and np.array_equal(old, poses) and new_msgs == last_msgs)
         last_msgs = new_msgs
         states = new_states
         quiet = quiet + 1 if quiet_step else 0
