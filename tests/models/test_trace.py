@@ -1,0 +1,70 @@
+"""swarmproof-trace/1: JSON forms, round trips, and clear errors for bad files."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from swarmproof.models.errors import InputFileError, UsageError
+from swarmproof.models.trace import Event, InitialConfiguration, Trace, from_jsonable, to_jsonable
+
+
+@dataclass(frozen=True)
+class Msg:
+    path: tuple
+    d: float
+
+
+def test_to_jsonable_forms():
+    assert to_jsonable(Msg((1, 2), float("-inf"))) == {"__type__": "Msg", "path": [1, 2], "d": "-inf"}
+    assert to_jsonable({3: np.int64(4), "a": np.array([1.5])}) == {"3": 4, "a": [1.5]}
+    assert to_jsonable(frozenset({(2, 1), (1, 2)})) == [[1, 2], [2, 1]]
+    assert from_jsonable({"a": [[1, [2]]]}) == {"a": ((1, (2,)),)}
+
+
+def _trace():
+    return Trace(ids=[5, 2], poses=np.arange(12, dtype=float).reshape(2, 2, 3),
+                 states=[(None, (("parent", 5),)), (None, (("parent", 5),))],
+                 events=[Event(0, "clamp", (2,), (("why", "turn"),))],
+                 messages=[{5: ("hi", (1, 2))}], present=np.ones((2, 2), dtype=bool),
+                 meta={"seed": 3})
+
+
+@pytest.mark.parametrize("name", ["t.json", "t.npz"])
+def test_round_trip(tmp_path, name):
+    t = _trace()
+    back = Trace.load(t.save(tmp_path / name))
+    assert back.to_json() == t.to_json()
+    assert back.messages == [{5: ("hi", (1, 2))}] and back.events == t.events
+
+
+BAD = [
+    ("not-json", "{", r"t\.json:1: not valid JSON"),
+    ("wrong-format", json.dumps({"format": "swarmproof-trace/9", "ids": [], "poses": [], "states": []}),
+     r"field 'format': format='swarmproof-trace/9'"),
+    ("missing-states", json.dumps({"format": "swarmproof-trace/1", "ids": [1], "poses": [[[0, 0, 0]]]}),
+     r"field 'states': required field 'states' is missing"),
+    ("states-length", json.dumps({"format": "swarmproof-trace/1", "ids": [1], "poses": [[[0, 0, 0]]],
+                                  "states": []}), r"len\(states\)=0 must equal T\+1=1"),
+    ("top-level-list", "[]", "top level is list"),
+]
+
+
+@pytest.mark.parametrize("text,match", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
+def test_bad_trace_files(tmp_path, text, match):
+    p = tmp_path / "t.json"
+    p.write_text(text)
+    with pytest.raises(InputFileError, match=match):
+        Trace.load(p)
+
+
+def test_missing_file_and_bad_initial():
+    with pytest.raises(InputFileError, match="file does not exist"):
+        Trace.load("/nonexistent/t.json")
+    with pytest.raises(UsageError, match=r"poses shape=\(1, 2\) must be \(1, 3\)"):
+        InitialConfiguration([1], [[0, 0]])
+    with pytest.raises(UsageError, match="must be integers"):
+        InitialConfiguration([1.5], [[0, 0, 0]])
