@@ -5,8 +5,8 @@ positions, computed as ``numpy.hypot(dx, dy)``, is strictly less than the
 range phi (001 Sec. III-A; strict by docs/decisions.md "Model and
 geometry").  :func:`neighbor_pairs` finds candidates with
 ``scipy.spatial.cKDTree.query_pairs`` (ndarray output, DESIGN.md section 4)
-on a slightly inflated radius, then keeps exactly the pairs with
-``hypot < phi``, so the engine's sensing, the connectivity invariant and
+on a slightly inflated radius (or, up to 50 robots, takes every pair, which
+is faster there), then keeps exactly the pairs with ``hypot < phi``, so the engine's sensing, the connectivity invariant and
 the satisfaction check can never disagree by a rounding error.
 
 References
