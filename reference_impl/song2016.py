@@ -615,7 +615,8 @@ class Song2016Controller:
                  "_safe_radius", "stable", "role", "highest_id", "highest_since",
                  "relocate_id", "relocate_since", "root_id", "mover", "mover_since",
                  "_state", "_last_msg", "memoize", "_last_inbox", "_last_stable",
-                 "_vac_key", "_vac", "_children", "_values", "_last_vac_in")
+                 "_vac_key", "_vac", "_children", "_values", "_last_vac_in", "_last_ids",
+                 "_last_pose_bytes", "_last_cmd", "_last_relocate", "_last_may_move")
 
     def __init__(self, robot_id: int, params: Params, lattice, cfg: Song2016Config,
                  memoize: bool = True) -> None:
@@ -653,6 +654,11 @@ class Song2016Controller:
         self._vac: Vacancy | None = None
         self._children: tuple = ()
         self._values: tuple | None = None
+        self._last_ids: tuple | None = None
+        self._last_pose_bytes: bytes | None = None
+        self._last_cmd: Command | None = None
+        self._last_relocate = False
+        self._last_may_move = False
         self._state: tuple = self._snapshot(None, False, (), False, False, None, None, None)
 
     # -- helpers -------------------------------------------------------------
@@ -712,7 +718,6 @@ class Song2016Controller:
         me = self.robot_id
         cfg = self.cfg
         ids = obs.neighbor_ids or ()
-        pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
         obs_msgs = obs.messages
         keys = sorted(obs_msgs)
         inbox = [obs_msgs[k] for k in keys]  # Algorithm 1 line 10: increasing sender ID
@@ -724,6 +729,16 @@ class Song2016Controller:
                     raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
                                         "not a Song2016Message")
             self._last_inbox = inbox
+        pose_bytes = obs.neighbor_poses.tobytes()
+        if self.memoize:
+            if (same_inbox and ids == self._last_ids and pose_bytes == self._last_pose_bytes
+                    and self._last_cmd is not None and not self._time_matters(t)):
+                # Every input is what it was last step and no timeout expires now: the
+                # decision is the same (performance only; the trace is identical).
+                return self._last_cmd
+            self._last_ids = ids
+            self._last_pose_bytes = pose_bytes
+        pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
         messages = obs_msgs
 
         # Algorithm 1 (lines 1-31) with this robot's state at the start of the step.
@@ -820,6 +835,10 @@ class Song2016Controller:
                 if heading is not None:
                     turn = float(heading)
                 target = (0.0, 0.0)
+            elif mover == "relocate" and any(math.hypot(cx, cy) > cfg.d_s for cx, cy in centers):
+                # Fig. 11 [left] and Sec. V-C: "the relocate robot first waits for its
+                # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).
+                pass
             else:
                 way = closest_point_in_discs(goal, centers, self._safe_radius)
                 if way is not None and (way[0] != 0.0 or way[1] != 0.0):
@@ -841,7 +860,28 @@ class Song2016Controller:
             self._values = values
             self._state = self._snapshot(parent, relocate, children, msg.subtree, forward > 0.0,
                                          goal, target, my_vac)
-        return Command(message=msg, turn=turn, forward=forward)
+        self._last_relocate = relocate
+        self._last_may_move = may_move and not changed
+        cmd = Command(message=msg, turn=turn, forward=forward)
+        self._last_cmd = cmd
+        return cmd
+
+    def _time_matters(self, t: int) -> bool:
+        """Whether a timeout of this robot expires at step ``t`` given last step's
+        message (the only inputs of :meth:`step` that depend on time alone)."""
+        cfg = self.cfg
+        msg = self._last_msg
+        if not self.stable:
+            if msg.highest_id == self.robot_id and t - self.highest_since >= cfg.communication_timeout:
+                return True
+            relocate = (msg.relocate_id == self.robot_id
+                        and t - self.relocate_since >= cfg.communication_timeout)
+            if relocate != self._last_relocate:
+                return True
+        if self.mover is not None:
+            if (t - self.mover_since >= cfg.movement_timeout) != self._last_may_move:
+                return True
+        return False
 
 
 # ---------------------------------------------------------------------------

@@ -547,3 +547,15 @@ def test_memoized_controller_gives_the_identical_trace(lattice, n, seed):
     assert fast.trace.states == plain.trace.states
     assert fast.trace.messages == plain.trace.messages
     assert fast.trace.to_json() == plain.trace.to_json()
+
+
+def test_relocate_robot_waits_for_children_beyond_d_s_fig_11():
+    """Fig. 11 [left]: dist(r_p, r_c) > d_s, r_p waits; [right]: within d_s it moves."""
+    c = ctrl(5, n=2, d_s=0.5, communication_timeout=0, movement_timeout=0)
+    root = msg(9, highest=9, root=9, stable=True, vacancy=Vacancy(1.0, 0.0, 0.0, "A", 0))
+    child = msg(1, highest=9, root=9, root_path=(9, 5, 1), parent=5, relocate=5, subtree=True)
+    far = c.step(obs(0, 5, {9: (0.0, 0.5, 0.0), 1: (-0.7, 0.0, 0.0)}, {9: root, 1: child}))
+    s = dict(c.state())
+    assert s["relocate"] and s["children"] == (1,) and (far.turn, far.forward) == (0.0, 0.0)
+    near = c.step(obs(1, 5, {9: (0.0, 0.5, 0.0), 1: (-0.4, 0.0, 0.0)}, {9: root, 1: child}))
+    assert near.forward > 0 and dict(c.state())["moving"]
