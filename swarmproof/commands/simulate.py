@@ -15,14 +15,11 @@ satisfies the lattice and connectivity held; 1 a checked property failed;
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import sys
 
 from swarmproof.commands import emit_json, human
 from swarmproof.models.errors import UsageError
-from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK
-from swarmproof.models.verdict import EXIT_VIOLATED as EXIT_DEFECT
 
 NAME = "simulate"
 HELP = "run a reference implementation from a random connected start and check the result"
@@ -83,113 +80,47 @@ def _progress_printer():
     return show
 
 
-def build_params(algorithm, phi: float, n: int, args) -> "object":
-    """Params from the algorithm's defaults (if it offers ``default_params(range, n)``) and the options."""
-    from swarmproof.reference_impl.protocol import Params
-
-    f = getattr(algorithm, "default_params", None)
-    params = f(range=phi, n=n) if callable(f) else Params(range=phi)
-    changes = {}
-    for name in ("v", "omega", "dt"):
-        val = getattr(args, name, None)
-        if val is not None:
-            if not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
-                raise UsageError(f"--{name} {val!r} must be a finite positive number")
-            changes[name] = val
-    extra = _parse_extra(getattr(args, "param", []) or [])
-    if extra:
-        changes["extra"] = {**dict(params.extra), **extra}
-    return dataclasses.replace(params, **changes) if changes else params
-
-
 def run(args) -> int:
-    from swarmproof.invariants.connectivity import connected_throughout, tree_links_survive
-    from swarmproof.invariants.metrics import (execution_steps, fulfillment_ratio, min_separation,
-                                               non_fulfillment_ratio, total_distance)
-    from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
-                                                    satisfies_lattice)
+    from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.library import resolve
     from swarmproof.reference_impl import initial as initial_mod
-    from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.registry import algorithm_factory, get_algorithm
+    from swarmproof.reference_impl.registry import algorithm_factory
 
     algorithm_factory(args.algorithm)  # unknown names fail first, listing the valid ones
     lattice = resolve(args.lattice)
     if args.seed < 0:
         raise UsageError(f"--seed {args.seed!r} must be >= 0")
-    phi = args.range_ if args.range_ is not None else lattice.range
-    if phi is None:
-        raise UsageError(f"lattice {lattice.name!r} has no default range", fix="pass --range PHI")
-    if not (math.isfinite(phi) and phi > 0):
-        raise UsageError(f"--range {phi!r} must be a finite number > 0")
+    if args.range_ is not None and not (math.isfinite(args.range_) and args.range_ > 0):
+        raise UsageError(f"--range {args.range_!r} must be a finite number > 0")
     if args.max_steps is not None and args.max_steps < 0:
         raise UsageError(f"--max-steps {args.max_steps!r} must be >= 0")
+    for name in ("v", "omega", "dt"):
+        val = getattr(args, name, None)
+        if val is not None and not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
+            raise UsageError(f"--{name} {val!r} must be a finite positive number")
+    init = None
     if args.initial is not None:
         init = initial_mod.from_file(args.initial)
         if args.robots is not None and args.robots != init.n:
             raise UsageError(f"--robots {args.robots} disagrees with {args.initial!r} ({init.n} robots)",
                              fix="drop --robots or make them agree")
-    else:
-        if args.robots is None:
-            raise UsageError("--robots N is required without --initial", fix="e.g. --robots 10")
-        if args.robots < 1:
-            raise UsageError(f"--robots {args.robots!r} must be >= 1")
-        init = initial_mod.random_connected(args.robots, args.seed, range=phi,
-                                            min_separation=args.min_separation)
-    algorithm = get_algorithm(args.algorithm, n_robots=init.n)
-    params = build_params(algorithm, phi, init.n, args)
-    result = simulate(algorithm, lattice, init, params, seed=args.seed, max_steps=args.max_steps,
-                      allow_violations=args.allow_violations, progress=_progress_printer())
-    trace = result.trace
-    pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
-    ids, poses = result.final_ids, result.final_poses
-    sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
-    conn = connected_throughout(trace, phi)
-    links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
-    q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
-    nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
-    doc = {
-        "algorithm": algorithm.name,
-        "lattice": lattice.name,
-        "robots": int(init.n),
-        "seed": int(args.seed),
-        "range": float(phi),
-        "steps": int(result.steps),
-        "status": result.status,
-        "static": bool(result.static),
-        "execution_steps": int(execution_steps(trace)),
-        "satisfies_lattice": sat.held if sat.status != "inconclusive" else None,
-        "satisfaction": sat.as_dict(),
-        "fulfillment_ratio": q,
-        "non_fulfillment_ratio": nq,
-        "connected_throughout": conn.held,
-        "connectivity": conn.as_dict(),
-        "tree_links": links.as_dict(),
-        "total_distance": total_distance(trace),
-        "min_separation": min_separation(trace),
-        "broken_assumptions": list(result.broken_assumptions),
-        "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
-    }
-    bound_fn = getattr(algorithm, "termination_bound", None)
-    term = None
-    if callable(bound_fn):
-        from swarmproof.invariants.termination import static_by_bound
-
-        term = static_by_bound(trace, int(bound_fn(params, init.n)))
-        doc["termination"] = term.as_dict()
+    elif args.robots is None:
+        raise UsageError("--robots N is required without --initial", fix="e.g. --robots 10")
+    elif args.robots < 1:
+        raise UsageError(f"--robots {args.robots!r} must be >= 1")
+    checked = run_and_check(
+        args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
+        max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
+        extra=_parse_extra(getattr(args, "param", []) or []), min_separation=args.min_separation,
+        allow_violations=args.allow_violations, progress=_progress_printer())
+    doc, code = checked.doc, checked.exit_code
+    trace, result, sat, conn, links, term = (checked.result.trace, checked.result, checked.satisfaction,
+                                             checked.connectivity, checked.tree_links, checked.termination)
+    algorithm, init, phi, q = checked.algorithm, checked.initial, doc["range"], doc["fulfillment_ratio"]
     if args.trace:
         doc["trace"] = trace.save(args.trace)
     if args.plot:
         doc["plot"] = plot_run(trace, lattice, sat.roles, args.plot, phi)
-    if conn.violated or links.violated or (term is not None and term.violated):
-        code = EXIT_DEFECT
-    elif result.status == "step_cap":
-        code = EXIT_INCONCLUSIVE
-    elif not sat.held:
-        code = EXIT_DEFECT if sat.violated else EXIT_INCONCLUSIVE
-    else:
-        code = EXIT_OK
-    doc["exit_code"] = code
     if args.json:
         emit_json(doc)
     else:

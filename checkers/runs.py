@@ -1,0 +1,169 @@
+"""One checked run: simulate an algorithm and judge what its paper claims.
+
+Shared by ``swarmproof simulate`` and the algorithm rows of
+``swarmproof verify`` so both judge a run the same way: the final formation
+against the lattice (001 Def. 2), connectivity at every step (001 Lemma 11),
+the spanning-tree links, the algorithm's own termination bound when it offers
+one (001 Theorem 13), and the metrics of 001 Sec. III-C and 000 Eq. 3.
+
+Exit code (the run's verdict): 0 the run ended (finished or static), the
+final formation satisfies the lattice and connectivity held; 1 a checked
+property failed; 3 the step cap was reached first (inconclusive).  A broken
+link or connectivity loss outranks the step cap.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping
+
+from swarmproof.models.errors import UsageError
+from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED
+
+__all__ = ["CheckedRun", "build_params", "run_and_check"]
+
+
+@dataclass
+class CheckedRun:
+    """The outcome of :func:`run_and_check`.
+
+    Attributes
+    ----------
+    doc : dict
+        The ``simulate`` JSON document (DESIGN.md section 2 fields and more).
+    exit_code : int
+        0 / 1 / 3 as in the module docstring.
+    result : SimulationResult
+        The engine's result (with its trace).
+    lattice, algorithm, params, initial
+        What was run.
+    satisfaction, connectivity, tree_links, termination
+        The invariant results (termination is None when the algorithm offers no bound).
+    """
+
+    doc: dict
+    exit_code: int
+    result: Any
+    lattice: Any
+    algorithm: Any
+    params: Any
+    initial: Any
+    satisfaction: Any
+    connectivity: Any
+    tree_links: Any
+    termination: Any
+
+
+def build_params(algorithm, phi: float, n: int, *, v: float | None = None, omega: float | None = None,
+                 dt: float | None = None, extra: Mapping[str, Any] | None = None):
+    """Params from the algorithm's defaults (if it offers ``default_params(range, n)``) and overrides."""
+    from swarmproof.reference_impl.protocol import Params
+
+    f = getattr(algorithm, "default_params", None)
+    params = f(range=phi, n=n) if callable(f) else Params(range=phi)
+    changes: dict[str, Any] = {}
+    for name, val in (("v", v), ("omega", omega), ("dt", dt)):
+        if val is not None:
+            if not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
+                raise UsageError(f"{name}={val!r} must be a finite positive number")
+            changes[name] = val
+    if extra:
+        changes["extra"] = {**dict(params.extra), **dict(extra)}
+    return dataclasses.replace(params, **changes) if changes else params
+
+
+def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None = None,
+                  initial=None, phi: float | None = None, max_steps: int | None = None,
+                  v: float | None = None, omega: float | None = None, dt: float | None = None,
+                  extra: Mapping[str, Any] | None = None, min_separation: float | None = None,
+                  allow_violations: bool = False,
+                  progress: Callable[[int, int], None] | None = None) -> CheckedRun:
+    """Run ``algorithm_name`` on ``lattice`` from a seeded connected start (or ``initial``) and check it.
+
+    Raises
+    ------
+    UsageError
+        Unknown algorithm (lists the valid names), no range, bad numbers,
+        or parameters outside the paper's assumptions (``AssumptionError``)
+        unless ``allow_violations``.
+    """
+    from swarmproof.invariants.connectivity import connected_throughout, tree_links_survive
+    from swarmproof.invariants.metrics import (execution_steps, fulfillment_ratio, min_separation as
+                                               min_sep, non_fulfillment_ratio, total_distance)
+    from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
+                                                    satisfies_lattice)
+    from swarmproof.reference_impl import initial as initial_mod
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.registry import algorithm_factory, get_algorithm
+
+    algorithm_factory(algorithm_name)  # unknown names fail first, listing the valid ones
+    if seed < 0:
+        raise UsageError(f"seed={seed!r} must be >= 0")
+    if phi is None:
+        phi = lattice.range
+    if phi is None:
+        raise UsageError(f"lattice {lattice.name!r} has no default range", fix="pass --range PHI")
+    if not (math.isfinite(phi) and phi > 0):
+        raise UsageError(f"range={phi!r} must be a finite number > 0")
+    if max_steps is not None and max_steps < 0:
+        raise UsageError(f"max_steps={max_steps!r} must be >= 0")
+    if initial is None:
+        if robots is None:
+            raise UsageError("robots=None: the number of robots is required without an initial file",
+                             fix="e.g. --robots 10")
+        if robots < 1:
+            raise UsageError(f"robots={robots!r} must be >= 1")
+        initial = initial_mod.random_connected(robots, seed, range=phi, min_separation=min_separation)
+    algorithm = get_algorithm(algorithm_name, n_robots=initial.n)
+    params = build_params(algorithm, phi, initial.n, v=v, omega=omega, dt=dt, extra=extra)
+    result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
+                      allow_violations=allow_violations, progress=progress)
+    trace = result.trace
+    pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
+    ids, poses = result.final_ids, result.final_poses
+    sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
+    conn = connected_throughout(trace, phi)
+    links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
+    q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+    nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+    doc = {
+        "algorithm": algorithm.name,
+        "lattice": lattice.name,
+        "robots": int(initial.n),
+        "seed": int(seed),
+        "range": float(phi),
+        "steps": int(result.steps),
+        "status": result.status,
+        "static": bool(result.static),
+        "execution_steps": int(execution_steps(trace)),
+        "satisfies_lattice": sat.held if sat.status != "inconclusive" else None,
+        "satisfaction": sat.as_dict(),
+        "fulfillment_ratio": q,
+        "non_fulfillment_ratio": nq,
+        "connected_throughout": conn.held,
+        "connectivity": conn.as_dict(),
+        "tree_links": links.as_dict(),
+        "total_distance": total_distance(trace),
+        "min_separation": min_sep(trace),
+        "broken_assumptions": list(result.broken_assumptions),
+        "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
+    }
+    bound_fn = getattr(algorithm, "termination_bound", None)
+    term = None
+    if callable(bound_fn):
+        from swarmproof.invariants.termination import static_by_bound
+
+        term = static_by_bound(trace, int(bound_fn(params, initial.n)))
+        doc["termination"] = term.as_dict()
+    if conn.violated or links.violated or (term is not None and term.violated):
+        code = EXIT_VIOLATED
+    elif result.status == "step_cap":
+        code = EXIT_INCONCLUSIVE
+    elif not sat.held:
+        code = EXIT_VIOLATED if sat.violated else EXIT_INCONCLUSIVE
+    else:
+        code = EXIT_OK
+    doc["exit_code"] = code
+    return CheckedRun(doc, code, result, lattice, algorithm, params, initial, sat, conn, links, term)
