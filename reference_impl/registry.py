@@ -25,7 +25,8 @@ import inspect
 
 from swarmproof.models.errors import UsageError
 
-__all__ = ["ALGORITHMS", "get_algorithm", "algorithm_names", "algorithm_factory"]
+__all__ = ["ALGORITHMS", "CLAIMS", "PROPERTIES", "get_algorithm", "algorithm_names",
+           "algorithm_factory", "claims_of"]
 
 #: Registry name -> ``"module:factory"``.
 ALGORITHMS: dict[str, str] = {
@@ -33,6 +34,41 @@ ALGORITHMS: dict[str, str] = {
     "song2014": "swarmproof.reference_impl.song2014:Song2014",
     "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
 }
+
+
+#: The properties swarmproof judges a run by (``swarmproof verify`` rows; the
+#: explorer's property names).
+PROPERTIES: tuple[str, ...] = ("termination", "formation", "connectivity", "tree_links")
+
+#: What each paper claims, property -> citation; ``None`` marks a property the
+#: paper does NOT claim (a violation is then a finding about the algorithm,
+#: shown in the matrix, not a failed claim).  A new algorithm registers its
+#: claims here and needs no change in checkers/.
+CLAIMS: dict[str, dict[str, str | None]] = {
+    "song2016": {
+        "termination": "001 Thm. 13 (all robots static in finite time)",
+        "formation": "001 Thm. 13 (final configuration satisfies the lattice, Def. 2)",
+        "connectivity": "001 Lemma 11 (communication graph stays connected)",
+        "tree_links": "001 Lemma 11, Sec. V-C (NCLB keeps every spanning-tree link)",
+    },
+    "song2014": {
+        "termination": None,   # 001 Sec. I: "no guarantee that the robots will eventually ... terminate"
+        "formation": None,     # 001 Sec. I: "no guarantee that the robots will eventually form the desired pattern"
+        "connectivity": None,  # 001 Sec. I: orphans' motion "often caused the team to become disconnected"
+        "tree_links": "000 Lemma 7 (a descendant stays within range of its parent)",
+    },
+    "example-gather": {p: None for p in ("termination", "formation", "connectivity", "tree_links")},
+}
+
+
+def claims_of(name: str) -> dict[str, str | None]:
+    """Property -> citation (or None when not claimed) for a registered algorithm.
+
+    >>> claims_of("song2014")["connectivity"] is None
+    True
+    """
+    algorithm_factory(name)
+    return dict(CLAIMS.get(name, {p: None for p in PROPERTIES}))
 
 
 def algorithm_names() -> list[str]:
