@@ -415,7 +415,7 @@ def descendant_motion(parent_pose, edge_pose, params: Params, arrive_tol: float,
     ----------
     000 Sec. IV-C, Lemma 7, Fig. 6, Eq. 8.
     """
-    px, py, pth = parent_pose
+    px, py, pth = float(parent_pose[0]), float(parent_pose[1]), float(parent_pose[2])
     ex, ey, eth = edge_pose
     c, s = math.cos(pth), math.sin(pth)
     dx, dy = px + c * ex - s * ey, py + s * ex + c * ey
@@ -545,7 +545,7 @@ class Song2014Controller:
         self.edge = None
         self.target = None
         self.unmatched_until = step + self._disperse_steps
-        self.away_turn = math.atan2(-parent_xy[1], -parent_xy[0])
+        self.away_turn = math.atan2(-float(parent_xy[1]), -float(parent_xy[0]))
         return self._disperse()
 
     # -- the step -----------------------------------------------------------
@@ -603,10 +603,11 @@ class Song2014Controller:
 
     def state(self) -> Hashable:
         """Hashable snapshot (see the class docstring for the keys)."""
+        t = self.target
         return (("role", self.role), ("parent", self.parent), ("root", self.root),
                 ("authority", self.authority), ("unmatched_until", self.unmatched_until),
                 ("edge", self.edge),
-                ("target", None if self.target is None else tuple(round(float(x), 9) for x in self.target)),
+                ("target", None if t is None else (round(t[0], 9), round(t[1], 9), round(t[2], 9))),
                 ("matching", self.matching),
                 ("away_turn", round(self.away_turn, 12)))
 
