@@ -1,0 +1,903 @@
+"""The z3 proof suite for the safety lemmas (issue 5; DESIGN.md sections 3 and 4).
+
+One small encoding per lemma, named after the mathematics, its variables
+indexed by time step (``p_i_0`` is ``p_i(t)``, ``p_i_1`` is ``p_i(t+dt)``).
+Validity is shown by asserting the negation of the conclusion and getting
+``unsat``.  Every lemma is checked in three steps (:func:`prove`):
+
+1. its premises are satisfiable (else the proof would be vacuous: reported
+   ``inconclusive``);
+2. premises and ``Not(conclusion)`` are ``unsat`` (``proved``); ``sat`` gives a
+   concrete counterexample as numbers; ``unknown`` or a timeout is
+   ``inconclusive``, never proved;
+3. a negative control, the same lemma with one premise weakened, must be
+   refuted with a concrete counterexample; a control that also "proves"
+   suggests an encoding that cannot fail, and the lemma is then reported
+   ``inconclusive`` ("negative control not refuted").
+
+Normalisation (DESIGN.md section 4, measured): every geometric lemma is
+stated with the centre of the disc it reasons about at the origin
+(translation invariance), with ``phi = 1`` and ``s = v*dt/phi`` as one
+variable (scale invariance).  The invariances are lemmas of their own
+(``translation_invariance``, ``rotation_invariance``, ``scale_invariance``),
+proved by the same procedure; docs/proofs.md says why they make the
+normalised statements equivalent to the general ones.  Distances are
+compared through their squares (no distance variables, no quantifiers).
+
+Examples
+--------
+>>> r = prove(LEMMAS["relocate_stays_in_range"], timeout_s=10)
+>>> r.status, r.premises_satisfiable, r.negative_control["status"]
+('proved', True, 'counterexample')
+>>> sorted(LEMMAS)[:3]
+['bounded_range', 'bounded_range_strict', 'intermediate_goal_in_region']
+
+References
+----------
+000_3ad33c5b62f11d5f.txt Lemma 7, Sec. IV-C, Fig. 6;
+001_7a4e517b856331bc.txt Lemma 7, Def. 8, Sec. V-C, Lemma 11.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+import z3
+
+from swarmproof.models.errors import UsageError, check_positive
+
+__all__ = [
+    "Encoding",
+    "Lemma",
+    "LemmaResult",
+    "LEMMAS",
+    "EXTRA_LEMMAS",
+    "prove",
+    "run_suite",
+    "lookup",
+    "model_to_numbers",
+    "confirm_trees",
+    "kernel_oracle_check",
+]
+
+DEFAULT_TIMEOUT_S = 10.0
+
+Point = tuple  # (x, y) of z3 arithmetic terms
+
+
+# ---------------------------------------------------------------- records
+
+@dataclass(frozen=True)
+class Encoding:
+    """A lemma as z3 terms.
+
+    ``premises`` are named (the names go to ``assert_and_track``);
+    ``cases`` optionally splits the lemma into cases, each a list of extra
+    named premises: the lemma holds iff it holds in every case (a premise
+    ``A or B`` proved as ``A => C`` and ``B => C``).  ``variables`` are the
+    free variables, in the order a counterexample lists them.
+    """
+
+    premises: list
+    conclusion: z3.BoolRef
+    variables: list
+    cases: list = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Lemma:
+    """A lemma: statement, citation, normalisations, encoding, negative control."""
+
+    id: str
+    statement: str
+    cites: tuple
+    normalisations: tuple
+    build: Callable[[], Encoding]
+    control: Callable[[], Encoding]
+    control_note: str
+    solver_params: tuple = ()  # extra (name, value) pairs for every solver
+
+
+@dataclass
+class LemmaResult:
+    """The outcome of :func:`prove` (DESIGN.md section 2, ``prove`` JSON)."""
+
+    id: str
+    statement: str
+    cites: list
+    status: str  # proved | counterexample | inconclusive
+    seconds: float
+    premises_satisfiable: bool | None
+    negative_control: dict
+    counterexample: dict | None = None
+    reason: str = ""
+    normalisations: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return {
+            "id": self.id,
+            "statement": self.statement,
+            "cites": list(self.cites),
+            "status": self.status,
+            "seconds": round(self.seconds, 4),
+            "premises_satisfiable": self.premises_satisfiable,
+            "negative_control": dict(self.negative_control),
+            "counterexample": self.counterexample,
+            "reason": self.reason,
+            "normalisations": list(self.normalisations),
+        }
+
+
+# ------------------------------------------------------- vector helpers
+
+def _pt(name: str) -> Point:
+    return (z3.Real(f"{name}_x"), z3.Real(f"{name}_y"))
+
+
+_ORIGIN: Point = (z3.RealVal(0), z3.RealVal(0))
+
+
+def _sub(a: Point, b: Point) -> Point:
+    return (a[0] - b[0], a[1] - b[1])
+
+
+def _add(a: Point, b: Point) -> Point:
+    return (a[0] + b[0], a[1] + b[1])
+
+
+def _scale(k, a: Point) -> Point:
+    return (k * a[0], k * a[1])
+
+
+def _eq(a: Point, b: Point) -> z3.BoolRef:
+    return z3.And(a[0] == b[0], a[1] == b[1])
+
+
+def dist2(a: Point, b: Point = _ORIGIN):
+    """Squared Euclidean distance ``||a - b||^2`` (no distance variables)."""
+    d = _sub(a, b)
+    return d[0] * d[0] + d[1] * d[1]
+
+
+def _vars(*points_or_reals) -> list:
+    out = []
+    for p in points_or_reals:
+        if isinstance(p, tuple):
+            out.extend(p)
+        else:
+            out.append(p)
+    return out
+
+
+def _step_range(s) -> tuple:
+    """``0 < s < 1``: ``s = v*dt/phi``; the papers assume ``v*dt < phi``."""
+    return ("step_below_range", z3.And(s > 0, s < 1))
+
+
+# ---------------------------------------------------- normalisation lemmas
+
+def translation_invariance(shift_both: bool = True) -> Encoding:
+    """``||(a - c) - (b - c)||^2 = ||a - b||^2`` for all points ``a, b, c``.
+
+    Moving the origin to any point ``c`` changes no distance; with
+    ``shift_both=False`` (the control) only ``a`` is moved."""
+    a, b, c = _pt("a"), _pt("b"), _pt("c")
+    b2 = _sub(b, c) if shift_both else b
+    return Encoding(premises=[], conclusion=dist2(_sub(a, c), b2) == dist2(a, b),
+                    variables=_vars(a, b, c))
+
+
+def rotation_invariance(unit: bool = True) -> Encoding:
+    """``||R a - R b||^2 = ||a - b||^2`` for ``R = [[c, -n], [n, c]]``, ``c^2 + n^2 = 1``.
+
+    The control drops ``c^2 + n^2 = 1`` (any rotation-scaling matrix)."""
+    a, b = _pt("a"), _pt("b")
+    c, n = z3.Reals("cos sin")
+
+    def rot(p):
+        return (c * p[0] - n * p[1], n * p[0] + c * p[1])
+
+    prem = [("rotation_is_orthonormal", c * c + n * n == 1)] if unit else \
+        [("rotation_bounded", c * c + n * n <= 4)]
+    return Encoding(premises=prem, conclusion=dist2(rot(a), rot(b)) == dist2(a, b),
+                    variables=_vars(a, b, c, n))
+
+
+def scale_invariance(scale_radius: bool = True) -> Encoding:
+    """For ``k > 0``: ``||a-b||^2 <= r^2  <=>  ||k a - k b||^2 <= (k r)^2``, the same
+    with ``<``, and the map keeps segment points: ``k (a + l (b - a)) = k a + l (k b - k a)``.
+
+    So dividing every position and radius by ``phi`` turns ``phi`` into 1 and
+    ``v*dt`` into ``s = v*dt/phi`` without changing any premise or conclusion.
+    The control does not scale the radius."""
+    a, b = _pt("a"), _pt("b")
+    k, r, lam = z3.Reals("k r l")
+    kr = k * r if scale_radius else r
+    ka, kb = _scale(k, a), _scale(k, b)
+    seg = _eq(_scale(k, _add(a, _scale(lam, _sub(b, a)))), _add(ka, _scale(lam, _sub(kb, ka))))
+    concl = z3.And((dist2(a, b) <= r * r) == (dist2(ka, kb) <= kr * kr),
+                   (dist2(a, b) < r * r) == (dist2(ka, kb) < kr * kr),
+                   seg)
+    return Encoding(premises=[("scale_positive", k > 0)], conclusion=concl,
+                    variables=_vars(a, b, k, r, lam))
+
+
+# ---------------------------------------------------- the safety lemmas
+
+def bounded_range(range_radius_factor: str = "phi_minus_vdt", strict: bool = False,
+                  open_range: bool = False) -> Encoding:
+    """000 Lemma 7 / 001 Lemma 7, normalised: ``p_p(t) = 0``, ``phi = 1``, ``s = v dt/phi``.
+
+    Premises: ``||p_i(t)|| <= 1`` (neighbours; ``< 1`` if ``strict``),
+    ``||p_i(t+dt) - p_i(t)|| <= s``, ``||p_p(t+dt)|| <= s``,
+    ``||p_i(t+dt)|| <= 1 - s`` (``< 1 - s`` if ``open_range``).
+    Conclusion: ``||p_i(t+dt) - p_p(t+dt)|| <= 1`` (``< 1`` if ``strict``).
+    The control uses the radius ``phi`` (1) instead of ``phi - v dt``."""
+    s = z3.Real("s")
+    pi0, pi1, pp1 = _pt("p_i_0"), _pt("p_i_1"), _pt("p_p_1")
+    rad2 = (1 - s) * (1 - s) if range_radius_factor == "phi_minus_vdt" else z3.RealVal(1)
+    near = (lambda d: d < 1) if strict else (lambda d: d <= 1)
+    in_range = dist2(pi1) < rad2 if open_range else dist2(pi1) <= rad2
+    prem = [
+        _step_range(s),
+        ("neighbours_at_t", near(dist2(pi0))),
+        ("child_moves_at_most_v_dt", dist2(pi1, pi0) <= s * s),
+        ("parent_moves_at_most_v_dt", dist2(pp1) <= s * s),
+        ("child_in_parent_bounded_range", in_range),
+    ]
+    return Encoding(premises=prem, conclusion=near(dist2(pi1, pp1)),
+                    variables=_vars(s, pi0, pi1, pp1))
+
+
+def nclb_link_kept(radius: str = "phi_minus_vdt") -> Encoding:
+    """001 Sec. V-C (NCLB) for one parent-child link, normalised: ``p_c(t) = 0``.
+
+    Premises: the link holds at ``t`` (``||p_p(t)|| <= 1``), the parent moves at
+    most ``s`` and ends in the child's bounded range (Def. 8:
+    ``||p_p(t+dt)|| <= 1 - s``), the child moves at most ``s``.
+    Conclusion: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``."""
+    s = z3.Real("s")
+    pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
+    rad2 = (1 - s) * (1 - s) if radius == "phi_minus_vdt" else z3.RealVal(1)
+    prem = [
+        _step_range(s),
+        ("link_at_t", dist2(pp0) <= 1),
+        ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
+        ("parent_in_child_bounded_range", dist2(pp1) <= rad2),
+        ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
+    ]
+    return Encoding(premises=prem, conclusion=dist2(pp1, pc1) <= 1,
+                    variables=_vars(s, pp0, pp1, pc1))
+
+
+def tree_link_kept() -> Encoding:
+    """001 Lemma 11, one link of the spanning tree, by cases; normalised: ``p_c(t) = 0``.
+
+    Every link ``(p, c)`` of the tree is in one of these cases under the
+    motion strategy of 001 Sec. V-C:
+
+    * ``nclb``: the parent moves inside the child's bounded range, the child
+      moves at most ``s`` (the premises of ``nclb_link_kept``);
+    * ``child_toward_still_parent``: the parent does not move, the child moves
+      at most ``s`` straight toward it: ``p_c(t+dt) = l p_p(t)``, ``0 <= l <= 1``
+      (case 3 of Sec. V-C, and "children ... will only move toward the robot"
+      when a safe region is empty);
+    * ``parent_toward_still_child``: the child does not move, the parent moves
+      at most ``s`` straight toward it: ``p_p(t+dt) = (1 - l) p_p(t)``;
+    * ``both_still``.
+
+    In every case the link is kept: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``."""
+    s, lam = z3.Reals("s l")
+    pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
+    common = [_step_range(s), ("link_at_t", dist2(pp0) <= 1)]
+    cases = [
+        ("nclb", [
+            ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
+            ("parent_in_child_bounded_range", dist2(pp1) <= (1 - s) * (1 - s)),
+            ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
+        ]),
+        ("child_toward_still_parent", [
+            ("parent_still", _eq(pp1, pp0)),
+            ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
+            ("child_on_segment_to_parent", z3.And(lam >= 0, lam <= 1, _eq(pc1, _scale(lam, pp0)))),
+        ]),
+        ("parent_toward_still_child", [
+            ("child_still", _eq(pc1, _ORIGIN)),
+            ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
+            ("parent_on_segment_to_child",
+             z3.And(lam >= 0, lam <= 1, _eq(pp1, _scale(1 - lam, pp0)))),
+        ]),
+        ("both_still", [("parent_still", _eq(pp1, pp0)), ("child_still", _eq(pc1, _ORIGIN))]),
+    ]
+    return Encoding(premises=common, conclusion=dist2(pp1, pc1) <= 1,
+                    variables=_vars(s, lam, pp0, pp1, pc1), cases=cases)
+
+
+def tree_link_kept_control() -> Encoding:
+    """Control of ``spanning_tree_kept``: the ``nclb`` case with radius ``phi``."""
+    return nclb_link_kept(radius="phi")
+
+
+def relocate_stays_in_range(endpoint_radius2: int = 1) -> Encoding:
+    """A point on a segment between two points within ``phi`` of a stationary
+    robot is within ``phi`` of it.  Normalised: the stationary robot (the root)
+    at the origin, ``phi = 1``.  The control lets one endpoint be ``2 phi`` away."""
+    a, b = _pt("a"), _pt("b")
+    lam = z3.Real("l")
+    q = _add(a, _scale(lam, _sub(b, a)))
+    prem = [
+        ("start_within_range", dist2(a) <= 1),
+        ("end_within_range", dist2(b) <= endpoint_radius2),
+        ("on_segment", z3.And(lam >= 0, lam <= 1)),
+    ]
+    return Encoding(premises=prem, conclusion=dist2(q) <= 1, variables=_vars(a, b, lam))
+
+
+def safe_region_nonempty(children: int = 3, ds_bound: str = "phi_minus_vdt") -> Encoding:
+    """001 Sec. V-C: every child within ``d_s < phi - v dt`` of its parent puts the
+    parent's own position in every child's bounded range.  Normalised: the
+    parent at the origin.  Stated for ``children`` children at once (each
+    conjunct uses only its own child's premise).  The control allows
+    ``d_s < phi``."""
+    s, ds = z3.Reals("s d_s")
+    cs = [_pt(f"c{k}_0") for k in range(children)]
+    bound = 1 - s if ds_bound == "phi_minus_vdt" else z3.RealVal(1)
+    prem = [_step_range(s), ("safe_distance", z3.And(ds > 0, ds < bound))]
+    prem += [(f"child_{k}_within_d_s", dist2(c) <= ds * ds) for k, c in enumerate(cs)]
+    concl = z3.And([dist2(_ORIGIN, c) <= (1 - s) * (1 - s) for c in cs])
+    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, ds, *cs))
+
+
+def intermediate_goal_in_region(parent_radius: str = "phi_minus_vdt") -> Encoding:
+    """000 Sec. IV-C, Fig. 6: a goal ``g`` in ``P_i & P_p`` (discs of radius ``v dt``
+    around ``p_i(t)`` and ``phi - v dt`` around ``p_p(t)``), reached at ``t+dt``,
+    meets the premises of ``bounded_range``; and the intersection is not empty
+    when the robots are neighbours (witness ``(1 - s) p_i(t)``).  Normalised:
+    ``p_p(t) = 0``.  The control uses ``P_p`` of radius ``phi``."""
+    s = z3.Real("s")
+    pi0, g = _pt("p_i_0"), _pt("g")
+    rp2 = (1 - s) * (1 - s) if parent_radius == "phi_minus_vdt" else z3.RealVal(1)
+    w = _scale(1 - s, pi0)
+    prem = [
+        _step_range(s),
+        ("neighbours_at_t", dist2(pi0) <= 1),
+        ("goal_in_P_i", dist2(g, pi0) <= s * s),
+        ("goal_in_P_p", dist2(g) <= rp2),
+    ]
+    concl = z3.And(
+        dist2(g, pi0) <= s * s,                   # p_i(t+dt) = g: moves at most v dt
+        dist2(g) <= (1 - s) * (1 - s),            # ... into the parent's bounded range
+        dist2(w, pi0) <= s * s, dist2(w) <= (1 - s) * (1 - s),  # P_i & P_p not empty
+    )
+    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, pi0, g))
+
+
+# -------------------------------------------- findings and hard lemmas
+
+def intermediate_goal_partial_progress() -> Encoding:
+    """A robot that drives only part of the way to its intermediate goal ``g``
+    (``p_i(t+dt) = p_i(t) + l (g - p_i(t))``, ``0 <= l <= 1``, e.g. because part of
+    the step was spent turning) is NOT always in the parent's bounded range:
+    z3 finds a counterexample.  000 Sec. IV-C assumes the goal is reached."""
+    s, lam = z3.Reals("s l")
+    pi0, g = _pt("p_i_0"), _pt("g")
+    pi1 = _add(pi0, _scale(lam, _sub(g, pi0)))
+    prem = [
+        _step_range(s),
+        ("neighbours_at_t", dist2(pi0) <= 1),
+        ("goal_in_P_i", dist2(g, pi0) <= s * s),
+        ("goal_in_P_p", dist2(g) <= (1 - s) * (1 - s)),
+        ("partial_progress", z3.And(lam >= 0, lam <= 1)),
+    ]
+    return Encoding(premises=prem, conclusion=dist2(pi1) <= (1 - s) * (1 - s),
+                    variables=_vars(s, lam, pi0, g))
+
+
+def nclb_three_children_direct() -> Encoding:
+    """NCLB for a parent with three children at once, not normalised per child
+    (DESIGN.md section 4: did not finish in 300 s).  True, but too hard for
+    z3 in any short timeout: the honest source of a timeout in the tests."""
+    s = z3.Real("s")
+    pp1 = _pt("p_p_1")
+    c0 = [_pt(f"c{k}_0") for k in range(3)]
+    c1 = [_pt(f"c{k}_1") for k in range(3)]
+    prem = [_step_range(s), ("parent_moves_at_most_v_dt", dist2(pp1) <= s * s)]
+    for k in range(3):
+        prem += [
+            (f"link_{k}_at_t", dist2(c0[k]) <= 1),
+            (f"child_{k}_moves_at_most_v_dt", dist2(c1[k], c0[k]) <= s * s),
+            (f"parent_in_bounded_range_of_{k}", dist2(pp1, c0[k]) <= (1 - s) * (1 - s)),
+        ]
+    concl = z3.And([dist2(pp1, c) <= 1 for c in c1])
+    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, pp1, *c0, *c1))
+
+
+# ------------------------------------------------------------- registry
+
+_S_NORM = "scale: phi = 1, s = v*dt/phi in (0, 1) (scale_invariance)"
+
+
+def _t(what: str) -> str:
+    return f"translation: {what} at the origin (translation_invariance)"
+
+
+_LEMMA_LIST = [
+    Lemma(
+        id="translation_invariance",
+        statement="Distances do not change when every point is shifted by the same vector: "
+                  "||(a - c) - (b - c)|| = ||a - b||.",
+        cites=("normalisation lemma (DESIGN.md section 4)",),
+        normalisations=(),
+        build=translation_invariance,
+        control=lambda: translation_invariance(shift_both=False),
+        control_note="only a is shifted",
+    ),
+    Lemma(
+        id="rotation_invariance",
+        statement="Distances do not change under a rotation R (c^2 + n^2 = 1): "
+                  "||R a - R b|| = ||a - b||.",
+        cites=("normalisation lemma (DESIGN.md section 4)",),
+        normalisations=(),
+        build=rotation_invariance,
+        control=lambda: rotation_invariance(unit=False),
+        control_note="c^2 + n^2 = 1 dropped (any rotation-scaling)",
+    ),
+    Lemma(
+        id="scale_invariance",
+        statement="For k > 0, ||a - b|| <= r iff ||k a - k b|| <= k r (also with <), and "
+                  "scaling maps segment points to segment points; so phi can be set to 1 "
+                  "and v*dt replaced by s = v*dt/phi.",
+        cites=("normalisation lemma (DESIGN.md section 4)",),
+        normalisations=(),
+        build=scale_invariance,
+        control=lambda: scale_invariance(scale_radius=False),
+        control_note="the radius r is not scaled",
+    ),
+    Lemma(
+        id="bounded_range",
+        statement="If r_i and r_p are neighbours at t (||p_i(t) - p_p(t)|| <= phi), each moves "
+                  "at most v dt, and ||p_i(t+dt) - p_p(t)|| <= phi - v dt, then "
+                  "||p_i(t+dt) - p_p(t+dt)|| <= phi.",
+        cites=("000_3ad33c5b62f11d5f.txt Lemma 7, Eqs. 5-7",
+               "001_7a4e517b856331bc.txt Lemma 7"),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=bounded_range,
+        control=lambda: bounded_range(range_radius_factor="phi"),
+        control_note="bounded range of radius phi instead of phi - v dt",
+    ),
+    Lemma(
+        id="bounded_range_strict",
+        statement="With neighbours strictly closer than phi (docs/decisions.md, Model and "
+                  "geometry) Lemma 7 needs the open bounded range: if ||p_i(t) - p_p(t)|| < phi, "
+                  "each moves at most v dt and ||p_i(t+dt) - p_p(t)|| < phi - v dt, then "
+                  "||p_i(t+dt) - p_p(t+dt)|| < phi.",
+        cites=("000_3ad33c5b62f11d5f.txt Lemma 7", "001_7a4e517b856331bc.txt Lemma 7, Def. 4"),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=lambda: bounded_range(strict=True, open_range=True),
+        control=lambda: bounded_range(strict=True, open_range=False),
+        control_note="closed bounded range (<= phi - v dt) with strict neighbours: "
+                     "a pair can end exactly phi apart",
+    ),
+    Lemma(
+        id="nclb_link_kept",
+        statement="A parent that moves at most v dt into the bounded range (Def. 8: disc of "
+                  "radius phi - v dt around p_c(t)) of a child that moves at most v dt stays "
+                  "within phi of that child: ||p_p(t+dt) - p_c(t+dt)|| <= phi.",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C (NCLB), Def. 8, Lemma 7",),
+        normalisations=(_t("p_c(t)"), _S_NORM),
+        build=nclb_link_kept,
+        control=lambda: nclb_link_kept(radius="phi"),
+        control_note="parent anywhere within phi of the child's old position",
+    ),
+    Lemma(
+        id="spanning_tree_kept",
+        statement="Per link of the spanning tree, in each case of the motion strategy (NCLB; "
+                  "parent still and child straight toward it; child still and parent straight "
+                  "toward it; both still) the link is kept: ||p_p(t+dt) - p_c(t+dt)|| <= phi. "
+                  "Composed over the n-1 links: the tree is a spanning subgraph of the "
+                  "communication graph at t+dt, which is therefore connected.",
+        cites=("001_7a4e517b856331bc.txt Lemma 11, Sec. V-C",),
+        normalisations=(_t("p_c(t)"), _S_NORM, "composition over tree links (docs/proofs.md)"),
+        build=tree_link_kept,
+        control=tree_link_kept_control,
+        control_note="nclb case with the parent anywhere within phi of the child",
+    ),
+    Lemma(
+        id="relocate_stays_in_range",
+        statement="A robot moving along the straight segment between two points within phi of "
+                  "a stationary robot stays within phi of it.",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C case 2 (relocate robot toward the vacancy)",),
+        normalisations=(_t("the stationary robot"), "scale: phi = 1 (scale_invariance)"),
+        build=relocate_stays_in_range,
+        control=lambda: relocate_stays_in_range(endpoint_radius2=4),
+        control_note="the segment's end may be 2 phi away",
+    ),
+    Lemma(
+        id="safe_region_nonempty",
+        statement="If every child is within d_s < phi - v dt of its parent, the parent's own "
+                  "position lies in every child's bounded range, so the safe region (their "
+                  "intersection) is not empty (stated for 3 children).",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C (safe distance d_s), Def. 8",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=safe_region_nonempty,
+        control=lambda: safe_region_nonempty(ds_bound="phi"),
+        control_note="d_s < phi instead of d_s < phi - v dt",
+    ),
+    Lemma(
+        id="intermediate_goal_in_region",
+        statement="A goal chosen in P_i & P_p (discs of radius v dt around p_i(t) and phi - v dt "
+                  "around p_p(t)) and reached at t+dt meets the premises of bounded_range, and "
+                  "P_i & P_p is not empty when the robots are neighbours.",
+        cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C steps 1-3, Fig. 6, Lemma 7",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=intermediate_goal_in_region,
+        control=lambda: intermediate_goal_in_region(parent_radius="phi"),
+        control_note="P_p of radius phi instead of phi - v dt",
+    ),
+]
+
+#: The suite, by id (``swarmproof prove`` with no ids runs all of these).
+LEMMAS: dict = {lem.id: lem for lem in _LEMMA_LIST}
+
+#: Lemmas run only when named: known-false variants (findings) and a true
+#: lemma too hard for z3 (the honest timeout).
+EXTRA_LEMMAS: dict = {
+    "bounded_range_strict_closed": Lemma(
+        id="bounded_range_strict_closed",
+        statement="FINDING (expected counterexample): with neighbours strictly closer than phi "
+                  "and the closed bounded range of Def. 8, a pair can end exactly phi apart.",
+        cites=("001_7a4e517b856331bc.txt Lemma 7, Def. 8",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=lambda: bounded_range(strict=True, open_range=False),
+        control=lambda: bounded_range(strict=True, range_radius_factor="phi"),
+        control_note="bounded range of radius phi",
+    ),
+    "intermediate_goal_partial_progress": Lemma(
+        id="intermediate_goal_partial_progress",
+        statement="FINDING (expected counterexample): a robot that covers only part of the way "
+                  "to its intermediate goal may end outside the parent's bounded range.",
+        cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C, Lemma 7",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=intermediate_goal_partial_progress,
+        control=lambda: intermediate_goal_in_region(parent_radius="phi"),
+        control_note="P_p of radius phi",
+    ),
+    "nclb_three_children_direct": Lemma(
+        id="nclb_three_children_direct",
+        statement="NCLB for three children at once, un-normalised (true; too hard for z3 in a "
+                  "short timeout, DESIGN.md section 4).",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C",),
+        normalisations=(_S_NORM,),
+        build=nclb_three_children_direct,
+        control=lambda: nclb_link_kept(radius="phi"),
+        control_note="one child, radius phi",
+    ),
+}
+
+
+def lookup(ids: Iterable[str] | None = None) -> list:
+    """The lemmas named by ``ids`` (all of :data:`LEMMAS` when None), in order.
+
+    Raises
+    ------
+    UsageError
+        For an unknown id, listing the valid ones.
+
+    Examples
+    --------
+    >>> [lem.id for lem in lookup(["bounded_range"])]
+    ['bounded_range']
+    >>> lookup(["lemma7"])
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
+    """
+    if ids is None:
+        return list(LEMMAS.values())
+    out = []
+    for i in ids:
+        lem = LEMMAS.get(i) or EXTRA_LEMMAS.get(i)
+        if lem is None:
+            raise UsageError(
+                f"lemma={i!r} is not a known lemma id",
+                fix="use one of: " + ", ".join(LEMMAS)
+                    + " (run only when named: " + ", ".join(EXTRA_LEMMAS) + ")")
+        out.append(lem)
+    return out
+
+
+# ------------------------------------------------------------- solving
+
+def _configure() -> None:
+    """Fix z3's random seeds: the same lemma gives the same answer and model."""
+    z3.set_param("smt.random_seed", 0)
+    z3.set_param("sat.random_seed", 0)
+    z3.set_param("nlsat.seed", 0)
+
+
+def _solver(timeout_ms: int, params: Sequence = ()) -> z3.Solver:
+    # Nonlinear real arithmetic: the nlsat procedure directly (measured: the
+    # default combined solver answered `unknown` after 10 s on bounded_range,
+    # nlsat proves it in about 0.15 s).
+    s = z3.Tactic("qfnra-nlsat").solver()
+    s.set("timeout", max(1, int(timeout_ms)))
+    for k, v in params:
+        s.set(k, v)
+    return s
+
+
+def _number(val) -> float:
+    if z3.is_rational_value(val):
+        return float(Fraction(val.numerator_as_long(), val.denominator_as_long()))
+    if z3.is_algebraic_value(val):
+        r = val.approx(20)
+        return float(Fraction(r.numerator_as_long(), r.denominator_as_long()))
+    if z3.is_int_value(val):
+        return float(val.as_long())
+    raise TypeError(f"value={val!r} is not a number")  # pragma: no cover
+
+
+def model_to_numbers(model: z3.ModelRef, variables: Sequence) -> dict:
+    """The model's value of each variable as a float (algebraic numbers to 20
+    decimals first), keyed by variable name; unconstrained ones are 0.
+
+    Examples
+    --------
+    >>> x, y = z3.Reals("x y")
+    >>> s = z3.Solver(); s.add(x * x == 2, x > 0, y == 1 / 4); _ = s.check()
+    >>> model_to_numbers(s.model(), [x, y])
+    {'x': 1.4142135623730951, 'y': 0.25}
+    """
+    return {str(v): _number(model.eval(v, model_completion=True)) for v in variables}
+
+
+def _check(premises: list, negate: z3.BoolRef | None, timeout_ms: float, params) -> tuple:
+    """One fresh solver: premises (tracked by name) and optionally ``Not(negate)``.
+
+    Returns (z3 result, model or None, reason_unknown)."""
+    s = _solver(timeout_ms, params)
+    for k, (name, term) in enumerate(premises):
+        s.assert_and_track(term, f"{k}:{name}")
+    if negate is not None:
+        s.add(z3.Not(negate))
+    res = s.check()
+    if res == z3.sat:
+        return res, s.model(), ""
+    if res == z3.unknown:
+        return res, None, s.reason_unknown()
+    return res, None, ""
+
+
+def _cases(enc: Encoding) -> list:
+    if not enc.cases:
+        return [("", list(enc.premises))]
+    return [(name, list(enc.premises) + list(extra)) for name, extra in enc.cases]
+
+
+def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
+    """Premises satisfiable, then validity, case by case.  Returns a dict with
+    ``status``, ``premises_satisfiable``, ``counterexample``, ``reason``."""
+    sat_all = True
+    for case, prem in _cases(enc):
+        where = f" (case {case})" if case else ""
+        left = (deadline - time.perf_counter()) * 1000
+        if left <= 0:
+            return dict(status="inconclusive", premises_satisfiable=None, counterexample=None,
+                        reason=f"timeout before checking the premises{where}")
+        r, _, why = _check(prem, None, left, params)
+        if r == z3.unsat:
+            return dict(status="inconclusive", premises_satisfiable=False, counterexample=None,
+                        reason=f"premises unsatisfiable{where}: the lemma would hold vacuously")
+        if r == z3.unknown:
+            return dict(status="inconclusive", premises_satisfiable=None, counterexample=None,
+                        reason=f"z3 unknown on the premises{where}: {why}")
+        left = (deadline - time.perf_counter()) * 1000
+        if left <= 0:
+            return dict(status="inconclusive", premises_satisfiable=True, counterexample=None,
+                        reason=f"timeout before checking the conclusion{where}")
+        r, model, why = _check(prem, enc.conclusion, left, params)
+        if r == z3.sat:
+            cex = model_to_numbers(model, enc.variables)
+            return dict(status="counterexample", premises_satisfiable=True, counterexample=cex,
+                        reason=f"z3 found premises true and the conclusion false{where}")
+        if r == z3.unknown:
+            return dict(status="inconclusive", premises_satisfiable=True, counterexample=None,
+                        reason=f"z3 unknown on the negated conclusion{where}: {why}")
+    return dict(status="proved", premises_satisfiable=sat_all, counterexample=None, reason="")
+
+
+def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
+    """Prove one lemma and refute its negative control (module docstring, steps 1-3).
+
+    Parameters
+    ----------
+    lemma : Lemma
+        From :data:`LEMMAS` or :data:`EXTRA_LEMMAS`, or your own.
+    timeout_s : float
+        Wall-clock budget for the lemma, shared by its solver calls; the
+        control gets its own budget of the same size.
+
+    Returns
+    -------
+    LemmaResult
+        ``status`` is ``proved`` only if z3 answered ``unsat`` for the negated
+        conclusion, the premises are satisfiable and the control was refuted.
+
+    Raises
+    ------
+    UsageError
+        If ``timeout_s`` is not a positive number.
+    """
+    timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
+    _configure()
+    params = tuple(lemma.solver_params)
+    t0 = time.perf_counter()
+    main = _solve_encoding(lemma.build(), t0 + timeout_s, params)
+    t1 = time.perf_counter()
+    ctrl = _solve_encoding(lemma.control(), t1 + timeout_s, params)
+    seconds = time.perf_counter() - t0
+    control = {"status": ctrl["status"], "counterexample": ctrl["counterexample"],
+               "weakened": lemma.control_note}
+    if ctrl["status"] != "counterexample":
+        control["reason"] = ctrl["reason"] or "the weakened lemma was proved"
+    status, reason = main["status"], main["reason"]
+    if status == "proved" and ctrl["status"] != "counterexample":
+        status = "inconclusive"
+        reason = (f"negative control not refuted ({control['reason']}): "
+                  "the encoding may be unable to fail")
+    return LemmaResult(
+        id=lemma.id, statement=lemma.statement, cites=list(lemma.cites), status=status,
+        seconds=seconds, premises_satisfiable=main["premises_satisfiable"],
+        negative_control=control, counterexample=main["counterexample"], reason=reason,
+        normalisations=list(lemma.normalisations))
+
+
+def run_suite(ids: Iterable[str] | None = None,
+              timeout_s: float = DEFAULT_TIMEOUT_S) -> list:
+    """Prove the named lemmas (all of :data:`LEMMAS` when ``ids`` is None).
+
+    This is what ``swarmproof prove`` and ``swarmproof verify`` call.
+
+    Raises
+    ------
+    UsageError
+        Unknown lemma id or a non-positive timeout.
+    """
+    check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
+    return [prove(lem, timeout_s) for lem in lookup(ids)]
+
+
+# ------------------------------------- direct confirmation on small trees
+
+def _tree_case_encoding(tree, root, moving) -> Encoding:
+    """001 Lemma 11 stated directly for one rooted tree and one set of moving
+    robots (no per-link lemma used): all links' premises at once, conclusion
+    "every link kept".  Variables are per link (a linear change of
+    coordinates, one-to-one for a tree): for a moving parent
+    ``u_c = p_p(t+dt) - p_c(t)``, for a still parent ``d_c = p_c(t) - p_p(t)``;
+    ``m_k = p_k(t+dt) - p_k(t)`` for a moving robot.  The case of each link
+    follows the motion strategy (001 Sec. V-C): a moving parent obeys NCLB,
+    a child of a still parent moves straight toward it."""
+    import networkx as nx
+
+    s = z3.Real("s")
+    parent = {v: u for u, v in nx.bfs_edges(tree, root)}
+    m = {k: (_pt(f"m{k}") if k in moving else _ORIGIN) for k in sorted(tree.nodes)}
+    prem = [_step_range(s)] + [(f"robot_{k}_moves_at_most_v_dt", dist2(m[k]) <= s * s)
+                               for k in sorted(moving)]
+    concl, variables = [], [s] + _vars(*[m[k] for k in sorted(moving)])
+    for c, p in sorted(parent.items()):
+        if p in moving:
+            u = _pt(f"u{c}")
+            prem += [(f"link_{p}_{c}_at_t", dist2(u, m[p]) <= 1),
+                     (f"nclb_{p}_in_bounded_range_of_{c}", dist2(u) <= (1 - s) * (1 - s))]
+            concl.append(dist2(m[c], u) <= 1)
+            variables += list(u)
+        else:
+            d = _pt(f"d{c}")
+            prem.append((f"link_{p}_{c}_at_t", dist2(d) <= 1))
+            if c in moving:
+                lam = z3.Real(f"l{c}")
+                prem.append((f"child_{c}_toward_still_parent_{p}",
+                             z3.And(lam >= 0, lam <= 1, _eq(m[c], _scale(-lam, d)))))
+                variables.append(lam)
+            concl.append(dist2(_add(d, m[c])) <= 1)
+            variables += list(d)
+    return Encoding(premises=prem, conclusion=z3.And(concl), variables=variables)
+
+
+def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0) -> dict:
+    """Confirm ``spanning_tree_kept`` with z3 directly on every tree shape of
+    2..``max_robots`` robots, every root and every subset of moving robots.
+
+    Returns counts by status (``proved``, ``counterexample``, ``inconclusive``)
+    and the cases that were not proved, as ``(n, edges, root, moving, status,
+    reason)``.  A counterexample here would contradict the composition
+    argument; ``inconclusive`` cases are z3 timeouts (nlsat is sensitive to
+    the number of variables, DESIGN.md section 4) and prove nothing.
+    """
+    import networkx as nx
+
+    _configure()
+    counts = {"proved": 0, "counterexample": 0, "inconclusive": 0}
+    not_proved = []
+    for n in range(2, max_robots + 1):
+        for tree in nx.nonisomorphic_trees(n):
+            tree = nx.convert_node_labels_to_integers(tree)
+            for root in range(n):
+                for mask in range(2 ** n):
+                    moving = frozenset(k for k in range(n) if mask >> k & 1)
+                    enc = _tree_case_encoding(tree, root, moving)
+                    r = _solve_encoding(enc, time.perf_counter() + timeout_s, ())
+                    counts[r["status"]] += 1
+                    if r["status"] != "proved":
+                        not_proved.append((n, sorted(tree.edges()), root, sorted(moving),
+                                           r["status"], r["reason"]))
+    return {"counts": counts, "not_proved": not_proved}
+
+
+# ------------------------------------------- the geometry kernel as oracle
+
+def _q(x) -> z3.ArithRef:
+    f = Fraction(float(x))
+    return z3.RealVal(f.numerator) / f.denominator if f.denominator != 1 else z3.RealVal(f.numerator)
+
+
+def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
+                        timeout_s: float = 2.0) -> tuple:
+    """Check one output of ``nearest_point_in_disc_intersection`` with z3.
+
+    Exact rational arithmetic on the kernel's float inputs and output: the
+    output must lie in both closed discs up to ``tol``, and z3 must find no
+    point of the intersection nearer ``target`` by more than ``tol``
+    (``unsat``).  ``None`` from the kernel must mean no point lies in both
+    discs shrunk by ``tol``.
+
+    Returns
+    -------
+    (status, reason): status ``'confirmed'``, ``'refuted'`` or ``'inconclusive'``.
+
+    Examples
+    --------
+    >>> from swarmproof.models.geometry import nearest_point_in_disc_intersection as k
+    >>> kernel_oracle_check(k, (0, 0), 0.25, (1, 0), 0.75, (0.3, 0.3))[0]
+    'confirmed'
+    >>> kernel_oracle_check(lambda *a: (0.0, 0.0), (0, 0), 0.25, (1, 0), 0.75, (0.3, 0.3))[0]
+    'refuted'
+    """
+    _configure()
+    q = kernel(c1, r1, c2, r2, target)
+    x = _pt("x")
+    C1, C2, T = (_q(c1[0]), _q(c1[1])), (_q(c2[0]), _q(c2[1])), (_q(target[0]), _q(target[1]))
+    R1, R2 = _q(r1), _q(r2)
+    ms = max(1, int(timeout_s * 1000))
+    if q is None:
+        s = _solver(ms)
+        s.add(dist2(x, C1) <= (R1 - tol) * (R1 - tol), R1 >= tol,
+              dist2(x, C2) <= (R2 - tol) * (R2 - tol), R2 >= tol)
+        res = s.check()
+        if res == z3.unsat:
+            return "confirmed", "empty intersection confirmed"
+        if res == z3.sat:
+            return "refuted", f"kernel returned None but {model_to_numbers(s.model(), x)} is in both discs"
+        return "inconclusive", s.reason_unknown()
+    Q = (_q(q[0]), _q(q[1]))
+    for name, C, R in (("first", C1, R1), ("second", C2, R2)):
+        if not z3.is_true(z3.simplify(dist2(Q, C) <= (R + tol) * (R + tol))):
+            return "refuted", f"output {list(map(float, q))} outside the {name} disc"
+    dq = float(np.hypot(float(q[0]) - float(target[0]), float(q[1]) - float(target[1])))
+    if dq <= tol:
+        return "confirmed", "output is the target"
+    s = _solver(ms)
+    s.add(dist2(x, C1) <= R1 * R1, dist2(x, C2) <= R2 * R2,
+          dist2(x, T) < _q((dq - tol) ** 2))
+    res = s.check()
+    if res == z3.unsat:
+        return "confirmed", "no point of the region nearer the target"
+    if res == z3.sat:
+        return "refuted", f"{model_to_numbers(s.model(), x)} is in the region and nearer the target"
+    return "inconclusive", s.reason_unknown()
