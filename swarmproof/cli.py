@@ -26,6 +26,7 @@ from swarmproof.models.verdict import EXIT_USAGE
 COMMAND_MODULES: tuple[str, ...] = (
     "check_lattice",
     "simulate",
+    "prove",
     "verify",
 )
 

@@ -1,0 +1,89 @@
+"""``swarmproof prove [LEMMA ...] [--json] [--timeout S]``: the z3 proof suite.
+
+Runs :func:`swarmproof.checkers.proofs.run_suite` (docs/proofs.md).  Every
+lemma is proved by asserting its negation (``unsat``), its premises are shown
+satisfiable, and a negative control (one premise weakened) must be refuted
+with a concrete counterexample.
+
+Exit codes (DESIGN.md section 2): 0 every requested lemma proved, 1 a
+counterexample, 2 an unknown lemma id or a non-positive timeout, 3
+inconclusive (z3 ``unknown``, a timeout, vacuous premises, or a negative
+control that was not refuted).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+NAME = "prove"
+HELP = "run the z3 proof suite of the safety lemmas (bounded range, NCLB, spanning tree, ...)"
+DESCRIPTION = (
+    "Prove the safety lemmas of Song & O'Kane 2014/2016 with z3: bounded range (Lemma 7), "
+    "NCLB link kept, spanning tree kept (Lemma 11), relocate stays in range, safe region "
+    "non-empty, intermediate goal in region, and the normalisation lemmas they rely on. "
+    "With no LEMMA, all of them. Exit 0 all proved, 1 a counterexample, 2 usage error, "
+    "3 inconclusive."
+)
+
+
+def _timeout(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"S={text!r} is not a number of seconds") from None
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("lemmas", nargs="*", metavar="LEMMA",
+                        help="lemma ids to prove (default: the whole suite)")
+    parser.add_argument("--json", action="store_true",
+                        help="print one JSON document on stdout and nothing else there")
+    parser.add_argument("--timeout", type=_timeout, default=None, metavar="S",
+                        help="wall-clock budget per lemma in seconds (default 10)")
+
+
+def status_exit_code(statuses) -> int:
+    """0 all proved, 1 any counterexample, else 3 (inconclusive or nothing run).
+
+    >>> status_exit_code(["proved", "inconclusive", "counterexample"])
+    1
+    >>> status_exit_code(["proved", "inconclusive"]), status_exit_code(["proved"])
+    (3, 0)
+    """
+    from swarmproof.models.verdict import Verdict
+
+    to_verdict = {"proved": Verdict.PROVED, "counterexample": Verdict.VIOLATED,
+                  "inconclusive": Verdict.INCONCLUSIVE}
+    return Verdict.combine(to_verdict[s] for s in statuses).exit_code
+
+
+def format_human(results) -> list:
+    """The human report: a table id / status / seconds / cites, a summary line,
+    then each counterexample as numbers and each inconclusive reason."""
+    lines = [f"{'lemma':<36} {'status':<15} {'seconds':>8}  cites"]
+    for r in results:
+        lines.append(f"{r.id:<36} {r.status:<15} {r.seconds:>8.3f}  {'; '.join(r.cites)}")
+    counts = {k: sum(r.status == k for r in results)
+              for k in ("proved", "counterexample", "inconclusive")}
+    lines.append(f"{len(results)} lemmas: {counts['proved']} proved, "
+                 f"{counts['counterexample']} counterexample, {counts['inconclusive']} inconclusive")
+    for r in results:
+        if r.status == "counterexample":
+            lines.append(f"counterexample to {r.id} ({r.reason}):")
+            lines.extend(f"  {k} = {v!r}" for k, v in r.counterexample.items())
+        elif r.status == "inconclusive":
+            lines.append(f"inconclusive {r.id}: {r.reason}")
+    return lines
+
+
+def run(args) -> int:
+    from swarmproof.checkers.proofs import DEFAULT_TIMEOUT_S, run_suite
+    from swarmproof.commands import emit_json, human
+
+    timeout = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
+    results = run_suite(args.lemmas or None, timeout_s=timeout)
+    if args.json:
+        emit_json({"lemmas": [r.to_dict() for r in results], "timeout": timeout})
+    else:
+        human(args, *format_human(results))
+    return status_exit_code(r.status for r in results)
