@@ -65,11 +65,13 @@ from .protocol import Assumption, Command, Observation, Params, RobotModel
 __all__ = [
     "Song2014", "Song2014Controller", "Song2014Message", "authority_key", "is_higher",
     "select_parent", "weight_matrix", "solve_matching", "match_positions", "descendant_motion",
-    "unmatched_steps", "ROLE_UNMATCHED",
+    "unmatched_steps", "ROLE_UNMATCHED", "NEVER",
 ]
 
 #: ``state()`` role value of a robot in the unmatched (dispersal) phase, Sec. IV-D.
 ROLE_UNMATCHED = "<unmatched>"
+#: Dispersal length (steps) standing for "forever" when ``v = 0``.
+NEVER = 2**62
 
 
 class Song2014Message(NamedTuple):
@@ -443,7 +445,15 @@ def unmatched_steps(params: Params) -> int:
 
     >>> unmatched_steps(Params(range=1.0, v=0.05, dt=1.0))
     40
+
+    With ``v = 0`` (assumption ``positive_speed`` broken on purpose) the
+    period is infinite: the robot never resumes.
+
+    >>> unmatched_steps(Params(range=1.0, v=0.0)) == NEVER
+    True
     """
+    if params.v * params.dt <= 0:
+        return NEVER
     return max(1, math.ceil(2.0 * params.range / params.v / params.dt - 1e-9))
 
 
@@ -630,6 +640,12 @@ def _check_v_dt(params: Params, n: int, ids) -> str | None:
             f"the parent disc of radius phi - v*dt is empty")
 
 
+def _check_positive_speed(params: Params, n: int, ids) -> str | None:
+    if params.v > 0:
+        return None
+    return f"v={params.v!r} is not > 0: the dispersal period 2*phi/v is infinite"
+
+
 def _check_unique_ids(params: Params, n: int, ids) -> str | None:
     if ids is None:
         return "ids=None: the algorithm needs robot IDs"
@@ -651,7 +667,8 @@ class Song2014:
         Local body-frame sensing with IDs, broadcast to neighbors,
         differential drive, synchronous steps (000 Sec. III-A).
     assumptions : tuple of Assumption
-        ``v_dt_below_range`` (Lemma 7) and ``unique_ids`` (Sec. III-A-1).
+        ``v_dt_below_range`` (Lemma 7), ``unique_ids`` (Sec. III-A-1) and
+        ``positive_speed`` (Sec. IV-D's period ``2*phi/v``).
         Def. 1's inverse edges are checked when a controller is made
         (:class:`~swarmproof.models.errors.AssumptionError`).
 
@@ -659,7 +676,7 @@ class Song2014:
     --------
     >>> alg = Song2014()
     >>> [a.name for a in alg.assumptions]
-    ['v_dt_below_range', 'unique_ids']
+    ['v_dt_below_range', 'unique_ids', 'positive_speed']
     >>> alg.assumptions[0].check(Params(range=1.0, v=2.0, dt=1.0), 2, [0, 1])
     'v*dt=2.0 (v=2.0, dt=1.0) is not below range=1.0: the parent disc of radius phi - v*dt is empty'
     >>> alg.finished([])
@@ -674,6 +691,9 @@ class Song2014:
                    "000 Sec. IV-C, Lemma 7 (the disc of radius phi - v*dt)", _check_v_dt),
         Assumption("unique_ids", "every robot has a unique ID from a total order",
                    "000 Sec. III-A-1", _check_unique_ids),
+        Assumption("positive_speed", "v > 0",
+                   "000 Sec. III-A-3 (v_max) and Sec. IV-D (the period 2*phi/v)",
+                   _check_positive_speed),
     )
 
     def __init__(self) -> None:

@@ -216,8 +216,9 @@ def test_unmatched_robot_moves_away_silent_for_2phi_over_v_then_resumes():
         (Params(range=1.0, v=1.0, dt=1.0), [0, 1], "v_dt_below_range", r"v\*dt=1.0 .* not below range=1.0"),
         (Params(range=1.0), [0, 1, 1], "unique_ids", r"duplicated \[1\]"),
         (Params(range=1.0), None, "unique_ids", r"ids=None"),
+        (Params(range=1.0, v=0.0), [0, 1], "positive_speed", r"v=0.0 is not > 0"),
     ],
-    ids=["v-dt-equals-range", "duplicate-ids", "anonymous"],
+    ids=["v-dt-equals-range", "duplicate-ids", "anonymous", "zero-speed"],
 )
 def test_assumptions_report_breaks(params, ids, name, match):
     a = {x.name: x for x in Song2014.assumptions}[name]
@@ -244,3 +245,10 @@ def test_state_is_hashable_and_names_the_documented_keys():
     hash(s)
     assert [k for k, _ in s][:6] == ["role", "parent", "root", "authority", "unmatched_until", "edge"]
     assert "target" in dict(s)
+
+
+def test_zero_speed_controller_is_built_and_disperses_forever():
+    from swarmproof.reference_impl.song2014 import NEVER
+    c = ctrl(3, params=Params(range=1.2, v=0.0))
+    c.step(obs(0, [9], [[0.5, 0, 0]], {9: Song2014Message((9,), ((3, None),))}, rid=3))
+    assert dict(c.state())["unmatched_until"] == NEVER
