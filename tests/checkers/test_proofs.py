@@ -1,0 +1,193 @@
+"""The z3 proof suite (checkers/proofs.py, issue 5): every lemma proved with
+satisfiable premises and a refuted negative control; wrong, vacuous, timed-out
+and unknown lemmas are never reported proved."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import z3
+
+from swarmproof.checkers import proofs
+from swarmproof.checkers.proofs import EXTRA_LEMMAS, LEMMAS, Encoding, Lemma, prove, run_suite
+from swarmproof.models.errors import UsageError
+
+pytestmark = pytest.mark.proofs
+
+REQUIRED_IDS = ["bounded_range", "nclb_link_kept", "spanning_tree_kept", "relocate_stays_in_range",
+                "safe_region_nonempty", "intermediate_goal_in_region"]
+
+
+def _holds(build, values: dict) -> tuple:
+    """Substitute exact numbers into an encoding: (all premises true, conclusion true)."""
+    enc = build()
+    subs = [(v, z3.RealVal(str(values[str(v)]))) for v in enc.variables]
+    prem = all(z3.is_true(z3.simplify(z3.substitute(t, *subs))) for _, t in enc.premises)
+    concl = z3.is_true(z3.simplify(z3.substitute(enc.conclusion, *subs)))
+    return prem, concl
+
+
+def test_required_ids_and_normalisation_lemmas_are_in_the_suite():
+    for i in REQUIRED_IDS + ["translation_invariance", "rotation_invariance", "scale_invariance"]:
+        assert i in LEMMAS
+    for lem in LEMMAS.values():
+        assert lem.cites and lem.statement
+        for n in lem.normalisations:  # every normalisation used names its own lemma
+            assert any(k in n for k in ("translation_invariance", "scale_invariance",
+                                        "rotation_invariance", "composition")), n
+
+
+@pytest.mark.parametrize("lemma_id", list(LEMMAS))
+def test_lemma_proved_with_satisfiable_premises_and_refuted_control(lemma_id):
+    r = prove(LEMMAS[lemma_id], timeout_s=10)
+    assert r.status == "proved", r.reason
+    assert r.premises_satisfiable is True
+    assert r.counterexample is None
+    ctrl = r.negative_control
+    assert ctrl["status"] == "counterexample"
+    cex = ctrl["counterexample"]
+    assert cex and all(isinstance(v, float) and math.isfinite(v) for v in cex.values())
+    assert r.seconds < 2.0 * 3  # the 2 s budget is measured in benchmarks/, this only catches hangs
+
+
+@pytest.mark.parametrize("lemma_id", ["bounded_range", "nclb_link_kept", "safe_region_nonempty"])
+def test_control_counterexample_really_breaks_the_weakened_lemma(lemma_id):
+    # These controls' models are dyadic rationals, exact as floats.
+    lem = LEMMAS[lemma_id]
+    cex = prove(lem, timeout_s=10).negative_control["counterexample"]
+    prem, concl = _holds(lem.control, cex)
+    assert prem is True and concl is False
+    prem, _ = _holds(lem.build, cex)
+    assert prem is False  # the original (unweakened) premises exclude it
+
+
+def test_suite_json_is_deterministic_except_timings():
+    def strip(rs):
+        return [{k: v for k, v in r.to_dict().items() if k != "seconds"} for r in rs]
+    ids = ["bounded_range", "spanning_tree_kept", "safe_region_nonempty"]
+    assert strip(run_suite(ids)) == strip(run_suite(ids))
+
+
+def test_wrong_lemma_is_a_counterexample_with_numbers():
+    # A real finding: strict neighbours (docs/decisions.md) + the closed bounded range of Def. 8.
+    lem = EXTRA_LEMMAS["bounded_range_strict_closed"]
+    r = prove(lem, timeout_s=10)
+    assert r.status == "counterexample"
+    assert r.counterexample == {"s": 0.5, "p_i_0_x": 0.0, "p_i_0_y": 0.0, "p_i_1_x": 0.0,
+                                "p_i_1_y": -0.5, "p_p_1_x": 0.0, "p_p_1_y": 0.5}
+    prem, concl = _holds(lem.build, r.counterexample)
+    assert prem is True and concl is False  # the pair ends exactly phi apart
+
+
+def _lemma(build, control=None, params=()) -> Lemma:
+    return Lemma(id="test_lemma", statement="test", cites=("test",), normalisations=(),
+                 build=build, control=control or (lambda: proofs.relocate_stays_in_range(4)),
+                 control_note="test", solver_params=params)
+
+
+def test_vacuous_lemma_is_inconclusive():
+    x = z3.Real("x")
+    lem = _lemma(lambda: Encoding(premises=[("pos", x > 1), ("neg", x < 0)],
+                                  conclusion=x == 42, variables=[x]))
+    r = prove(lem, timeout_s=5)
+    assert r.status == "inconclusive"
+    assert r.premises_satisfiable is False
+    assert "vacuous" in r.reason
+
+
+def test_vacuous_case_of_a_split_lemma_is_inconclusive():
+    x = z3.Real("x")
+    lem = _lemma(lambda: Encoding(premises=[("pos", x > 1)], conclusion=x > 0, variables=[x],
+                                  cases=[("ok", [("big", x > 2)]), ("empty", [("neg", x < 0)])]))
+    r = prove(lem, timeout_s=5)
+    assert (r.status, r.premises_satisfiable) == ("inconclusive", False)
+    assert "case empty" in r.reason
+
+
+def test_timeout_is_inconclusive_never_proved():
+    # True (DESIGN.md section 4) but far too hard for z3 in 0.3 s.
+    r = prove(EXTRA_LEMMAS["nclb_three_children_direct"], timeout_s=0.3)
+    assert r.status == "inconclusive"
+    assert "timeout" in r.reason
+    assert r.seconds < 3
+
+
+def test_unknown_that_is_not_a_timeout_is_inconclusive():
+    x, y = z3.Reals("x y")
+    lem = _lemma(lambda: Encoding(premises=[("disc", x * x + y * y <= 1)],
+                                  conclusion=x * y <= 1, variables=[x, y]),
+                 params=(("rlimit", 1),))
+    r = prove(lem, timeout_s=5)
+    assert r.status == "inconclusive"
+    assert "unknown" in r.reason and "resource" in r.reason
+
+
+def test_control_that_also_proves_makes_the_lemma_inconclusive():
+    lem = _lemma(proofs.relocate_stays_in_range, control=proofs.relocate_stays_in_range)
+    r = prove(lem, timeout_s=10)
+    assert r.status == "inconclusive"
+    assert r.reason.startswith("negative control not refuted")
+    assert r.negative_control["status"] == "proved"
+
+
+def test_lookup_unknown_id_lists_valid_ones():
+    with pytest.raises(UsageError, match=r"lemma='lemma7' is not a known lemma id; fix: use one of: "
+                                         r"translation_invariance, .*bounded_range"):
+        run_suite(["lemma7"])
+
+
+@pytest.mark.parametrize("timeout", [0, -1, float("nan"), float("inf"), "soon"],
+                         ids=["zero", "negative", "nan", "inf", "text"])
+def test_bad_timeout_is_a_usage_error(timeout):
+    with pytest.raises(UsageError, match=r"timeout="):
+        run_suite(["bounded_range"], timeout_s=timeout)
+
+
+def test_spanning_tree_confirmed_directly_on_small_trees():
+    # Direct z3 statements on whole trees (no per-link lemma); none may be refuted.
+    out = proofs.confirm_trees(max_robots=3, timeout_s=0.5)
+    assert out["counts"]["counterexample"] == 0
+    assert sum(out["counts"].values()) == 8 + 3 * 8  # n=2: 2 roots x 4; n=3: 3 roots x 8
+    assert out["counts"]["proved"] >= 1
+
+
+@pytest.mark.slow
+def test_spanning_tree_confirmed_directly_up_to_five_robots():
+    out = proofs.confirm_trees(max_robots=5, timeout_s=2.0)
+    assert out["counts"]["counterexample"] == 0, out["not_proved"]
+
+
+def _instances(n, seed):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        phi = rng.uniform(0.5, 2.0)
+        vdt = rng.uniform(0.01, 0.49) * phi
+        p = rng.uniform(-3, 3, 2)
+        i = p + rng.uniform(-1, 1, 2) * phi / math.sqrt(2)        # a neighbour of p
+        target = i + rng.uniform(-3, 3, 2)
+        yield (tuple(i), vdt, tuple(p), phi - vdt, tuple(target))
+
+
+def test_geometry_kernel_confirmed_by_z3_oracle():
+    geometry = pytest.importorskip("swarmproof.models.geometry")
+    kernel = geometry.nearest_point_in_disc_intersection
+    statuses = [proofs.kernel_oracle_check(kernel, *inst)[0] for inst in _instances(60, seed=5)]
+    assert statuses == ["confirmed"] * 60
+
+
+def test_geometry_kernel_oracle_catches_mutated_kernels():
+    geometry = pytest.importorskip("swarmproof.models.geometry")
+    kernel = geometry.nearest_point_in_disc_intersection
+
+    def shrunk(c1, r1, c2, r2, target):   # in the region but not nearest
+        return kernel(c1, r1 / 2, c2, r2 / 2, target)
+
+    def outside(c1, r1, c2, r2, target):  # nearest to the target of the first disc only
+        return kernel(c1, r1, c1, r1, target)
+
+    insts = list(_instances(20, seed=6))
+    for bad in (shrunk, outside):
+        statuses = [proofs.kernel_oracle_check(bad, *inst)[0] for inst in insts]
+        assert "refuted" in statuses, bad.__name__
