@@ -1,0 +1,110 @@
+"""`swarmproof prove`: JSON fields (DESIGN.md section 2), exit codes 0/1/2/3, exact human lines."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+import z3
+
+from swarmproof.checkers import proofs
+from swarmproof.cli import main
+
+pytestmark = pytest.mark.proofs
+
+FIELDS = {"id", "statement", "cites", "status", "seconds", "premises_satisfiable",
+          "negative_control"}
+
+
+def run(capsys, *argv):
+    code = main(["prove", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_whole_suite_json_exit_0(capsys):
+    code, out, err = run(capsys, "--json")
+    doc = json.loads(out)
+    assert code == 0
+    assert [d["id"] for d in doc["lemmas"]] == list(proofs.LEMMAS)
+    for d in doc["lemmas"]:
+        assert FIELDS <= set(d)
+        assert d["status"] == "proved" and d["premises_satisfiable"] is True
+        assert d["negative_control"]["status"] == "counterexample"
+        assert d["negative_control"]["counterexample"]
+    assert err == ""
+
+
+def test_human_table_exact_lines(capsys):
+    code, out, _ = run(capsys, "bounded_range", "relocate_stays_in_range")
+    lines = out.splitlines()
+    assert code == 0
+    assert lines[0] == "lemma                                status           seconds  cites"
+    row = re.sub(r" +\d+\.\d{3}  ", "  <s>  ", lines[1])
+    assert row == ("bounded_range                        proved  <s>  "
+                   "000_3ad33c5b62f11d5f.txt Lemma 7, Eqs. 5-7; 001_7a4e517b856331bc.txt Lemma 7")
+    assert lines[3] == "2 lemmas: 2 proved, 0 counterexample, 0 inconclusive"
+    assert len(lines) == 4
+
+
+def test_wrong_lemma_prints_counterexample_as_numbers_exit_1(capsys):
+    code, out, _ = run(capsys, "bounded_range_strict_closed")
+    assert code == 1
+    assert out.splitlines()[2:] == [
+        "1 lemmas: 0 proved, 1 counterexample, 0 inconclusive",
+        "counterexample to bounded_range_strict_closed "
+        "(z3 found premises true and the conclusion false):",
+        "  s = 0.5",
+        "  p_i_0_x = 0.0",
+        "  p_i_0_y = 0.0",
+        "  p_i_1_x = 0.0",
+        "  p_i_1_y = -0.5",
+        "  p_p_1_x = 0.0",
+        "  p_p_1_y = 0.5",
+    ]
+
+
+def test_counterexample_beats_inconclusive_for_the_exit_code(capsys):
+    code, _, _ = run(capsys, "bounded_range_strict_closed", "nclb_three_children_direct",
+                     "--timeout", "0.3")
+    assert code == 1
+
+
+def test_timeout_exit_3(capsys):
+    code, out, _ = run(capsys, "nclb_three_children_direct", "--timeout", "0.3", "--json")
+    d = json.loads(out)["lemmas"][0]
+    assert code == 3 and d["status"] == "inconclusive" and "timeout" in d["reason"]
+
+
+def test_vacuous_lemma_exit_3(capsys, monkeypatch):
+    x = z3.Real("x")
+    lem = proofs.Lemma(
+        id="vacuous", statement="contradictory premises", cites=("test",), normalisations=(),
+        build=lambda: proofs.Encoding(premises=[("a", x > 1), ("b", x < 0)], conclusion=x == 3,
+                                      variables=[x]),
+        control=lambda: proofs.relocate_stays_in_range(4), control_note="test")
+    monkeypatch.setitem(proofs.EXTRA_LEMMAS, "vacuous", lem)
+    code, out, _ = run(capsys, "vacuous")
+    assert code == 3
+    assert out.splitlines()[-1] == ("inconclusive vacuous: premises unsatisfiable: "
+                                    "the lemma would hold vacuously")
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["lemma7"], r"lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance"),
+    (["--timeout", "0"], r"timeout=0.0 must be > 0"),
+    (["--timeout", "-2"], r"timeout=-2.0 must be > 0"),
+    (["--timeout", "inf"], r"timeout=inf must be a finite number"),
+], ids=["unknown-id", "zero-timeout", "negative-timeout", "infinite-timeout"])
+def test_usage_errors_exit_2(capsys, argv, message):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert re.search(message, err)
+
+
+def test_non_numeric_timeout_exit_2(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["prove", "--timeout", "soon"])
+    assert exc.value.code == 2
+    assert "S='soon' is not a number of seconds" in capsys.readouterr().err
