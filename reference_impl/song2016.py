@@ -66,7 +66,7 @@ from typing import Any, Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError, check_finite  # noqa: F401
+from swarmproof.models.errors import ProtocolError, UsageError, check_finite
 from swarmproof.models.se2 import wrap_angle
 from .protocol import Assumption, Command, Observation, Params, RobotModel, connected_start
 from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
@@ -601,7 +601,6 @@ def sequential_fill(lattice, n: int, tolerance: float | None = None
 # The controller
 # ---------------------------------------------------------------------------
 
-_NO_MOVE = None  # sentinel doc: a Command(message=msg) with no motion
 
 
 class Song2016Controller:

@@ -14,7 +14,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from swarmproof.models.errors import AssumptionError, UsageError
-from swarmproof.models.lattice import LatticeGraph
 from swarmproof.models.library import load
 from swarmproof.models.se2 import SE2, relative_many
 from swarmproof.models.trace import InitialConfiguration
