@@ -154,3 +154,28 @@ def test_denser_start_stays_in_its_square():
     side = 0.5 * math.sqrt(12) * load("square").range
     xy = res.trace.poses[0][:, :2]
     assert xy.min() >= 0 and xy.max() <= side
+
+
+def test_the_published_flaws_are_kept_not_repaired():
+    """001 Sec. I: the 2014 orphans' motion "often caused the team to become disconnected".
+
+    A faithful implementation must still show it: this run (hexagon, 30 robots,
+    seed 3 of random_connected, as `swarmproof simulate song2014 --lattice hexagon
+    --robots 30 --seed 3`) starts connected, splits, and ends static in pieces,
+    and a tree link breaks while the child turns in place (docs/song2014.md).
+    """
+    from swarmproof.invariants.connectivity import components_at, first_disconnection
+    from swarmproof.reference_impl.initial import random_connected
+    lat = load("hexagon")
+    init = random_connected(30, 3, range=lat.range)
+    res = simulate(Song2014(), lat, init, Params(range=lat.range), seed=3)
+    assert res.status == "static"
+    assert len(components_at(res.trace, 0, lat.range)) == 1
+    hit = first_disconnection(res.trace, lat.range)
+    assert hit is not None and hit[0] == 17
+    assert len(components_at(res.trace, res.steps, lat.range)) > 1
+    ids = res.trace.ids.tolist()
+    k15, k10 = ids.index(15), ids.index(10)
+    d = [math.hypot(*(res.trace.poses[t][k15, :2] - res.trace.poses[t][k10, :2])) for t in (66, 67)]
+    assert dict(res.trace.states[67][k15])["parent"] == 10
+    assert d[0] < lat.range <= d[1]
