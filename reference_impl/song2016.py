@@ -75,7 +75,7 @@ from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point
 __all__ = [
     "Vacancy", "Song2016Message", "Song2016Config", "Song2016", "Song2016Controller",
     "vacancies", "vacancy_in_observer_frame", "compute_message", "get_parent_msg",
-    "sequential_fill", "RUMOR_FILTERS",
+    "sequential_fill", "RUMOR_FILTERS", "PARENT_RULES",
 ]
 
 #: The two readings of the rumor rule (docs/decisions.md, "## song2016"):
@@ -86,6 +86,12 @@ __all__ = [
 #: field: root information is ignored when my ID is in pathFromRoot, relocate
 #: information when my ID is in pathFromRelocate.
 RUMOR_FILTERS = ("message", "field")
+
+#: The two statements of the parent rule (docs/decisions.md, "## song2016"):
+#: ``"stable_first"`` is Sec. V-B ("chooses for its parent [...] the stable neighbor
+#: that is the fewest hops from the root"); ``"fewest_hops"`` is the proof of Lemma 12
+#: ("selects the neighbor with 1) the shortest path to root, 2) the highest ID").
+PARENT_RULES = ("stable_first", "fewest_hops")
 
 
 # ---------------------------------------------------------------------------
@@ -284,7 +290,7 @@ def vacancy_in_observer_frame(observed_owner: Sequence[float], vacancy: Vacancy
 # ---------------------------------------------------------------------------
 
 def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
-                   relocate_id: int | None) -> Song2016Message | None:
+                   relocate_id: int | None, stable_first: bool = True) -> Song2016Message | None:
     """Algorithm 1 line 27: the message of the robot chosen as spanning-tree parent.
 
     Sec. V-B: "Each robot that has at least one stable neighbor, chooses for
@@ -297,6 +303,12 @@ def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
 
     Candidates are the eligible messages that carry a path from the same root
     (``root_id``); hops are ``len(path_from_root) - 1``.
+
+    ``stable_first=False`` is the rule as the proof of Lemma 12 states it: "each
+    non-root robot selects the neighbor with 1) the shortest path to root, 2) the
+    highest ID among neighbors (excluding the relocate robot if the relocate robot is
+    one of its neighbors)", with no preference for stable neighbors (see
+    :data:`PARENT_RULES` and docs/decisions.md).
 
     Examples
     --------
@@ -318,9 +330,10 @@ def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
     cands = [m for m in eligible if m.root_id == root_id and m.path_from_root]
     if not cands:
         return None
-    stable = [m for m in cands if m.stable]
-    if stable:
-        cands = stable
+    if stable_first:
+        stable = [m for m in cands if m.stable]
+        if stable:
+            cands = stable
     if relocate_id is not None:
         rel = [m for m in cands if m.sender_id == relocate_id]
         if rel:
@@ -350,7 +363,8 @@ def _shortest(msgs: Sequence[Song2016Message], attr: str) -> tuple[int, ...]:
 
 
 def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
-                    in_messages: Sequence[Song2016Message], rumor_filter: str = "message"
+                    in_messages: Sequence[Song2016Message], rumor_filter: str = "message",
+                    parent_rule: str = "stable_first"
                     ) -> tuple[Song2016Message, Song2016Message | None]:
     """Algorithm 1 of 001 ("Compute message"), line by line.
 
@@ -367,6 +381,8 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
         increasing sender ID).
     rumor_filter : {"message", "field"}
         How line 12 rejects information (see :data:`RUMOR_FILTERS`).
+    parent_rule : {"stable_first", "fewest_hops"}
+        Which statement of the parent rule line 27 follows (:data:`PARENT_RULES`).
 
     Returns
     -------
@@ -468,7 +484,7 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
     # 26 if myID != myMsg.rootID then
     if my_id != root:
         # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
-        parent_msg = get_parent_msg(root_ok, root, relocate)
+        parent_msg = get_parent_msg(root_ok, root, relocate, parent_rule == "stable_first")
         # 28 myMsg.parentID <- parentMsg.senderID
         parent_id = None if parent_msg is None else parent_msg.sender_id
         # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
@@ -506,6 +522,8 @@ class Song2016Config:
         half the shortest lattice edge (footnote 2).
     rumor_filter : str
         One of :data:`RUMOR_FILTERS`.
+    parent_rule : str
+        One of :data:`PARENT_RULES`.
     """
 
     communication_timeout: int
@@ -515,10 +533,11 @@ class Song2016Config:
     heading_epsilon: float
     vacancy_tolerance: float
     rumor_filter: str
+    parent_rule: str = "stable_first"
 
 
 _EXTRA_KEYS = ("communication_timeout", "movement_timeout", "d_s", "arrival_epsilon",
-               "heading_epsilon", "vacancy_tolerance", "rumor_filter")
+               "heading_epsilon", "vacancy_tolerance", "rumor_filter", "parent_rule")
 
 
 def _check_count(name: str, value: Any) -> int:
@@ -686,7 +705,8 @@ class Song2016Controller:
         if (self.memoize and same_inbox and last is not None and self.stable == self._last_stable
                 and my_vac == self._last_vac_in):
             return last
-        msg, _ = compute_message(self.robot_id, self.stable, my_vac, inbox, self.cfg.rumor_filter)
+        msg, _ = compute_message(self.robot_id, self.stable, my_vac, inbox, self.cfg.rumor_filter,
+                                 self.cfg.parent_rule)
         self._last_stable = self.stable
         self._last_vac_in = my_vac
         if self.memoize and last is not None and msg == last:
@@ -899,7 +919,7 @@ class Song2016:
         the timeouts.  Without it, ``params.extra`` (or the keyword
         arguments) must give both timeouts.
     communication_timeout, movement_timeout, d_s, arrival_epsilon,
-    heading_epsilon, vacancy_tolerance, rumor_filter : optional
+    heading_epsilon, vacancy_tolerance, rumor_filter, parent_rule : optional
         Defaults for the values of the same names; ``params.extra`` overrides
         them.  See :class:`Song2016Config`.
     memoize : bool
@@ -930,7 +950,7 @@ class Song2016:
                  movement_timeout: int | None = None, d_s: float | None = None,
                  arrival_epsilon: float = 1e-6, heading_epsilon: float = 1e-6,
                  vacancy_tolerance: float | None = None, rumor_filter: str = "field",
-                 memoize: bool = True) -> None:
+                 parent_rule: str = "stable_first", memoize: bool = True) -> None:
         self.memoize = bool(memoize)
         if n_robots is not None:
             n_robots = _check_count("n_robots", n_robots)
@@ -939,6 +959,7 @@ class Song2016:
             "communication_timeout": communication_timeout, "movement_timeout": movement_timeout,
             "d_s": d_s, "arrival_epsilon": arrival_epsilon, "heading_epsilon": heading_epsilon,
             "vacancy_tolerance": vacancy_tolerance, "rumor_filter": rumor_filter,
+            "parent_rule": parent_rule,
         }
         self.assumptions = self._make_assumptions()
 
@@ -1000,6 +1021,11 @@ class Song2016:
             raise UsageError(f"{name}={value!r} is not one of {RUMOR_FILTERS!r}",
                              fix="'message' (Algorithm 1 line 12 as printed) or 'field'")
         vals["rumor_filter"] = value
+        value, name = self._value(params, "parent_rule")
+        if value not in PARENT_RULES:
+            raise UsageError(f"{name}={value!r} is not one of {PARENT_RULES!r}",
+                             fix="'stable_first' (Sec. V-B) or 'fewest_hops' (Lemma 12 proof)")
+        vals["parent_rule"] = value
         return Song2016Config(**vals)
 
     # -- assumptions (checked by the engine) ------------------------------

@@ -193,6 +193,15 @@ def test_parent_rules_of_sec_vb(cands, relocate, expected):
     assert get_parent_msg(cands, 9, relocate).sender_id == expected
 
 
+def test_lemma_12_parent_rule_ignores_stability():
+    """PARENT_RULES: the proof of Lemma 12 states the rule without the stable preference."""
+    cands = [msg(4, root=9, root_path=(9, 4)), msg(6, root=9, root_path=(9, 2, 6), stable=True)]
+    assert get_parent_msg(cands, 9, 5, stable_first=False).sender_id == 4
+    m, _ = compute_message(7, False, None, cands, "field", "fewest_hops")
+    assert m.parent_id == 4
+    assert compute_message(7, False, None, cands, "field", "stable_first")[0].parent_id == 6
+
+
 def test_no_parent_without_a_root():
     assert get_parent_msg([msg(3, root=9, root_path=(9, 3))], None, 5) is None
     m, _ = compute_message(5, False, None, [msg(3)])
@@ -429,8 +438,9 @@ def test_broken_assumptions_are_refused_by_name_or_run_when_allowed(init, params
     (Song2016(n_robots=3), {"communication_timeout": 2.5}, "communication_timeout'\\]=2.5"),
     (Song2016(n_robots=3), {"arrival_epsilon": 0}, "arrival_epsilon'\\]=0 must be a finite"),
     (Song2016(n_robots=3), {"rumor_filter": "path"}, "rumor_filter'\\]='path' is not one of"),
+    (Song2016(n_robots=3), {"parent_rule": "nearest"}, "parent_rule'\\]='nearest' is not one of"),
 ], ids=["no-n", "unknown-key", "negative-timeout", "fractional-timeout", "zero-epsilon",
-        "bad-rumor-filter"])
+        "bad-rumor-filter", "bad-parent-rule"])
 def test_bad_configuration_is_a_usage_error(alg, extra, match):
     with pytest.raises(UsageError, match=match):
         alg.controller(1, Params(range=1.2, v=0.05, extra=extra), SQUARE, np.random.default_rng(0))
@@ -441,6 +451,7 @@ def test_params_extra_overrides_the_constructor():
                                                        extra={"communication_timeout": 12}), 1.0)
     assert (cfg.communication_timeout, cfg.movement_timeout, cfg.d_s) == (12, 10, 0.3)
     assert cfg.vacancy_tolerance == 0.5 and cfg.rumor_filter == "field"
+    assert cfg.parent_rule == "stable_first"
 
 
 def test_registry_builds_song2016_with_options():
