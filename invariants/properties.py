@@ -1,0 +1,327 @@
+"""Property predicates the explorer judges a trace by: collision, deadlock, oscillation.
+
+Each function is pure (it reads a :class:`~swarmproof.models.trace.Trace`
+and returns an :class:`~swarmproof.invariants.result.InvariantResult`), says
+what it checks, and lists its blind spots.  None of these properties is
+claimed by the papers in so many words; they are the generic safety and
+liveness failures a formation algorithm can show (issue 6):
+
+* :func:`collision` -- robots as discs of radius ``r`` never overlap, checked
+  over the whole straight segment each robot travels in a step (000 and 001
+  model a step as a straight move; the papers assume robots never collide,
+  001 Sec. III-A "robots ... are ... of negligible size" is NOT assumed here).
+* :func:`deadlock` -- K consecutive quiet steps (no pose, broadcast or state
+  changes) while the goal is not reached (001 Def. 5: a static configuration
+  that does not satisfy the lattice is a failure of Theorem 13).
+* :func:`oscillation` -- a revisited global state (a cycle) without the goal,
+  and robots moving back and forth again and again.
+
+Examples
+--------
+>>> import numpy as np
+>>> from swarmproof.models.trace import Trace
+>>> poses = np.array([[[0, 0, 0], [2, 0, 0]], [[2, 0, 0], [0, 0, 0]]], float)
+>>> t = Trace(ids=[0, 1], poses=poses, states=[(None, None)] * 2)
+>>> r = collision(t, 0.1)
+>>> r.status, r.witness["step"], r.witness["robots"]
+('violated', 0, [0, 1])
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .result import InvariantResult
+
+__all__ = ["collision", "deadlock", "oscillation", "segment_min_distances"]
+
+CITE_COLLISION = "issue 6: robots as discs never overlap (straight moves per step, 000 Sec. III / 001 Sec. III-A)"
+CITE_DEADLOCK = "issue 6 / 001 Def. 5, Thm. 13: no static configuration short of the goal"
+CITE_OSCILLATION = "issue 6 / 001 Thm. 13: progress, no revisited global state short of the goal"
+
+
+def segment_min_distances(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray):
+    """Closed-form minimum distance between points moving linearly ``a0->a1`` and ``b0->b1``.
+
+    Both move over the same step, parameter ``s`` in [0, 1].  The relative
+    position is ``d(s) = d0 + s*dd``; its norm is smallest at
+    ``s* = clip(-d0.dd / |dd|^2, 0, 1)``.
+
+    Parameters
+    ----------
+    a0, a1, b0, b1 : numpy.ndarray, shape (m, 2)
+
+    Returns
+    -------
+    dist : numpy.ndarray, shape (m,)
+    s : numpy.ndarray, shape (m,)
+        The fraction of the step at which the minimum is reached.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> d, s = segment_min_distances(np.array([[0., 0]]), np.array([[2., 0]]),
+    ...                              np.array([[2., 1]]), np.array([[0., 1]]))
+    >>> float(d[0]), float(s[0])
+    (1.0, 0.5)
+    """
+    d0 = np.asarray(a0, float) - np.asarray(b0, float)
+    dd = (np.asarray(a1, float) - np.asarray(b1, float)) - d0
+    den = np.einsum("ij,ij->i", dd, dd)
+    num = -np.einsum("ij,ij->i", d0, dd)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    d = d0 + s[:, None] * dd
+    return np.hypot(d[:, 0], d[:, 1]), s
+
+
+def collision(trace, radius: float, *, tol: float = 1e-9) -> InvariantResult:
+    """Robots as discs of radius ``radius`` never overlap, at any time of any step.
+
+    For every step ``t`` each present robot is taken to move on the straight
+    segment from ``poses[t]`` to ``poses[t+1]`` at constant speed; the minimum
+    distance of every pair over the step is computed in closed form
+    (:func:`segment_min_distances`), not only at the ends.  Candidate pairs
+    are pre-filtered with a :class:`scipy.spatial.cKDTree` over the segment
+    midpoints (two points moving on segments of lengths ``L_i``, ``L_j`` stay
+    within ``(L_i+L_j)/2`` of their midpoints' distance).
+
+    Overlap means a distance strictly below ``2*radius - tol``; touching is allowed.
+
+    Blind spots: a differential-drive robot that turns and drives in one step
+    follows an arc, not the chord checked here (the arc stays within
+    ``v*dt*(1-cos(dtheta/2))/...`` of the chord: small for small turns);
+    robots are discs, the real body shape is ignored; robots absent at either
+    end of a step (crashed, not yet added) are skipped in that step.
+
+    Parameters
+    ----------
+    trace : Trace
+    radius : float
+        Disc radius, > 0.
+    tol : float
+        Numerical slack.
+
+    Returns
+    -------
+    InvariantResult
+        ``violated`` with witness ``{step, robots [id, id], distance, fraction}``
+        for the first step (and the closest pair in it) with an overlap.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0.5, 0], [1, 0.5, 0]]], float)
+    >>> collision(Trace(ids=[0, 1], poses=poses, states=[(None, None)] * 2), 0.4).status
+    'held'
+    """
+    if not (math.isfinite(radius) and radius > 0):
+        raise ValueError(f"radius={radius!r} must be a finite number > 0")
+    P = np.asarray(trace.poses, float)[:, :, :2]
+    T = len(P) - 1
+    ids = np.asarray(trace.ids)
+    thr = 2.0 * radius - tol
+    pairs_checked = 0
+    for t in range(max(T, 1)):
+        t1 = min(t + 1, T)
+        present = trace.present_at(t) & trace.present_at(t1)
+        idx = np.flatnonzero(present)
+        if len(idx) < 2:
+            continue
+        a, b = P[t, idx], P[t1, idx]
+        lengths = np.hypot(*(b - a).T)
+        mids = 0.5 * (a + b)
+        pairs = cKDTree(mids).query_pairs(thr + float(lengths.max()), output_type="ndarray")
+        if len(pairs) == 0:
+            continue
+        i, j = pairs[:, 0], pairs[:, 1]
+        d, s = segment_min_distances(a[i], b[i], a[j], b[j])
+        pairs_checked += len(pairs)
+        bad = np.flatnonzero(d < thr)
+        if len(bad):
+            k = bad[np.argmin(d[bad])]
+            ri, rj = sorted((int(ids[idx[i[k]]]), int(ids[idx[j[k]]])))
+            w = {"step": int(t), "robots": [ri, rj], "distance": float(d[k]), "fraction": float(s[k]),
+                 "radius": float(radius)}
+            return InvariantResult("collision", "violated", CITE_COLLISION, w,
+                                   f"robots {ri} and {rj} overlap in step {t}: distance {d[k]:.4g} < "
+                                   f"2r = {2 * radius:.4g} at {s[k]:.2f} of the step")
+    return InvariantResult("collision", "held", CITE_COLLISION, None,
+                           f"no overlap of discs of radius {radius:g} over {T} steps",
+                           detail={"pairs_checked": pairs_checked})
+
+
+def _goal_fn(goal_reached) -> Callable[[int], bool]:
+    if callable(goal_reached):
+        return lambda t: bool(goal_reached(t))
+    return lambda t: bool(goal_reached)
+
+
+def _quiet_steps(trace) -> np.ndarray:
+    """quiet[t] (t = 0..T-1): step t changed no pose, no state and no broadcast."""
+    P = np.asarray(trace.poses)
+    T = len(P) - 1
+    if T <= 0:
+        return np.zeros(0, dtype=bool)
+    quiet = np.all(P[1:] == P[:-1], axis=(1, 2))
+    for t in np.flatnonzero(quiet):
+        if trace.states[t + 1] != trace.states[t]:
+            quiet[t] = False
+        elif trace.messages is not None and t >= 1 and trace.messages[t] != trace.messages[t - 1]:
+            quiet[t] = False
+    return quiet
+
+
+def deadlock(trace, k: int, goal_reached=False) -> InvariantResult:
+    """No ``k`` consecutive quiet steps while the goal is not reached.
+
+    A quiet step moves no robot and changes no controller state and (when the
+    trace recorded them) no broadcast.  ``goal_reached`` is a bool (the goal
+    was / was not reached, e.g. the final formation satisfies the lattice) or
+    a callable ``t -> bool`` asked at the end of the quiet window.
+
+    Blind spots: without recorded messages a change in broadcasts alone is
+    not seen (a robot that only talks looks quiet); a quiet stretch shorter
+    than ``k`` at the end of the trace is not judged (``inconclusive`` when
+    the trace is shorter than ``k`` and the goal is not reached); a robot
+    that waits on purpose for longer than ``k`` steps is reported.
+
+    Returns
+    -------
+    InvariantResult
+        ``violated`` with witness ``{step, window}`` (``step``: the first step
+        of the quiet window).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> t = Trace(ids=[0], poses=np.zeros((6, 1, 3)), states=[("wait",)] * 6)
+    >>> deadlock(t, 3).status, deadlock(t, 3).witness
+    ('violated', {'step': 0, 'window': 3})
+    >>> deadlock(t, 3, goal_reached=True).status
+    'held'
+    """
+    if int(k) < 1:
+        raise ValueError(f"k={k!r} must be >= 1")
+    k = int(k)
+    goal = _goal_fn(goal_reached)
+    quiet = _quiet_steps(trace)
+    run = 0
+    for t, q in enumerate(quiet):
+        run = run + 1 if q else 0
+        if run >= k and not goal(t + 1):
+            start = t + 1 - k
+            return InvariantResult("deadlock", "violated", CITE_DEADLOCK, {"step": int(start), "window": k},
+                                   f"nothing moved or changed for {k} steps from step {start} "
+                                   f"and the goal is not reached")
+    if len(quiet) < k and not goal(len(quiet)):
+        return InvariantResult("deadlock", "inconclusive", CITE_DEADLOCK, None,
+                               f"trace of {len(quiet)} steps is shorter than the window k={k}")
+    msg = "" if trace.messages is not None else " (broadcasts not recorded)"
+    return InvariantResult("deadlock", "held", CITE_DEADLOCK, None,
+                           f"no {k} quiet steps short of the goal over {len(quiet)} steps{msg}")
+
+
+def _state_key(trace, t: int, pos_tol: float):
+    P = np.asarray(trace.poses[t], float)
+    q = np.round(P[:, :2] / pos_tol).astype(np.int64)
+    th = np.round(np.mod(P[:, 2], 2 * np.pi) / pos_tol).astype(np.int64)
+    pres = trace.present_at(t)
+    return (q.tobytes(), th.tobytes(), pres.tobytes(), trace.states[t])
+
+
+def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: float | None = None,
+                min_returns: int = 3) -> InvariantResult:
+    """No cycle of global states and no robot moving back and forth, short of the goal.
+
+    1. *Cycle*: the global state at step ``t2`` -- every pose rounded to
+       ``pos_tol`` (x, y and theta in radians) plus every controller's state
+       -- equals the one at an earlier step ``t1`` while some step between
+       differed, and the goal is not reached at ``t2``.  A deterministic
+       algorithm would repeat that cycle for ever (randomized ones may not).
+    2. *Back and forth*: a robot comes back within ``pos_tol`` of a position
+       it held at an earlier step after leaving it by more than ``excursion``
+       (default ``100 * pos_tol``), and does so ``min_returns`` times or more,
+       without the goal reached at the last return.
+
+    Blind spots: rounding to a grid can split two states closer than
+    ``pos_tol`` that straddle a cell border (a missed cycle) and, with a
+    coarse ``pos_tol``, merge states that differ (a false cycle); the
+    back-and-forth check is quadratic in the trace length per robot and only
+    looks at the last 1000 steps; a cycle longer than the trace is not seen.
+
+    Returns
+    -------
+    InvariantResult
+        ``violated`` with witness ``{kind: "cycle", step, revisits}`` or
+        ``{kind: "back_and_forth", robot, step, returns}``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> xs = [0, 1, 0, 1, 0, 1, 0]
+    >>> poses = np.array([[[x, 0, 0]] for x in xs], float)
+    >>> t = Trace(ids=[5], poses=poses, states=[("go",)] * 7)
+    >>> r = oscillation(t, 1e-3)
+    >>> r.status, r.witness["kind"], r.witness["step"], r.witness["revisits"]
+    ('violated', 'cycle', 2, 0)
+    """
+    if not (math.isfinite(pos_tol) and pos_tol > 0):
+        raise ValueError(f"pos_tol={pos_tol!r} must be a finite number > 0")
+    if min_returns < 1:
+        raise ValueError(f"min_returns={min_returns!r} must be >= 1")
+    if excursion is None:
+        excursion = 100.0 * pos_tol
+    goal = _goal_fn(goal_reached)
+    T = len(trace.poses) - 1
+    seen: dict = {}
+    prev = None
+    for t in range(T + 1):
+        key = _state_key(trace, t, pos_tol)
+        if key in seen and key != prev and not goal(t):
+            t1 = seen[key]
+            return InvariantResult("oscillation", "violated", CITE_OSCILLATION,
+                                   {"kind": "cycle", "step": int(t), "revisits": int(t1)},
+                                   f"the global state at step {t} repeats the one at step {t1} "
+                                   f"(poses to {pos_tol:g}, controller states) and the goal is not reached")
+        seen.setdefault(key, t)
+        prev = key
+    # back and forth, per robot: for every anchor step t1, count the separate returns
+    # within pos_tol of the anchor position, each after leaving it by more than excursion
+    W = 1000
+    off = max(0, T + 1 - W)
+    P = np.asarray(trace.poses, float)[off:, :, :2]
+    m = len(P)
+    cols = np.arange(m)
+    later = cols[None, :] >= cols[:, None]
+    for r in range(P.shape[1]):
+        path = P[:, r]
+        D = np.hypot(path[:, None, 0] - path[None, :, 0], path[:, None, 1] - path[None, :, 1])
+        C = np.where(later & (D > excursion), 1, np.where(later & (D <= pos_tol), 2, 0)).astype(np.int8)
+        last = np.maximum.accumulate(np.where(C > 0, cols[None, :], 0), axis=1)
+        prev = np.zeros_like(C)
+        prev[:, 1:] = np.take_along_axis(C, last[:, :-1], axis=1)
+        ret = (C == 2) & (prev == 1)
+        counts = ret.sum(axis=1)
+        best = int(np.argmax(counts))
+        if counts[best] >= min_returns:
+            t2 = int(np.flatnonzero(ret[best])[min_returns - 1]) + off
+            if not goal(t2):
+                rid = int(trace.ids[r])
+                return InvariantResult("oscillation", "violated", CITE_OSCILLATION,
+                                       {"kind": "back_and_forth", "robot": rid, "step": t2,
+                                        "anchor_step": best + off, "returns": int(counts[best])},
+                                       f"robot {rid} came back within {pos_tol:g} of its position at step "
+                                       f"{best + off} after leaving it by more than {excursion:g}, "
+                                       f"{int(counts[best])} times (the {min_returns}th at step {t2})")
+    return InvariantResult("oscillation", "held", CITE_OSCILLATION, None,
+                           f"no revisited global state and no robot back and forth {min_returns} times "
+                           f"over {T} steps (tolerance {pos_tol:g})")
