@@ -854,9 +854,13 @@ class Song2016Controller:
                 if heading is not None:
                     turn = float(heading)
                 target = (0.0, 0.0)
-            elif mover == "relocate" and any(math.hypot(cx, cy) > cfg.d_s for cx, cy in centers):
+            elif mover == "relocate" and any(
+                    not obs_msgs[c].stable and math.hypot(pose_of[c][0], pose_of[c][1]) > cfg.d_s
+                    for c in children):
                 # Fig. 11 [left] and Sec. V-C: "the relocate robot first waits for its
-                # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).
+                # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).  Only for
+                # children that will come closer: a stable child never moves (Sec. V-C
+                # case 1), so it is not waited for (it still bounds the safe region).
                 pass
             else:
                 way = closest_point_in_discs(goal, centers, self._safe_radius)

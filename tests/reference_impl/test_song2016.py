@@ -569,3 +569,15 @@ def test_relocate_robot_waits_for_children_beyond_d_s_fig_11():
     assert s["relocate"] and s["children"] == (1,) and (far.turn, far.forward) == (0.0, 0.0)
     near = c.step(obs(1, 5, {9: (0.0, 0.5, 0.0), 1: (-0.4, 0.0, 0.0)}, {9: root, 1: child}))
     assert near.forward > 0 and dict(c.state())["moving"]
+
+
+def test_relocate_robot_does_not_wait_for_a_stable_child():
+    """A stable child never moves (Sec. V-C case 1): it bounds the safe region, but the
+    relocate robot does not wait for it to come within d_s (docs/decisions.md)."""
+    c = ctrl(5, n=2, d_s=0.5, communication_timeout=0, movement_timeout=0)
+    root = msg(9, highest=9, root=9, stable=True, vacancy=Vacancy(1.0, 0.0, 0.0, "A", 0))
+    child = msg(1, highest=9, root=9, root_path=(9, 5, 1), parent=5, stable=True)
+    cmd = c.step(obs(0, 5, {9: (0.0, 0.5, 0.0), 1: (-0.7, 0.0, 0.0)}, {9: root, 1: child}))
+    s = dict(c.state())
+    assert s["children"] == (1,) and cmd.forward > 0
+    assert math.dist(s["target"], (-0.7, 0.0)) <= s["safe_radius"]
