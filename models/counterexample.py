@@ -1,0 +1,242 @@
+"""The ``swarmproof-counterexample/1`` file: a scenario that violates a property.
+
+Fields (DESIGN.md section 2): ``algorithm, params, lattice,
+initial{robots[{id, pose[x, y, theta]}]}, schedule, faults, seed, property,
+violation{step, message}, version``, plus ``format`` and a few more fields
+the replay needs (``max_steps``, ``allow_violations``,
+``broken_assumptions``, ``options``).  Angles in ``initial`` are radians
+(``angle_unit: "rad"``) so a replay is bit-exact.
+
+Examples
+--------
+>>> c = Counterexample(algorithm="song2014", params={"range": 1.2, "v": 0.05, "omega": 0.785, "dt": 1.0},
+...                    lattice="square", robots=[(1, (0.0, 0.0, 0.0)), (0, (0.5, 0.0, 1.5707963267948966))],
+...                    seed=3, property="connectivity", violation={"step": 17, "message": "split"},
+...                    max_steps=200)
+>>> print("\\n".join(c.format_steps()))
+counterexample: song2014 violates connectivity
+lattice square, range 1.2, v=0.05, omega=0.785, dt=1
+1. place robot 1 at (0, 0) heading 0 deg
+2. place robot 0 at (0.5, 0) heading 90 deg
+3. run song2014 with seed 3 for at most 200 steps (synchronous, no faults)
+4. at step 17: split
+>>> Counterexample.from_dict(c.as_dict()) == c
+True
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+from .errors import InputFileError
+from .fileio import atomic_write_text, dumps_json
+
+__all__ = ["COUNTEREXAMPLE_FORMAT", "COUNTEREXAMPLE_VERSION", "Counterexample"]
+
+COUNTEREXAMPLE_FORMAT = "swarmproof-counterexample/1"
+COUNTEREXAMPLE_VERSION = 1
+
+
+def _g(x: float) -> str:
+    """Short, exact-enough number text for people (``%.6g``, no ``-0``)."""
+    s = f"{float(x):.6g}"
+    return "0" if s == "-0" else s
+
+
+@dataclass
+class Counterexample:
+    """One counterexample (see the module docstring for the file layout).
+
+    Attributes
+    ----------
+    algorithm : str
+    params : dict
+        ``range, v, omega, dt`` and optionally ``extra``.
+    lattice : str
+        A bundled lattice name (or a path).
+    robots : list of (id, (x, y, theta radians))
+    seed : int
+        The engine's seed.
+    property : str
+    violation : dict
+        ``{"step": int | None, "message": str}``.
+    schedule : dict or None
+        The fault model's schedule (``TableSchedule.as_dict()``) or None (synchronous).
+    faults : dict or None
+        ``FaultModel.describe()`` or None.
+    max_steps : int or None
+    allow_violations : bool
+    broken_assumptions : list of str
+    options : dict
+        Property options (e.g. ``radius``).
+    """
+
+    algorithm: str
+    params: dict
+    lattice: str
+    robots: list
+    seed: int
+    property: str
+    violation: dict
+    schedule: dict | None = None
+    faults: dict | None = None
+    max_steps: int | None = None
+    allow_violations: bool = False
+    broken_assumptions: list = field(default_factory=list)
+    options: dict = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        return {
+            "format": COUNTEREXAMPLE_FORMAT,
+            "version": COUNTEREXAMPLE_VERSION,
+            "algorithm": self.algorithm,
+            "params": dict(self.params),
+            "lattice": self.lattice,
+            "initial": {"angle_unit": "rad",
+                        "robots": [{"id": int(i), "pose": [float(v) for v in p]} for i, p in self.robots]},
+            "schedule": self.schedule,
+            "faults": self.faults,
+            "seed": int(self.seed),
+            "max_steps": None if self.max_steps is None else int(self.max_steps),
+            "allow_violations": bool(self.allow_violations),
+            "broken_assumptions": list(self.broken_assumptions),
+            "property": self.property,
+            "options": dict(self.options),
+            "violation": {"step": self.violation.get("step"), "message": str(self.violation.get("message", ""))},
+        }
+
+    def to_json(self) -> str:
+        return dumps_json(self.as_dict())
+
+    def save(self, path: str | os.PathLike) -> str:
+        """Write atomically; returns the path written."""
+        return atomic_write_text(path, self.to_json())
+
+    @classmethod
+    def from_dict(cls, d: Any, *, file: str | None = None) -> "Counterexample":
+        """Read and check a decoded counterexample document.
+
+        Raises
+        ------
+        InputFileError
+            Wrong format or version, a missing field or a field of the wrong type.
+        """
+        def err(fld, msg, fix=None):
+            return InputFileError(msg, file=file, field=fld, fix=fix)
+
+        if not isinstance(d, Mapping):
+            raise err(None, f"document={type(d).__name__!r} must be a JSON object",
+                      fix=f"write a {COUNTEREXAMPLE_FORMAT} file (swarmproof explore --out DIR)")
+        if d.get("format") != COUNTEREXAMPLE_FORMAT:
+            raise err("format", f"format={d.get('format')!r} must be {COUNTEREXAMPLE_FORMAT!r}",
+                      fix="give a file written by swarmproof explore --out DIR")
+        if d.get("version") != COUNTEREXAMPLE_VERSION:
+            raise err("version", f"version={d.get('version')!r} is not supported",
+                      fix=f"this swarmproof reads version {COUNTEREXAMPLE_VERSION}")
+        for key, typ in (("algorithm", str), ("lattice", str), ("property", str), ("params", Mapping),
+                         ("initial", Mapping), ("violation", Mapping)):
+            if key not in d:
+                raise err(key, f"field {key!r} is missing")
+            if not isinstance(d[key], typ):
+                raise err(key, f"{key}={d[key]!r} must be a {'JSON object' if typ is Mapping else 'string'}")
+        seed = d.get("seed")
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise err("seed", f"seed={seed!r} must be an integer >= 0")
+        params = dict(d["params"])
+        for key in ("range", "v", "omega", "dt"):
+            val = params.get(key)
+            if isinstance(val, bool) or not isinstance(val, (int, float)) or not math.isfinite(val):
+                raise err(f"params.{key}", f"params.{key}={val!r} must be a finite number")
+        init = d["initial"]
+        unit = init.get("angle_unit", "rad")
+        if unit not in ("rad", "deg"):
+            raise err("initial.angle_unit", f"initial.angle_unit={unit!r} must be 'rad' or 'deg'")
+        rows = init.get("robots")
+        if not isinstance(rows, list) or not rows:
+            raise err("initial.robots", f"initial.robots={rows!r} must be a non-empty list")
+        robots = []
+        for k, row in enumerate(rows):
+            fld = f"initial.robots[{k}]"
+            if not isinstance(row, Mapping) or "id" not in row or "pose" not in row:
+                raise err(fld, f"{fld}={row!r} must be an object with 'id' and 'pose'")
+            rid, pose = row["id"], row["pose"]
+            if isinstance(rid, bool) or not isinstance(rid, int):
+                raise err(f"{fld}.id", f"{fld}.id={rid!r} must be an integer")
+            if (not isinstance(pose, list) or len(pose) != 3
+                    or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                               for v in pose)):
+                raise err(f"{fld}.pose", f"{fld}.pose={pose!r} must be [x, y, theta] (finite numbers)")
+            th = math.radians(pose[2]) if unit == "deg" else float(pose[2])
+            robots.append((rid, (float(pose[0]), float(pose[1]), th)))
+        viol = d["violation"]
+        step = viol.get("step")
+        if step is not None and (isinstance(step, bool) or not isinstance(step, int)):
+            raise err("violation.step", f"violation.step={step!r} must be an integer or null")
+        max_steps = d.get("max_steps")
+        if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, int)
+                                      or max_steps < 0):
+            raise err("max_steps", f"max_steps={max_steps!r} must be an integer >= 0 or null")
+        for key in ("schedule", "faults"):
+            if d.get(key) is not None and not isinstance(d.get(key), Mapping):
+                raise err(key, f"{key}={d.get(key)!r} must be a JSON object or null")
+        return cls(algorithm=d["algorithm"], params=params, lattice=d["lattice"], robots=robots,
+                   seed=seed, property=d["property"],
+                   violation={"step": step, "message": str(viol.get("message", ""))},
+                   schedule=d.get("schedule"), faults=d.get("faults"), max_steps=max_steps,
+                   allow_violations=bool(d.get("allow_violations", False)),
+                   broken_assumptions=list(d.get("broken_assumptions") or []),
+                   options=dict(d.get("options") or {}))
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> "Counterexample":
+        """Read a counterexample file.
+
+        Raises
+        ------
+        InputFileError
+            The file is missing, not JSON (with the line), or malformed.
+        """
+        name = os.fspath(path)
+        try:
+            with open(name, encoding="utf-8") as fh:
+                text = fh.read()
+        except OSError as exc:
+            raise InputFileError(f"cannot read file={name!r} ({exc.strerror})", file=name,
+                                 fix="give the path of a counterexample file") from None
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise InputFileError(f"not JSON ({exc.msg})", file=name, line=exc.lineno,
+                                 fix=f"give a {COUNTEREXAMPLE_FORMAT} JSON file") from None
+        return cls.from_dict(doc, file=name)
+
+    def format_steps(self) -> list[str]:
+        """The counterexample as steps a person can follow (one string per line)."""
+        p = self.params
+        lines = [f"counterexample: {self.algorithm} violates {self.property}",
+                 f"lattice {self.lattice}, range {_g(p['range'])}, v={_g(p['v'])}, "
+                 f"omega={_g(p['omega'])}, dt={_g(p['dt'])}"]
+        k = 0
+        for k, (rid, (x, y, th)) in enumerate(self.robots, start=1):
+            lines.append(f"{k}. place robot {rid} at ({_g(x)}, {_g(y)}) heading {_g(math.degrees(th))} deg")
+        sched = "synchronous" if not self.schedule else "asynchronous schedule from the file"
+        faults = self.faults or {}
+        active = [key for key in ("crashes", "additions") if faults.get(key)]
+        active += [key for key in ("drop_message", "sensing_noise") if faults.get(key)]
+        if faults.get("message_loss"):
+            active.append("message_loss")
+        if any(faults.get("noise_std") or []):
+            active.append("noise_std")
+        fault_text = "no faults" if not active else "faults: " + ", ".join(active)
+        cap = "" if self.max_steps is None else f" for at most {self.max_steps} steps"
+        lines.append(f"{k + 1}. run {self.algorithm} with seed {self.seed}{cap} ({sched}, {fault_text})")
+        if self.broken_assumptions:
+            lines[-1] += f" -- broken assumptions: {', '.join(self.broken_assumptions)}"
+        step = self.violation.get("step")
+        where = f"at step {step}" if step is not None else "at the end"
+        lines.append(f"{k + 2}. {where}: {self.violation.get('message', '')}")
+        return lines
