@@ -681,7 +681,6 @@ def _cases(enc: Encoding) -> list:
 def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
     """Premises satisfiable, then validity, case by case.  Returns a dict with
     ``status``, ``premises_satisfiable``, ``counterexample``, ``reason``."""
-    sat_all = True
     for case, prem in _cases(enc):
         where = f" (case {case})" if case else ""
         left = (deadline - time.perf_counter()) * 1000
@@ -707,7 +706,7 @@ def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
         if r == z3.unknown:
             return dict(status="inconclusive", premises_satisfiable=True, counterexample=None,
                         reason=f"z3 unknown on the negated conclusion{where}: {why}")
-    return dict(status="proved", premises_satisfiable=sat_all, counterexample=None, reason="")
+    return dict(status="proved", premises_satisfiable=True, counterexample=None, reason="")
 
 
 def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
@@ -876,9 +875,10 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     R1, R2 = _q(r1), _q(r2)
     ms = max(1, int(timeout_s * 1000))
     if q is None:
+        if min(float(r1), float(r2)) < tol:
+            return "inconclusive", "kernel returned None and a radius is below the tolerance"
         s = _solver(ms)
-        s.add(dist2(x, C1) <= (R1 - tol) * (R1 - tol), R1 >= tol,
-              dist2(x, C2) <= (R2 - tol) * (R2 - tol), R2 >= tol)
+        s.add(dist2(x, C1) <= (R1 - tol) * (R1 - tol), dist2(x, C2) <= (R2 - tol) * (R2 - tol))
         res = s.check()
         if res == z3.unsat:
             return "confirmed", "empty intersection confirmed"

@@ -191,3 +191,13 @@ def test_geometry_kernel_oracle_catches_mutated_kernels():
     for bad in (shrunk, outside):
         statuses = [proofs.kernel_oracle_check(bad, *inst)[0] for inst in insts]
         assert "refuted" in statuses, bad.__name__
+
+
+def test_geometry_kernel_none_only_for_disjoint_discs():
+    geometry = pytest.importorskip("swarmproof.models.geometry")
+    kernel = geometry.nearest_point_in_disc_intersection
+    assert proofs.kernel_oracle_check(kernel, (0, 0), 0.4, (1, 0), 0.5, (2, 2)) == \
+        ("confirmed", "empty intersection confirmed")
+    # A kernel that wrongly says "empty" for discs that meet is refuted.
+    status, reason = proofs.kernel_oracle_check(lambda *a: None, (0, 0), 0.6, (1, 0), 0.5, (2, 2))
+    assert status == "refuted" and reason.startswith("kernel returned None but")
