@@ -639,7 +639,13 @@ class _Analysis:
         return v, c
 
     def _gauss(self, b, c):
-        """Lagrange-Gauss reduction of a 2D basis (terminates: |b2| strictly decreases)."""
+        """Lagrange-Gauss reduction of a 2D basis.
+
+        Each pass that continues makes the longer vector shorter than the shorter one,
+        so the shortest length strictly decreases (by a relative 1e-12 at least); the
+        classical bound is logarithmic in the ratio of the lengths, and a step cap of
+        200 ends in INCONCLUSIVE.
+        """
         b1, b2 = np.array(b[0], float), np.array(b[1], float)
         c1, c2 = c[0].copy(), c[1].copy()
         for _ in range(200):
@@ -648,8 +654,10 @@ class _Analysis:
             mu = int(round(float(np.dot(b1, b2) / np.dot(b1, b1))))
             if mu == 0:
                 break
-            b2 = b2 - mu * b1
-            c2 = c2 - mu * c1
+            nb2 = b2 - mu * b1
+            b2, c2 = nb2, c2 - mu * c1
+            if np.dot(nb2, nb2) >= np.dot(b1, b1) * (1 - 1e-12):
+                break  # b2 no shorter than b1 after size reduction: reduced (ties at |mu| = 1/2)
         else:
             raise _Inconclusive("Gauss reduction exceeded its step budget")
         if math.hypot(*b1) <= self.pos_tol or abs(b1[0] * b2[1] - b1[1] * b2[0]) <= self.pos_tol ** 2:

@@ -1,0 +1,73 @@
+"""Benchmark of the lattice-graph checker (issue 2: performance targets).
+
+Targets: a 20 x 20 supercell of the square lattice (400 roles, 1,600 edges)
+decided in under 1 s beyond interpreter start-up; every bundled lattice in
+under 0.2 s.  Prints a table (best of ``--repeat`` runs, wall clock, after one
+warm-up run that also pays numpy/scipy/networkx first-call costs) and exits 1
+if a target is missed.  Figures go in docs/performance.md.
+
+Run: ``.venv/bin/python benchmarks/bench_lattice_check.py [--repeat 5]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import sys
+import time
+
+from swarmproof.checkers.lattice_check import check_lattice
+from swarmproof.models import library
+from swarmproof.models.lattice import LatticeGraph
+from swarmproof.models.se2 import SE2
+
+
+def square_supercell(n: int) -> LatticeGraph:
+    """The square lattice with an n x n supercell: n*n roles, 4 n*n edges (torus wiring)."""
+    roles = [f"r{i}_{j}" for i in range(n) for j in range(n)]
+    edges = []
+    for i in range(n):
+        for j in range(n):
+            for dx, dy in ((1, 0), (0, 1), (-1, 0), (0, -1)):
+                edges.append((f"r{i}_{j}", f"r{(i + dx) % n}_{(j + dy) % n}", SE2(dx, dy, 0.0)))
+    return LatticeGraph(f"square-supercell-{n}x{n}", roles, edges, range=1.2)
+
+
+def best_of(fn, repeat: int) -> tuple[float, object]:
+    fn()  # warm-up
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t)
+    return best, out
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    args = ap.parse_args(argv)
+    rows = []
+    ok = True
+    cases = [(name, library.load(name), None, 0.2) for name in library.names()]
+    sc = square_supercell(20)
+    cases.append((sc.name, sc, 1.2, 1.0))
+    cases.append((sc.name + " @1.5 (1,600 missing edges)", sc, 1.5, 1.0))
+    for label, g, phi, target in cases:
+        secs, rep = best_of(lambda: check_lattice(g, phi), args.repeat)
+        met = secs < target
+        ok &= met
+        rows.append((label, len(g.roles), len(g.edges), rep.verdict.value,
+                     rep.classification["kind"], len(rep.defects), secs, target, met))
+    print(f"# lattice checker benchmark, {platform.machine()} {platform.system()}, "
+          f"Python {platform.python_version()}, best of {args.repeat}")
+    print(f"{'lattice':46} {'roles':>5} {'edges':>5} {'verdict':>8} {'kind':>8} "
+          f"{'defects':>7} {'ms':>8} {'target':>7}  ok")
+    for label, nr, ne, v, k, nd, secs, target, met in rows:
+        print(f"{label:46} {nr:5d} {ne:5d} {v:>8} {str(k):>8} {nd:7d} {secs * 1e3:8.1f} "
+              f"{target * 1e3:6.0f}ms  {'yes' if met else 'NO'}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
