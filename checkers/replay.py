@@ -1,0 +1,96 @@
+"""Re-run a ``swarmproof-counterexample/1`` file exactly and judge its property again.
+
+The run is rebuilt from the file alone: the bundled lattice (or lattice
+file) by name, the algorithm from the registry, the parameters, the initial
+poses (radians, bit-exact), the engine seed, the step cap, the data-driven
+fault hooks (:meth:`FaultModel.from_dict`) and the property options; the
+property is judged with :func:`swarmproof.checkers.explore.judge`, the same
+judging the explorer used.  ``reproduced`` is True while the property is
+still violated.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any
+
+from swarmproof.models.counterexample import Counterexample
+from swarmproof.models.errors import InputFileError, UsageError
+
+__all__ = ["ReplayResult", "replay", "replay_file"]
+
+
+@dataclass
+class ReplayResult:
+    """Outcome of a replay."""
+
+    counterexample: Counterexample
+    reproduced: bool
+    verdict: Any          # InvariantResult
+    result: Any           # SimulationResult
+
+    @property
+    def step(self):
+        return (self.verdict.witness or {}).get("step")
+
+    def as_dict(self) -> dict:
+        return {"reproduced": self.reproduced, "property": self.counterexample.property,
+                "step": self.step, "message": self.verdict.message, "status": self.verdict.status,
+                "recorded_violation": dict(self.counterexample.violation),
+                "algorithm": self.counterexample.algorithm, "robots": len(self.counterexample.robots),
+                "steps_run": int(self.result.steps)}
+
+
+def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
+    """Re-run ``cx`` and judge its property.
+
+    Raises
+    ------
+    InputFileError
+        The file names an unknown algorithm, lattice or property, or faults
+        that cannot be rebuilt.
+    """
+    from swarmproof.checkers.explore import EXPLORE_PROPERTIES, judge, run_scenario
+    from swarmproof.models import library
+    from swarmproof.reference_impl.engine import FaultModel
+    from swarmproof.reference_impl.protocol import Params
+
+    def bad(fld, exc):
+        fix = getattr(exc, "fix", None)
+        return InputFileError(f"{fld}: {exc.message if hasattr(exc, 'message') else exc}", file=file,
+                              field=fld, fix=fix)
+
+    if cx.property not in EXPLORE_PROPERTIES:
+        raise InputFileError(f"property={cx.property!r} is not known", file=file, field="property",
+                             fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+    try:
+        lattice = library.resolve(cx.lattice)
+    except UsageError as exc:
+        raise bad("lattice", exc) from None
+    faults = None
+    if cx.faults:
+        try:
+            faults = FaultModel.from_dict(cx.faults)
+        except UsageError as exc:
+            raise bad("faults", exc) from None
+    p = cx.params
+    params = Params(range=float(p["range"]), v=float(p["v"]), omega=float(p["omega"]), dt=float(p["dt"]),
+                    extra=dict(p.get("extra") or {}))
+    try:
+        algorithm, result = run_scenario(cx.algorithm, lattice, [i for i, _ in cx.robots],
+                                         [pose for _, pose in cx.robots], params, seed=cx.seed,
+                                         max_steps=cx.max_steps, allow_violations=cx.allow_violations,
+                                         faults=faults)
+    except InputFileError:
+        raise
+    except UsageError as exc:
+        raise bad("algorithm" if "algorithm" in str(exc) else "params", exc) from None
+    verdict = judge(cx.property, algorithm, lattice, params, result, cx.options)
+    return ReplayResult(cx, bool(verdict.violated), verdict, result)
+
+
+def replay_file(path: str | os.PathLike) -> ReplayResult:
+    """Load a counterexample file and :func:`replay` it."""
+    name = os.fspath(path)
+    return replay(Counterexample.load(name), file=name)

@@ -1,0 +1,127 @@
+"""The Hypothesis-driven explorer (issue 6): finds, shrinks, holds, reports assumptions, is deterministic."""
+
+import json
+import time
+
+import pytest
+
+from swarmproof.checkers.explore import EXPLORE_PROPERTIES, explore
+from swarmproof.checkers.replay import replay_file
+from swarmproof.models.counterexample import Counterexample
+from swarmproof.models.errors import UsageError
+
+
+def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
+    r = explore("song2014", ["connectivity"], budget=4, max_examples=15, robots=(4, 6), lattices=["square"],
+                seed=0, out_dir=tmp_path)
+    v = r.properties["connectivity"]
+    assert v.status == "violated" and r.exit_code == 1
+    assert len(v.counterexample.robots) <= 6
+    assert v.counterexample_path and replay_file(v.counterexample_path).reproduced
+    assert r.broken_assumptions == [] and "v_dt_below_range" in r.kept_assumptions
+
+
+@pytest.mark.slow
+def test_song2014_connectivity_loss_found_within_120s_and_shrunk_to_8(tmp_path):
+    t0 = time.monotonic()
+    r = explore("song2014", ["connectivity"], budget=110, max_examples=100, robots=(3, 12), seed=0,
+                out_dir=tmp_path)
+    assert time.monotonic() - t0 < 120
+    v = r.properties["connectivity"]
+    assert v.status == "violated"
+    assert len(v.counterexample.robots) <= 8
+    assert replay_file(v.counterexample_path).reproduced
+
+
+def test_song2016_holds_connectivity_under_its_assumptions_small_budget():
+    r = explore("song2016", ["connectivity", "tree_links"], budget=30, max_examples=5, robots=(3, 5), seed=0)
+    for name in ("connectivity", "tree_links"):
+        v = r.properties[name]
+        assert v.status == "held", v.message
+        assert v.scenarios >= 1 and v.steps > 0 and "not proved" in v.message
+    assert r.broken_assumptions == [] and r.exit_code == 0
+
+
+def test_broken_assumption_is_named_and_violation_reported(tmp_path):
+    # v*dt = 0.6 * 2 = 1.2 >= phi = 1.2 breaks "v*dt < phi"; the explorer runs anyway and says so
+    r = explore("song2014", ["connectivity"], budget=20, max_examples=20, robots=(3, 6), lattices=["square"],
+                seed=0, params={"v": 0.6, "dt": 2.0}, allow_violations=True, out_dir=tmp_path)
+    assert "v_dt_below_range" in r.broken_assumptions
+    assert "v_dt_below_range" not in r.kept_assumptions
+    v = r.properties["connectivity"]
+    assert v.status == "violated"
+    doc = json.loads(open(v.counterexample_path).read())
+    assert "v_dt_below_range" in doc["broken_assumptions"] and doc["allow_violations"] is True
+    assert doc["params"]["v"] == 0.6 and doc["params"]["dt"] == 2.0
+    assert replay_file(v.counterexample_path).reproduced
+
+
+def test_song2016_with_a_crash_fault_names_no_crashes(tmp_path):
+    from swarmproof.reference_impl.engine import FaultModel
+
+    r = explore("song2016", ["connectivity"], budget=20, max_examples=20, robots=(3, 6), lattices=["square"],
+                seed=0, fault_model=FaultModel(crashes={3: [1]}), out_dir=tmp_path)
+    assert r.broken_assumptions == ["no_crashes"]
+    v = r.properties["connectivity"]
+    assert v.status == "violated"
+    cx = Counterexample.load(v.counterexample_path)
+    assert cx.faults["crashes"] == {"3": [1]}
+    assert replay_file(v.counterexample_path).reproduced
+
+
+def test_broken_assumption_refused_without_allow_violations():
+    with pytest.raises(UsageError, match="v_dt_below_range"):
+        explore("song2014", ["connectivity"], budget=5, max_examples=2, params={"v": 0.6, "dt": 2.0}, lattices=["square"])
+
+
+def test_same_seed_same_report_and_counterexample():
+    kw = dict(budget=60, max_examples=10, robots=(3, 5), lattices=["square"], seed=3)
+    a = explore("song2014", ["connectivity", "deadlock"], **kw)
+    b = explore("song2014", ["connectivity", "deadlock"], **kw)
+    assert not any(v.budget_hit for v in a.properties.values())
+    assert json.dumps(a.as_dict(), sort_keys=True) == json.dumps(b.as_dict(), sort_keys=True)
+    for name in a.properties:
+        ca, cb = a.properties[name].counterexample, b.properties[name].counterexample
+        assert (ca is None) == (cb is None)
+        if ca is not None:
+            assert ca.to_json() == cb.to_json()
+
+
+def test_inconclusive_when_every_run_is_capped():
+    r = explore("song2016", ["formation"], budget=20, max_examples=3, robots=(3, 4), seed=0, max_steps=2)
+    v = r.properties["formation"]
+    assert v.status == "inconclusive" and v.capped == v.scenarios >= 1 and r.exit_code == 3
+
+
+def test_explore_properties_cover_registry_and_issue6():
+    from swarmproof.reference_impl.registry import PROPERTIES
+
+    assert set(PROPERTIES) <= set(EXPLORE_PROPERTIES)
+    assert {"collision", "deadlock", "oscillation"} <= set(EXPLORE_PROPERTIES)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    pytest.param(dict(algorithm="song2099"), "algorithm='song2099'", id="unknown-algorithm"),
+    pytest.param(dict(properties=["liveness"]), "property='liveness'.*connectivity", id="unknown-property"),
+    pytest.param(dict(properties=[]), "empty", id="no-property"),
+    pytest.param(dict(budget=0), "budget=0", id="zero-budget"),
+    pytest.param(dict(budget=float("nan")), "budget=nan", id="nan-budget"),
+    pytest.param(dict(max_examples=0), "max_examples=0", id="zero-examples"),
+    pytest.param(dict(robots=(5, 3)), r"robots=\(5, 3\)", id="robots-reversed"),
+    pytest.param(dict(robots=(0, 3)), r"robots=\(0, 3\)", id="robots-zero"),
+    pytest.param(dict(seed=-1), "seed=-1", id="negative-seed"),
+    pytest.param(dict(lattices=["sqare"]), "lattice='sqare'", id="unknown-lattice"),
+])
+def test_bad_input(kwargs, match):
+    args = dict(algorithm="song2014", properties=["connectivity"], budget=5, max_examples=2)
+    args.update(kwargs)
+    with pytest.raises(UsageError, match=match):
+        explore(args.pop("algorithm"), args.pop("properties"), **args)
+
+
+def test_counterexample_round_trip(tmp_path):
+    r = explore("song2014", ["connectivity"], budget=4, max_examples=15, robots=(4, 6), lattices=["square"],
+                seed=0, out_dir=tmp_path)
+    assert r.properties["connectivity"].status == "violated"
+    cx = r.properties["connectivity"].counterexample
+    assert Counterexample.load(r.properties["connectivity"].counterexample_path) == cx
