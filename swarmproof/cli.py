@@ -28,6 +28,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "simulate",
     "prove",
     "verify",
+    "explore",
+    "replay",
 )
 
 

@@ -1,0 +1,97 @@
+"""``swarmproof explore``: hunt counterexamples to properties of an algorithm with Hypothesis.
+
+Draws connected starts on the bundled periodic lattices, runs ALGORITHM and
+judges each requested property (default: all of connectivity, tree_links,
+termination, formation, collision, deadlock, oscillation); a violation is
+shrunk and, with ``--out DIR``, written as a swarmproof-counterexample/1 file
+to re-run with ``swarmproof replay FILE``.  "held" means held over what was
+explored, never proved.
+
+Exit codes: 0 every property held over the scenarios explored; 1 a property
+was violated; 2 usage error; 3 a property is inconclusive (budget spent, runs capped).
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+
+from swarmproof.commands import emit_json, human
+from swarmproof.models.errors import UsageError
+
+NAME = "explore"
+HELP = "hunt counterexamples to an algorithm's properties (Hypothesis)"
+DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
+
+
+def add_arguments(p) -> None:
+    p.add_argument("algorithm", metavar="ALGORITHM", help="registry name, e.g. song2016, song2014")
+    p.add_argument("--property", action="append", dest="properties", metavar="P",
+                   help="property to check, repeatable (default: all)")
+    p.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
+                   help="wall-clock budget for the whole exploration (default 60)")
+    p.add_argument("--max-examples", type=int, default=100, metavar="N",
+                   help="Hypothesis examples per property (default 100)")
+    p.add_argument("--robots", default="3..8", metavar="MIN..MAX", help="number of robots (default 3..8)")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="Hypothesis seed (default 0)")
+    p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
+    p.add_argument("--out", metavar="DIR", help="write counterexample files into DIR")
+
+
+def parse_robots(text: str) -> tuple[int, int]:
+    """``"3..8"`` -> ``(3, 8)``; ``"5"`` -> ``(5, 5)``.
+
+    >>> parse_robots("3..8"), parse_robots("5")
+    ((3, 8), (5, 5))
+    """
+    m = re.fullmatch(r"\s*(\d+)\s*(?:\.\.\s*(\d+)\s*)?", text or "")
+    if not m:
+        raise UsageError(f"--robots {text!r} must be MIN..MAX or N", fix="e.g. --robots 3..8")
+    lo = int(m.group(1))
+    hi = int(m.group(2)) if m.group(2) is not None else lo
+    if not 1 <= lo <= hi:
+        raise UsageError(f"--robots {text!r} must satisfy 1 <= MIN <= MAX", fix="e.g. --robots 3..8")
+    return lo, hi
+
+
+def _progress():
+    if not sys.stderr.isatty():
+        return None
+
+    def show(prop: str, k: int, total: int) -> None:
+        sys.stderr.write(f"\rexplore {prop}: example {k} (max {total} + shrinking)   ")
+        sys.stderr.flush()
+
+    return show
+
+
+def run(args) -> int:
+    from swarmproof.checkers.explore import explore
+
+    robots = parse_robots(args.robots)
+    if not args.budget > 0:
+        raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0", fix="e.g. --budget 60")
+    if args.max_examples < 1:
+        raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 100")
+    progress = _progress()
+    report = explore(args.algorithm, args.properties, budget=args.budget, max_examples=args.max_examples,
+                     robots=robots, seed=args.seed, out_dir=args.out, progress=progress)
+    if progress is not None:
+        sys.stderr.write("\n")
+    doc = report.as_dict()
+    if args.json:
+        emit_json(doc)
+    lines = [f"explore {report.algorithm}: seed {report.seed}, robots {robots[0]}..{robots[1]}, "
+             f"max {report.max_examples} examples per property",
+             f"  assumptions kept: {', '.join(report.kept_assumptions) or '-'}; "
+             f"broken: {', '.join(report.broken_assumptions) or '-'}"]
+    for name, v in report.properties.items():
+        lines.append(f"  {name:<13} {v.status:<12} {v.scenarios} scenarios, {v.steps} steps: {v.message}")
+        if v.counterexample is not None:
+            lines += ["    " + s for s in v.counterexample.format_steps()]
+            if v.counterexample_path:
+                lines.append(f"    replay: swarmproof replay {v.counterexample_path}")
+            else:
+                lines.append("    (pass --out DIR to write the counterexample file)")
+    human(args, *lines)
+    return report.exit_code
