@@ -56,10 +56,10 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     from swarmproof.reference_impl.engine import FaultModel
     from swarmproof.reference_impl.protocol import Params
 
-    def bad(fld, exc):
+    def bad(fld, exc, value):
         fix = getattr(exc, "fix", None)
-        return InputFileError(f"{fld}: {exc.message if hasattr(exc, 'message') else exc}", file=file,
-                              field=fld, fix=fix)
+        text = exc.message if hasattr(exc, "message") else str(exc)
+        return InputFileError(f"{fld}={value!r}: {text}", file=file, field=fld, fix=fix)
 
     if cx.property not in EXPLORE_PROPERTIES:
         raise InputFileError(f"property={cx.property!r} is not known", file=file, field="property",
@@ -67,13 +67,13 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     try:
         lattice = library.resolve(cx.lattice)
     except UsageError as exc:
-        raise bad("lattice", exc) from None
+        raise bad("lattice", exc, cx.lattice) from None
     faults = None
     if cx.faults:
         try:
             faults = FaultModel.from_dict(cx.faults)
         except UsageError as exc:
-            raise bad("faults", exc) from None
+            raise bad("faults", exc, "...") from None
     p = cx.params
     params = Params(range=float(p["range"]), v=float(p["v"]), omega=float(p["omega"]), dt=float(p["dt"]),
                     extra=dict(p.get("extra") or {}))
@@ -85,7 +85,8 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     except InputFileError:
         raise
     except UsageError as exc:
-        raise bad("algorithm" if "algorithm" in str(exc) else "params", exc) from None
+        fld = "algorithm" if "algorithm" in str(exc) else "params"
+        raise bad(fld, exc, cx.algorithm if fld == "algorithm" else cx.params) from None
     verdict = judge(cx.property, algorithm, lattice, params, result, cx.options)
     return ReplayResult(cx, bool(verdict.violated), verdict, result)
 
