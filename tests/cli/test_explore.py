@@ -1,0 +1,55 @@
+"""`swarmproof explore`: JSON fields (DESIGN.md section 2), exit codes, counterexample files, bad input."""
+
+from __future__ import annotations
+
+import json
+import re
+import os
+
+import pytest
+
+from swarmproof.cli import main
+
+
+def run(capsys, *argv):
+    code = main(["explore", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_song2014_connectivity_violated_exit_1_and_file_written(capsys, tmp_path):
+    code, out, err = run(capsys, "song2014", "--property", "connectivity", "--budget", "4",
+                         "--max-examples", "15", "--robots", "4..6", "--seed", "0", "--json",
+                         "--out", str(tmp_path))
+    doc = json.loads(out)
+    assert code == 1 and doc["algorithm"] == "song2014" and doc["seed"] == 0
+    p = doc["properties"]["connectivity"]
+    assert p["status"] == "violated" and p["scenarios"] >= 1 and p["steps"] > 0
+    assert os.path.exists(p["counterexample"])
+    assert "counterexample: song2014 violates connectivity" in err  # human lines go to stderr with --json
+    code2 = main(["replay", p["counterexample"]])
+    out2, _ = capsys.readouterr()
+    assert code2 == 1 and "replay: REPRODUCED (violated)" in out2
+
+
+def test_song2016_held_exit_0_human_output(capsys):
+    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
+                         "--max-examples", "3", "--robots", "3..4")
+    assert code == 0
+    assert "connectivity  held" in out and "explored, not proved" in out
+
+
+@pytest.mark.parametrize("argv, match", [
+    pytest.param(["song2099"], "algorithm='song2099'.*song2016", id="unknown-algorithm"),
+    pytest.param(["song2014", "--property", "speed"], "property='speed'.*connectivity", id="unknown-property"),
+    pytest.param(["song2014", "--budget", "0"], "--budget 0.0 must be", id="zero-budget"),
+    pytest.param(["song2014", "--budget", "-3"], "--budget -3.0 must be", id="negative-budget"),
+    pytest.param(["song2014", "--max-examples", "0"], "--max-examples 0 must be", id="zero-examples"),
+    pytest.param(["song2014", "--robots", "3-8"], "--robots '3-8' must be MIN..MAX", id="robots-syntax"),
+    pytest.param(["song2014", "--robots", "8..3"], "1 <= MIN <= MAX", id="robots-reversed"),
+])
+def test_bad_input_exit_2(capsys, argv, match):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert re.search(match, err), err
+    assert "Traceback" not in err

@@ -1,0 +1,62 @@
+"""`swarmproof replay`: exit 1 while it reproduces, 0 once it does not, 2 on bad files; JSON and plot."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from swarmproof.cli import main
+from swarmproof.models.counterexample import Counterexample
+from swarmproof.reference_impl.initial import random_connected
+
+
+@pytest.fixture
+def cx_file(tmp_path):
+    start = random_connected(10, 0, range=1.2)
+    cx = Counterexample(algorithm="song2014", params={"range": 1.2, "v": 0.05, "omega": 0.7853981633974483,
+                                                      "dt": 1.0},
+                        lattice="square", robots=[(int(i), tuple(p)) for i, p in zip(start.ids, start.poses)],
+                        seed=0, property="connectivity", violation={"step": 17, "message": "split"})
+    return cx, cx.save(tmp_path / "cx.json")
+
+
+def test_reproduces_exit_1_json_and_plot(capsys, cx_file, tmp_path):
+    _, path = cx_file
+    png = tmp_path / "r.png"
+    code = main(["replay", path, "--json", "--plot", str(png)])
+    out, err = capsys.readouterr()
+    doc = json.loads(out)
+    assert code == 1
+    assert doc["reproduced"] is True and doc["property"] == "connectivity" and doc["step"] == 17
+    assert "splits" in doc["message"]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "1. place robot" in err
+
+
+def test_no_longer_reproduces_exit_0(capsys, cx_file, tmp_path):
+    cx, _ = cx_file
+    cx.property = "collision"
+    cx.options = {"radius": 0.01}
+    path = cx.save(tmp_path / "c2.json")
+    code = main(["replay", path, "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 0 and doc["reproduced"] is False and doc["step"] is None
+
+
+@pytest.mark.parametrize("content, match", [
+    pytest.param("not json", "not JSON", id="not-json"),
+    pytest.param('{"format": "swarmproof-counterexample/1", "version": 9}', "version=9", id="wrong-version"),
+    pytest.param('{"format": "lattice-graph/1"}', "format='lattice-graph/1'", id="wrong-format"),
+])
+def test_bad_files_exit_2(capsys, tmp_path, content, match):
+    p = tmp_path / "bad.json"
+    p.write_text(content)
+    code = main(["replay", str(p)])
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "" and match in err and str(p) in err
+
+
+def test_missing_file_exit_2(capsys, tmp_path):
+    code = main(["replay", str(tmp_path / "nope.json")])
+    assert code == 2 and "cannot read" in capsys.readouterr().err
