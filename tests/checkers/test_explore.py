@@ -33,9 +33,10 @@ def test_song2014_connectivity_loss_found_within_120s_and_shrunk_to_8(tmp_path):
     assert replay_file(v.counterexample_path).reproduced
 
 
-def test_song2016_holds_connectivity_under_its_assumptions_small_budget():
-    r = explore("song2016", ["connectivity", "tree_links"], budget=30, max_examples=5, robots=(3, 5), seed=0)
-    for name in ("connectivity", "tree_links"):
+def test_song2016_holds_its_claims_under_its_assumptions_small_budget():
+    r = explore("song2016", ["connectivity", "tree_links", "termination", "formation"], budget=40, max_examples=5,
+                robots=(3, 5), seed=0)
+    for name in ("connectivity", "tree_links", "termination", "formation"):
         v = r.properties[name]
         assert v.status == "held", v.message
         assert v.scenarios >= 1 and v.steps > 0 and "not proved" in v.message
