@@ -122,6 +122,25 @@ class ExploreReport:
             return EXIT_INCONCLUSIVE
         return EXIT_OK
 
+    def assert_held(self) -> "ExploreReport":
+        """Raise ``AssertionError`` unless every property held (a test helper).
+
+        The message carries each violated property's counterexample as
+        readable steps, or why a property is inconclusive.
+        """
+        bad = [(k, v) for k, v in self.properties.items() if v.status != "held"]
+        if bad:
+            lines = [f"{self.algorithm}: {len(bad)} of {len(self.properties)} properties did not hold "
+                     f"(seed {self.seed})"]
+            for name, v in bad:
+                lines.append(f"{name}: {v.status}: {v.message}")
+                if v.counterexample is not None:
+                    lines += ["  " + s for s in v.counterexample.format_steps()]
+                    if v.counterexample_path:
+                        lines.append(f"  replay: swarmproof replay {v.counterexample_path}")
+            raise AssertionError("\n".join(lines))
+        return self
+
     def as_dict(self) -> dict:
         return {"algorithm": self.algorithm, "seed": self.seed, "max_examples": self.max_examples,
                 "robots": list(self.robots), "lattices": list(self.lattices),
