@@ -991,13 +991,29 @@ def _enumerate_pairs(an: _Analysis, phi: float, pt: float, at: float) -> list[De
     roles = an.roles
     A = np.array([an.tree_T[w].as_tuple() for w in roles])
     hits, cand, cz, ck, lc = an.points_near(A[:, :2], phi)
+    max_listed = 10_000
+    # Counting bound: each pattern point strictly within range of A_w (and not on it)
+    # needs its own out-edge of w, so the excess over the out-degree is a lower bound
+    # on the missing edges; when it is huge, say so instead of listing them.
+    excess = 0
+    for wi, w in enumerate(roles):
+        idx = np.asarray(hits[wi], dtype=np.int64)
+        dd = np.hypot(cand[idx, 0] - A[wi, 0], cand[idx, 1] - A[wi, 1]) if len(idx) else idx
+        excess += max(0, int(np.count_nonzero((dd > pt) & (dd < phi - pt)))
+                      - len(an.g.out_edges(w)))
+    if excess > max_listed:
+        raise _Crowded(
+            f"at least {excess} edges are missing (001 Def. 4): the pattern puts far more "
+            f"robots within range {phi:g} than the graph has out-edges; too many to list",
+            {"missing_at_least": excess})
     # Out-edges per (w, z) as arrays, from the completed graph.
     by_pair: dict[tuple[str, str], np.ndarray] = {}
     for e in an.g.edges:
         by_pair.setdefault((e.source, e.target), []).append(e.transform.as_tuple())
     by_pair = {k: np.array(v) for k, v in by_pair.items()}
     defects: list[Defect] = []
-    seen_missing: dict[tuple[str, str], list[SE2]] = {}
+    seen_missing: dict[tuple, list[SE2]] = {}
+    n_missing = 0
     seen_contra: dict[tuple[str, str], list[SE2]] = {}
     for wi, w in enumerate(roles):
         idx = np.asarray(hits[wi], dtype=np.int64)
@@ -1045,9 +1061,18 @@ def _enumerate_pairs(an: _Analysis, phi: float, pt: float, at: float) -> list[De
                       & (np.abs(wrap_angle(edges_wz[:, 2] - rel.theta)) <= at))
                 if ok.any():
                     continue
-            if any(rel.isclose(t, pt, at) for t in seen_missing.get((w, z), ())):
+            key = (z, round(rel.x / (10 * pt)), round(rel.y / (10 * pt)),
+                   round(rel.theta / (10 * at)))
+            if any(rel.isclose(t, pt, at) for t in seen_missing.get((w,) + key, ())):
                 continue
-            seen_missing.setdefault((w, z), []).append(rel)
+            seen_missing.setdefault((w,) + key, []).append(rel)
+            n_missing += 1
+            if n_missing > max_listed:
+                raise _Crowded(
+                    f"more than {max_listed} edges are missing (001 Def. 4): the pattern puts "
+                    f"far more robots within range {phi:g} than the graph has out-edges; the "
+                    "listing stopped there, so suggested_edges is incomplete",
+                    {"missing_listed": max_listed})
             walk_b = an.word_for_point(int(ck[ci]), z, lc[ci])
             tb = an.walk_transform(walk_b)
             row = _fix_row(w, z, rel)
