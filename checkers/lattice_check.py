@@ -50,7 +50,7 @@ Examples
 >>> r.valid, r.self_consistent, r.classification["kind"], r.verdict.value
 (True, True, 'periodic', 'held')
 >>> r = check_lattice(sq, 1.5)          # the diagonal neighbors are missing
->>> r.valid, len(r.suggested_edges), r.suggested_edges[0]
+>>> r.valid, len(r.suggested_edges), max(r.suggested_edges)
 (False, 4, ['A', 'A', 1.0, 1.0, 0.0])
 """
 
