@@ -337,7 +337,8 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
             lattices: Sequence[str] | None = None, fault_model=None, out_dir: str | os.PathLike | None = None,
             progress: Callable[[str, int, int], None] | None = None, params: Mapping[str, Any] | None = None,
             allow_violations: bool = False, max_steps: int | None = None,
-            options: Mapping[str, Any] | None = None) -> ExploreReport:
+            options: Mapping[str, Any] | None = None,
+            database_dir: str | os.PathLike | None = None) -> ExploreReport:
     """Hunt counterexamples to ``properties`` of ``algorithm``.
 
     Parameters
@@ -373,6 +374,11 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
         Engine step cap (default: the algorithm's).
     options : mapping, optional
         Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol``.
+    database_dir : path, optional
+        Keep Hypothesis's example database in this folder, so a rerun tries
+        known failures first (found at once).  Default None: no database,
+        which the determinism guarantee assumes (a database replays stored
+        examples before generating).
 
     Returns
     -------
@@ -464,9 +470,14 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
                   raise AssertionError(r.message)
           return test
 
-        run = settings(max_examples=max_examples, database=None, derandomize=False, deadline=None,
+        db = None
+        if database_dir is not None:
+            from hypothesis.database import DirectoryBasedExampleDatabase
+
+            db = DirectoryBasedExampleDatabase(os.path.join(os.fspath(database_dir), f"{algorithm}-{prop}"))
+        run = settings(max_examples=max_examples, database=db, derandomize=False, deadline=None,
                        print_blob=False, report_multiple_bugs=False,
-                       phases=(Phase.explicit, Phase.generate, Phase.shrink),
+                       phases=(Phase.explicit, Phase.reuse, Phase.generate, Phase.shrink),
                        suppress_health_check=list(HealthCheck))(
             hseed(seed)(given(strategy)(make_test())))
         try:

@@ -126,3 +126,17 @@ def test_counterexample_round_trip(tmp_path):
     assert r.properties["connectivity"].status == "violated"
     cx = r.properties["connectivity"].counterexample
     assert Counterexample.load(r.properties["connectivity"].counterexample_path) == cx
+
+
+def test_example_database_folder_keeps_the_failure(tmp_path):
+    kw = dict(budget=4, max_examples=15, robots=(4, 6), lattices=["square"], seed=0,
+              database_dir=tmp_path / "db")
+    first = explore("song2014", ["connectivity"], **kw)
+    assert first.properties["connectivity"].status == "violated"
+    assert any((tmp_path / "db").rglob("*")), "the failing example is stored"
+    again = explore("song2014", ["connectivity"], **dict(kw, seed=99, max_examples=1))
+    # one example, another seed: without the database this finds nothing (held, checked below)
+    assert again.properties["connectivity"].status == "violated"
+    kw.pop("database_dir")
+    alone = explore("song2014", ["connectivity"], **dict(kw, seed=99, max_examples=1))
+    assert alone.properties["connectivity"].status == "held"
