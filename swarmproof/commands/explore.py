@@ -36,6 +36,8 @@ def add_arguments(p) -> None:
     p.add_argument("--seed", type=int, default=0, metavar="S", help="Hypothesis seed (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--out", metavar="DIR", help="write counterexample files into DIR")
+    p.add_argument("--database", metavar="DIR",
+                   help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
 
 
 def parse_robots(text: str) -> tuple[int, int]:
@@ -75,7 +77,8 @@ def run(args) -> int:
         raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 100")
     progress = _progress()
     report = explore(args.algorithm, args.properties, budget=args.budget, max_examples=args.max_examples,
-                     robots=robots, seed=args.seed, out_dir=args.out, progress=progress)
+                     robots=robots, seed=args.seed, out_dir=args.out, progress=progress,
+                     database_dir=args.database)
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()
