@@ -59,7 +59,6 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
-from fractions import Fraction
 from typing import Any
 
 import networkx as nx
