@@ -53,3 +53,22 @@ def test_bad_input_exit_2(capsys, argv, match):
     assert code == 2 and out == ""
     assert re.search(match, err), err
     assert "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_same_json_in_a_fresh_process_as_in_process(tmp_path):
+    """Determinism across processes: the loaded modules must not change Hypothesis's draws."""
+    import subprocess
+    import sys
+
+    from swarmproof.checkers.explore import explore
+
+    argv = ["song2014", "--property", "connectivity", "--property", "deadlock", "--budget", "120",
+            "--max-examples", "8", "--robots", "3..5", "--seed", "2", "--json"]
+    proc = subprocess.run([sys.executable, "-m", "swarmproof.cli", "explore", *argv],
+                          capture_output=True, text=True, timeout=200)
+    assert proc.returncode in (0, 1), proc.stderr
+    doc = json.loads(proc.stdout)
+    here = explore("song2014", ["connectivity", "deadlock"], budget=120, max_examples=8, robots=(3, 5), seed=2)
+    assert not any(v.budget_hit for v in here.properties.values())
+    assert doc["properties"] == json.loads(json.dumps(here.as_dict()["properties"]))
