@@ -160,3 +160,14 @@ def test_song2014_oscillation_and_non_termination_hunted_with_the_same_budget(tm
             assert replay_file(v.counterexample_path).reproduced
         else:
             assert v.conclusive >= 1 and v.steps > 0
+
+
+def test_song2016_too_short_communication_timeout_is_named_and_found(tmp_path):
+    # 001 Def. 10 / Lemma 12: the timeout must let information cross the network (>= n - 1 steps)
+    r = explore("song2016", ["formation"], budget=15, max_examples=20, robots=(4, 8), lattices=["square"], seed=0,
+                params={"extra": {"communication_timeout": 1}}, allow_violations=True, out_dir=tmp_path)
+    assert r.broken_assumptions == ["communication_timeout_sufficient"]
+    v = r.properties["formation"]
+    assert v.status == "violated", v.message
+    assert len(v.counterexample.robots) <= 8
+    assert replay_file(v.counterexample_path).reproduced
