@@ -39,7 +39,6 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
-import numpy as np
 
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
