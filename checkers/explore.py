@@ -66,6 +66,7 @@ class Scenario:
     ids: tuple
     poses: tuple          # ((x, y, theta), ...) radians
     seed: int
+    faults: Any = None    # a drawn FaultModel (data-driven hooks only) or None
 
     @property
     def n(self) -> int:
@@ -226,7 +227,39 @@ def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, A
 # the scenario strategy
 # ----------------------------------------------------------------------------
 
-def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float]):
+#: Fault kinds the explorer can draw (all replayable: data-driven hooks).
+FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops")
+
+
+def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str]):
+    """Draw a replayable FaultModel of the given kinds for robots ``ids`` (inside a composite strategy).
+
+    * ``schedule``: for each of the first 1..20 steps, the IDs that act
+      (:class:`TableSchedule`; later steps: everybody acts);
+    * ``crashes``: one robot crashes at a step in 0..60;
+    * ``drops``: up to 8 lost deliveries ``(step 0..40, sender, receiver)`` (:class:`DropSet`).
+    """
+    from hypothesis import strategies as st
+
+    from swarmproof.reference_impl.engine import DropSet, FaultModel, TableSchedule
+
+    kw: dict[str, Any] = {}
+    ids = [int(i) for i in ids]
+    if "schedule" in kinds:
+        k = draw(st.integers(1, 20))
+        kw["schedule"] = TableSchedule({t: tuple(sorted(draw(st.lists(st.sampled_from(ids), unique=True))))
+                                        for t in range(k)})
+    if "crashes" in kinds:
+        kw["crashes"] = {draw(st.integers(0, 60)): [draw(st.sampled_from(ids))]}
+    if "drops" in kinds and len(ids) >= 2:
+        triples = draw(st.lists(st.tuples(st.integers(0, 40), st.sampled_from(ids), st.sampled_from(ids))
+                                .filter(lambda x: x[1] != x[2]), min_size=1, max_size=8))
+        kw["drop_message"] = DropSet(frozenset(triples))
+    return FaultModel(**kw) if kw else None
+
+
+def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
+                      fault_kinds: Sequence[str] = ()):
     """A Hypothesis strategy of connected :class:`Scenario` objects.
 
     Robot 0 of the construction sits at the origin; robot ``k`` is placed at
@@ -256,8 +289,9 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
         heads = [draw(st.floats(-math.pi, math.pi)) for _ in range(n)]
         perm = draw(st.permutations(list(range(n))))
         seed = draw(st.integers(0, 1000))
+        faults = draw_fault_model(draw, perm, fault_kinds) if fault_kinds else None
         return Scenario(lat, tuple(int(i) for i in perm),
-                        tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads)), seed)
+                        tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads)), seed, faults)
 
     return build()
 
@@ -336,7 +370,7 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
             lattices: Sequence[str] | None = None, fault_model=None, out_dir: str | os.PathLike | None = None,
             progress: Callable[[str, int, int], None] | None = None, params: Mapping[str, Any] | None = None,
             allow_violations: bool = False, max_steps: int | None = None,
-            options: Mapping[str, Any] | None = None,
+            options: Mapping[str, Any] | None = None, draw_faults: Sequence[str] = (),
             database_dir: str | os.PathLike | None = None) -> ExploreReport:
     """Hunt counterexamples to ``properties`` of ``algorithm``.
 
@@ -373,6 +407,10 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
         Engine step cap (default: the algorithm's).
     options : mapping, optional
         Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol``.
+    draw_faults : sequence of str
+        Fault kinds Hypothesis draws per scenario (:data:`FAULT_KINDS`:
+        ``schedule``, ``crashes``, ``drops``); they break robot-model
+        assumptions, which the report names.  Not together with ``fault_model``.
     database_dir : path, optional
         Keep Hypothesis's example database in this folder, so a rerun tries
         known failures first (found at once).  Default None: no database,
@@ -418,13 +456,26 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
     if broken and not allow_violations:
         raise UsageError(f"params={params!r} break the assumptions {broken!r} of {algorithm!r}",
                          fix="pass allow_violations=True to explore outside the paper's assumptions")
+    draw_faults = tuple(draw_faults or ())
+    for kind in draw_faults:
+        if kind not in FAULT_KINDS:
+            raise UsageError(f"draw_faults kind={kind!r} is not known", fix=f"use some of {list(FAULT_KINDS)!r}")
+    if draw_faults and fault_model is not None:
+        raise UsageError("fault_model and draw_faults were both given", fix="give one of them")
     if fault_model is not None:
         fb = fault_model.broken_model_assumptions(algo.model)
         broken += [b for b in fb if b not in broken]
+    if draw_faults:
+        from swarmproof.reference_impl.engine import DropSet, FaultModel, TableSchedule
+
+        probe = FaultModel(schedule=TableSchedule({0: ()}) if "schedule" in draw_faults else None,
+                           crashes={0: [0]} if "crashes" in draw_faults else {},
+                           drop_message=DropSet(frozenset({(0, 0, 1)})) if "drops" in draw_faults else None)
+        broken += [b for b in probe.broken_model_assumptions(algo.model) if b not in broken]
 
     report = ExploreReport(algorithm, seed, max_examples, rng_robots, lats, kept, broken)
     share = budget / len(props)
-    strategy = scenario_strategy(rng_robots, lats, phi_of)
+    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults)
 
     for prop in props:
         t0 = time.monotonic()
@@ -446,13 +497,14 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
                                dt=params.get("dt"), extra=params.get("extra"))
               algo_run, result = run_scenario(algorithm, lattice, scn.ids, scn.poses, p, seed=scn.seed,
                                               max_steps=max_steps, allow_violations=allow_violations,
-                                              faults=fault_model)
+                                              faults=scn.faults if scn.faults is not None else fault_model)
               r = judge(prop, algo_run, lattice, p, result, options)
               stats["runs"] += 1
               stats["steps"] += int(result.steps)
               stats["capped"] += int(result.status == "step_cap")
               if r.status != "inconclusive":
                   stats["conclusive"] += 1
+              fm = scn.faults if scn.faults is not None else fault_model
               if r.violated:
                   step = (r.witness or {}).get("step")
                   failures.append(Counterexample(
@@ -462,8 +514,8 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
                       lattice=scn.lattice, robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
                       seed=scn.seed, property=prop,
                       violation={"step": None if step is None else int(step), "message": r.message},
-                      schedule=None if fault_model is None else fault_model.describe().get("schedule"),
-                      faults=None if fault_model is None else fault_model.describe(),
+                      schedule=None if fm is None else fm.describe().get("schedule"),
+                      faults=None if fm is None else fm.describe(),
                       max_steps=int(result.max_steps), allow_violations=bool(allow_violations),
                       broken_assumptions=list(result.broken_assumptions), options=options))
                   raise AssertionError(r.message)

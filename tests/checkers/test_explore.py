@@ -171,3 +171,23 @@ def test_song2016_too_short_communication_timeout_is_named_and_found(tmp_path):
     assert v.status == "violated", v.message
     assert len(v.counterexample.robots) <= 8
     assert replay_file(v.counterexample_path).reproduced
+
+
+def test_drawn_crash_faults_are_named_shrunk_and_replayable(tmp_path):
+    r = explore("song2016", ["formation"], budget=20, max_examples=15, robots=(3, 6), lattices=["square"],
+                seed=0, draw_faults=("crashes",), out_dir=tmp_path)
+    assert r.broken_assumptions == ["no_crashes"]
+    v = r.properties["formation"]
+    assert v.status == "violated", v.message
+    cx = Counterexample.load(v.counterexample_path)
+    assert cx.faults is not None and len(cx.faults["crashes"]) == 1 and "no_crashes" in cx.broken_assumptions
+    assert replay_file(v.counterexample_path).reproduced
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    pytest.param(dict(draw_faults=("earthquake",)), "kind='earthquake'", id="unknown-fault-kind"),
+    pytest.param(dict(draw_faults=("crashes",), fault_model=object()), "both given", id="faults-twice"),
+])
+def test_bad_fault_options(kwargs, match):
+    with pytest.raises(UsageError, match=match):
+        explore("song2016", ["connectivity"], budget=5, max_examples=2, **kwargs)
