@@ -455,7 +455,7 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
         (broken if msgs else kept).append(a.name)
     if broken and not allow_violations:
         raise UsageError(f"params={params!r} break the assumptions {broken!r} of {algorithm!r}",
-                         fix="pass allow_violations=True to explore outside the paper's assumptions")
+                         fix="pass allow_violations=True (--allow-violations) to explore outside the paper's assumptions")
     draw_faults = tuple(draw_faults or ())
     for kind in draw_faults:
         if kind not in FAULT_KINDS:

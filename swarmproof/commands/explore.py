@@ -36,6 +36,17 @@ def add_arguments(p) -> None:
     p.add_argument("--seed", type=int, default=0, metavar="S", help="Hypothesis seed (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--out", metavar="DIR", help="write counterexample files into DIR")
+    p.add_argument("--fault", action="append", dest="faults", default=[], metavar="KIND",
+                   help="draw faults of this kind per scenario, repeatable: schedule, crashes, drops "
+                        "(breaks robot-model assumptions; reported)")
+    p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default: the algorithm's)")
+    p.add_argument("--omega", type=float, metavar="W", help="maximum angular speed, rad per time")
+    p.add_argument("--dt", type=float, metavar="DT", help="step length")
+    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="algorithm parameter (Params.extra), repeatable")
+    p.add_argument("--allow-violations", action="store_true",
+                   help="explore even when the parameters break a paper assumption (reported)")
+    p.add_argument("--max-steps", type=int, metavar="K", help="step cap per run (default: the algorithm's)")
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
 
@@ -75,10 +86,18 @@ def run(args) -> int:
         raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0", fix="e.g. --budget 60")
     if args.max_examples < 1:
         raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 100")
+    from swarmproof.commands.simulate import _parse_extra
+
+    params = {k: getattr(args, k) for k in ("v", "omega", "dt") if getattr(args, k) is not None}
+    if args.param:
+        params["extra"] = _parse_extra(args.param)
+    if args.max_steps is not None and args.max_steps < 1:
+        raise UsageError(f"--max-steps {args.max_steps!r} must be >= 1", fix="e.g. --max-steps 500")
     progress = _progress()
     report = explore(args.algorithm, args.properties, budget=args.budget, max_examples=args.max_examples,
                      robots=robots, seed=args.seed, out_dir=args.out, progress=progress,
-                     database_dir=args.database)
+                     database_dir=args.database, draw_faults=tuple(args.faults), params=params,
+                     allow_violations=args.allow_violations, max_steps=args.max_steps)
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()

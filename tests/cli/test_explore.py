@@ -32,6 +32,17 @@ def test_song2014_connectivity_violated_exit_1_and_file_written(capsys, tmp_path
     assert code2 == 1 and "replay: REPRODUCED (violated)" in out2
 
 
+def test_broken_assumption_and_drawn_faults_named_in_json(capsys, tmp_path):
+    code, out, err = run(capsys, "song2016", "--property", "formation", "--budget", "20", "--max-examples", "10",
+                         "--robots", "3..5", "--param", "communication_timeout=1", "--allow-violations",
+                         "--fault", "crashes", "--json", "--out", str(tmp_path))
+    doc = json.loads(out)
+    assert code == 1
+    assert doc["broken_assumptions"] == ["communication_timeout_sufficient", "no_crashes"]
+    assert doc["properties"]["formation"]["status"] == "violated"
+    assert "broken assumptions: communication_timeout_sufficient" in err
+
+
 def test_song2016_held_exit_0_human_output(capsys):
     code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
                          "--max-examples", "3", "--robots", "3..4")
@@ -47,6 +58,10 @@ def test_song2016_held_exit_0_human_output(capsys):
     pytest.param(["song2014", "--max-examples", "0"], "--max-examples 0 must be", id="zero-examples"),
     pytest.param(["song2014", "--robots", "3-8"], "--robots '3-8' must be MIN..MAX", id="robots-syntax"),
     pytest.param(["song2014", "--robots", "8..3"], "1 <= MIN <= MAX", id="robots-reversed"),
+    pytest.param(["song2014", "--fault", "quake"], "kind='quake'.*schedule", id="unknown-fault"),
+    pytest.param(["song2016", "--param", "communication_timeout=1"], "communication_timeout_sufficient.*"
+                 "--allow-violations", id="broken-assumption-not-allowed"),
+    pytest.param(["song2014", "--max-steps", "0"], "--max-steps 0 must be", id="zero-max-steps"),
 ])
 def test_bad_input_exit_2(capsys, argv, match):
     code, out, err = run(capsys, *argv)
