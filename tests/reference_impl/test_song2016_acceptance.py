@@ -47,6 +47,8 @@ KNOWN_DEADLOCKS: dict[tuple[str, int], frozenset[int]] = {
     ("square", 40): frozenset({15}),
     ("hexagon", 30): frozenset({0, 2, 8, 9, 11, 12, 15}),
     ("hexagon", 40): frozenset({2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 14, 16, 17, 18, 19}),
+    ("octagon-square", 30): frozenset({14, 18}),
+    ("octagon-square", 40): frozenset({11, 13}),
 }
 
 
