@@ -151,7 +151,7 @@ def test_song2014_oscillation_and_non_termination_hunted_with_the_same_budget(tm
     rest on judged scenarios (docs/explorer.md records the outcome: held at
     small n on this machine).
     """
-    r = explore("song2014", ["oscillation", "termination"], budget=110, max_examples=60, robots=(3, 8), seed=0,
+    r = explore("song2014", ["oscillation", "termination"], budget=110, max_examples=1000, robots=(3, 8), seed=0,
                 out_dir=tmp_path)
     for name, v in r.properties.items():
         assert v.status in ("held", "violated"), (name, v.message)
