@@ -13,13 +13,30 @@ Sections (they grow with the project):
 * ``algorithms`` — each reference implementation run on each periodic
   lattice of the papers from seeded connected starts, with its claims
   checked (terminates, satisfies the lattice, stays connected);
-* ``lemmas`` — the z3 proof suite.
+* ``lemmas`` — the z3 proof suite (:func:`swarmproof.checkers.proofs.run_suite`),
+  one row per lemma: ``proved`` / ``counterexample`` / ``inconclusive`` map to
+  ``proved`` / ``violated`` / ``inconclusive``;
+* ``exploration`` — the Hypothesis explorer
+  (:func:`swarmproof.checkers.explore.explore`) on each reference
+  implementation and each explorer property, read at run time: ``held`` (over
+  what was explored, never proved), ``violated`` with the counterexample, or
+  ``inconclusive``; a time budget that was hit is never a pass.
+
+Rows of properties a paper does not claim (``reference_impl/registry.py``
+``CLAIMS``) are findings: shown, marked ``*``, not counted in the verdict.
+Wall-clock seconds stay out of the JSON, so the same inputs give a
+bit-identical document.
 
 Examples
 --------
 >>> r = Report([Row("lattices", "square", "self-consistent", Verdict.HELD, "ok")])
 >>> r.verdict, r.exit_code
 (<Verdict.HELD: 'held'>, 0)
+
+References
+----------
+001_7a4e517b856331bc.txt Defs. 1, 2, 4, Lemma 11, Thm. 13; 000_3ad33c5b62f11d5f.txt
+Lemma 7 (the claims the rows check).
 """
 
 from __future__ import annotations
@@ -30,7 +47,11 @@ from typing import Any, Callable
 
 from swarmproof.models.verdict import Verdict
 
-__all__ = ["Row", "Report", "SECTIONS", "run_report"]
+__all__ = ["Row", "Report", "SECTIONS", "run_report", "lemma_rows", "exploration_row",
+           "section_lattices", "section_algorithms", "section_lemmas", "section_exploration"]
+
+#: A progress callback: receives one short status text (what runs now).
+Progress = Callable[[str], None]
 
 
 @dataclass(frozen=True)
@@ -76,6 +97,7 @@ class Report:
             "verdict": self.verdict.value,
             "rows": [r.to_json() for r in self.rows],
             "counts": {v.value: sum(r.verdict is v for r in self.rows) for v in Verdict},
+            "findings": sum(r.verdict is Verdict.VIOLATED and not r.claimed for r in self.rows),
         }
         if timings:  # wall-clock figures break bit-identical JSON, so only on request
             doc["seconds"] = {k: round(v, 3) for k, v in self.seconds.items()}
@@ -116,13 +138,15 @@ def _count(n: int, noun: str) -> str:
     return f"{n} {noun}" + ("" if n == 1 else "s")
 
 
-def section_lattices() -> list[Row]:
+def section_lattices(*, progress: Progress | None = None) -> list[Row]:
     """Every bundled lattice at its recommended range (001 Defs. 1, 4)."""
     from swarmproof.checkers.lattice_check import check_lattice
     from swarmproof.models import library
 
     rows = []
     for name in library.names():
+        if progress:
+            progress(name)
         g = library.load(name)
         rep = check_lattice(g)
         cls = rep.classification
@@ -168,7 +192,7 @@ def _run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
     return out
 
 
-def section_algorithms() -> list[Row]:
+def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
     """Each reference implementation on each lattice: its claims, run by run (001, 000)."""
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models import library
@@ -181,6 +205,8 @@ def section_algorithms() -> list[Row]:
             lattice = library.load(lname)
             per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in PROPERTIES}
             for seed in VERIFY_SEEDS:
+                if progress:
+                    progress(f"{algo} {lname} seed {seed}")
                 checked = run_and_check(algo, lattice, seed=seed, robots=VERIFY_ROBOTS)
                 for prop, (verdict, msg) in _run_property_verdicts(checked).items():
                     per_prop[prop].append((seed, verdict, msg))
@@ -198,21 +224,264 @@ def section_algorithms() -> list[Row]:
     return rows
 
 
-SECTIONS: dict[str, Callable[[], list[Row]]] = {
+# -- lemmas --------------------------------------------------------------------
+
+#: ``prove`` status -> verdict (DESIGN.md section 2: proved | counterexample | inconclusive).
+LEMMA_VERDICT = {"proved": Verdict.PROVED, "counterexample": Verdict.VIOLATED,
+                 "inconclusive": Verdict.INCONCLUSIVE}
+
+
+def _num(x: float) -> str:
+    """``%.6g`` without ``-0`` (a counterexample's numbers in a table cell)."""
+    t = f"{float(x):.6g}"
+    return "0" if t == "-0" else t
+
+
+def lemma_rows(results) -> list[Row]:
+    """One ``lemmas`` row per :class:`~swarmproof.checkers.proofs.LemmaResult`.
+
+    The detail says whether the premises are satisfiable (a proof from
+    contradictory premises is vacuous, hence inconclusive) and whether the
+    negative control (one premise weakened) was refuted; a counterexample's
+    numbers come first, an inconclusive lemma's reason likewise.  The JSON
+    data is the ``prove`` document of the lemma without ``seconds`` (wall
+    clock), so the verify JSON stays bit-identical.
+
+    Examples
+    --------
+    >>> from swarmproof.checkers.proofs import LEMMAS, prove
+    >>> row, = lemma_rows([prove(LEMMAS["relocate_stays_in_range"])])
+    >>> row.verdict
+    <Verdict.PROVED: 'proved'>
+    >>> print(row.detail)
+    premises satisfiable, negative control refuted (weakened: the segment's end may be 2 phi away)
+    """
+    rows = []
+    for r in results:
+        premises = {True: "premises satisfiable", False: "premises unsatisfiable (vacuous)",
+                    None: "premises not decided"}[r.premises_satisfiable]
+        ctrl = r.negative_control or {}
+        refuted = ctrl.get("status") == "counterexample"
+        control = ("negative control refuted" if refuted
+                   else f"negative control not refuted ({ctrl.get('status')})")
+        if ctrl.get("weakened"):
+            control += f" (weakened: {ctrl['weakened']})"
+        detail = f"{premises}, {control}"
+        if r.status == "counterexample":
+            nums = ", ".join(f"{k}={_num(v)}" for k, v in (r.counterexample or {}).items())
+            detail = f"counterexample {nums}; {detail}"
+        elif r.status == "inconclusive":
+            detail = f"{r.reason}; {detail}"
+        data = {k: v for k, v in r.to_dict().items() if k not in ("seconds", "id")}
+        rows.append(Row("lemmas", r.id, "z3 proof", LEMMA_VERDICT[r.status], detail, data,
+                        claim="; ".join(r.cites) or "lemma"))
+    return rows
+
+
+def section_lemmas(*, ids=None, timeout_s: float | None = None,
+                   progress: Progress | None = None) -> list[Row]:
+    """The z3 proof suite (issue 5), one row per lemma of ``proofs.LEMMAS``.
+
+    Runs lemma by lemma, as ``swarmproof prove`` does
+    (:func:`~swarmproof.checkers.proofs.run_suite`), with the default
+    timeout per lemma unless ``timeout_s`` is given.
+    """
+    from swarmproof.checkers.proofs import DEFAULT_TIMEOUT_S, lookup, run_suite
+
+    timeout = DEFAULT_TIMEOUT_S if timeout_s is None else timeout_s
+    results = []
+    for lem in lookup(ids):
+        if progress:
+            progress(lem.id)
+        results.extend(run_suite([lem.id], timeout_s=timeout))
+    return lemma_rows(results)
+
+
+# -- exploration ------------------------------------------------------------------
+
+#: Defaults of the exploration rows.  The time budget per property is generous
+#: (measured: about 5 s CPU for 100 examples of one song2016 property, less for
+#: song2014; docs/performance.md "swarmproof verify"), so the explorer stops at
+#: ``max_examples``, not at the clock, and the JSON is bit-identical; a budget
+#: that is hit makes a held row inconclusive.  ``VERIFY_EXPLORE_SECTION_BUDGET``
+#: caps the whole section so ``make verify`` stays within 10 minutes even on a
+#: loaded machine: a property not reached in time is inconclusive.
+VERIFY_EXPLORE_MAX_EXAMPLES = 300
+VERIFY_EXPLORE_ROBOTS = (3, 8)
+VERIFY_EXPLORE_SEED = 0
+VERIFY_EXPLORE_BUDGET = 90.0
+VERIFY_EXPLORE_SECTION_BUDGET = 450.0
+
+_EXPLORE_STATUS = {"held": Verdict.HELD, "violated": Verdict.VIOLATED,
+                   "inconclusive": Verdict.INCONCLUSIVE}
+
+
+def explore_command(algorithm: str, prop: str, *, max_examples: int, robots: tuple[int, int],
+                    seed: int, budget: float, out_dir: str = "DIR") -> str:
+    """The ``swarmproof explore`` command line that repeats one exploration row.
+
+    >>> explore_command("song2014", "tree_links", max_examples=200, robots=(3, 8), seed=0, budget=60)
+    'swarmproof explore song2014 --property tree_links --max-examples 200 --robots 3..8 --seed 0 --budget 60 --out DIR'
+    """
+    return (f"swarmproof explore {algorithm} --property {prop} --max-examples {max_examples} "
+            f"--robots {robots[0]}..{robots[1]} --seed {seed} --budget {budget:g} --out {out_dir}")
+
+
+def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | None, *,
+                    max_examples: int, robots: tuple[int, int], seed: int, budget: float,
+                    assumptions: dict | None = None, skipped: str = "",
+                    budget_used: float | None = None) -> Row:
+    """One ``exploration`` row from the explorer's JSON entry of one property.
+
+    ``entry`` is ``ExploreReport.as_dict()["properties"][prop]`` (``status,
+    scenarios, conclusive, steps, capped, budget_hit, message,
+    counterexample, violation, robots``), or None when the property was not
+    explored (``skipped`` says why: inconclusive).  ``budget_used`` is the
+    time budget the explorer really had when the section's cap cut it below
+    ``budget``.  Verdicts: ``held`` only
+    when the explorer held *and* its time budget was not hit (a held verdict
+    that stopped at the budget would depend on the machine's speed, so it is
+    inconclusive); ``violated`` with the counterexample; ``inconclusive``
+    otherwise.  Never ``proved``.
+
+    Examples
+    --------
+    >>> e = {"status": "held", "scenarios": 200, "conclusive": 200, "steps": 12016, "capped": 0,
+    ...      "budget_hit": False, "message": "", "counterexample": None, "violation": None, "robots": None}
+    >>> row = exploration_row("song2016", "connectivity", e, "001 Lemma 11", max_examples=200,
+    ...                       robots=(3, 8), seed=0, budget=60)
+    >>> row.verdict, row.detail
+    (<Verdict.HELD: 'held'>, 'held over 200 scenarios, 12016 steps (explored, not proved)')
+    >>> row = exploration_row("song2016", "connectivity", dict(e, budget_hit=True, scenarios=57),
+    ...                       "001 Lemma 11", max_examples=200, robots=(3, 8), seed=0, budget=60)
+    >>> row.verdict, row.detail
+    (<Verdict.INCONCLUSIVE: 'inconclusive'>, 'time budget 60 s hit after 57 of 200 scenarios: not a pass (raise the budget or run on a less loaded machine)')
+    """
+    cmd = explore_command(algorithm, prop, max_examples=max_examples, robots=robots, seed=seed,
+                          budget=budget)
+    data: dict[str, Any] = {"algorithm": algorithm, "robots": list(robots), "seed": seed,
+                            "max_examples": max_examples, "budget": budget, "explored": entry is not None,
+                            "reproduce": cmd}
+    if assumptions is not None:
+        data.update(assumptions)
+    subject = f"{algorithm} n={robots[0]}..{robots[1]}"
+    if entry is None:
+        return Row("exploration", subject, prop, Verdict.INCONCLUSIVE, f"not explored: {skipped}", data,
+                   claim=claim)
+    data.update({k: entry.get(k) for k in ("status", "scenarios", "conclusive", "steps", "capped",
+                                          "budget_hit", "violation", "counterexample")})
+    data["counterexample_robots"] = entry.get("robots")
+    status = entry["status"]
+    verdict = _EXPLORE_STATUS.get(status, Verdict.INCONCLUSIVE)
+    scen, steps = entry.get("scenarios", 0), entry.get("steps", 0)
+    if verdict is Verdict.VIOLATED:
+        detail = entry.get("message") or str((entry.get("violation") or {}).get("message", ""))
+        if entry.get("budget_hit"):
+            detail += " (shrinking stopped at the time budget: may not be minimal)"
+        path = entry.get("counterexample")
+        detail += (f"; replay: swarmproof replay {path}" if path
+                   else "; the file: swarmproof verify --out DIR")
+    elif verdict is Verdict.HELD and entry.get("budget_hit"):
+        verdict = Verdict.INCONCLUSIVE
+        detail = (f"time budget {budget if budget_used is None else budget_used:.3g} s hit after {scen} of {max_examples} scenarios: not a pass "
+                  f"(raise the budget or run on a less loaded machine)")
+    elif verdict is Verdict.HELD:
+        detail = f"held over {_count(scen, 'scenario')}, {_count(steps, 'step')} (explored, not proved)"
+        if entry.get("capped"):
+            detail += f"; {entry['capped']} runs hit the step cap"
+    else:
+        detail = entry.get("message") or f"explorer status {status!r}"
+    return Row("exploration", subject, prop, verdict, detail, data, claim=claim)
+
+
+def section_exploration(*, algorithms=None, properties=None,
+                        max_examples: int = VERIFY_EXPLORE_MAX_EXAMPLES,
+                        robots: tuple[int, int] = VERIFY_EXPLORE_ROBOTS, seed: int = VERIFY_EXPLORE_SEED,
+                        budget: float | None = None, section_budget: float | None = None,
+                        out_dir: str | None = None, progress: Progress | None = None) -> list[Row]:
+    """The explorer's property matrix: each algorithm by each explorer property (issue 6).
+
+    For each algorithm (default :data:`VERIFY_ALGORITHMS`) and each property
+    (default ``EXPLORE_PROPERTIES`` as the explorer defines it when this
+    runs) one :func:`~swarmproof.checkers.explore.explore` run with
+    ``max_examples``, ``robots``, ``seed`` and a time ``budget`` per property
+    (default :data:`VERIFY_EXPLORE_BUDGET`, read when the section runs, as is
+    ``section_budget``).
+    Counterexample files are written into ``out_dir`` only when it is given
+    (``swarmproof verify --out DIR``); otherwise each violated row carries the
+    ``swarmproof explore`` command that repeats it (``reproduce`` in JSON).
+    Once ``section_budget`` seconds are spent the remaining properties are
+    not explored and are inconclusive.
+    """
+    from swarmproof.checkers.explore import EXPLORE_PROPERTIES, explore
+    from swarmproof.reference_impl.registry import claims_of
+
+    budget = VERIFY_EXPLORE_BUDGET if budget is None else budget
+    section_budget = VERIFY_EXPLORE_SECTION_BUDGET if section_budget is None else section_budget
+    algos = VERIFY_ALGORITHMS if algorithms is None else tuple(algorithms)
+    props = tuple(EXPLORE_PROPERTIES) if properties is None else tuple(properties)
+    deadline = time.monotonic() + section_budget
+    rows = []
+    for algo in algos:
+        claims = claims_of(algo)
+        for prop in props:
+            kw = dict(max_examples=max_examples, robots=tuple(robots), seed=seed, budget=budget)
+            left = deadline - time.monotonic()
+            if left <= 0:
+                rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw,
+                                            skipped=f"the section's time budget of {section_budget:g} s "
+                                                    "was spent before it"))
+                continue
+            show = None
+            if progress:
+                def show(_p, k, total, algo=algo, prop=prop):
+                    progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
+                show(prop, 0, max_examples)
+            used = min(budget, left)
+            rep = explore(algo, [prop], budget=used, max_examples=max_examples,
+                          robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
+            doc = rep.as_dict()
+            assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
+                           "broken_assumptions": doc.get("broken_assumptions", [])}
+            rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
+                                        assumptions=assumptions, budget_used=used))
+    return rows
+
+
+SECTIONS: dict[str, Callable[..., list[Row]]] = {
     "lattices": section_lattices,
     "algorithms": section_algorithms,
+    "lemmas": section_lemmas,
+    "exploration": section_exploration,
 }
 
 
-def run_report(sections: list[str] | None = None, progress: Callable[[str], None] | None = None) -> Report:
-    """Run the named sections (all by default) and collect one report."""
-    names = list(SECTIONS) if sections is None else sections
+def run_report(sections: list[str] | None = None, progress: Progress | None = None,
+               options: dict[str, dict[str, Any]] | None = None) -> Report:
+    """Run the named sections (all by default, in :data:`SECTIONS` order) into one report.
+
+    Parameters
+    ----------
+    sections : list of str, optional
+        Names from :data:`SECTIONS`.
+    progress : callable, optional
+        Called with short status texts (``"exploration: song2014 connectivity:
+        example 3 (max 200 + shrinking)"``) while sections run.
+    options : dict, optional
+        Keyword arguments per section, e.g. ``{"exploration": {"out_dir": "cx"}}``.
+    """
+    names = list(SECTIONS) if sections is None else list(sections)
+    options = options or {}
     rows: list[Row] = []
     seconds: dict[str, float] = {}
     for name in names:
+        sub = None
         if progress:
             progress(name)
+
+            def sub(text: str, name=name) -> None:
+                progress(f"{name}: {text}")
         t0 = time.perf_counter()
-        rows.extend(SECTIONS[name]())
+        rows.extend(SECTIONS[name](progress=sub, **options.get(name, {})))
         seconds[name] = time.perf_counter() - t0
     return Report(rows, seconds)
