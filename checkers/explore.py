@@ -48,13 +48,14 @@ __all__ = ["EXPLORE_PROPERTIES", "PERIODIC_LATTICES", "ExploreReport", "Property
 
 #: Properties the explorer judges: the registry's (runs.py judging) plus issue 6's.
 EXPLORE_PROPERTIES: tuple[str, ...] = ("connectivity", "tree_links", "termination", "formation",
-                                       "collision", "deadlock", "oscillation")
+                                       "collision", "deadlock", "oscillation", "premises")
 
 #: The bundled periodic lattices (models/library.py table).
 PERIODIC_LATTICES: tuple[str, ...] = ("square", "hexagon", "octagon-square", "triangle", "kagome",
                                       "honeycomb-rotating")
 
 DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges have unit length
+DEFAULT_PROGRESS_WINDOW = 200  # steps without progress that "oscillation" reports for randomized algorithms
 MIN_SEP_FRACTION = 0.25     # initial robots at least range/4 apart (as initial.random_connected)
 
 
@@ -110,6 +111,10 @@ class ExploreReport:
     kept_assumptions: list
     broken_assumptions: list
     properties: dict = field(default_factory=dict)
+    #: Property -> where the paper / the class claims it, None when not claimed.
+    claims: dict = field(default_factory=dict)
+    #: What counterexample files name: the registry name or "module:qualname".
+    algorithm_ref: str = ""
 
     @property
     def exit_code(self) -> int:
@@ -146,23 +151,148 @@ class ExploreReport:
                 "robots": list(self.robots), "lattices": list(self.lattices),
                 "kept_assumptions": list(self.kept_assumptions),
                 "broken_assumptions": list(self.broken_assumptions),
-                "properties": {k: v.as_dict() for k, v in self.properties.items()},
+                "properties": {k: {**v.as_dict(), "claim": self.claims.get(k)}
+                               for k, v in self.properties.items()},
+                "algorithm_ref": self.algorithm_ref or self.algorithm,
                 "exit_code": self.exit_code}
+
+
+# ----------------------------------------------------------------------------
+# which algorithm: a registry name, "module:qualname", or a class / factory
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class AlgorithmSpec:
+    """An algorithm the explorer can run and a counterexample file can name.
+
+    Attributes
+    ----------
+    label : str
+        Shown in reports and file names: the registry name, else the
+        algorithm's ``name`` attribute, else its qualified name.
+    ref : str
+        Written to the counterexample file's ``algorithm`` field: the registry
+        name, or ``"module:qualname"`` that :func:`resolve_algorithm` imports again.
+    factory : callable
+        Builds a fresh algorithm object (given ``n_robots=`` when it accepts it).
+    claims : dict
+        Property -> citation, or None where the algorithm claims nothing.
+    """
+
+    label: str
+    ref: str
+    factory: Callable = field(compare=False)
+    claims: Mapping = field(default_factory=dict, compare=False)
+
+    def build(self, n_robots: int | None = None):
+        """A fresh algorithm object (``n_robots`` passed only to factories that take it)."""
+        import inspect
+
+        kw = {}
+        if n_robots is not None:
+            try:
+                if "n_robots" in inspect.signature(self.factory).parameters:
+                    kw["n_robots"] = n_robots
+            except (TypeError, ValueError):  # pragma: no cover - builtins without signatures
+                pass
+        algo = self.factory(**kw)
+        missing = [a for a in ("model", "assumptions", "controller", "finished") if not hasattr(algo, a)]
+        if missing:
+            raise UsageError(f"algorithm={self.ref!r} built an object without {missing!r}",
+                             fix="follow the protocol of swarmproof.reference_impl.protocol.Algorithm")
+        return algo
+
+
+def _import_ref(ref: str):
+    """Import ``"module:qualname"``; UsageError naming it when that fails."""
+    import importlib
+
+    modname, _, qual = ref.partition(":")
+    fix = "give a registry name, or module:qualname of a class importable at module level"
+    if not modname or not qual or "<locals>" in qual:
+        raise UsageError(f"algorithm={ref!r} cannot be imported (not module:qualname of a module-level "
+                         "class or function)", fix=fix)
+    try:
+        obj = importlib.import_module(modname)
+        for part in qual.split("."):
+            obj = getattr(obj, part)
+    except ImportError as exc:
+        raise UsageError(f"algorithm={ref!r} cannot be imported ({exc})", fix=fix) from None
+    except AttributeError:
+        raise UsageError(f"algorithm={ref!r} cannot be imported: {modname} has no {qual!r}", fix=fix) from None
+    return obj
+
+
+def resolve_algorithm(algorithm) -> AlgorithmSpec:
+    """What :func:`explore` and replay accept as an algorithm.
+
+    * a registry name (``"song2016"``): factory and claims from the registry;
+    * ``"module:qualname"`` of a class or factory function: imported;
+    * a class or factory (a callable returning a protocol object): used as
+      given; its file reference is ``"module:qualname"``.
+
+    Claims of an unregistered class come from its ``claims`` attribute
+    (property -> citation) when it has one, else nothing is claimed.  An
+    algorithm *object* (an instance) is refused: pass its class or a factory,
+    so every scenario gets a fresh one and a replay can rebuild it.
+
+    Examples
+    --------
+    >>> resolve_algorithm("song2014").ref
+    'song2014'
+    >>> from swarmproof.reference_impl.examples import GatherToLowestId
+    >>> s = resolve_algorithm(GatherToLowestId)
+    >>> s.label, s.ref
+    ('example-gather', 'swarmproof.reference_impl.examples:GatherToLowestId')
+    >>> resolve_algorithm(s.ref).factory is GatherToLowestId
+    True
+    """
+    from swarmproof.reference_impl.registry import ALGORITHMS, CLAIMS, PROPERTIES, algorithm_factory, algorithm_names
+
+    if isinstance(algorithm, str):
+        if algorithm in ALGORITHMS:
+            claims = dict(CLAIMS.get(algorithm, {p: None for p in PROPERTIES}))
+            return AlgorithmSpec(algorithm, algorithm, algorithm_factory(algorithm), claims)
+        if ":" not in algorithm:
+            raise UsageError(f"algorithm={algorithm!r} is not known",
+                             fix=f"use one of {algorithm_names()!r}, or module:qualname of your algorithm class")
+        factory = _import_ref(algorithm)
+        ref = algorithm
+    elif isinstance(algorithm, type) or (callable(algorithm) and not hasattr(algorithm, "controller")):
+        factory = algorithm
+        mod, qual = getattr(algorithm, "__module__", None), getattr(algorithm, "__qualname__", None)
+        ref = f"{mod}:{qual}" if mod and qual else repr(algorithm)
+    elif hasattr(algorithm, "controller"):
+        raise UsageError(f"algorithm={algorithm!r} is an algorithm object",
+                         fix=f"pass its class ({type(algorithm).__qualname__}) or a factory function instead")
+    else:
+        raise UsageError(f"algorithm={algorithm!r} is not a registry name, module:qualname, class or factory",
+                         fix=f"use one of {algorithm_names()!r} or your algorithm class")
+    if not callable(factory):
+        raise UsageError(f"algorithm={ref!r} is not a class or factory")
+    name = getattr(factory, "name", None)
+    label = name if isinstance(name, str) and name else ref.rpartition(":")[2]
+    claims = getattr(factory, "claims", None)
+    claims = dict(claims) if isinstance(claims, Mapping) else {}
+    return AlgorithmSpec(label, ref, factory, claims)
 
 
 # ----------------------------------------------------------------------------
 # running and judging one scenario (shared with replay)
 # ----------------------------------------------------------------------------
 
-def run_scenario(algorithm_name: str, lattice, ids, poses, params, *, seed: int, max_steps=None,
+def run_scenario(algorithm_name, lattice, ids, poses, params, *, seed: int, max_steps=None,
                  allow_violations: bool = False, faults=None):
-    """Run the engine on one scenario; returns ``(algorithm, SimulationResult)``."""
+    """Run the engine on one scenario; returns ``(algorithm, SimulationResult)``.
+
+    ``algorithm_name``: anything :func:`resolve_algorithm` accepts, or an :class:`AlgorithmSpec`.
+    """
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.registry import get_algorithm
 
+    spec = algorithm_name if isinstance(algorithm_name, AlgorithmSpec) else resolve_algorithm(algorithm_name)
     initial = InitialConfiguration(list(ids), [list(p) for p in poses])
-    algorithm = get_algorithm(algorithm_name, n_robots=initial.n)
+    algorithm = spec.build(n_robots=initial.n)
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, faults=faults)
     return algorithm, result
@@ -219,25 +349,76 @@ def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, A
     if prop == "oscillation":
         T = result.steps
         g = goal_held()
-        return oscillation(trace, float(options.get("pos_tol", 1e-6)), goal_reached=lambda t: g and t == T)
+        randomized = bool(getattr(algorithm, "randomized", False))
+        window = options.get("progress_window")
+        measure = getattr(algorithm, "progress_measure", None)
+        progress = None
+        if callable(measure) and (randomized or window is not None):
+            window = int(DEFAULT_PROGRESS_WINDOW if window is None else window)
+            progress = progress_values(trace, measure)
+        return oscillation(trace, float(options.get("pos_tol", 1e-6)), goal_reached=lambda t: g and t == T,
+                           randomized=randomized, progress=progress, window=window,
+                           progress_eps=float(options.get("progress_eps", 1e-9)))
+    if prop == "premises":
+        from swarmproof.invariants.premises import premise_monitors_of
+        from swarmproof.invariants.properties import premises
+
+        return premises(trace, premise_monitors_of(algorithm), phi, params.v, params.dt)
     raise UsageError(f"property={prop!r} is not known", fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+
+
+def progress_values(trace, measure) -> list:
+    """``measure(ids, poses, states)`` of the present robots at every recorded step of ``trace``.
+
+    ``measure`` is an algorithm's ``progress_measure`` (the omniscient
+    observer's goal measure, higher is closer to the goal); consecutive
+    steps with the same poses and states reuse the previous value.
+    """
+    out: list = []
+    prev = None
+    for t in range(trace.steps + 1):
+        pres = trace.present_at(t)
+        key = (trace.poses[t].tobytes(), pres.tobytes(), trace.states[t])
+        if key != prev:
+            value = float(measure(trace.ids[pres], trace.poses[t][pres],
+                                  tuple(s for s, p in zip(trace.states[t], pres) if p)))
+            prev = key
+        out.append(value)
+    return out
 
 
 # ----------------------------------------------------------------------------
 # the scenario strategy
 # ----------------------------------------------------------------------------
 
-#: Fault kinds the explorer can draw (all replayable: data-driven hooks).
-FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops")
+#: Fault kinds the explorer can draw (all replayable: data-driven hooks, or draws from the
+#: engine's fault generator, which the run's seed fixes).
+FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops", "additions", "noise")
+
+#: Largest drawn sensing-noise standard deviations: (x, y) as a fraction of the range phi, theta in radians.
+MAX_NOISE_XY_FRACTION = 0.04
+MAX_NOISE_THETA = 0.05
 
 
-def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str]):
+def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str], *, poses: Sequence = (),
+                     phi: float = 1.0):
     """Draw a replayable FaultModel of the given kinds for robots ``ids`` (inside a composite strategy).
 
     * ``schedule``: for each of the first 1..20 steps, the IDs that act
       (:class:`TableSchedule`; later steps: everybody acts);
     * ``crashes``: one robot crashes at a step in 0..60;
-    * ``drops``: up to 8 lost deliveries ``(step 0..40, sender, receiver)`` (:class:`DropSet`).
+    * ``drops``: up to 8 lost deliveries ``(step 0..40, sender, receiver)`` (:class:`DropSet`);
+    * ``additions``: 1 or 2 robots join, each at a step in 0..60, with the next unused IDs
+      (``n``, ``n + 1``: higher than every starting robot), placed at a drawn distance in
+      ``[phi/4, 0.95 phi]`` and angle from the *starting* position of a drawn robot (which
+      may have moved away by then: a newcomer can join out of range), heading drawn;
+    * ``noise``: Gaussian sensing noise, standard deviations drawn in
+      ``[0, 0.04 phi]`` for the sensed (x, y) and ``[0, 0.05]`` rad for theta
+      (``FaultModel.noise_std``; the draws come from the engine's fault generator,
+      seeded by the run's seed, so a replay is exact).
+
+    ``poses`` are the starting poses of the robots ``ids`` (same order), ``phi``
+    the range; both are needed for ``additions`` only.
     """
     from hypothesis import strategies as st
 
@@ -255,7 +436,34 @@ def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str]):
         triples = draw(st.lists(st.tuples(st.integers(0, 40), st.sampled_from(ids), st.sampled_from(ids))
                                 .filter(lambda x: x[1] != x[2]), min_size=1, max_size=8))
         kw["drop_message"] = DropSet(frozenset(triples))
+    if "additions" in kinds:
+        adds: dict[int, list] = {}
+        next_id = max(ids) + 1
+        for k in range(draw(st.integers(1, 2))):
+            step = draw(st.integers(0, 60))
+            anchor = draw(st.integers(0, len(ids) - 1))
+            dist = draw(st.floats(MIN_SEP_FRACTION * phi, 0.95 * phi))
+            ang = draw(st.floats(-math.pi, math.pi))
+            head = draw(st.floats(-math.pi, math.pi))
+            x0, y0 = float(poses[anchor][0]), float(poses[anchor][1])
+            adds.setdefault(step, []).append((next_id + k, [x0 + dist * math.cos(ang),
+                                                            y0 + dist * math.sin(ang), head]))
+        kw["additions"] = adds
+    if "noise" in kinds:
+        kw["noise_std"] = (draw(st.floats(0.0, MAX_NOISE_XY_FRACTION * phi)),
+                           draw(st.floats(0.0, MAX_NOISE_THETA)))
     return FaultModel(**kw) if kw else None
+
+
+def _fault_probe(kinds: Sequence[str]):
+    """A FaultModel with every drawable fault of ``kinds`` switched on (to name the assumptions broken)."""
+    from swarmproof.reference_impl.engine import DropSet, FaultModel, TableSchedule
+
+    return FaultModel(schedule=TableSchedule({0: ()}) if "schedule" in kinds else None,
+                      crashes={0: [0]} if "crashes" in kinds else {},
+                      drop_message=DropSet(frozenset({(0, 0, 1)})) if "drops" in kinds else None,
+                      additions={0: [(0, [0.0, 0.0, 0.0])]} if "additions" in kinds else {},
+                      noise_std=(0.01, 0.01) if "noise" in kinds else (0.0, 0.0))
 
 
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
@@ -289,9 +497,9 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
         heads = [draw(st.floats(-math.pi, math.pi)) for _ in range(n)]
         perm = draw(st.permutations(list(range(n))))
         seed = draw(st.integers(0, 1000))
-        faults = draw_fault_model(draw, perm, fault_kinds) if fault_kinds else None
-        return Scenario(lat, tuple(int(i) for i in perm),
-                        tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads)), seed, faults)
+        poses = tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads))
+        faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
+        return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults)
 
     return build()
 
@@ -332,11 +540,17 @@ def _without_local_constants():
         providers._get_local_constants = original
 
 
+def _file_label(spec: AlgorithmSpec) -> str:
+    """The algorithm's label made safe for a file name."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", spec.label)
+
+
 def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices):
     from swarmproof.models import library
-    from swarmproof.reference_impl.registry import algorithm_factory
 
-    algorithm_factory(algorithm)
+    spec = resolve_algorithm(algorithm)
     props = list(EXPLORE_PROPERTIES) if properties is None else list(properties)
     for p in props:
         if p not in EXPLORE_PROPERTIES:
@@ -362,10 +576,10 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
     for name, g in loaded.items():
         if g.range is None:
             raise UsageError(f"lattice {name!r} has no default range")
-    return props, float(budget), (lo, hi), lats, loaded
+    return spec, props, float(budget), (lo, hi), lats, loaded
 
 
-def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: float = 60.0,
+def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float = 60.0,
             max_examples: int = 100, robots: tuple[int, int] = (3, 8), seed: int = 0,
             lattices: Sequence[str] | None = None, fault_model=None, out_dir: str | os.PathLike | None = None,
             progress: Callable[[str, int, int], None] | None = None, params: Mapping[str, Any] | None = None,
@@ -376,8 +590,13 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
 
     Parameters
     ----------
-    algorithm : str
-        A registered algorithm name.
+    algorithm : str, class or callable
+        A registered algorithm name, ``"module:qualname"``, or an algorithm
+        class / factory following :class:`swarmproof.reference_impl.protocol.Algorithm`
+        (:func:`resolve_algorithm`; an unregistered class's claims come from
+        its ``claims`` attribute, else none are claimed).  Counterexample
+        files record the registry name or ``"module:qualname"``, which
+        ``swarmproof replay`` imports.
     properties : sequence of str, optional
         Names from :data:`EXPLORE_PROPERTIES`; default all.
     budget : float
@@ -406,11 +625,16 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
     max_steps : int, optional
         Engine step cap (default: the algorithm's).
     options : mapping, optional
-        Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol``.
+        Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol``
+        (oscillation), ``progress_window`` (oscillation's no-progress window W,
+        default :data:`DEFAULT_PROGRESS_WINDOW` for algorithms with
+        ``randomized = True``; given explicitly it applies to any algorithm with a
+        ``progress_measure``), ``progress_eps``.
     draw_faults : sequence of str
         Fault kinds Hypothesis draws per scenario (:data:`FAULT_KINDS`:
-        ``schedule``, ``crashes``, ``drops``); they break robot-model
-        assumptions, which the report names.  Not together with ``fault_model``.
+        ``schedule``, ``crashes``, ``drops``, ``additions``, ``noise``; see
+        :func:`draw_fault_model`); they break robot-model assumptions, which
+        the report names.  Not together with ``fault_model``.
     database_dir : path, optional
         Keep Hypothesis's example database in this folder, so a rerun tries
         known failures first (found at once).  Default None: no database,
@@ -432,9 +656,8 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
     from hypothesis import seed as hseed
 
     from swarmproof.checkers.runs import build_params
-    from swarmproof.reference_impl.registry import get_algorithm
 
-    props, budget, rng_robots, lats, loaded = _check_inputs(algorithm, properties, budget, max_examples,
+    spec, props, budget, rng_robots, lats, loaded = _check_inputs(algorithm, properties, budget, max_examples,
                                                             robots, seed, lattices)
     params = dict(params or {})
     options = dict(options or {})
@@ -442,7 +665,7 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
 
     # which assumptions the chosen parameters keep and break (the engine raises on a break
     # unless allow_violations; probe once per lattice range with the largest n)
-    algo = get_algorithm(algorithm, n_robots=rng_robots[1])
+    algo = spec.build(n_robots=rng_robots[1])
     kept, broken = [], []
     for a in getattr(algo, "assumptions", ()):
         msgs = []
@@ -454,7 +677,7 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
                 msgs.append(msg)
         (broken if msgs else kept).append(a.name)
     if broken and not allow_violations:
-        raise UsageError(f"params={params!r} break the assumptions {broken!r} of {algorithm!r}",
+        raise UsageError(f"params={params!r} break the assumptions {broken!r} of {spec.label!r}",
                          fix="pass allow_violations=True (--allow-violations) to explore outside the paper's assumptions")
     draw_faults = tuple(draw_faults or ())
     for kind in draw_faults:
@@ -466,14 +689,10 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
         fb = fault_model.broken_model_assumptions(algo.model)
         broken += [b for b in fb if b not in broken]
     if draw_faults:
-        from swarmproof.reference_impl.engine import DropSet, FaultModel, TableSchedule
+        broken += [b for b in _fault_probe(draw_faults).broken_model_assumptions(algo.model) if b not in broken]
 
-        probe = FaultModel(schedule=TableSchedule({0: ()}) if "schedule" in draw_faults else None,
-                           crashes={0: [0]} if "crashes" in draw_faults else {},
-                           drop_message=DropSet(frozenset({(0, 0, 1)})) if "drops" in draw_faults else None)
-        broken += [b for b in probe.broken_model_assumptions(algo.model) if b not in broken]
-
-    report = ExploreReport(algorithm, seed, max_examples, rng_robots, lats, kept, broken)
+    report = ExploreReport(spec.label, seed, max_examples, rng_robots, lats, kept, broken,
+                           claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref)
     share = budget / len(props)
     strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults)
 
@@ -492,10 +711,10 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
                   stats["hit"] = True
                   return
               lattice = loaded[scn.lattice]
-              algo_n = get_algorithm(algorithm, n_robots=scn.n)
+              algo_n = spec.build(n_robots=scn.n)
               p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v"), omega=params.get("omega"),
                                dt=params.get("dt"), extra=params.get("extra"))
-              algo_run, result = run_scenario(algorithm, lattice, scn.ids, scn.poses, p, seed=scn.seed,
+              algo_run, result = run_scenario(spec, lattice, scn.ids, scn.poses, p, seed=scn.seed,
                                               max_steps=max_steps, allow_violations=allow_violations,
                                               faults=scn.faults if scn.faults is not None else fault_model)
               r = judge(prop, algo_run, lattice, p, result, options)
@@ -504,11 +723,13 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
               stats["capped"] += int(result.status == "step_cap")
               if r.status != "inconclusive":
                   stats["conclusive"] += 1
+              else:
+                  stats["why"] = r.message
               fm = scn.faults if scn.faults is not None else fault_model
               if r.violated:
                   step = (r.witness or {}).get("step")
                   failures.append(Counterexample(
-                      algorithm=algorithm,
+                      algorithm=spec.ref,
                       params={"range": p.range, "v": p.v, "omega": p.omega, "dt": p.dt,
                               "extra": {k: v for k, v in dict(p.extra).items()}},
                       lattice=scn.lattice, robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
@@ -525,7 +746,7 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
         if database_dir is not None:
             from hypothesis.database import DirectoryBasedExampleDatabase
 
-            db = DirectoryBasedExampleDatabase(os.path.join(os.fspath(database_dir), f"{algorithm}-{prop}"))
+            db = DirectoryBasedExampleDatabase(os.path.join(os.fspath(database_dir), f"{_file_label(spec)}-{prop}"))
         run = settings(max_examples=max_examples, database=db, derandomize=False, deadline=None,
                        print_blob=False, report_multiple_bugs=False,
                        phases=(Phase.explicit, Phase.reuse, Phase.generate, Phase.shrink),
@@ -548,11 +769,12 @@ def explore(algorithm: str, properties: Sequence[str] | None = None, *, budget: 
             if out_dir is not None:
                 os.makedirs(out_dir, exist_ok=True)
                 v.counterexample_path = cx.save(os.path.join(os.fspath(out_dir),
-                                                             f"{algorithm}-{prop}-seed{seed}.json"))
+                                                             f"{_file_label(spec)}-{prop}-seed{seed}.json"))
         elif stats["conclusive"] == 0:
             v.status = "inconclusive"
             v.message = ("no scenario gave a judgment" +
-                         (" (budget spent)" if stats["hit"] else f" ({stats['capped']} runs hit the step cap)"))
+                         (" (budget spent)" if stats["hit"] else f" ({stats['capped']} runs hit the step cap)") +
+                         (f"; last: {stats['why']}" if stats.get("why") else ""))
         else:
             v.message = (f"held over {stats['conclusive']} judged scenarios and {stats['steps']} steps "
                          f"(explored, not proved)")

@@ -1,7 +1,8 @@
 """Re-run a ``swarmproof-counterexample/1`` file exactly and judge its property again.
 
 The run is rebuilt from the file alone: the bundled lattice (or lattice
-file) by name, the algorithm from the registry, the parameters, the initial
+file) by name, the algorithm from the registry (or, for an unregistered
+class, imported from the ``"module:qualname"`` the file records), the parameters, the initial
 poses (radians, bit-exact), the engine seed, the step cap, the data-driven
 fault hooks (:meth:`FaultModel.from_dict`) and the property options; the
 property is judged with :func:`swarmproof.checkers.explore.judge`, the same
@@ -51,7 +52,7 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         The file names an unknown algorithm, lattice or property, or faults
         that cannot be rebuilt.
     """
-    from swarmproof.checkers.explore import EXPLORE_PROPERTIES, judge, run_scenario
+    from swarmproof.checkers.explore import EXPLORE_PROPERTIES, judge, resolve_algorithm, run_scenario
     from swarmproof.models import library
     from swarmproof.reference_impl.engine import FaultModel
     from swarmproof.reference_impl.protocol import Params
@@ -64,6 +65,10 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     if cx.property not in EXPLORE_PROPERTIES:
         raise InputFileError(f"property={cx.property!r} is not known", file=file, field="property",
                              fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+    try:
+        spec = resolve_algorithm(cx.algorithm)
+    except UsageError as exc:
+        raise bad("algorithm", exc, cx.algorithm) from None
     try:
         lattice = library.resolve(cx.lattice)
     except UsageError as exc:
@@ -78,15 +83,14 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     params = Params(range=float(p["range"]), v=float(p["v"]), omega=float(p["omega"]), dt=float(p["dt"]),
                     extra=dict(p.get("extra") or {}))
     try:
-        algorithm, result = run_scenario(cx.algorithm, lattice, [i for i, _ in cx.robots],
+        algorithm, result = run_scenario(spec, lattice, [i for i, _ in cx.robots],
                                          [pose for _, pose in cx.robots], params, seed=cx.seed,
                                          max_steps=cx.max_steps, allow_violations=cx.allow_violations,
                                          faults=faults)
     except InputFileError:
         raise
     except UsageError as exc:
-        fld = "algorithm" if "algorithm" in str(exc) else "params"
-        raise bad(fld, exc, cx.algorithm if fld == "algorithm" else cx.params) from None
+        raise bad("params", exc, cx.params) from None
     verdict = judge(cx.property, algorithm, lattice, params, result, cx.options)
     return ReplayResult(cx, bool(verdict.violated), verdict, result)
 

@@ -52,7 +52,8 @@ import numpy as np
 from .result import InvariantResult, state_value
 
 __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range",
-           "check_premises", "params_of"]
+           "descendants_in_parent_bounded_ranges", "check_premises", "params_of", "MONITORS",
+           "ALGORITHM_PREMISES", "premise_monitors_of"]
 
 _MISSING = object()
 
@@ -91,6 +92,39 @@ def step_bounded(trace, v: float, dt: float, *, tol: float = 1e-9) -> InvariantR
                            None, f"every robot moved at most v*dt in all {trace.steps} steps")
 
 
+def _movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, tol: float):
+    """Shared loop: a robot that moves in step ``t`` must end within ``phi - v*dt`` of the
+    step-``t`` position of every robot ``related(state_after)`` names.
+
+    Returns ``("missing", k, None)`` when a moving robot's state lacks the key,
+    ``("violated", (t, k, j, d), checked)`` for the first robot outside, else
+    ``("held", None, checked)``."""
+    radius = phi - v * dt
+    slot = _slot(trace)
+    checked = 0
+    for t in range(trace.steps):
+        after = trace.states[t + 1]
+        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
+        for k in range(trace.n):
+            if not (pres0[k] and pres1[k]):
+                continue
+            others = related(after[k])
+            if others is _MISSING:
+                return "missing", k, None
+            p1 = trace.poses[t + 1][k, :2]
+            if np.array_equal(p1, trace.poses[t][k, :2]):
+                continue  # did not move: nothing to check (the link case "still")
+            for c in others or ():
+                j = slot.get(int(c))
+                if j is None or not pres0[j]:
+                    continue
+                checked += 1
+                d = float(np.hypot(*(p1 - trace.poses[t][j, :2])))
+                if d > radius + tol * phi:
+                    return "violated", (t, k, j, d), checked
+    return "held", None, checked
+
+
 def parents_in_bounded_ranges(trace, phi: float, v: float, dt: float, *,
                               tol: float = 1e-9) -> InvariantResult:
     """Every robot that moves in step ``t`` ends within ``phi - v*dt`` of the
@@ -98,37 +132,70 @@ def parents_in_bounded_ranges(trace, phi: float, v: float, dt: float, *,
 
     Lemma: ``nclb_link_kept``."""
     radius = phi - v * dt
-    slot = _slot(trace)
-    checked = 0
-    for t in range(trace.steps):
-        after = trace.states[t + 1]
-        for k in range(trace.n):
-            if not (trace.present_at(t)[k] and trace.present_at(t + 1)[k]):
-                continue
-            children = state_value(after[k], "children", _MISSING)
-            if children is _MISSING:
-                return InvariantResult("premise:nclb", "inconclusive", "nclb_link_kept (001 Sec. V-C)",
-                                       None, f"robot {int(trace.ids[k])} has no 'children' in its state")
-            p1 = trace.poses[t + 1][k, :2]
-            if np.array_equal(p1, trace.poses[t][k, :2]):
-                continue  # did not move: nothing to check (the link case "parent still")
-            for c in children or ():
-                j = slot.get(int(c))
-                if j is None or not trace.present_at(t)[j]:
-                    continue
-                checked += 1
-                d = float(np.hypot(*(p1 - trace.poses[t][j, :2])))
-                if d > radius + tol * phi:
-                    return InvariantResult(
-                        "premise:nclb", "violated", "nclb_link_kept (001 Sec. V-C, Def. 8)",
-                        {"step": t, "parent": int(trace.ids[k]), "child": int(c),
-                         "distance": round(d, 12), "bounded_range": radius,
-                         "lemma": "nclb_link_kept"},
-                        f"robot {int(trace.ids[k])} ended step {t} {d:.6g} from the old position of "
-                        f"its child {int(c)}, outside its bounded range phi - v*dt = {radius:.6g}")
+    status, hit, checked = _movers_in_bounded_ranges(
+        trace, phi, v, dt, lambda st: state_value(st, "children", _MISSING), tol)
+    if status == "missing":
+        return InvariantResult("premise:nclb", "inconclusive", "nclb_link_kept (001 Sec. V-C)",
+                               None, f"robot {int(trace.ids[hit])} has no 'children' in its state")
+    if status == "violated":
+        t, k, j, d = hit
+        return InvariantResult(
+            "premise:nclb", "violated", "nclb_link_kept (001 Sec. V-C, Def. 8)",
+            {"step": t, "parent": int(trace.ids[k]), "child": int(trace.ids[j]),
+             "distance": round(d, 12), "bounded_range": radius, "lemma": "nclb_link_kept"},
+            f"robot {int(trace.ids[k])} ended step {t} {d:.6g} from the old position of "
+            f"its child {int(trace.ids[j])}, outside its bounded range phi - v*dt = {radius:.6g}")
     return InvariantResult("premise:nclb", "held", "nclb_link_kept (001 Sec. V-C, Def. 8)", None,
                            f"{checked} moving-parent/child pairs inside the child's bounded range",
                            applicable=checked > 0, detail={"checked": checked})
+
+
+def descendants_in_parent_bounded_ranges(trace, phi: float, v: float, dt: float, *,
+                                         tol: float = 1e-9) -> InvariantResult:
+    """Every robot that moves in step ``t`` ends within ``phi - v*dt`` of the
+    position at ``t`` of the parent it chose in step ``t`` (000 Lemma 7, Eqs. 5-7:
+    the descendant's goal lies in the disc ``P_p`` of radius ``phi - v*dt``
+    around its parent, Sec. IV-C step 3).
+
+    The parent is read from the state key ``"parent"`` recorded after the step
+    decided (song2014's documented state, docs/song2014.md).  Lemma:
+    ``bounded_range`` (its premise ``child_in_parent_bounded_range``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.15, 0, 0]]], dtype=float)
+    >>> st = ((("parent", None),), (("parent", 1),))
+    >>> r = descendants_in_parent_bounded_ranges(Trace(ids=[1, 2], poses=poses, states=[st] * 2),
+    ...                                          1.2, 0.1, 1.0)
+    >>> r.status, r.witness["lemma"], r.witness["child"], r.witness["distance"]
+    ('violated', 'bounded_range', 2, 1.15)
+    """
+    radius = phi - v * dt
+    cites = "bounded_range (000 Lemma 7, Sec. IV-C)"
+    status, hit, checked = _movers_in_bounded_ranges(
+        trace, phi, v, dt, lambda st: _parent_list(state_value(st, "parent", _MISSING)), tol)
+    if status == "missing":
+        return InvariantResult("premise:parent_bounded_range", "inconclusive", cites, None,
+                               f"robot {int(trace.ids[hit])} has no 'parent' in its state")
+    if status == "violated":
+        t, k, j, d = hit
+        return InvariantResult(
+            "premise:parent_bounded_range", "violated", cites,
+            {"step": t, "child": int(trace.ids[k]), "parent": int(trace.ids[j]),
+             "distance": round(d, 12), "bounded_range": radius, "lemma": "bounded_range"},
+            f"robot {int(trace.ids[k])} ended step {t} {d:.6g} from the old position of "
+            f"its parent {int(trace.ids[j])}, outside the parent's disc phi - v*dt = {radius:.6g}")
+    return InvariantResult("premise:parent_bounded_range", "held", cites, None,
+                           f"{checked} moving-child/parent pairs inside the parent's disc phi - v*dt",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def _parent_list(parent):
+    if parent is _MISSING:
+        return _MISSING
+    return () if parent is None else (parent,)
 
 
 def relocate_path_in_range(trace, phi: float, *, tol: float = 1e-9) -> InvariantResult:
@@ -141,7 +208,10 @@ def relocate_path_in_range(trace, phi: float, *, tol: float = 1e-9) -> Invariant
     checked = 0
     for t in range(trace.steps):
         after = trace.states[t + 1]
+        pres1 = trace.present_at(t + 1)
         for k in range(trace.n):
+            if not pres1[k]:
+                continue  # crashed or not yet added: no state to read
             relocate = state_value(after[k], "relocate", _MISSING)
             if relocate is _MISSING:
                 return InvariantResult("premise:relocate", "inconclusive",
@@ -190,3 +260,40 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
         raise ValueError(f"phi={phi!r}, v={v!r}, dt={dt!r} must be positive finite numbers")
     return [step_bounded(trace, v, dt), parents_in_bounded_ranges(trace, phi, v, dt),
             relocate_path_in_range(trace, phi)]
+
+
+#: Every monitor by name: a function ``(trace, phi, v, dt) -> InvariantResult``.
+MONITORS = {
+    "step_bounded": lambda trace, phi, v, dt: step_bounded(trace, v, dt),
+    "nclb": lambda trace, phi, v, dt: parents_in_bounded_ranges(trace, phi, v, dt),
+    "relocate": lambda trace, phi, v, dt: relocate_path_in_range(trace, phi),
+    "parent_bounded_range": lambda trace, phi, v, dt: descendants_in_parent_bounded_ranges(trace, phi, v, dt),
+}
+
+#: The monitors whose lemmas each reference algorithm's proof uses (docs/proofs.md): song2016
+#: (001 Lemma 7, NCLB of Sec. V-C, the relocate case of Lemma 11); song2014 (000 Lemma 7:
+#: moves at most v dt, ends in the parent's disc phi - v dt).  Keyed by the algorithm's ``name``.
+ALGORITHM_PREMISES = {
+    "song2016": ("step_bounded", "nclb", "relocate"),
+    "song2014": ("step_bounded", "parent_bounded_range"),
+}
+
+
+def premise_monitors_of(algorithm) -> tuple:
+    """The monitor names that apply to ``algorithm``: its ``premise_monitors``
+    attribute when it has one, else :data:`ALGORITHM_PREMISES` by its ``name``,
+    else ``()`` (no lemma premises declared).
+
+    >>> premise_monitors_of(type("A", (), {"name": "song2014"})())
+    ('step_bounded', 'parent_bounded_range')
+    >>> premise_monitors_of(type("B", (), {"name": "mine", "premise_monitors": ("nclb",)})())
+    ('nclb',)
+    """
+    names = getattr(algorithm, "premise_monitors", None)
+    if names is None:
+        names = ALGORITHM_PREMISES.get(getattr(algorithm, "name", None), ())
+    names = tuple(names)
+    for n in names:
+        if n not in MONITORS:
+            raise ValueError(f"premise monitor={n!r} is not known; use some of {sorted(MONITORS)!r}")
+    return names

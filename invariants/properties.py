@@ -14,7 +14,11 @@ liveness failures a formation algorithm can show (issue 6):
   changes) while the goal is not reached (001 Def. 5: a static configuration
   that does not satisfy the lattice is a failure of Theorem 13).
 * :func:`oscillation` -- a revisited global state (a cycle) without the goal,
-  and robots moving back and forth again and again.
+  and robots moving back and forth again and again; for randomized
+  algorithms, no progress of the goal measure over a stated window.
+* :func:`premises` -- the lemma premise monitors of the proof suite
+  (:mod:`swarmproof.invariants.premises`) that apply to an algorithm, at
+  every step, naming the lemma whose premise failed.
 
 Examples
 --------
@@ -37,7 +41,7 @@ from scipy.spatial import cKDTree
 
 from .result import InvariantResult
 
-__all__ = ["collision", "deadlock", "oscillation", "segment_min_distances"]
+__all__ = ["collision", "deadlock", "oscillation", "premises", "segment_min_distances"]
 
 CITE_COLLISION = "issue 6: robots as discs never overlap (straight moves per step, 000 Sec. III / 001 Sec. III-A)"
 CITE_DEADLOCK = "issue 6 / 001 Def. 5, Thm. 13: no static configuration short of the goal"
@@ -238,7 +242,8 @@ def _state_key(trace, t: int, pos_tol: float):
 
 
 def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: float | None = None,
-                min_returns: int = 3) -> InvariantResult:
+                min_returns: int = 3, randomized: bool = False, progress=None, window: int | None = None,
+                progress_eps: float = 1e-9) -> InvariantResult:
     """No cycle of global states and no robot moving back and forth, short of the goal.
 
     1. *Cycle*: the global state at step ``t2`` -- every pose rounded to
@@ -251,17 +256,35 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
        (default ``100 * pos_tol``), and does so ``min_returns`` times or more,
        without the goal reached at the last return.
 
+    3. *No progress* (for randomized algorithms, issue 6): with ``progress``
+       (the algorithm's goal measure at every recorded step, higher is
+       closer to the goal) and ``window`` W, the best value so far must
+       rise by more than ``progress_eps`` at least once in every W
+       consecutive steps while the goal is not reached; a stall of W steps
+       short of the goal is a violation (even if the run reaches the goal
+       later: W is the stated patience).
+
+    With ``randomized=True`` rule 1 is not applied: a randomized algorithm
+    can revisit a global state without repeating what followed it.  A
+    randomized algorithm without a ``progress`` measure cannot be judged by
+    rule 3, so the result is ``inconclusive`` unless rule 2 fires.
+
     Blind spots: rounding to a grid can split two states closer than
     ``pos_tol`` that straddle a cell border (a missed cycle) and, with a
     coarse ``pos_tol``, merge states that differ (a false cycle); the
     back-and-forth check is quadratic in the trace length per robot and only
     looks at the last 1000 steps; a cycle longer than the trace is not seen.
+    Rule 3 is only as good as the measure: a measure that creeps up by more
+    than ``progress_eps`` forever passes (slow or Zeno progress), one that
+    ignores part of the goal misses stalls there, and a trace shorter than W
+    is not judged by it; a deadlock (nothing moves) is also a stall.
 
     Returns
     -------
     InvariantResult
-        ``violated`` with witness ``{kind: "cycle", step, revisits}`` or
-        ``{kind: "back_and_forth", robot, step, returns}``.
+        ``violated`` with witness ``{kind: "cycle", step, revisits}``,
+        ``{kind: "back_and_forth", robot, step, returns}`` or
+        ``{kind: "no_progress", step, since, window, best}``.
 
     Examples
     --------
@@ -273,6 +296,12 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
     >>> r = oscillation(t, 1e-3)
     >>> r.status, r.witness["kind"], r.witness["step"], r.witness["revisits"]
     ('violated', 'cycle', 2, 0)
+    >>> stall = [0, 1, 2, 2, 2, 2, 2]
+    >>> r = oscillation(t, 1e-3, randomized=True, progress=stall, window=3, min_returns=9)
+    >>> r.status, r.witness
+    ('violated', {'kind': 'no_progress', 'step': 5, 'since': 2, 'window': 3, 'best': 2.0})
+    >>> oscillation(t, 1e-3, randomized=True, min_returns=9).status
+    'inconclusive'
     """
     if not (math.isfinite(pos_tol) and pos_tol > 0):
         raise ValueError(f"pos_tol={pos_tol!r} must be a finite number > 0")
@@ -282,9 +311,16 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
         excursion = 100.0 * pos_tol
     goal = _goal_fn(goal_reached)
     T = len(trace.poses) - 1
+    if progress is not None:
+        if window is None or int(window) < 1:
+            raise ValueError(f"window={window!r} must be an int >= 1 when a progress measure is given")
+        window = int(window)
+        progress = np.asarray(progress, float)
+        if progress.shape != (T + 1,):
+            raise ValueError(f"progress has shape={progress.shape!r}, expected ({T + 1},): one value per step")
     seen: dict = {}
     prev = None
-    for t in range(T + 1):
+    for t in range(T + 1 if randomized else 0, T + 1):  # rule 1 only for deterministic ones
         key = _state_key(trace, t, pos_tol)
         if key in seen and key != prev and not goal(t):
             t1 = seen[key]
@@ -322,6 +358,93 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
                                        f"robot {rid} came back within {pos_tol:g} of its position at step "
                                        f"{best + off} after leaving it by more than {excursion:g}, "
                                        f"{int(counts[best])} times (the {min_returns}th at step {t2})")
+    if progress is not None:
+        best, since = progress[0], 0
+        for t in range(1, T + 1):
+            if progress[t] > best + progress_eps:
+                best, since = progress[t], t
+            elif t - since >= window and not goal(t):
+                return InvariantResult("oscillation", "violated", CITE_OSCILLATION,
+                                       {"kind": "no_progress", "step": int(t), "since": int(since),
+                                        "window": window, "best": float(best)},
+                                       f"no progress for {window} steps: the goal measure stayed at most "
+                                       f"{float(best):.6g} (its best, reached at step {since}) through step {t} "
+                                       f"and the goal is not reached")
+        return InvariantResult("oscillation", "held", CITE_OSCILLATION, None,
+                               f"{'' if randomized else 'no revisited global state, '}no robot back and forth "
+                               f"{min_returns} times and progress within every {window} steps over {T} steps "
+                               f"(tolerance {pos_tol:g})")
+    if randomized:
+        return InvariantResult("oscillation", "inconclusive", CITE_OSCILLATION, None,
+                               "a randomized algorithm without a progress measure: revisited states prove "
+                               "no cycle and progress cannot be judged (no robot went back and forth "
+                               f"{min_returns} times over {T} steps)")
     return InvariantResult("oscillation", "held", CITE_OSCILLATION, None,
                            f"no revisited global state and no robot back and forth {min_returns} times "
                            f"over {T} steps (tolerance {pos_tol:g})")
+
+
+CITE_PREMISES = "issue 5 / docs/proofs.md: the premises of the proved lemmas hold at every step"
+
+
+def premises(trace, monitors, phi: float, v: float, dt: float) -> InvariantResult:
+    """The named lemma premise monitors hold at every step of ``trace``.
+
+    ``monitors`` are names of :data:`swarmproof.invariants.premises.MONITORS`
+    (:func:`~swarmproof.invariants.premises.premise_monitors_of` gives the ones
+    an algorithm declares).  The verdict is
+
+    * ``violated`` when a monitor is: the earliest step over all monitors,
+      the witness naming the ``lemma`` and the ``monitor``;
+    * ``inconclusive`` when no monitor is declared (nothing to check), the
+      trace has no step, or a monitor cannot read its state keys;
+    * ``held`` otherwise; ``detail["monitors"]`` gives each monitor's
+      status and what it examined (a monitor that examined nothing, e.g. no
+      moving parent, says so: ``applicable`` False).
+
+    Blind spots: those of the monitors (step ends only; straight motion
+    assumed in between; the case analysis of the paper is not checked), and a
+    premise can only be as faithful as the state keys the algorithm reports.
+
+    Examples
+    --------
+    Robot 7 follows robot 4 and ends its step 1.10 from 4's old position,
+    outside the disc of radius ``phi - v dt = 1.0``:
+
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> start, end = [[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.1, 0.05, 0]]
+    >>> t = Trace(ids=[4, 7], poses=np.array([start, end], float),
+    ...           states=[((("parent", None),), (("parent", 4),))] * 2)
+    >>> r = premises(t, ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
+    >>> r.status, r.witness["lemma"], r.witness["monitor"]
+    ('violated', 'bounded_range', 'parent_bounded_range')
+    >>> premises(t, (), 1.2, 0.2, 1.0).status
+    'inconclusive'
+    """
+    from .premises import MONITORS
+
+    monitors = tuple(monitors)
+    if not monitors:
+        return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
+                               "the algorithm declares no lemma premises to monitor")
+    if trace.steps < 1:
+        return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
+                               "the trace has no step to check")
+    results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors]
+    detail = {"monitors": {name: {"status": r.status, "applicable": r.applicable, **r.detail}
+                           for name, r in results}}
+    bad = [(name, r) for name, r in results if r.violated]
+    if bad:
+        name, r = min(bad, key=lambda nr: nr[1].witness["step"])
+        lemma = r.witness["lemma"]
+        return InvariantResult("premises", "violated", CITE_PREMISES,
+                               {**r.witness, "monitor": name},
+                               f"premise of lemma {lemma} failed: {r.message}", detail=detail)
+    unsure = [(name, r) for name, r in results if r.status == "inconclusive"]
+    if unsure:
+        return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
+                               "; ".join(f"{name}: {r.message}" for name, r in unsure), detail=detail)
+    parts = [name if r.applicable else f"{name} (nothing to examine)" for name, r in results]
+    return InvariantResult("premises", "held", CITE_PREMISES, None,
+                           f"premises held at all {trace.steps} steps: {', '.join(parts)}", detail=detail)

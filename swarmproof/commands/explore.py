@@ -37,7 +37,7 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--out", metavar="DIR", help="write counterexample files into DIR")
     p.add_argument("--fault", action="append", dest="faults", default=[], metavar="KIND",
-                   help="draw faults of this kind per scenario, repeatable: schedule, crashes, drops "
+                   help="draw faults of this kind per scenario, repeatable: schedule, crashes, drops, additions, noise "
                         "(breaks robot-model assumptions; reported)")
     p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default: the algorithm's)")
     p.add_argument("--omega", type=float, metavar="W", help="maximum angular speed, rad per time")

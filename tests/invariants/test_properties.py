@@ -107,3 +107,72 @@ def test_oscillation_one_slow_reversal_is_not_back_and_forth():
     states = [(("tick", i),) for i in range(len(xs))]
     r = oscillation(make([[[x, 0]] for x in xs], states=states), 1e-3, min_returns=2)
     assert r.held
+
+
+# -- oscillation: no progress over a window (randomized algorithms) --------------------
+
+def _moving(T):
+    states = [(("tick", i),) for i in range(T + 1)]
+    return make([[[0.01 * i, 0]] for i in range(T + 1)], states=states)
+
+
+def test_no_progress_held_when_the_measure_improves_within_every_window():
+    t = _moving(10)
+    r = oscillation(t, 1e-6, randomized=True, progress=[0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4], window=3)
+    assert r.held and "progress within every 3 steps" in r.message
+
+
+def test_no_progress_violated_names_the_stall():
+    t = _moving(10)
+    r = oscillation(t, 1e-6, randomized=True, progress=[0, 1, 1, 1, 2, 1.5, 1.9, 2, 2, 3, 4], window=4)
+    assert r.violated
+    assert r.witness == {"kind": "no_progress", "step": 8, "since": 4, "window": 4, "best": 2.0}
+    assert r.message.startswith("no progress for 4 steps: the goal measure stayed at most 2 ")
+    # the same stall with the goal reached at its end is not reported
+    assert oscillation(t, 1e-6, randomized=True, progress=[0, 1, 1, 1, 2, 1.5, 1.9, 2, 2, 3, 4], window=4,
+                       goal_reached=lambda s: s >= 8).held
+
+
+def test_no_progress_window_longer_than_the_trace_is_not_judged():
+    t = _moving(5)
+    assert oscillation(t, 1e-6, randomized=True, progress=[0] * 6, window=6).held
+
+
+def test_randomized_without_measure_inconclusive_and_cycle_rule_off():
+    # a revisited global state: a cycle for a deterministic algorithm, not for a randomized one
+    t = make([[[0, 0]], [[1, 0]], [[0, 0]]])
+    assert oscillation(t, 1e-3).violated
+    r = oscillation(t, 1e-3, randomized=True)
+    assert r.status == "inconclusive" and "without a progress measure" in r.message
+    assert oscillation(t, 1e-3, randomized=True, progress=[0, 1, 2], window=2).held
+
+
+def test_no_progress_bad_arguments():
+    t = _moving(3)
+    with pytest.raises(ValueError, match="window=None"):
+        oscillation(t, 1e-6, progress=[0, 1, 2, 3])
+    with pytest.raises(ValueError, match=r"shape=\(2,\)"):
+        oscillation(t, 1e-6, progress=[0, 1], window=2)
+
+
+# -- premises ---------------------------------------------------------------------------
+
+def _follower(end_xy):
+    poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [end_xy[0], end_xy[1], 0]]], float)
+    return Trace(ids=[4, 7], poses=poses, states=[((("parent", None),), (("parent", 4),))] * 2)
+
+
+def test_premises_held_violated_and_inconclusive():
+    from swarmproof.invariants.properties import premises
+
+    ok = premises(_follower((0.95, 0)), ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
+    assert ok.held and ok.message == "premises held at all 1 steps: step_bounded, parent_bounded_range"
+    assert ok.detail["monitors"]["parent_bounded_range"]["checked"] == 1
+    # too far a step AND outside the parent's disc: the earliest step, first declared monitor
+    bad = premises(_follower((1.25, 0)), ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
+    assert bad.violated and (bad.witness["monitor"], bad.witness["lemma"]) == ("step_bounded", "bounded_range")
+    assert bad.message.startswith("premise of lemma bounded_range failed: robot 7 moved 0.25 > v*dt = 0.2")
+    assert premises(_follower((0.95, 0)), (), 1.2, 0.2, 1.0).status == "inconclusive"
+    # song2016's NCLB monitor on a state without "children": cannot judge
+    r = premises(_follower((0.95, 0)), ("nclb",), 1.2, 0.2, 1.0)
+    assert r.status == "inconclusive" and "has no 'children'" in r.message
