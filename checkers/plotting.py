@@ -1,14 +1,19 @@
-"""Shared plotting helpers: matplotlib on the Agg backend, PNGs written atomically.
+"""Shared plotting helpers: matplotlib on the Agg backend, PNGs and GIFs written atomically.
 
 Every picture swarmproof draws (formations, trajectories, counterexamples,
 lattice checks) goes through :func:`new_figure` and :func:`save_png` so that
 output is deterministic (no timestamps in the PNG metadata) and never
-half-written.
+half-written.  Animations (:func:`animate_trace`, a counterexample as an
+animated GIF) go through :func:`save_gif`: matplotlib's ``PillowWriter``
+renders each frame with Agg, Pillow encodes the GIF (no timestamps either),
+and the bytes are written atomically.
 """
 
 from __future__ import annotations
 
 import io
+import os
+import tempfile
 
 import matplotlib
 
@@ -17,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from swarmproof.models.fileio import atomic_write_bytes  # noqa: E402
 
-__all__ = ["new_figure", "save_png", "ROLE_COLORS", "plt"]
+__all__ = ["new_figure", "save_png", "save_gif", "animate_trace", "gif_frames", "ROLE_COLORS", "plt"]
 
 #: A colour per role index (cycled), colour-blind friendly (Okabe-Ito).
 ROLE_COLORS = ("#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#D55E00",
@@ -37,3 +42,112 @@ def save_png(fig, path) -> str:
     fig.savefig(buf, format="png", metadata={"Software": None}, bbox_inches="tight")
     plt.close(fig)
     return atomic_write_bytes(path, buf.getvalue())
+
+
+def save_gif(fig, update, frames, path, *, fps: int = 8) -> str:
+    """Render ``update(frame)`` for every frame with matplotlib's ``PillowWriter``; write atomically.
+
+    ``update`` changes the figure's artists for one frame.  The figure is
+    closed afterwards.  Same figure and frames give the same bytes.
+    """
+    from matplotlib.animation import PillowWriter
+
+    from swarmproof.models.fileio import atomic_write_bytes
+
+    folder = os.path.dirname(os.path.abspath(os.fspath(path)))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".gif", dir=folder)
+    os.close(fd)
+    try:
+        writer = PillowWriter(fps=fps)
+        with writer.saving(fig, tmp, dpi=fig.dpi):
+            for f in frames:
+                update(f)
+                writer.grab_frame()
+        with open(tmp, "rb") as fh:
+            data = fh.read()
+    finally:
+        os.unlink(tmp)
+        plt.close(fig)
+    return atomic_write_bytes(path, data)
+
+
+def gif_frames(steps: int, mark: int | None = None, max_frames: int = 60, hold: int = 6) -> list:
+    """The trace steps shown as frames: ``max_frames`` evenly spaced over ``0..steps``, always the
+    first, the last and ``mark`` (the violation step), which is held for ``hold`` frames.
+
+    >>> gif_frames(10, mark=7, max_frames=4, hold=2)
+    [0, 3, 7, 7, 10]
+    >>> gif_frames(0)
+    [0, 0]
+    """
+    import numpy as np
+
+    picks = set(np.linspace(0, steps, min(max_frames, steps + 1)).round().astype(int).tolist()) | {0, steps}
+    if mark is not None and 0 <= mark <= steps:
+        picks.add(int(mark))
+    out = []
+    for t in sorted(picks):
+        out += [t] * (hold if t == mark else 1)
+    if len(out) < 2:  # a GIF of a single frame does not animate
+        out.append(out[-1])
+    return out
+
+
+def animate_trace(trace, path, *, phi: float | None = None, mark_step: int | None = None, title: str = "",
+                  mark_label: str = "violation", mark_ids=None, max_frames: int = 40, fps: int = 8) -> str:
+    """An animated GIF of a trace: each robot's trail so far, its position, heading and ID, the
+    communication links (pairs closer than ``phi``) and, at ``mark_step``, the robots
+    ``mark_ids`` (default: every present robot) circled in red (the violation).
+    Deterministic: same trace, same bytes.
+    """
+    import numpy as np
+
+    P = np.asarray(trace.poses, float)
+    T, n = trace.steps, trace.n
+    xy = P[:, :, :2].reshape(-1, 2)
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    pad = 0.1 * float(max(hi - lo)) + 0.3
+    fig, ax = new_figure(4.5, 4.5)
+    fig.set_dpi(80)
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    trails = [ax.plot([], [], lw=0.8, color="0.65", zorder=1)[0] for _ in range(n)]
+    links = ax.plot([], [], lw=0.6, color="tab:green", alpha=0.6, zorder=1)[0]
+    dots = ax.plot([], [], "o", ms=6, color="tab:blue", zorder=3)[0]
+    heads = ax.quiver(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), angles="xy", scale_units="xy",
+                      scale=1.0, width=0.006, color="tab:blue", zorder=3)
+    ring = ax.plot([], [], "o", ms=13, mfc="none", mew=1.5, color="tab:red", zorder=4)[0]
+    labels = [ax.text(0, 0, str(int(trace.ids[k])), fontsize=7, zorder=5) for k in range(n)]
+    caption = ax.set_title(title, fontsize=9)
+    size = 0.08 * float(max(hi - lo) + 2 * pad)
+
+    def update(t: int) -> None:
+        pres = trace.present_at(t)
+        for k in range(n):
+            trails[k].set_data(P[: t + 1, k, 0], P[: t + 1, k, 1])
+            labels[k].set_position((P[t, k, 0] + 0.03, P[t, k, 1] + 0.03))
+            labels[k].set_visible(bool(pres[k]))
+        dots.set_data(P[t, pres, 0], P[t, pres, 1])
+        u = np.where(pres, size * np.cos(P[t, :, 2]), 0.0)
+        v = np.where(pres, size * np.sin(P[t, :, 2]), 0.0)
+        heads.set_offsets(P[t, :, :2])
+        heads.set_UVC(u, v)
+        lx, ly = [], []
+        if phi is not None:
+            idx = np.flatnonzero(pres)
+            for a in range(len(idx)):
+                for b in range(a + 1, len(idx)):
+                    pa, pb = P[t, idx[a], :2], P[t, idx[b], :2]
+                    if float(np.hypot(*(pa - pb))) < phi:
+                        lx += [pa[0], pb[0], np.nan]
+                        ly += [pa[1], pb[1], np.nan]
+        links.set_data(lx, ly)
+        marked = mark_step is not None and t == mark_step
+        sel = pres if mark_ids is None else pres & np.isin(trace.ids, list(mark_ids))
+        ring.set_data(P[t, sel, 0] if marked else [], P[t, sel, 1] if marked else [])
+        text = f"{title}  step {t}/{T}" if title else f"step {t}/{T}"
+        caption.set_text(text + (f": {mark_label}" if marked else ""))
+        caption.set_color("tab:red" if marked else "black")
+
+    return save_gif(fig, update, gif_frames(T, mark_step, max_frames), path, fps=fps)

@@ -17,6 +17,7 @@ def add_arguments(p) -> None:
     p.add_argument("file", metavar="FILE", help="a swarmproof-counterexample/1 file (swarmproof explore --out)")
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the trajectories with the violation marked")
+    p.add_argument("--gif", metavar="GIF", help="animate the replayed run (animated GIF), the violation step marked")
 
 
 def plot_replay(rr, path) -> str:
@@ -44,6 +45,20 @@ def plot_replay(rr, path) -> str:
     return save_png(fig, path)
 
 
+def gif_replay(rr, path) -> str:
+    """The replayed run as an animated GIF (:func:`swarmproof.checkers.plotting.animate_trace`)."""
+    from swarmproof.checkers.plotting import animate_trace
+
+    cx = rr.counterexample
+    status = "reproduced" if rr.reproduced else "not reproduced"
+    w = rr.verdict.witness or {}
+    named = [w[k] for k in ("robot", "child", "parent", "relocate", "root") if isinstance(w.get(k), int)]
+    named += [int(i) for i in w.get("robots", ()) if isinstance(i, int)]
+    return animate_trace(rr.result.trace, path, phi=float(cx.params["range"]),
+                         mark_step=None if rr.step is None else int(rr.step), mark_ids=named or None,
+                         title=f"{rr.result.trace.meta.get('algorithm', cx.algorithm)} {cx.property} ({status})")
+
+
 def run(args) -> int:
     from swarmproof.checkers.replay import replay_file
 
@@ -52,6 +67,8 @@ def run(args) -> int:
     doc["file"] = args.file
     if args.plot:
         doc["plot"] = plot_replay(rr, args.plot)
+    if args.gif:
+        doc["gif"] = gif_replay(rr, args.gif)
     if args.json:
         emit_json(doc)
     lines = rr.counterexample.format_steps()
@@ -59,5 +76,7 @@ def run(args) -> int:
                  f"{rr.verdict.message}")
     if args.plot:
         lines.append(f"plot: {doc['plot']}")
+    if args.gif:
+        lines.append(f"gif: {doc['gif']}")
     human(args, *lines)
     return 1 if rr.reproduced else 0

@@ -60,3 +60,31 @@ def test_bad_files_exit_2(capsys, tmp_path, content, match):
 def test_missing_file_exit_2(capsys, tmp_path):
     code = main(["replay", str(tmp_path / "nope.json")])
     assert code == 2 and "cannot read" in capsys.readouterr().err
+
+
+def test_gif_is_an_animated_gif_with_the_violation_held(capsys, tmp_path):
+    from PIL import Image
+
+    from swarmproof.checkers.plotting import gif_frames
+    from swarmproof.checkers.replay import replay
+    from swarmproof.commands.replay import gif_replay
+
+    # the explorer's shrunk song2014 "premises" counterexample (tests/checkers/test_explore_algorithms.py)
+    cx = Counterexample(algorithm="song2014", params={"range": 1.2, "v": 0.05, "omega": 0.7853981633974483,
+                                                      "dt": 1.0},
+                        lattice="square", robots=[(0, (0.0, 0.0, 0.0)),
+                                                  (1, (-0.12811435249807243, 0.7072398993156421, 0.0)),
+                                                  (2, (0.03094752572962002, -0.43640405663927384, 0.0))],
+                        seed=0, property="premises", violation={"step": 1, "message": "..."}, max_steps=8)
+    path = cx.save(tmp_path / "cx.json")
+    gif = tmp_path / "out" / "run.gif"
+    code = main(["replay", path, "--json", "--gif", str(gif)])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 1 and doc["reproduced"] is True and doc["step"] == 1 and doc["gif"] == str(gif)
+    data = gif.read_bytes()
+    assert data[:6] == b"GIF89a"
+    with Image.open(gif) as im:
+        assert im.is_animated and im.n_frames > 1
+    assert gif_frames(8, mark=1, max_frames=40) == [0] + [1] * 6 + [2, 3, 4, 5, 6, 7, 8]
+    # drawn deterministically: the same run gives the same bytes
+    assert open(gif_replay(replay(cx), tmp_path / "again.gif"), "rb").read() == data
