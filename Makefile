@@ -1,6 +1,7 @@
 # swarmproof: `make verify` and `make test` each set up .venv when missing,
 # install the project into it, then run. Only Python 3.11 (>= 3.10) and pip needed.
 PYTHON ?= python3
+VERIFY_ARGS ?=
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
@@ -15,8 +16,15 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 ## The main job: every check over the bundled library, as one property matrix.
+## The failure stays a failure: swarmproof's exit code (0 held, 1 violated, 3
+## inconclusive) is passed on (make itself then says "Error 1" and exits 2, as make
+## does for any failed recipe); the line after the table says what the code means.
 verify: setup
-	$(BIN)/swarmproof verify
+	@$(BIN)/swarmproof verify $(VERIFY_ARGS); rc=$$?; \
+	case $$rc in \
+	  1) echo "make verify: swarmproof verify exited 1: a claimed property was violated (rows marked 'violated' without *): a finding about the algorithm, not the tool breaking";; \
+	  3) echo "make verify: swarmproof verify exited 3: a claimed property is inconclusive (rows marked 'inconclusive'; budget or timeout): not a pass";; \
+	esac; exit $$rc
 
 ## The default suite (slow tests excluded; see tests/README.md).
 test: setup

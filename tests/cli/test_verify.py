@@ -100,3 +100,19 @@ def test_unknown_section_exit_2():
     with pytest.raises(SystemExit) as exc:
         main(["verify", "--section", "proofs"])
     assert exc.value.code == 2
+
+
+def test_tty_progress_overwrites_one_line():
+    import io
+
+    from swarmproof.commands.verify import _TtyProgress
+
+    buf = io.StringIO()
+    show = _TtyProgress(buf)
+    show.width = 30
+    show("lemmas: bounded_range")
+    show("exploration: song2014 connectivity: example 3 (max 300 + shrinking)")
+    show.clear()
+    assert buf.getvalue() == ("\r\x1b[Kverify: lemmas: bounded_range"
+                              "\r\x1b[Kverify: exploration: song2014 "
+                              "\r\x1b[K")
