@@ -115,6 +115,8 @@ class ExploreReport:
     claims: dict = field(default_factory=dict)
     #: What counterexample files name: the registry name or "module:qualname".
     algorithm_ref: str = ""
+    #: Proof-suite lemmas whose premises the algorithm's premise monitors check.
+    premise_lemmas: list = field(default_factory=list)
 
     @property
     def exit_code(self) -> int:
@@ -154,6 +156,7 @@ class ExploreReport:
                 "properties": {k: {**v.as_dict(), "claim": self.claims.get(k)}
                                for k, v in self.properties.items()},
                 "algorithm_ref": self.algorithm_ref or self.algorithm,
+                "premise_lemmas": list(self.premise_lemmas),
                 "exit_code": self.exit_code}
 
 
@@ -691,8 +694,12 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     if draw_faults:
         broken += [b for b in _fault_probe(draw_faults).broken_model_assumptions(algo.model) if b not in broken]
 
+    from swarmproof.invariants.premises import MONITOR_LEMMAS, premise_monitors_of
+
+    lemmas = sorted({MONITOR_LEMMAS[m] for m in premise_monitors_of(algo)})
     report = ExploreReport(spec.label, seed, max_examples, rng_robots, lats, kept, broken,
-                           claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref)
+                           claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref,
+                           premise_lemmas=lemmas)
     share = budget / len(props)
     strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults)
 

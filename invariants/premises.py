@@ -53,7 +53,7 @@ from .result import InvariantResult, state_value
 
 __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range",
            "descendants_in_parent_bounded_ranges", "check_premises", "params_of", "MONITORS",
-           "ALGORITHM_PREMISES", "premise_monitors_of"]
+           "MONITOR_LEMMAS", "ALGORITHM_PREMISES", "premise_monitors_of"]
 
 _MISSING = object()
 
@@ -269,6 +269,10 @@ MONITORS = {
     "relocate": lambda trace, phi, v, dt: relocate_path_in_range(trace, phi),
     "parent_bounded_range": lambda trace, phi, v, dt: descendants_in_parent_bounded_ranges(trace, phi, v, dt),
 }
+
+#: The proof-suite lemma (``swarmproof prove`` id) whose premise each monitor checks.
+MONITOR_LEMMAS = {"step_bounded": "bounded_range", "nclb": "nclb_link_kept",
+                  "relocate": "relocate_stays_in_range", "parent_bounded_range": "bounded_range"}
 
 #: The monitors whose lemmas each reference algorithm's proof uses (docs/proofs.md): song2016
 #: (001 Lemma 7, NCLB of Sec. V-C, the relocate case of Lemma 11); song2014 (000 Lemma 7:

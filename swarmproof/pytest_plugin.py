@@ -3,17 +3,23 @@
 Loaded automatically once swarmproof is installed.  It offers
 
 * the fixture ``swarmproof_explore``: call it like
-  :func:`swarmproof.checkers.explore.explore` and chain ``.assert_held()``::
+  :func:`swarmproof.checkers.explore.explore` -- with a registry name, a
+  ``"module:qualname"`` or your algorithm class -- and chain ``.assert_held()``::
 
       def test_my_algorithm_keeps_contact(swarmproof_explore):
-          swarmproof_explore("song2016", properties=["connectivity"], max_examples=20).assert_held()
+          swarmproof_explore(MyAlgorithm, properties=["connectivity"], max_examples=20).assert_held()
 
   The budget comes from the ``swarmproof_budget`` marker (default 60 s) unless
   passed; ``out_dir`` defaults to a per-test temporary folder, so a failure
   message names a counterexample file to ``swarmproof replay``;
 * the marker ``@pytest.mark.swarmproof_budget(SECONDS)``;
-* at the end of the session, a property table: every algorithm and property
-  explored in the session with its verdict (held = explored, never proved).
+* at the end of the session, the property table ("proof-of-property run"):
+  every algorithm and property explored in the session with its verdict
+  (held = explored, never proved) and whether it is claimed, then the lemmas
+  of the z3 proof suite with their verdicts (proved = for every input of the
+  normalised statement, docs/proofs.md) and the explored algorithms whose
+  premise monitors rest on each.  The proof suite runs only when the
+  fixture was used (about 1 s); ``--swarmproof-no-lemmas`` skips it.
 
 Everything heavy is imported lazily: the plugin costs nothing in test
 sessions that do not use it.
@@ -24,6 +30,14 @@ from __future__ import annotations
 import pytest
 
 _REPORTS_KEY = pytest.StashKey[list]()
+
+TABLE_TITLE = "swarmproof property table (explored, not proved; lemmas proved by z3)"
+
+
+def pytest_addoption(parser) -> None:
+    parser.getgroup("swarmproof").addoption(
+        "--swarmproof-no-lemmas", action="store_true", default=False,
+        help="do not run the z3 proof suite for the end-of-session property table")
 
 
 def pytest_configure(config) -> None:
@@ -49,13 +63,50 @@ def swarmproof_explore(request, tmp_path):
     return run
 
 
+def property_table(reports, lemmas=None, lemma_note: str = "") -> list[str]:
+    """The lines of the end-of-session table.
+
+    ``reports``: ``(test node id, ExploreReport)`` pairs; ``lemmas``: the proof
+    suite's :class:`~swarmproof.checkers.proofs.LemmaResult` s, or None with
+    ``lemma_note`` saying why there are none.  A lemma's "used by" names the
+    explored algorithms whose premise monitors (the ``premises`` property)
+    check its premises.
+    """
+    lines = [f"{'algorithm':<16} {'property':<13} {'verdict':<13} {'claimed':<8} {'scenarios':>9} {'steps':>8}  test"]
+    users: dict = {}
+    for nodeid, rep in reports:
+        for lemma in rep.premise_lemmas:
+            users.setdefault(lemma, [])
+            if rep.algorithm not in users[lemma]:
+                users[lemma].append(rep.algorithm)
+        for name, v in rep.properties.items():
+            claimed = "yes" if rep.claims.get(name) else "no"
+            lines.append(f"{rep.algorithm:<16} {name:<13} {v.status:<13} {claimed:<8} {v.scenarios:>9} "
+                         f"{v.steps:>8}  {nodeid}")
+    if lemmas is None:
+        lines.append(f"lemmas: {lemma_note}")
+        return lines
+    lines.append(f"{'lemma':<34} {'verdict':<15} used by (premise monitors)")
+    for r in lemmas:
+        lines.append(f"{r.id:<34} {r.status:<15} {', '.join(users.get(r.id, ())) or '-'}")
+    return lines
+
+
 def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
     reports = config.stash.get(_REPORTS_KEY, [])
     if not reports:
         return
+    lemmas, note = None, ""
+    if config.getoption("swarmproof_no_lemmas", False):
+        note = "not run (--swarmproof-no-lemmas)"
+    else:
+        try:
+            from swarmproof.checkers.proofs import run_suite
+
+            lemmas = run_suite()
+        except Exception as exc:  # noqa: BLE001 - the table must still print
+            note = f"not run ({type(exc).__name__}: {exc})"
     tr = terminalreporter
-    tr.section("swarmproof property table (explored, not proved)")
-    tr.write_line(f"{'algorithm':<16} {'property':<13} {'verdict':<13} {'scenarios':>9} {'steps':>8}  test")
-    for nodeid, rep in reports:
-        for name, v in rep.properties.items():
-            tr.write_line(f"{rep.algorithm:<16} {name:<13} {v.status:<13} {v.scenarios:>9} {v.steps:>8}  {nodeid}")
+    tr.section(TABLE_TITLE)
+    for line in property_table(reports, lemmas, note):
+        tr.write_line(line)

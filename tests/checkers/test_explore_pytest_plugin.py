@@ -1,4 +1,5 @@
-"""The pytest plugin (entry point pytest11): fixture, budget marker, assert_held, session property table."""
+"""The pytest plugin (entry point pytest11): fixture, budget marker, assert_held, session property table
+with the proof suite's lemmas."""
 
 import subprocess
 import sys
@@ -6,12 +7,22 @@ import textwrap
 
 import pytest
 
+from swarmproof.checkers.explore import ExploreReport, PropertyVerdict
+from swarmproof.pytest_plugin import TABLE_TITLE, property_table
+
 USER_TESTS = textwrap.dedent('''
     import pytest
 
+    from swarmproof.reference_impl.song2016 import Song2016
+
+
+    class MySong2016(Song2016):
+        claims = {"connectivity": "my paper, Lemma 3"}
+
+
     @pytest.mark.swarmproof_budget(20)
     def test_song2016_keeps_contact(swarmproof_explore):
-        swarmproof_explore("song2016", ["connectivity"], max_examples=3, robots=(3, 4)).assert_held()
+        swarmproof_explore(MySong2016, ["connectivity", "premises"], max_examples=3, robots=(3, 4)).assert_held()
 
     @pytest.mark.swarmproof_budget(4)
     def test_song2014_keeps_contact(swarmproof_explore):
@@ -20,16 +31,53 @@ USER_TESTS = textwrap.dedent('''
 ''')
 
 
+def _report(algorithm, lemmas, **verdicts):
+    rep = ExploreReport(algorithm, 0, 5, (3, 4), ("square",), [], [], claims={"connectivity": "001 Lemma 11"},
+                        premise_lemmas=lemmas)
+    for name, status in verdicts.items():
+        rep.properties[name] = PropertyVerdict(name, status, scenarios=5, steps=700)
+    return rep
+
+
+def test_property_table_lines_with_lemmas():
+    class R:
+        def __init__(self, id, status):
+            self.id, self.status = id, status
+
+    reports = [("t.py::a", _report("song2016", ["bounded_range", "nclb_link_kept"], connectivity="held",
+                                   premises="held")),
+               ("t.py::b", _report("song2014", ["bounded_range"], premises="violated"))]
+    lines = property_table(reports, [R("bounded_range", "proved"), R("scale_invariance", "proved"),
+                                     R("nclb_link_kept", "inconclusive")])
+    assert lines == [
+        "algorithm        property      verdict       claimed  scenarios    steps  test",
+        "song2016         connectivity  held          yes              5      700  t.py::a",
+        "song2016         premises      held          no               5      700  t.py::a",
+        "song2014         premises      violated      no               5      700  t.py::b",
+        "lemma                              verdict         used by (premise monitors)",
+        "bounded_range                      proved          song2016, song2014",
+        "scale_invariance                   proved          -",
+        "nclb_link_kept                     inconclusive    song2016",
+    ]
+    assert property_table(reports[:1], None, "not run (--swarmproof-no-lemmas)")[-1] == \
+        "lemmas: not run (--swarmproof-no-lemmas)"
+
+
 @pytest.mark.slow
 def test_plugin_gate_fails_with_counterexample_and_prints_table(tmp_path):
     (tmp_path / "test_user.py").write_text(USER_TESTS)
     proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tmp_path)],
-                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+                          cwd=tmp_path, capture_output=True, text=True, timeout=180)
     out = proc.stdout
     assert proc.returncode == 1, out
     assert "1 failed, 1 passed" in out
     assert "connectivity: violated" in out and "counterexample: song2014 violates connectivity" in out
     assert "replay: swarmproof replay" in out
-    assert "swarmproof property table (explored, not proved)" in out
-    table = out.split("swarmproof property table")[1]
-    assert "song2016" in table and "held" in table and "song2014" in table and "violated" in table
+    assert TABLE_TITLE in out
+    table = out.split(TABLE_TITLE)[1]
+    rows = [line.split() for line in table.splitlines()]
+    assert ["song2016", "connectivity", "held", "yes"] in [r[:4] for r in rows]   # the class's own claim
+    assert ["song2016", "premises", "held", "no"] in [r[:4] for r in rows]
+    assert ["song2014", "connectivity", "violated", "no"] in [r[:4] for r in rows]
+    assert ["bounded_range", "proved", "song2016,", "song2014"] in rows
+    assert ["relocate_stays_in_range", "proved", "song2016"] in rows
