@@ -47,6 +47,33 @@ def _g(x: float) -> str:
     return "0" if s == "-0" else s
 
 
+def _fault_phrases(faults: Mapping) -> list[str]:
+    """The faults of a ``FaultModel.describe()`` document in words (for :meth:`Counterexample.format_steps`).
+
+    >>> _fault_phrases({"crashes": {"3": [1]}, "additions": {"16": [[5, [0.5, 1.25, 0.0]]]},
+    ...                 "noise_std": [0.0125, 0.0], "drop_message": {"kind": "drop_set", "drops": [[1, 0, 2]]}})
+    ['robot 1 crashes at step 3', 'robot 5 joins at step 16 at (0.5, 1.25) heading 0 deg', '1 lost delivery', 'sensing noise sd 0.0125 on x, y and 0 rad on theta']
+    """
+    out = []
+    for step, ids in sorted((faults.get("crashes") or {}).items(), key=lambda kv: int(kv[0])):
+        out += [f"robot {int(i)} crashes at step {int(step)}" for i in ids]
+    for step, rows in sorted((faults.get("additions") or {}).items(), key=lambda kv: int(kv[0])):
+        out += [f"robot {int(i)} joins at step {int(step)} at ({_g(p[0])}, {_g(p[1])}) heading "
+                f"{_g(math.degrees(p[2]))} deg" for i, p in rows]
+    drops = faults.get("drop_message")
+    if drops:
+        k = len(drops.get("drops", ())) if isinstance(drops, Mapping) else 0
+        out.append(f"{k} lost deliver{'y' if k == 1 else 'ies'}" if k else "drop_message")
+    if faults.get("sensing_noise"):
+        out.append("sensing_noise")
+    if faults.get("message_loss"):
+        out.append(f"message loss {_g(faults['message_loss'])}")
+    noise = faults.get("noise_std") or []
+    if any(noise):
+        out.append(f"sensing noise sd {_g(noise[0])} on x, y and {_g(noise[1])} rad on theta")
+    return out
+
+
 @dataclass
 class Counterexample:
     """One counterexample (see the module docstring for the file layout).
@@ -224,14 +251,8 @@ class Counterexample:
         for k, (rid, (x, y, th)) in enumerate(self.robots, start=1):
             lines.append(f"{k}. place robot {rid} at ({_g(x)}, {_g(y)}) heading {_g(math.degrees(th))} deg")
         sched = "synchronous" if not self.schedule else "asynchronous schedule from the file"
-        faults = self.faults or {}
-        active = [key for key in ("crashes", "additions") if faults.get(key)]
-        active += [key for key in ("drop_message", "sensing_noise") if faults.get(key)]
-        if faults.get("message_loss"):
-            active.append("message_loss")
-        if any(faults.get("noise_std") or []):
-            active.append("noise_std")
-        fault_text = "no faults" if not active else "faults: " + ", ".join(active)
+        active = _fault_phrases(self.faults or {})
+        fault_text = "no faults" if not active else "faults: " + "; ".join(active)
         cap = "" if self.max_steps is None else f" for at most {self.max_steps} steps"
         lines.append(f"{k + 1}. run {self.algorithm} with seed {self.seed}{cap} ({sched}, {fault_text})")
         if self.broken_assumptions:

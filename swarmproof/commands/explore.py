@@ -2,7 +2,7 @@
 
 Draws connected starts on the bundled periodic lattices, runs ALGORITHM and
 judges each requested property (default: all of connectivity, tree_links,
-termination, formation, collision, deadlock, oscillation); a violation is
+termination, formation, collision, deadlock, oscillation, premises); a violation is
 shrunk and, with ``--out DIR``, written as a swarmproof-counterexample/1 file
 to re-run with ``swarmproof replay FILE``.  "held" means held over what was
 explored, never proved.
@@ -25,7 +25,8 @@ DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
 
 
 def add_arguments(p) -> None:
-    p.add_argument("algorithm", metavar="ALGORITHM", help="registry name, e.g. song2016, song2014")
+    p.add_argument("algorithm", metavar="ALGORITHM",
+                   help="registry name, e.g. song2016, song2014, or module:qualname of your algorithm class")
     p.add_argument("--property", action="append", dest="properties", metavar="P",
                    help="property to check, repeatable (default: all)")
     p.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",

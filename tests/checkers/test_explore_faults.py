@@ -32,7 +32,9 @@ def test_drawn_additions_break_song2016_formation_named_and_replayed(tmp_path):
     assert n == 3 and cx.broken_assumptions == ["fixed_robot_set"]
     joined = [rid for rows in cx.faults["additions"].values() for rid, _ in rows]
     assert joined == [3]  # the next unused ID
-    assert "faults: additions" in cx.format_steps()[n + 2]
+    [(step, [[_, (x, y, _th)]])] = cx.faults["additions"].items()
+    assert f"(synchronous, faults: robot 3 joins at step {step} at ({x:.6g}, {y:.6g}) heading " \
+        in cx.format_steps()[n + 2]
     rr = replay_file(v.counterexample_path)
     assert rr.reproduced and rr.verdict.message == cx.violation["message"]
     assert 3 in rr.result.final_ids.tolist()  # the newcomer is part of the final configuration

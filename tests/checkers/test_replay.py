@@ -57,7 +57,8 @@ def test_format_steps_exact_lines():
         "lattice hexagon, range 1.5, v=0.05, omega=0.5, dt=1",
         "1. place robot 2 at (0, 0) heading 0 deg",
         "2. place robot 0 at (0.25, -1) heading -90 deg",
-        "3. run song2016 with seed 7 (synchronous, faults: crashes) -- broken assumptions: no_crashes",
+        "3. run song2016 with seed 7 (synchronous, faults: robot 1 crashes at step 3) -- broken assumptions: "
+        "no_crashes",
         "4. at step 4: split after step 4",
     ]
 

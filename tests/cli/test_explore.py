@@ -87,3 +87,14 @@ def test_same_json_in_a_fresh_process_as_in_process(tmp_path):
     here = explore("song2014", ["connectivity", "deadlock"], budget=120, max_examples=8, robots=(3, 5), seed=2)
     assert not any(v.budget_hit for v in here.properties.values())
     assert doc["properties"] == json.loads(json.dumps(here.as_dict()["properties"]))
+
+
+def test_module_qualname_algorithm_and_premises_property(capsys, tmp_path):
+    code, out, err = run(capsys, "swarmproof.reference_impl.examples:GatherToLowestId", "--property", "premises",
+                         "--budget", "10", "--max-examples", "2", "--robots", "3..3", "--json")
+    doc = json.loads(out)
+    assert code == 3 and doc["algorithm"] == "example-gather"
+    assert doc["algorithm_ref"] == "swarmproof.reference_impl.examples:GatherToLowestId"
+    assert doc["properties"]["premises"]["status"] == "inconclusive" and doc["premise_lemmas"] == []
+    code, out, err = run(capsys, "no_such_pkg:Alg", "--property", "premises")
+    assert code == 2 and "algorithm='no_such_pkg:Alg' cannot be imported" in err and "Traceback" not in err
