@@ -17,6 +17,14 @@ knows; time runs in synchronous steps of ``dt``.  In every step:
    :class:`~swarmproof.reference_impl.protocol.Observation` (read-only
    arrays, no global coordinates unless ``sensing="global"``) and returns a
    :class:`~swarmproof.reference_impl.protocol.Command`.
+   Optional shortcut (performance only): a controller may define
+   ``repeat_step(step) -> Command | None``, "the command :meth:`step` would
+   return for the observation of the previous step with only the step number
+   changed, or None".  In the plain model (local sensing, neighbor messages,
+   no fault hook) the engine calls it instead of ``step`` for a robot that
+   senses the same neighbor IDs at bit-identical poses and hears the very
+   same message objects as in the previous step, and calls ``step`` when it
+   returns None.  Sensing itself is reused when no present robot moved.
 5. *Motion* (vectorized): differential drive, turn in place then drive
    straight: ``|turn|`` is clamped to ``omega*dt`` and ``forward`` to
    ``[0, v*(dt - |turn|/omega)]`` (docs/decisions.md "Model and geometry");
@@ -403,6 +411,16 @@ def _robot_rng(seed: int, slot: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
 
 
+def _command_values(cmd: Any, robot_id, step: int) -> tuple[float, float]:
+    """``(turn, forward)`` of a controller's command, checked (fast for well-formed ones)."""
+    if type(cmd) is Command:  # fast path; anything unusual gets the full check
+        tu, fw = cmd.turn, cmd.forward
+        if (type(tu) is float and type(fw) is float and fw >= 0.0
+                and tu - tu == 0.0 and fw - fw == 0.0):
+            return tu, fw
+    return _check_command(cmd, robot_id, step)
+
+
 def _check_command(cmd: Any, robot_id, step: int) -> tuple[float, float]:
     if not isinstance(cmd, Command):
         raise ProtocolError(f"controller of robot {robot_id!r} returned {cmd!r} at step {step}, "
@@ -573,6 +591,17 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     state_hist = [states]
     msg_hist: list | None = [] if record_messages else None
     last_msgs: list = [None] * n_total
+    sensed = None  # (idx, position bytes, per-robot neighbor IDs, slots, poses)
+    # Repeating the last command (Controller.repeat_step) when a robot's observation is
+    # last step's except the step number: only in the plain model (every robot acts,
+    # hears its neighbors, senses exactly; no robot joins or crashes).
+    repeaters = [getattr(c, "repeat_step", None) for c in controllers]
+    repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
+                 and not faults.drops_messages and not faults.noisy and faults.schedule is None
+                 and not any_presence_change and all(callable(f) for f in repeaters))
+    last_keys = resensed = None
+    heard_msgs: list = [None] * n_total
+    idx_l_prev: list = []
 
     phi = float(params.range)
     max_turn = params.omega * params.dt
@@ -614,48 +643,77 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         else:
             act = np.ones(m, dtype=bool)
 
-        # 2. sensing (vectorized)
+        # 2. sensing (vectorized).  Sensing is a pure function of the present robots'
+        #    poses, so when none of them changed since the last sensing (bit for bit) the
+        #    last result is reused; noise is drawn afresh every step, so never with noise.
         pp = poses[idx]
-        if anonymous:
-            ii, jj = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
-            mask = ii != jj
-            src, dst = ii[mask], jj[mask]
-            rel = _rel_rows(pp[src], pp[dst])
-            order = np.lexsort((rel[:, 1], rel[:, 0], src))
+        pp_bytes = pp.tobytes()
+        if (sensed is not None and not noisy and sensed[1] == pp_bytes
+                and np.array_equal(sensed[0], idx)):
+            nb_ids, nb_slots, nb_rel = sensed[2]
         else:
-            i, j, _ = neighbor_pairs(pp[:, :2], phi)
-            src = np.concatenate((i, j))
-            dst = np.concatenate((j, i))
-            order = np.lexsort((pres_ids[dst], src))
-            rel = None
-        src = src[order]
-        dst = dst[order]
-        rel = _rel_rows(pp[src], pp[dst]) if rel is None else rel[order]
-        off = np.zeros(m + 1, dtype=np.intp)
-        np.cumsum(np.bincount(src, minlength=m), out=off[1:])
-        if noisy:
-            for a in range(m):
-                lo, hi = off[a], off[a + 1]
-                if hi == lo:
-                    continue
-                block = rel[lo:hi]
-                if std_xy > 0 or std_th > 0:
-                    block = block + np.column_stack((
-                        fault_rng.normal(0.0, std_xy, (hi - lo, 2)) if std_xy > 0 else np.zeros((hi - lo, 2)),
-                        fault_rng.normal(0.0, std_th, hi - lo) if std_th > 0 else np.zeros(hi - lo)))
-                    block[:, 2] = wrap_angle(block[:, 2])
-                if faults.sensing_noise is not None:
-                    block = np.asarray(faults.sensing_noise(t, int(pres_ids[a]), block.copy(), fault_rng),
-                                       dtype=float)
-                    if block.shape != (hi - lo, 3):
-                        raise UsageError(f"faults.sensing_noise returned shape={block.shape!r}, "
-                                         f"expected ({hi - lo}, 3)")
-                rel[lo:hi] = block
-        rel.setflags(write=False)
-        dst_slots = idx[dst]
-        dst_ids = ids[dst_slots].tolist()
-        dst_slots_l = dst_slots.tolist()
-        off_l = off.tolist()
+            if anonymous:
+                ii, jj = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
+                mask = ii != jj
+                src, dst = ii[mask], jj[mask]
+                rel = _rel_rows(pp[src], pp[dst])
+                order = np.lexsort((rel[:, 1], rel[:, 0], src))
+            else:
+                i, j, _ = neighbor_pairs(pp[:, :2], phi)
+                src = np.concatenate((i, j))
+                dst = np.concatenate((j, i))
+                order = np.lexsort((pres_ids[dst], src))
+                rel = None
+            src = src[order]
+            dst = dst[order]
+            rel = _rel_rows(pp[src], pp[dst]) if rel is None else rel[order]
+            off = np.zeros(m + 1, dtype=np.intp)
+            np.cumsum(np.bincount(src, minlength=m), out=off[1:])
+            if noisy:
+                for a in range(m):
+                    lo, hi = off[a], off[a + 1]
+                    if hi == lo:
+                        continue
+                    block = rel[lo:hi]
+                    if std_xy > 0 or std_th > 0:
+                        block = block + np.column_stack((
+                            fault_rng.normal(0.0, std_xy, (hi - lo, 2)) if std_xy > 0 else np.zeros((hi - lo, 2)),
+                            fault_rng.normal(0.0, std_th, hi - lo) if std_th > 0 else np.zeros(hi - lo)))
+                        block[:, 2] = wrap_angle(block[:, 2])
+                    if faults.sensing_noise is not None:
+                        block = np.asarray(faults.sensing_noise(t, int(pres_ids[a]), block.copy(), fault_rng),
+                                           dtype=float)
+                        if block.shape != (hi - lo, 3):
+                            raise UsageError(f"faults.sensing_noise returned shape={block.shape!r}, "
+                                             f"expected ({hi - lo}, 3)")
+                    rel[lo:hi] = block
+            rel.setflags(write=False)
+            dst_slots = idx[dst]
+            dst_ids = ids[dst_slots].tolist()
+            dst_slots_l = dst_slots.tolist()
+            off_l = off.tolist()
+            nb_ids = [tuple(dst_ids[off_l[a]:off_l[a + 1]]) for a in range(m)]
+            nb_slots = [dst_slots_l[off_l[a]:off_l[a + 1]] for a in range(m)]
+            nb_rel = [rel[off_l[a]:off_l[a + 1]] for a in range(m)]
+            sensed = None if noisy else (idx, pp_bytes, (nb_ids, nb_slots, nb_rel))
+            if repeat_ok:
+                # which robots sense something else than last step (IDs or pose bits)
+                keys = [(nb_ids[a], nb_slots[a], nb_rel[a].tobytes()) for a in range(m)]
+                if last_keys is not None and len(last_keys) == m:
+                    resensed = [x != y for x, y in zip(keys, last_keys)]
+                else:
+                    resensed = None
+                last_keys = keys
+        # Robots whose whole observation (neighbor IDs, pose bits, message objects)
+        # is last step's may repeat their last command (Controller.repeat_step).
+        same_obs = None
+        if repeat_ok and t > 0 and resensed is not None:
+            new_senders = {s for s in idx_l_prev if last_msgs[s] is not heard_msgs[s]}
+            if new_senders:
+                same_obs = [not r and new_senders.isdisjoint(sl) for r, sl in zip(resensed, nb_slots)]
+            else:
+                same_obs = [not r for r in resensed]
+        resensed = [False] * m if repeat_ok else None
 
         # 3.-4. messages and decisions (per robot)
         turns_l = [0.0] * m
@@ -666,19 +724,34 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         idx_l = idx.tolist()
         pres_ids_l = pres_ids.tolist()
         all_senders = [(ids_list[s], s) for s in idx_l] if comm == "all" else None
+        # every present robot broadcast last step (the usual case): no None to filter
+        silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
+        get_msg = last_msgs.__getitem__
         for a in range(m):
             if not act_l[a]:
                 continue
             k = idx_l[a]
-            lo, hi = off_l[a], off_l[a + 1]
             my_id = pres_ids_l[a]
+            if same_obs is not None and same_obs[a]:
+                cmd = repeaters[k](t)
+                if cmd is not None:
+                    tu, fw = _command_values(cmd, my_id, t)
+                    turns_l[a] = tu
+                    fwds_l[a] = fw
+                    new_msgs[k] = cmd.message
+                    continue
             if comm == "none":
                 heard = ()
             elif comm == "all":
                 heard = [(sid, s) for sid, s in all_senders if s != k]
+            elif not drops and not silent:
+                heard = None
+                msgs = dict(zip(nb_ids[a], map(get_msg, nb_slots[a])))
             else:
-                heard = zip(dst_ids[lo:hi], dst_slots_l[lo:hi])
-            if not drops:
+                heard = zip(nb_ids[a], nb_slots[a])
+            if heard is None:
+                pass
+            elif not drops:
                 msgs = {sid: last_msgs[s] for sid, s in heard if last_msgs[s] is not None}
             else:
                 msgs = {}
@@ -698,15 +771,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 own = poses[k].copy()
                 own.setflags(write=False)
             obs = _new_observation(t, None if anonymous else my_id,
-                                   None if anonymous else tuple(dst_ids[lo:hi]), rel[lo:hi], msgs, own)
+                                   None if anonymous else nb_ids[a], nb_rel[a], msgs, own)
             cmd = controllers[k].step(obs)
-            if type(cmd) is Command:  # fast path; anything unusual gets the full check
-                tu, fw = cmd.turn, cmd.forward
-                if not (type(tu) is float and type(fw) is float and fw >= 0.0
-                        and tu - tu == 0.0 and fw - fw == 0.0):
-                    tu, fw = _check_command(cmd, my_id, t)
-            else:
-                tu, fw = _check_command(cmd, my_id, t)
+            tu, fw = _command_values(cmd, my_id, t)
             turns_l[a] = tu
             fwds_l[a] = fw
             new_msgs[k] = cmd.message
@@ -754,6 +821,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         if msg_hist is not None:
             msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
         quiet_step = (not changed and np.array_equal(old, poses) and new_msgs == last_msgs)
+        heard_msgs = last_msgs
+        idx_l_prev = idx_l
         last_msgs = new_msgs
         states = new_states
         quiet = quiet + 1 if quiet_step else 0

@@ -62,6 +62,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from operator import attrgetter
 from typing import Any, Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -349,17 +350,25 @@ def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
 
 
 def _shortest(msgs: Sequence[Song2016Message], attr: str) -> tuple[int, ...]:
-    """Shortest path among ``msgs`` (ties: the highest sender ID); () if none."""
-    best: Song2016Message | None = None
+    """Shortest path among ``msgs`` (ties: the highest sender ID); () if none.
+
+    ``attr`` is ``"path_from_root"`` or ``"path_from_relocate"``.  The first
+    message is the first best; a later one replaces it only when its path is
+    shorter, or as long with a higher sender ID.
+    """
+    get = _PATH_OF[attr]
+    best: tuple[int, ...] | None = None
+    best_len = best_sender = 0
     for m in msgs:
-        p = getattr(m, attr)
-        if best is None:
-            best = m
-            continue
-        bp = getattr(best, attr)
-        if len(p) < len(bp) or (len(p) == len(bp) and m.sender_id > best.sender_id):
-            best = m
-    return () if best is None else getattr(best, attr)
+        p = get(m)
+        lp = len(p)
+        if best is None or lp < best_len or (lp == best_len and m.sender_id > best_sender):
+            best, best_len, best_sender = p, lp, m.sender_id
+    return () if best is None else best
+
+
+_PATH_OF = {"path_from_root": attrgetter("path_from_root"),
+            "path_from_relocate": attrgetter("path_from_relocate")}
 
 
 def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
@@ -431,8 +440,9 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
     # 10 foreach inMsg in inMessages do
     for m in in_messages:
         # 11 myMsg.highestID <- max(myMsg.highestID, inMsg.highestID)
-        if m.highest_id > highest:
-            highest = m.highest_id
+        h = m.highest_id
+        if h > highest:
+            highest = h
         in_root_path = my_id in m.path_from_root
         in_reloc_path = my_id in m.path_from_relocate
         if per_message:
@@ -454,14 +464,18 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
             # line 12 read per field (Sec. V-B prose): root information (lines 14-16)
             # needs myID not in pathFromRoot, relocate information (line 18) needs
             # myID not in pathFromRelocate.
+            # (_gt and _max written out: None is -inf, as in lines 6-7)
             if not in_root_path:
                 root_ok.append(m)
-                if _gt(m.root_id, root):
-                    root = m.root_id
+                r = m.root_id
+                if r is not None and (root is None or r > root):
+                    root = r
                     vacancy_from_msgs = m.vacancy
             if not in_reloc_path:
                 reloc_ok.append(m)
-                relocate = _max(relocate, m.relocate_id)
+                r = m.relocate_id
+                if r is not None and (relocate is None or r > relocate):
+                    relocate = r
     # 20 end
     if per_message:
         root_ok = reloc_ok = eligible
@@ -889,6 +903,21 @@ class Song2016Controller:
         self._last_cmd = cmd
         return cmd
 
+    def repeat_step(self, t: int) -> Command | None:
+        """The command of :meth:`step` for an observation equal to the last one but for
+        the step number ``t``, or None when :meth:`step` must be called.
+
+        The engine calls it instead of :meth:`step` when this robot senses the same
+        neighbor IDs at bit-identical body-frame poses and hears the very same message
+        objects as in the previous step (performance only).  It is the first test
+        :meth:`step` itself makes: with every input unchanged, only an expiring
+        timeout can change the decision, so the last command is repeated and nothing
+        else happens (the state snapshot stays the same object).
+        """
+        if self.memoize and self._last_cmd is not None and not self._time_matters(t):
+            return self._last_cmd
+        return None
+
     def _time_matters(self, t: int) -> bool:
         """Whether a timeout of this robot expires at step ``t`` given last step's
         message (the only inputs of :meth:`step` that depend on time alone)."""
@@ -1113,4 +1142,12 @@ class Song2016:
 
     def finished(self, states: Sequence[Hashable]) -> bool:
         """True when no unstable robot remains (001 Sec. V-C, last paragraph)."""
-        return all(dict(s)["stable"] for s in states)
+        for s in states:
+            # the snapshot starts with ("stable", flag); anything else is read as a dict
+            first = s[0] if type(s) is tuple and s else None
+            if type(first) is tuple and len(first) == 2 and first[0] == "stable":
+                if not first[1]:
+                    return False
+            elif not dict(s)["stable"]:
+                return False
+        return True

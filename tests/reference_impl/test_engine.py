@@ -9,7 +9,7 @@ import pytest
 
 from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError
 from swarmproof.models.trace import InitialConfiguration, Trace
-from swarmproof.reference_impl.engine import FaultModel, default_static_window, simulate
+from swarmproof.reference_impl.engine import FaultModel, TableSchedule, default_static_window, simulate
 from swarmproof.reference_impl.examples import GatherToLowestId
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import (Assumption, Command, Params, RobotModel,
@@ -282,3 +282,79 @@ def test_progress_is_reported_and_messages_recorded():
                  progress=lambda step, cap: calls.append((step, cap)))
     assert calls == [(50, 120), (100, 120), (120, 120)]
     assert r.trace.messages[0] == {0: ("m", 0), 1: ("m", 1)} and len(r.trace.messages) == 120
+
+
+class Repeating:
+    """Controllers that log whether the engine called ``step`` or ``repeat_step``.
+
+    Robot 0 drives in steps 0 and 4, robot 1 changes its broadcast in step 2 (their
+    ``repeat_step`` declines then); every other decision repeats the last command.
+    """
+
+    name = "repeating"
+    model = RobotModel()
+    assumptions = ()
+
+    def __init__(self, with_repeat=True):
+        self.calls = []
+        self.with_repeat = with_repeat
+
+    def controller(self, rid, params, lattice, rng):
+        calls = self.calls
+
+        class C:
+            msg = ("m", rid)
+            last = None
+
+            def step(self, obs):
+                calls.append((obs.step, rid, "step"))
+                if rid == 1 and obs.step == 2:
+                    self.msg = ("changed", rid)
+                drive = (rid, obs.step) in ((0, 0), (0, 4))
+                self.last = Command(message=self.msg, forward=0.05 if drive else 0.0)
+                return self.last
+
+            def state(self):
+                return (("msg", self.msg),)
+
+        class R(C):
+            def repeat_step(self, t):
+                calls.append((t, rid, "repeat"))
+                return None if (rid, t) in ((1, 2), (0, 4)) else self.last
+
+        return R() if self.with_repeat else C()
+
+    def finished(self, states):
+        return False
+
+
+def test_repeat_step_only_when_the_whole_observation_is_unchanged():
+    """Sensing reused when nothing moved, and repeat_step called instead of step exactly
+    for the robots whose neighbor IDs, pose bits and message objects are last step's."""
+    init = InitialConfiguration([0, 1, 2, 3], [[0, 0, 0], [0.6, 0, 0], [1.2, 0, 0], [5, 0, 0]])
+    alg = Repeating()
+    kw = dict(max_steps=6, stop_when_static=False, record_messages=True)
+    r = simulate(alg, None, init, P, seed=0, **kw)
+    by_step = {}
+    for t, rid, how in alg.calls:
+        by_step.setdefault(t, []).append(f"{rid}{how[0]}")
+    assert by_step == {
+        0: ["0s", "1s", "2s", "3s"],              # no previous observation
+        1: ["0s", "1s", "2s", "3r"],              # 0 moved (0, 1 resense); first messages heard
+        2: ["0r", "1r", "1s", "2r", "3r"],        # nothing moved or changed; 1 declines
+        3: ["0s", "1r", "2s", "3r"],              # 1's new message reaches 0 and 2
+        4: ["0r", "0s", "1r", "2r", "3r"],        # 0 declines and drives
+        5: ["0s", "1s", "2r", "3r"],              # 0 moved, no message changed
+    }
+    plain = Repeating(with_repeat=False)
+    q = simulate(plain, None, init, P, seed=0, **kw)
+    assert q.trace.to_json() == r.trace.to_json()
+    assert {how for _, _, how in plain.calls} == {"step"}
+
+
+def test_repeat_step_is_not_used_under_a_fault_model():
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.6, 0, 0]])
+    alg = Repeating()
+    simulate(alg, None, init, P, seed=0, max_steps=4, stop_when_static=False,
+             faults=FaultModel(schedule=TableSchedule({})))
+    assert [how for _, _, how in alg.calls] == ["step"] * 8
