@@ -110,7 +110,7 @@ def test_exploration_rows_held_claimed_violated_and_finding():
     assert Report(rows).exit_code == 1
     doc = violated.to_json()
     assert doc["reproduce"] == ("swarmproof explore song2014 --property tree_links --max-examples 10 "
-                                "--robots 3..5 --seed 0 --budget 90 --out DIR")
+                                "--robots 3..5 --seed 0 --budget 180 --out DIR")
     assert (doc["status"], doc["counterexample"], doc["counterexample_robots"]) == ("violated", None, 3)
     assert doc["violation"] == {"step": 9, "message": "step 9: the link child 1 -> parent 0 broke (distance "
                                                       "1.19082 -> 1.20562, range 1.2; persistent links)"}
