@@ -61,6 +61,9 @@ __all__ = [
     "lookup",
     "model_to_numbers",
     "confirm_trees",
+    "rooted_shape",
+    "tree_cases",
+    "TREE_SOLVER_PARAMS",
     "kernel_oracle_check",
 ]
 
@@ -78,14 +81,19 @@ class Encoding:
     ``premises`` are named (the names go to ``assert_and_track``);
     ``cases`` optionally splits the lemma into cases, each a list of extra
     named premises: the lemma holds iff it holds in every case (a premise
-    ``A or B`` proved as ``A => C`` and ``B => C``).  ``variables`` are the
-    free variables, in the order a counterexample lists them.
+    ``A or B`` proved as ``A => C`` and ``B => C``).  ``parts`` optionally
+    splits a conjunctive conclusion into named conjuncts, each proved on its
+    own with all the premises (``P => (A and B)`` holds iff ``P => A`` and
+    ``P => B``); ``conclusion`` must then be their conjunction.
+    ``variables`` are the free variables, in the order a counterexample
+    lists them.
     """
 
     premises: list
     conclusion: z3.BoolRef
     variables: list
     cases: list = field(default_factory=list)
+    parts: list = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -655,11 +663,16 @@ def model_to_numbers(model: z3.ModelRef, variables: Sequence) -> dict:
     return {str(v): _number(model.eval(v, model_completion=True)) for v in variables}
 
 
-def _check(premises: list, negate: z3.BoolRef | None, timeout_ms: float, params) -> tuple:
-    """One fresh solver: premises (tracked by name) and optionally ``Not(negate)``.
+def _check(premises: list, negate: z3.BoolRef | None, deadline: float, params) -> tuple:
+    """One fresh solver: premises (tracked by name) and optionally ``Not(negate)``,
+    with the time left until ``deadline`` (``time.perf_counter()`` seconds).
 
-    Returns (z3 result, model or None, reason_unknown)."""
-    s = _solver(timeout_ms, params)
+    Returns (z3 result, model or None, reason_unknown); the result is None
+    when the deadline has already passed (nothing was checked)."""
+    left_ms = (deadline - time.perf_counter()) * 1000
+    if left_ms <= 0:
+        return None, None, "timeout"
+    s = _solver(left_ms, params)
     for k, (name, term) in enumerate(premises):
         s.assert_and_track(term, f"{k}:{name}")
     if negate is not None:
@@ -678,35 +691,38 @@ def _cases(enc: Encoding) -> list:
     return [(name, list(enc.premises) + list(extra)) for name, extra in enc.cases]
 
 
+def _outcome(status: str, premises_satisfiable, reason: str = "", counterexample=None) -> dict:
+    return dict(status=status, premises_satisfiable=premises_satisfiable,
+                counterexample=counterexample, reason=reason)
+
+
 def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
-    """Premises satisfiable, then validity, case by case.  Returns a dict with
-    ``status``, ``premises_satisfiable``, ``counterexample``, ``reason``."""
+    """Premises satisfiable, then validity, case by case (and part by part).
+    Returns a dict with ``status``, ``premises_satisfiable``, ``counterexample``,
+    ``reason``."""
     for case, prem in _cases(enc):
         where = f" (case {case})" if case else ""
-        left = (deadline - time.perf_counter()) * 1000
-        if left <= 0:
-            return dict(status="inconclusive", premises_satisfiable=None, counterexample=None,
-                        reason=f"timeout before checking the premises{where}")
-        r, _, why = _check(prem, None, left, params)
+        r, _, why = _check(prem, None, deadline, params)
+        if r is None:
+            return _outcome("inconclusive", None, f"timeout before checking the premises{where}")
         if r == z3.unsat:
-            return dict(status="inconclusive", premises_satisfiable=False, counterexample=None,
-                        reason=f"premises unsatisfiable{where}: the lemma would hold vacuously")
+            return _outcome("inconclusive", False,
+                            f"premises unsatisfiable{where}: the lemma would hold vacuously")
         if r == z3.unknown:
-            return dict(status="inconclusive", premises_satisfiable=None, counterexample=None,
-                        reason=f"z3 unknown on the premises{where}: {why}")
-        left = (deadline - time.perf_counter()) * 1000
-        if left <= 0:
-            return dict(status="inconclusive", premises_satisfiable=True, counterexample=None,
-                        reason=f"timeout before checking the conclusion{where}")
-        r, model, why = _check(prem, enc.conclusion, left, params)
-        if r == z3.sat:
-            cex = model_to_numbers(model, enc.variables)
-            return dict(status="counterexample", premises_satisfiable=True, counterexample=cex,
-                        reason=f"z3 found premises true and the conclusion false{where}")
-        if r == z3.unknown:
-            return dict(status="inconclusive", premises_satisfiable=True, counterexample=None,
-                        reason=f"z3 unknown on the negated conclusion{where}: {why}")
-    return dict(status="proved", premises_satisfiable=True, counterexample=None, reason="")
+            return _outcome("inconclusive", None, f"z3 unknown on the premises{where}: {why}")
+        for part, concl in (enc.parts or [("", enc.conclusion)]):
+            what = f"the conclusion part {part}" if part else "the conclusion"
+            r, model, why = _check(prem, concl, deadline, params)
+            if r is None:
+                return _outcome("inconclusive", True, f"timeout before checking {what}{where}")
+            if r == z3.sat:
+                return _outcome("counterexample", True,
+                                f"z3 found premises true and {what} false{where}",
+                                model_to_numbers(model, enc.variables))
+            if r == z3.unknown:
+                return _outcome("inconclusive", True,
+                                f"z3 unknown on the negated {what[4:]}{where}: {why}")
+    return _outcome("proved", True)
 
 
 def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
@@ -772,29 +788,53 @@ def run_suite(ids: Iterable[str] | None = None,
 
 # ------------------------------------- direct confirmation on small trees
 
-def _tree_case_encoding(tree, root, moving) -> Encoding:
+#: nlsat option for the direct tree confirmation: keep the variables in the order
+#: they first appear (``s``, the moves ``m_k``, then each link's vector) instead
+#: of nlsat's reordering heuristic.  Measured (docs/performance.md, "Proof
+#: suite"): with the heuristic 222 of the 640 cases up to 5 robots timed out at
+#: 2 s; with this order and the conclusion proved link by link, none.
+TREE_SOLVER_PARAMS = (("variable_ordering_strategy", 3),)
+
+
+def _tree_case_encoding(tree, root, moving, bounded_range: str = "phi_minus_vdt") -> Encoding:
     """001 Lemma 11 stated directly for one rooted tree and one set of moving
     robots (no per-link lemma used): all links' premises at once, conclusion
-    "every link kept".  Variables are per link (a linear change of
+    "every link kept", one ``part`` per link.
+
+    Normalisations (docs/proofs.md): the root's old position at the origin,
+    ``phi = 1``, ``s = v dt / phi``; a robot that does not move has the
+    constant move ``(0, 0)``.  Variables are per link (a linear change of
     coordinates, one-to-one for a tree): for a moving parent
     ``u_c = p_p(t+dt) - p_c(t)``, for a still parent ``d_c = p_c(t) - p_p(t)``;
     ``m_k = p_k(t+dt) - p_k(t)`` for a moving robot.  The case of each link
     follows the motion strategy (001 Sec. V-C): a moving parent obeys NCLB,
-    a child of a still parent moves straight toward it."""
+    a child of a still parent moves straight toward it.  ``bounded_range="phi"``
+    is the negative control (NCLB with radius ``phi`` instead of ``phi - v dt``).
+
+    Examples
+    --------
+    >>> import networkx as nx
+    >>> enc = _tree_case_encoding(nx.path_graph(3), 0, frozenset({1}))
+    >>> [name for name, _ in enc.premises]
+    ['step_below_range', 'robot_1_moves_at_most_v_dt', 'link_0_1_at_t', 'child_1_toward_still_parent_0', 'link_1_2_at_t', 'nclb_1_in_bounded_range_of_2']
+    >>> [name for name, _ in enc.parts]
+    ['link_0_1_kept', 'link_1_2_kept']
+    """
     import networkx as nx
 
     s = z3.Real("s")
     parent = {v: u for u, v in nx.bfs_edges(tree, root)}
+    rad2 = (1 - s) * (1 - s) if bounded_range == "phi_minus_vdt" else z3.RealVal(1)
     m = {k: (_pt(f"m{k}") if k in moving else _ORIGIN) for k in sorted(tree.nodes)}
     prem = [_step_range(s)] + [(f"robot_{k}_moves_at_most_v_dt", dist2(m[k]) <= s * s)
                                for k in sorted(moving)]
-    concl, variables = [], [s] + _vars(*[m[k] for k in sorted(moving)])
+    parts, variables = [], [s] + _vars(*[m[k] for k in sorted(moving)])
     for c, p in sorted(parent.items()):
         if p in moving:
             u = _pt(f"u{c}")
             prem += [(f"link_{p}_{c}_at_t", dist2(u, m[p]) <= 1),
-                     (f"nclb_{p}_in_bounded_range_of_{c}", dist2(u) <= (1 - s) * (1 - s))]
-            concl.append(dist2(m[c], u) <= 1)
+                     (f"nclb_{p}_in_bounded_range_of_{c}", dist2(u) <= rad2)]
+            parts.append((f"link_{p}_{c}_kept", dist2(m[c], u) <= 1))
             variables += list(u)
         else:
             d = _pt(f"d{c}")
@@ -804,39 +844,134 @@ def _tree_case_encoding(tree, root, moving) -> Encoding:
                 prem.append((f"child_{c}_toward_still_parent_{p}",
                              z3.And(lam >= 0, lam <= 1, _eq(m[c], _scale(-lam, d)))))
                 variables.append(lam)
-            concl.append(dist2(_add(d, m[c])) <= 1)
+            parts.append((f"link_{p}_{c}_kept", dist2(_add(d, m[c])) <= 1))
             variables += list(d)
-    return Encoding(premises=prem, conclusion=z3.And(concl), variables=variables)
+    return Encoding(premises=prem, conclusion=z3.And([t for _, t in parts]),
+                    variables=variables, parts=parts)
 
 
-def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0) -> dict:
-    """Confirm ``spanning_tree_kept`` with z3 directly on every tree shape of
-    2..``max_robots`` robots, every root and every subset of moving robots.
+def rooted_shape(tree, root, moving) -> str:
+    """Canonical form of a rooted tree whose vertices are marked moving (``m``)
+    or still (``s``): nested brackets, children sorted (Aho, Hopcroft and
+    Ullman's tree isomorphism code).  Two cases get the same string iff an
+    isomorphism of rooted trees maps one onto the other and its moving robots
+    onto the other's moving robots; their Lemma 11 statements are then the same
+    formula up to renaming variables and reordering conjuncts, so one z3
+    answer decides both (docs/proofs.md, "Symmetry reduction").
 
-    Returns counts by status (``proved``, ``counterexample``, ``inconclusive``)
-    and the cases that were not proved, as ``(n, edges, root, moving, status,
-    reason)``.  A counterexample here would contradict the composition
-    argument; ``inconclusive`` cases are z3 timeouts (nlsat is sensitive to
-    the number of variables, DESIGN.md section 4) and prove nothing.
+    Examples
+    --------
+    >>> import networkx as nx
+    >>> rooted_shape(nx.path_graph(3), 0, {2})
+    '(s(s(m)))'
+    >>> rooted_shape(nx.path_graph(3), 2, {0}) == rooted_shape(nx.path_graph(3), 0, {2})
+    True
+    >>> rooted_shape(nx.path_graph(3), 1, {0})
+    '(s(m)(s))'
+    """
+    def code(v, up):
+        kids = sorted(code(w, v) for w in tree[v] if w != up)
+        return "(" + ("m" if v in moving else "s") + "".join(kids) + ")"
+
+    return code(root, None)
+
+
+def tree_cases(max_robots: int):
+    """Every case of the direct confirmation, in a fixed order: for ``n`` from 2
+    to ``max_robots``, every tree shape (``networkx.nonisomorphic_trees``, nodes
+    ``0..n-1``), every root, every subset of moving robots (by bit mask).
+
+    Yields ``(n, tree, root, moving)``.
+
+    Examples
+    --------
+    >>> sum(1 for _ in tree_cases(3))
+    32
     """
     import networkx as nx
 
-    _configure()
-    counts = {"proved": 0, "counterexample": 0, "inconclusive": 0}
-    not_proved = []
     for n in range(2, max_robots + 1):
         for tree in nx.nonisomorphic_trees(n):
             tree = nx.convert_node_labels_to_integers(tree)
             for root in range(n):
                 for mask in range(2 ** n):
-                    moving = frozenset(k for k in range(n) if mask >> k & 1)
-                    enc = _tree_case_encoding(tree, root, moving)
-                    r = _solve_encoding(enc, time.perf_counter() + timeout_s, ())
-                    counts[r["status"]] += 1
-                    if r["status"] != "proved":
-                        not_proved.append((n, sorted(tree.edges()), root, sorted(moving),
-                                           r["status"], r["reason"]))
-    return {"counts": counts, "not_proved": not_proved}
+                    yield n, tree, root, frozenset(k for k in range(n) if mask >> k & 1)
+
+
+def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0, *, symmetry: bool = True,
+                  bounded_range: str = "phi_minus_vdt") -> dict:
+    """Confirm ``spanning_tree_kept`` with z3 directly on every tree shape of
+    2..``max_robots`` robots, every root and every subset of moving robots.
+
+    Each case is one whole-tree statement (:func:`_tree_case_encoding`),
+    solved like a lemma (premises satisfiable, then validity), its
+    conclusion proved link by link with all the tree's premises.
+
+    Parameters
+    ----------
+    max_robots : int
+        Largest tree (at least 2).
+    timeout_s : float
+        Wall-clock budget per case (per class with ``symmetry``); a case that
+        runs out is ``inconclusive``, never counted as confirmed.
+    symmetry : bool
+        Solve one representative per isomorphism class (:func:`rooted_shape`)
+        and give every case of the class its answer; ``False`` solves every case.
+    bounded_range : {"phi_minus_vdt", "phi"}
+        ``"phi"`` runs the negative control: NCLB with the bounded range of
+        radius ``phi``; every case where a moving parent has a moving child
+        must then be refuted.
+
+    Returns
+    -------
+    dict
+        ``counts``: cases by status (``proved``, ``counterexample``,
+        ``inconclusive``); ``not_proved``: the cases that were not proved, as
+        ``(n, edges, root, moving, status, reason)``; ``cases``: the number of
+        cases; ``classes``: the number of z3 problems solved;
+        ``class_counts``: those problems by status.  A counterexample would
+        contradict the composition argument of docs/proofs.md.
+
+    Raises
+    ------
+    UsageError
+        If ``max_robots`` is not an integer >= 2, ``timeout_s`` is not positive or
+        ``bounded_range`` is not one of the two radii.
+
+    Examples
+    --------
+    >>> out = confirm_trees(2, timeout_s=5)
+    >>> out["counts"], out["cases"], out["classes"]
+    ({'proved': 8, 'counterexample': 0, 'inconclusive': 0}, 8, 4)
+    >>> confirm_trees(2, timeout_s=5, bounded_range="phi")["counts"]
+    {'proved': 6, 'counterexample': 2, 'inconclusive': 0}
+    """
+    if isinstance(max_robots, bool) or not isinstance(max_robots, int) or max_robots < 2:
+        raise UsageError(f"max_robots={max_robots!r} must be an integer >= 2",
+                         fix="give the largest tree size, for example 5")
+    timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
+    if bounded_range not in ("phi_minus_vdt", "phi"):
+        raise UsageError(f"bounded_range={bounded_range!r} is not a radius",
+                         fix="use 'phi_minus_vdt' (the lemma) or 'phi' (the negative control)")
+    _configure()
+    counts = {"proved": 0, "counterexample": 0, "inconclusive": 0}
+    class_counts = dict(counts)
+    solved: dict = {}
+    not_proved = []
+    for n, tree, root, moving in tree_cases(max_robots):
+        edges = sorted(tree.edges())
+        key = rooted_shape(tree, root, moving) if symmetry else (n, tuple(edges), root, moving)
+        if key not in solved:
+            r = _solve_encoding(_tree_case_encoding(tree, root, moving, bounded_range),
+                                time.perf_counter() + timeout_s, TREE_SOLVER_PARAMS)
+            solved[key] = (r["status"], r["reason"])
+            class_counts[r["status"]] += 1
+        status, reason = solved[key]
+        counts[status] += 1
+        if status != "proved":
+            not_proved.append((n, edges, root, sorted(moving), status, reason))
+    return {"counts": counts, "not_proved": not_proved, "cases": sum(counts.values()),
+            "classes": len(solved), "class_counts": class_counts}
 
 
 # ------------------------------------------- the geometry kernel as oracle

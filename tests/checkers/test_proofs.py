@@ -146,17 +146,54 @@ def test_bad_timeout_is_a_usage_error(timeout):
 
 
 def test_spanning_tree_confirmed_directly_on_small_trees():
-    # Direct z3 statements on whole trees (no per-link lemma); none may be refuted.
-    out = proofs.confirm_trees(max_robots=3, timeout_s=0.5)
-    assert out["counts"]["counterexample"] == 0
-    assert sum(out["counts"].values()) == 8 + 3 * 8  # n=2: 2 roots x 4; n=3: 3 roots x 8
-    assert out["counts"]["proved"] >= 1
+    # Direct z3 statements on whole trees (no per-link lemma): every case up to 3 robots proved,
+    # with and without the symmetry reduction.  A generous per-case timeout (each case takes
+    # well under 0.5 s of CPU) so that a loaded machine cannot turn a proof into a timeout.
+    full = proofs.confirm_trees(max_robots=3, timeout_s=10, symmetry=False)
+    assert full["counts"] == {"proved": 32, "counterexample": 0, "inconclusive": 0}
+    assert (full["cases"], full["classes"], full["not_proved"]) == (32, 32, [])  # 2x4 + 3x8
+    reduced = proofs.confirm_trees(max_robots=3, timeout_s=10)
+    assert reduced["counts"] == full["counts"]
+    assert (reduced["cases"], reduced["classes"]) == (32, 18)
+    assert reduced["class_counts"] == {"proved": 18, "counterexample": 0, "inconclusive": 0}
+
+
+def test_tree_confirmation_control_is_refuted_and_timeouts_stay_inconclusive():
+    # NCLB with radius phi: exactly the cases where a moving parent has a moving child fail.
+    ctrl = proofs.confirm_trees(max_robots=3, timeout_s=10, bounded_range="phi")
+    bad = {(tuple(map(tuple, e)), r, tuple(m)) for _, e, r, m, st, _ in ctrl["not_proved"]}
+    import networkx as nx
+    expected = set()
+    for _, tree, root, moving in proofs.tree_cases(3):
+        parent = {v: u for u, v in nx.bfs_edges(tree, root)}
+        if any(p in moving and c in moving for c, p in parent.items()):
+            expected.add((tuple(sorted(tree.edges())), root, tuple(sorted(moving))))
+    assert bad == expected and len(expected) == 2 + 9
+    assert {st for *_, st, _ in ctrl["not_proved"]} == {"counterexample"}
+    # A budget far too small: inconclusive, never counted as proved.
+    tiny = proofs.confirm_trees(max_robots=3, timeout_s=1e-6)
+    assert tiny["counts"]["proved"] == 0 and tiny["counts"]["inconclusive"] == 32
+    assert all(why.startswith("timeout") or "unknown" in why for *_, why in tiny["not_proved"])
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"max_robots": 1}, r"max_robots=1 must be an integer >= 2"),
+    ({"max_robots": 3.0}, r"max_robots=3.0 must be an integer >= 2"),
+    ({"max_robots": 3, "timeout_s": 0}, r"timeout=0 must be > 0"),
+    ({"max_robots": 3, "bounded_range": "2phi"}, r"bounded_range='2phi' is not a radius"),
+], ids=["one-robot", "float-robots", "zero-timeout", "unknown-radius"])
+def test_confirm_trees_bad_input(kwargs, message):
+    with pytest.raises(UsageError, match=message):
+        proofs.confirm_trees(**kwargs)
 
 
 @pytest.mark.slow
 def test_spanning_tree_confirmed_directly_up_to_five_robots():
-    out = proofs.confirm_trees(max_robots=5, timeout_s=2.0)
-    assert out["counts"]["counterexample"] == 0, out["not_proved"]
+    # Every tree shape of 2..5 robots x root x moving subset (640 cases, 284 classes).
+    out = proofs.confirm_trees(max_robots=5, timeout_s=10.0)
+    assert out["counts"] == {"proved": 640, "counterexample": 0, "inconclusive": 0}, \
+        out["not_proved"]
+    assert (out["cases"], out["classes"]) == (640, 284)
 
 
 def _instances(n, seed):
