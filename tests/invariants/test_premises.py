@@ -1,13 +1,18 @@
 """Premise monitors (invariants/premises.py, issue 5): hold on song2016 runs, fire on
-mutated controllers and traces, each naming its lemma."""
+mutated controllers and traces, each naming its lemma; song2014's Lemma 7 premise breaks
+under the engine's turn-then-drive motion and holds when turns take no time."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
 
 from swarmproof.invariants.premises import (check_premises, parents_in_bounded_ranges,
                                             relocate_path_in_range, step_bounded)
+from swarmproof.reference_impl.protocol import Command
+from swarmproof.reference_impl.song2014 import Song2014
 from swarmproof.models.library import load
 from swarmproof.models.trace import Trace
 from swarmproof.reference_impl import song2016
@@ -16,10 +21,18 @@ from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
 
 
-def run16(lattice: str, n: int, seed: int, v: float = 0.05):
+def run16(lattice: str, n: int, seed: int, v: float = 0.05, algorithm=None):
     lat = load(lattice)
     init = random_connected(n, seed, range=lat.range, min_separation=0.3)
-    return simulate(song2016.Song2016(n_robots=n), lat, init, Params(range=lat.range, v=v),
+    alg = algorithm or song2016.Song2016(n_robots=n)
+    return simulate(alg, lat, init, Params(range=lat.range, v=v), seed=seed).trace
+
+
+def run14(lattice: str, n: int, seed: int, omega: float = math.pi / 4):
+    # The starts of docs/song2014.md's experiments: minimum separation phi/4, v = 0.05, dt = 1.
+    lat = load(lattice)
+    init = random_connected(n, seed, range=lat.range, min_separation=lat.range / 4)
+    return simulate(Song2014(), lat, init, Params(range=lat.range, v=0.05, omega=omega),
                     seed=seed).trace
 
 
@@ -75,6 +88,72 @@ def test_relocate_monitor_fires_when_the_root_moves_or_the_robot_leaves_range():
     far[t + 1, k, :2] = far[t, root, :2] + np.array([1.52, 0.0])  # beyond phi = 1.5
     r = relocate_path_in_range(_copy(trace, far), 1.5)
     assert r.status == "violated" and r.witness["at"] == "end" and r.witness["step"] == t
+
+
+class _RootStepsAside(song2016.Song2016):
+    """Controller mutation: the root (001 Sec. V-C: it never moves) drives 0.01 each step."""
+
+    class Controller:
+        def __init__(self, inner, robot_id):
+            self.inner, self.robot_id = inner, robot_id
+
+        def step(self, obs):
+            cmd = self.inner.step(obs)
+            is_root = dict(self.inner.state()).get("root_id") == self.robot_id
+            return Command(cmd.message, 0.0, 0.01) if is_root else cmd
+
+        def state(self):
+            return self.inner.state()
+
+    def controller(self, robot_id, params, lattice, rng):
+        return self.Controller(super().controller(robot_id, params, lattice, rng), robot_id)
+
+
+def test_relocate_monitor_fires_on_a_controller_whose_root_moves():
+    trace = run16("hexagon", 10, 0, algorithm=_RootStepsAside(n_robots=10))
+    r = relocate_path_in_range(trace, 1.5)
+    assert r.status == "violated" and r.witness["lemma"] == "relocate_stays_in_range"
+    assert r.witness["root_moved"] == pytest.approx(0.01, abs=1e-12)
+    assert r.message == f"the root {r.witness['root']} moved in step {r.witness['step']}"
+
+
+def test_song2014_breaks_lemma7_premise_where_turning_stops_a_robot_short():
+    # 000 Lemma 7 needs p_i(t+dt) within phi - v dt of p_p(t); song2014 picks such a point but
+    # the engine's differential drive turns first and drives only for the time left
+    # (docs/decisions.md "The velocity in Lemma 7"): a finding, not repaired.
+    trace = run14("square", 10, 2)
+    step, lemma7 = check_premises(trace)          # song2014's monitors, chosen by trace.meta
+    assert (step.name, step.status) == ("premise:step_bounded", "held")
+    assert (lemma7.name, lemma7.status) == ("premise:parent_bounded_range", "violated")
+    assert lemma7.witness == {"step": 2, "child": 6, "parent": 8, "distance": 1.169359686834,
+                              "bounded_range": 1.2 - 0.05, "lemma": "bounded_range"}
+    assert lemma7.message == ("robot 6 ended step 2 1.16936 from the old position of its parent "
+                              "8, outside the parent's disc phi - v*dt = 1.15")
+    # The mechanism: robot 6 turned in step 2 and drove v*(dt - |turn|/omega), short of v*dt.
+    k = trace.ids.tolist().index(6)
+    p0, p1 = trace.poses[2][k], trace.poses[3][k]
+    turn = abs(math.remainder(p1[2] - p0[2], 2 * math.pi))
+    assert turn > 0.4
+    assert np.hypot(*(p1[:2] - p0[:2])) == pytest.approx(0.05 * (1 - turn / (math.pi / 4)), abs=1e-12)
+
+
+@pytest.mark.parametrize("seed", [0, 2])
+def test_song2014_meets_lemma7_premise_when_turns_take_no_time(seed):
+    # The same starts with omega = 1e12: the robot reaches the point it chose, as Sec. IV-C
+    # assumes ("turns itself to face the target position and directly drives itself there").
+    results = check_premises(run14("square", 10, seed, omega=1e12))
+    assert [r.status for r in results] == ["held", "held"], [r.message for r in results]
+    assert results[1].detail["checked"] > 50
+
+
+def test_check_premises_picks_monitors_by_algorithm_and_rejects_unknown_names():
+    trace = run14("square", 5, 0)
+    assert [r.name for r in check_premises(trace)] == ["premise:step_bounded",
+                                                       "premise:parent_bounded_range"]
+    assert [r.status for r in check_premises(trace, monitors=["nclb", "relocate"])] == \
+        ["inconclusive", "inconclusive"]               # song2014 records no children/relocate
+    with pytest.raises(ValueError, match=r"premise monitor='lemma7' is not known"):
+        check_premises(trace, monitors=["lemma7"])
 
 
 def test_missing_state_keys_are_inconclusive_not_held():
