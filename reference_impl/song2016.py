@@ -430,10 +430,12 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
     root = my_id if (stable and my_vacancy is not None) else None
     # 7 myMsg.relocateID <- (not myMsg.stable) ? myID : -inf
     relocate = my_id if not stable else None
-    # 8 eligibleMsgs <- {}   (root_ok / reloc_ok: the "field" reading keeps two sets)
+    # 8 eligibleMsgs <- {}   (the "field" reading keeps, instead, the accepted messages
+    #   that carry the current rootID: root_cands, and the shortest paths so far)
     eligible: list[Song2016Message] = []
-    root_ok: list[Song2016Message] = []
-    reloc_ok: list[Song2016Message] = []
+    root_cands: list[Song2016Message] = []
+    root_path = reloc_path = None
+    root_len = root_sender = reloc_len = reloc_sender = 0
     # 9 vacancyFromMsgs <- null
     vacancy_from_msgs: Vacancy | None = None
     per_message = rumor_filter == "message"
@@ -464,28 +466,53 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
             # line 12 read per field (Sec. V-B prose): root information (lines 14-16)
             # needs myID not in pathFromRoot, relocate information (line 18) needs
             # myID not in pathFromRelocate.
-            # (_gt and _max written out: None is -inf, as in lines 6-7)
+            # (_gt and _max written out: None is -inf, as in lines 6-7.)  Lines 21-22
+            # are folded into this pass: the IDs only grow, and no message accepted
+            # before the one that raises an ID can carry the larger ID, so the shortest
+            # path restarts there and is then kept (ties: the highest sender, the first
+            # one on equal IDs), exactly as _shortest over the final candidates.
             if not in_root_path:
-                root_ok.append(m)
                 r = m.root_id
-                if r is not None and (root is None or r > root):
-                    root = r
-                    vacancy_from_msgs = m.vacancy
+                if r is not None:
+                    if root is None or r > root:
+                        root = r
+                        vacancy_from_msgs = m.vacancy
+                        root_cands = [m]
+                        root_path = m.path_from_root
+                        root_len, root_sender = len(root_path), m.sender_id
+                    elif r == root:
+                        root_cands.append(m)
+                        p = m.path_from_root
+                        lp = len(p)
+                        if (root_path is None or lp < root_len
+                                or (lp == root_len and m.sender_id > root_sender)):
+                            root_path, root_len, root_sender = p, lp, m.sender_id
             if not in_reloc_path:
-                reloc_ok.append(m)
                 r = m.relocate_id
-                if r is not None and (relocate is None or r > relocate):
-                    relocate = r
+                if r is not None:
+                    if relocate is None or r > relocate:
+                        relocate = r
+                        reloc_path = m.path_from_relocate
+                        reloc_len, reloc_sender = len(reloc_path), m.sender_id
+                    elif r == relocate:
+                        p = m.path_from_relocate
+                        lp = len(p)
+                        if (reloc_path is None or lp < reloc_len
+                                or (lp == reloc_len and m.sender_id > reloc_sender)):
+                            reloc_path, reloc_len, reloc_sender = p, lp, m.sender_id
     # 20 end
     if per_message:
-        root_ok = reloc_ok = eligible
-    # 21 minRootPath <- getShortestPathFromRoot(eligibleMsgs): the shortest path from
-    #    *this* root among eligible messages that carry it; none -> empty list.
-    min_root_path = (_shortest([m for m in root_ok if m.root_id == root], "path_from_root")
-                     if root is not None else ())
-    # 22 minRelocatePath <- getShortestPathFromRelocate(eligibleMsgs)
-    min_reloc_path = (_shortest([m for m in reloc_ok if m.relocate_id == relocate],
-                                "path_from_relocate") if relocate is not None else ())
+        root_cands = [m for m in eligible if m.root_id == root] if root is not None else []
+        # 21 minRootPath <- getShortestPathFromRoot(eligibleMsgs): the shortest path from
+        #    *this* root among eligible messages that carry it; none -> empty list.
+        min_root_path = _shortest(root_cands, "path_from_root")
+        # 22 minRelocatePath <- getShortestPathFromRelocate(eligibleMsgs)
+        min_reloc_path = (_shortest([m for m in eligible if m.relocate_id == relocate],
+                                    "path_from_relocate") if relocate is not None else ())
+    else:
+        # 21-22 (the "field" reading): computed in the loop above
+        min_root_path = () if root_path is None else root_path
+        min_reloc_path = () if reloc_path is None else reloc_path
     # 23 myMsg.vacancy <- (myID = myMsg.rootID) ? myVacancy : vacancyFromMsgs
     vacancy = my_vacancy if my_id == root else vacancy_from_msgs
     # 24 myMsg.pathFromRoot <- minRootPath.append(myID)
@@ -498,7 +525,9 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
     # 26 if myID != myMsg.rootID then
     if my_id != root:
         # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
-        parent_msg = get_parent_msg(root_ok, root, relocate, parent_rule == "stable_first")
+        #    (root_cands: the eligible messages that carry this rootID, the only
+        #    candidates getParentMsg considers)
+        parent_msg = get_parent_msg(root_cands, root, relocate, parent_rule == "stable_first")
         # 28 myMsg.parentID <- parentMsg.senderID
         parent_id = None if parent_msg is None else parent_msg.sender_id
         # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
@@ -648,7 +677,8 @@ class Song2016Controller:
                  "relocate_id", "relocate_since", "root_id", "mover", "mover_since",
                  "_state", "_last_msg", "memoize", "_last_inbox", "_last_stable",
                  "_vac_key", "_vac", "_children", "_values", "_last_vac_in", "_last_ids",
-                 "_last_pose_bytes", "_last_cmd", "_last_relocate", "_last_may_move")
+                 "_last_pose_bytes", "_last_cmd", "_last_relocate", "_last_may_move",
+                 "_last_idle")
 
     def __init__(self, robot_id: int, params: Params, lattice, cfg: Song2016Config,
                  memoize: bool = True) -> None:
@@ -689,6 +719,7 @@ class Song2016Controller:
         self._last_ids: tuple | None = None
         self._last_pose_bytes: bytes | None = None
         self._last_cmd: Command | None = None
+        self._last_idle = False  # the last command was built without a goal (0.0, 0.0)
         self._last_relocate = False
         self._last_may_move = False
         self._state: tuple = self._snapshot(None, False, (), False, False, None, None, None)
@@ -753,14 +784,15 @@ class Song2016Controller:
         ids = obs.neighbor_ids or ()
         obs_msgs = obs.messages
         keys = sorted(obs_msgs)
-        inbox = [obs_msgs[k] for k in keys]  # Algorithm 1 line 10: increasing sender ID
+        inbox = list(map(obs_msgs.__getitem__, keys))  # Algorithm 1 line 10: increasing sender ID
         # unchanged inbox: the same message objects (or equal ones: same content)
         same_inbox = inbox == self._last_inbox
         if not same_inbox:
-            for sid, m in zip(keys, inbox):
-                if not isinstance(m, Song2016Message):
-                    raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
-                                        "not a Song2016Message")
+            if not all([type(m) is Song2016Message for m in inbox]):
+                for sid, m in zip(keys, inbox):
+                    if not isinstance(m, Song2016Message):
+                        raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
+                                            "not a Song2016Message")
             self._last_inbox = inbox
         pose_bytes = obs.neighbor_poses.tobytes()
         if self.memoize:
@@ -858,7 +890,7 @@ class Song2016Controller:
 
         # NCLB (Sec. V-C): the children are the robots whose last message named me
         # as parent; the safe region is the intersection of their bounded ranges.
-        children = tuple(sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in pose_of)
+        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in pose_of])
         turn = forward = 0.0
         target = None
         if goal is not None:
@@ -899,6 +931,14 @@ class Song2016Controller:
                                          goal, target, my_vac)
         self._last_relocate = relocate
         self._last_may_move = may_move and not changed
+        last = self._last_cmd
+        if goal is None:
+            if self._last_idle and last.message is msg and self.memoize:
+                # no goal (turn = forward = 0.0) again, same message: the last command
+                return last
+            self._last_idle = True
+        else:
+            self._last_idle = False
         cmd = Command(message=msg, turn=turn, forward=forward)
         self._last_cmd = cmd
         return cmd
