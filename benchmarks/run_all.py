@@ -40,8 +40,8 @@ HERE = Path(__file__).resolve().parent
 SMALL_ARGS: dict[str, list[str]] = {
     "bench_engine": ["--quick"],
     "bench_lattice_check": ["--repeat", "3"],
-    "bench_proofs": ["--repeat", "1"],
-    "bench_song2014": ["perf", "--repeats", "1"],
+    "bench_proofs": ["--repeat", "1", "--trees", "3"],   # trees up to 5 robots: about 500 s
+    "bench_song2014": ["perf", "--repeats", "1", "--sizes", "50"],
     "bench_song2016": ["--quick"],
     "bench_mutations": ["--budget", "10"],
 }
