@@ -24,7 +24,13 @@ knows; time runs in synchronous steps of ``dt``.  In every step:
    no fault hook) the engine calls it instead of ``step`` for a robot that
    senses the same neighbor IDs at bit-identical poses and hears the very
    same message objects as in the previous step, and calls ``step`` when it
-   returns None.  Sensing itself is reused when no present robot moved.
+   returns None; ``repeat_step`` must leave ``state()`` as it was.  A
+   controller may also define ``repeat_horizon(step) -> int`` (called after
+   its ``step`` or ``repeat_step`` at ``step``): while the observation stays
+   unchanged, ``repeat_step`` would return the same command before that step,
+   so the engine does not ask (nor reads its state, nor calls ``finished``
+   while no state changed).  Sensing itself is reused when no present robot
+   moved.
 5. *Motion* (vectorized): differential drive, turn in place then drive
    straight: ``|turn|`` is clamped to ``omega*dt`` and ``forward`` to
    ``[0, v*(dt - |turn|/omega)]`` (docs/decisions.md "Model and geometry");
@@ -600,6 +606,11 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                  and not faults.drops_messages and not faults.noisy and faults.schedule is None
                  and not any_presence_change and all(callable(f) for f in repeaters))
     last_keys = resensed = None
+    horizons = [getattr(c, "repeat_horizon", None) for c in controllers]
+    hold = [0] * n_total
+    last_cmds: list = [None] * n_total
+    turns_l = [0.0] * n0
+    fwds_l = [0.0] * n0
     heard_msgs: list = [None] * n_total
     idx_l_prev: list = []
 
@@ -716,10 +727,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         resensed = [False] * m if repeat_ok else None
 
         # 3.-4. messages and decisions (per robot)
-        turns_l = [0.0] * m
-        fwds_l = [0.0] * m
         act_l = act.tolist()
-        new_msgs: list = [None] * n_total
         dropped = []
         idx_l = idx.tolist()
         pres_ids_l = pres_ids.tolist()
@@ -727,19 +735,43 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         # every present robot broadcast last step (the usual case): no None to filter
         silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
         get_msg = last_msgs.__getitem__
-        for a in range(m):
+        if repeat_ok:
+            # The plain model with repeat_step: a robot whose observation is last step's
+            # and whose hold (repeat_horizon) has not run out keeps its last command
+            # (turns_l, fwds_l and its message stand); one whose observation is the same
+            # is asked repeat_step; every other robot (and one that declines) steps.
+            new_msgs = last_msgs.copy()
+            stepped = []
+            if same_obs is None:
+                todo = range(m)
+            else:
+                todo = [a for a in range(m) if not same_obs[a] or t >= hold[a]]
+            for a in todo:
+                k = idx_l[a]
+                cmd = repeaters[k](t) if same_obs is not None and same_obs[a] else None
+                if cmd is None:
+                    msgs = (dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))) if not silent else
+                            {sid: last_msgs[s] for sid, s in zip(nb_ids[a], nb_slots[a])
+                             if last_msgs[s] is not None})
+                    cmd = controllers[k].step(_new_observation(t, pres_ids_l[a], nb_ids[a], nb_rel[a],
+                                                               msgs, None))
+                    stepped.append(k)
+                if cmd is not last_cmds[k]:
+                    turns_l[a], fwds_l[a] = _command_values(cmd, pres_ids_l[a], t)
+                    new_msgs[k] = cmd.message
+                    last_cmds[k] = cmd
+                hold[a] = t + 1 if horizons[k] is None else horizons[k](t)
+        else:
+            turns_l = [0.0] * m
+            fwds_l = [0.0] * m
+            new_msgs = [None] * n_total
+            stepped = None
+        # the general path: any model, fault hooks (empty when repeat_ok)
+        for a in (range(0) if repeat_ok else range(m)):
             if not act_l[a]:
                 continue
             k = idx_l[a]
             my_id = pres_ids_l[a]
-            if same_obs is not None and same_obs[a]:
-                cmd = repeaters[k](t)
-                if cmd is not None:
-                    tu, fw = _command_values(cmd, my_id, t)
-                    turns_l[a] = tu
-                    fwds_l[a] = fw
-                    new_msgs[k] = cmd.message
-                    continue
             if comm == "none":
                 heard = ()
             elif comm == "all":
@@ -795,32 +827,36 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             if clamped.any():
                 events.append(Event(t, "clamp", tuple(pres_ids[clamped].tolist())))
         moving = (tc != 0) | (fc != 0)
-        old = poses.copy()
+        same_poses = True
         if moving.any():
+            old = poses.copy()
             mv = idx[moving]
             th = wrap_angle(poses[mv, 2] + tc[moving])
             poses[mv, 0] += fc[moving] * np.cos(th)
             poses[mv, 1] += fc[moving] * np.sin(th)
             poses[mv, 2] = th
+            same_poses = np.array_equal(old, poses)
         t += 1
         pose_hist.append(poses.copy())
         if present_hist is not None:
             present_hist.append(present.copy())
         # Unchanged states are stored as the previous object (a trace of a long
         # run keeps one copy per change, not one per step); equal values, same trace.
-        fresh = _states()
+        # (With repeat_step only the robots that stepped are asked: repeating leaves
+        # a state as it was.)
         changed = False
-        merged = list(fresh)
-        for k, st in enumerate(fresh):
-            if st is not states[k] and st == states[k]:
-                merged[k] = states[k]
-            elif st is not states[k]:
+        merged = list(states)
+        for k in range(n_total) if stepped is None else stepped:
+            c = controllers[k]
+            st = None if c is None or not present[k] else c.state()
+            if st is not states[k] and not st == states[k]:
+                merged[k] = st
                 changed = True
         new_states = tuple(merged) if changed else states
         state_hist.append(new_states)
         if msg_hist is not None:
             msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
-        quiet_step = (not changed and np.array_equal(old, poses) and new_msgs == last_msgs)
+        quiet_step = not changed and same_poses and new_msgs == last_msgs
         heard_msgs = last_msgs
         idx_l_prev = idx_l
         last_msgs = new_msgs
@@ -828,7 +864,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         quiet = quiet + 1 if quiet_step else 0
         if progress is not None and t % PROGRESS_EVERY == 0:
             progress(t, max_steps)
-        if algorithm.finished(tuple(s for s, p in zip(states, present) if p)):
+        # (finished depends on the states alone: unchanged states, same answer)
+        if (changed or not repeat_ok) and algorithm.finished(tuple(s for s, p in zip(states, present) if p)):
             status = "finished"
             break
         if window and quiet >= window:

@@ -579,6 +579,9 @@ class Song2016Config:
     parent_rule: str = "stable_first"
 
 
+#: A step number no run reaches (repeat_horizon when no timeout is pending).
+_NEVER = 2 ** 62
+
 _EXTRA_KEYS = ("communication_timeout", "movement_timeout", "d_s", "arrival_epsilon",
                "heading_epsilon", "vacancy_tolerance", "rumor_filter", "parent_rule")
 
@@ -957,6 +960,43 @@ class Song2016Controller:
         if self.memoize and self._last_cmd is not None and not self._time_matters(t):
             return self._last_cmd
         return None
+
+    def repeat_horizon(self, t: int) -> int:
+        """The first step after ``t`` at which a timeout of this robot can expire.
+
+        Called by the engine after this robot's :meth:`step` or :meth:`repeat_step`
+        at step ``t``: for every step ``s`` with ``t < s <`` the result,
+        :meth:`_time_matters` is False, so with an unchanged observation
+        :meth:`repeat_step` would return the same command (the engine does not ask).
+        Each condition of :meth:`_time_matters` is a threshold in the step number
+        given the last message and clocks: the communication timeout on highestID
+        and on relocateID (Def. 10) and the movement timeout (Sec. VI).
+
+        Examples
+        --------
+        >>> from swarmproof.models.library import load
+        >>> c = Song2016(n_robots=5).controller(3, Params(range=1.2, v=0.05), load("square"), None)
+        >>> cmd = c.step(Observation(0, 3, (), np.zeros((0, 3)), {}))
+        >>> c.repeat_horizon(0)   # alone, robot 3 becomes stable after the timeout of 5
+        5
+        """
+        if not self.memoize or self._last_cmd is None:
+            return t + 1
+        cfg = self.cfg
+        msg = self._last_msg
+        me = self.robot_id
+        h = math.inf
+        if not self.stable:
+            if msg.highest_id == me:
+                h = min(h, self.highest_since + cfg.communication_timeout)
+            if msg.relocate_id == me:
+                if not self._last_relocate:
+                    h = min(h, self.relocate_since + cfg.communication_timeout)
+            elif self._last_relocate:
+                h = t + 1
+        if self.mover is not None and not self._last_may_move:
+            h = min(h, self.mover_since + cfg.movement_timeout)
+        return t + 1 if h <= t else (h if h != math.inf else _NEVER)
 
     def _time_matters(self, t: int) -> bool:
         """Whether a timeout of this robot expires at step ``t`` given last step's

@@ -581,3 +581,40 @@ def test_relocate_robot_does_not_wait_for_a_stable_child():
     s = dict(c.state())
     assert s["children"] == (1,) and cmd.forward > 0
     assert math.dist(s["target"], (-0.7, 0.0)) <= s["safe_radius"]
+
+
+class _HorizonChecked(Song2016Controller):
+    """Checks every repeat_horizon against _time_matters, step by step (test only)."""
+
+    __slots__ = ()
+    log: list = []
+
+    def repeat_horizon(self, t):
+        h = super().repeat_horizon(t)
+        for s in range(t + 1, min(h, t + 200)):
+            assert not self._time_matters(s), (self.robot_id, t, s, h)
+        self.log.append((h > t + 1, None if h >= 2 ** 62 else self._time_matters(h)))
+        return h
+
+
+class _HorizonSong2016(Song2016):
+    def controller(self, robot_id, params, lattice, rng):
+        c = super().controller(robot_id, params, lattice, rng)
+        c.__class__ = _HorizonChecked
+        return c
+
+
+def test_repeat_horizon_is_exactly_the_next_expiring_timeout():
+    """Engine shortcut (docs/performance.md): the engine asks nothing of a robot whose
+    observation is unchanged before its repeat_horizon; no timeout may expire in between,
+    and one does expire at a finite horizon. The run is the one without shortcuts."""
+    _HorizonChecked.log = []
+    init = random_connected(7, 2, range=PHI, min_separation=0.3)
+    r = simulate(_HorizonSong2016(n_robots=7), SQUARE, init, P, seed=2, record_messages=True)
+    plain = simulate(Song2016(n_robots=7, memoize=False), SQUARE, init, P, seed=2,
+                     record_messages=True)
+    assert r.status == "finished" and r.trace.to_json() == plain.trace.to_json()
+    log = _HorizonChecked.log
+    assert sum(long for long, _ in log) > 50            # the shortcut was taken
+    finite = [tight for long, tight in log if long and tight is not None]
+    assert finite and all(finite)
