@@ -81,6 +81,18 @@ def test_wrong_lemma_is_a_counterexample_with_numbers():
     assert prem is True and concl is False  # the pair ends exactly phi apart
 
 
+def test_partial_progress_finding_is_a_counterexample_with_numbers():
+    # 000 Sec. IV-C assumes the intermediate goal is reached; a robot stopped short of it (the
+    # engine's turn-then-drive, docs/decisions.md) can end outside the parent's bounded range.
+    lem = EXTRA_LEMMAS["intermediate_goal_partial_progress"]
+    r = prove(lem, timeout_s=20)
+    assert r.status == "counterexample"
+    assert r.counterexample == {"s": 0.5, "l": 0.0, "p_i_0_x": 0.75, "p_i_0_y": 0.0,
+                                "g_x": 0.375, "g_y": 0.0}
+    prem, concl = _holds(lem.build, r.counterexample)
+    assert prem is True and concl is False  # l = 0: still at p_i(t), 0.75 > 1 - s = 0.5
+
+
 def _lemma(build, control=None, params=()) -> Lemma:
     return Lemma(id="test_lemma", statement="test", cites=("test",), normalisations=(),
                  build=build, control=control or (lambda: proofs.relocate_stays_in_range(4)),
