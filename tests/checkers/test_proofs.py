@@ -226,6 +226,23 @@ def test_geometry_kernel_confirmed_by_z3_oracle():
     assert statuses == ["confirmed"] * 60
 
 
+def test_song2014_call_of_the_kernel_confirmed_by_z3_oracle():
+    # song2014 (Sec. IV-C) calls the scalar core nearest_xy in its own frame: P_i of radius v dt
+    # around the origin, P_p of radius phi - v dt around the sensed parent.
+    geometry = pytest.importorskip("swarmproof.models.geometry")
+
+    def song2014_call(c1, r1, c2, r2, target):
+        assert c1 == (0.0, 0.0)
+        return geometry.nearest_xy(0.0, 0.0, r1, *c2, r2, *target)
+
+    statuses = []
+    for i, vdt, p, rp, target in _instances(30, seed=7):
+        rel = lambda q: (float(q[0] - i[0]), float(q[1] - i[1]))  # noqa: E731
+        statuses.append(proofs.kernel_oracle_check(song2014_call, (0.0, 0.0), vdt, rel(p), rp,
+                                                   rel(target))[0])
+    assert statuses == ["confirmed"] * 30
+
+
 def test_geometry_kernel_oracle_catches_mutated_kernels():
     geometry = pytest.importorskip("swarmproof.models.geometry")
     kernel = geometry.nearest_point_in_disc_intersection
