@@ -127,7 +127,8 @@ def main(argv=None) -> int:
     print(f"\n# summary (load average {os.getloadavg()[0]:.2f} at the end; "
           "CPU = the benchmark process's user + system seconds)")
     for n, rc, wall, cpu in summary:
-        print(f"{n:22} exit {rc:<3} wall {wall:7.1f} s  CPU {cpu:7.1f} s  figures: "
+        status = f"exit {rc:<3}" if rc >= 0 else f"SIGNAL {-rc:<2}"  # killed from outside, e.g. -9
+        print(f"{n:22} {status} wall {wall:7.1f} s  CPU {cpu:7.1f} s  figures: "
               f"{FIGURES.get(n, 'docs/performance.md (add a section)')}")
     print("Record figures by hand in docs/performance.md with the machine, the date and whether the "
           "machine was shared with other jobs; never in timed tests.")
