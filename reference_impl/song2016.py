@@ -335,17 +335,25 @@ def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
         stable = [m for m in cands if m.stable]
         if stable:
             cands = stable
-    if relocate_id is not None:
-        rel = [m for m in cands if m.sender_id == relocate_id]
-        if rel:
-            hops = len(rel[0].path_from_root)
-            if any(len(m.path_from_root) <= hops for m in cands if m.sender_id != relocate_id):
-                cands = [m for m in cands if m.sender_id != relocate_id]
-    best = cands[0]
-    for m in cands[1:]:
-        lm, lb = len(m.path_from_root), len(best.path_from_root)
-        if lm < lb or (lm == lb and m.sender_id > best.sender_id):
-            best = m
+    # One pass: the best candidate (fewest hops, then the highest ID; the first on a
+    # full tie), the best one that is not the relocate robot, and the relocate
+    # robot's hops.  The exception drops the relocate robot when another candidate
+    # has the same or fewer hops; the best of the rest is then the best other.
+    best = other = None
+    best_len = best_id = other_len = other_id = 0
+    rel_hops = -1
+    for m in cands:
+        lm = len(m.path_from_root)
+        sid = m.sender_id
+        if best is None or lm < best_len or (lm == best_len and sid > best_id):
+            best, best_len, best_id = m, lm, sid
+        if relocate_id is not None and sid == relocate_id:
+            if rel_hops < 0:
+                rel_hops = lm
+        elif other is None or lm < other_len or (lm == other_len and sid > other_id):
+            other, other_len, other_id = m, lm, sid
+    if rel_hops >= 0 and other is not None and other_len <= rel_hops:
+        return other
     return best
 
 
@@ -806,7 +814,9 @@ class Song2016Controller:
                 return self._last_cmd
             self._last_ids = ids
             self._last_pose_bytes = pose_bytes
-        pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
+        # ID -> body-frame pose of the sensed neighbors, built only when a pose is read
+        # (a vacancy, a goal, the safe region); membership alone is read from `ids`.
+        pose_of = dict(zip(ids, obs.neighbor_poses.tolist())) if self.stable else None
         messages = obs_msgs
 
         # Algorithm 1 (lines 1-31) with this robot's state at the start of the step.
@@ -851,7 +861,9 @@ class Song2016Controller:
         parent = msg.parent_id
         goal: tuple[float, float] | None = None
         heading: float | None = None
-        if may_move and parent is not None and parent in pose_of:
+        if may_move and parent is not None and parent in ids:
+            if pose_of is None:
+                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
             px, py, _ = pose_of[parent]
             if mover == "relocate":
                 # Sec. V-C case 2: toward the parent, or toward the vacancy when the
@@ -883,6 +895,8 @@ class Song2016Controller:
             self.mover = None
             self.mover_since = t
             goal = None
+            if pose_of is None:
+                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
             my_vac = self._my_vacancy(pose_of, zip(keys, inbox))
             msg = self._message(my_vac, inbox, same_inbox)
             self.root_id = msg.root_id
@@ -893,7 +907,7 @@ class Song2016Controller:
 
         # NCLB (Sec. V-C): the children are the robots whose last message named me
         # as parent; the safe region is the intersection of their bounded ranges.
-        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in pose_of])
+        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])
         turn = forward = 0.0
         target = None
         if goal is not None:

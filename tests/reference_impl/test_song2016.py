@@ -618,3 +618,80 @@ def test_repeat_horizon_is_exactly_the_next_expiring_timeout():
     assert sum(long for long, _ in log) > 50            # the shortcut was taken
     finite = [tight for long, tight in log if long and tight is not None]
     assert finite and all(finite)
+
+
+def _literal_lines_10_to_22(my_id, stable, my_vacancy, inbox, per_message):
+    """Algorithm 1 lines 3-22 as printed, with the eligible sets kept as lists and the
+    shortest paths chosen afterwards (the form before the single-pass optimisation)."""
+    def gt(a, b):
+        return a is not None and (b is None or a > b)
+
+    def shortest(ms, attr):
+        best = None
+        for m in ms:
+            if best is None or len(getattr(m, attr)) < len(getattr(best, attr)) or (
+                    len(getattr(m, attr)) == len(getattr(best, attr)) and m.sender_id > best.sender_id):
+                best = m
+        return () if best is None else getattr(best, attr)
+
+    highest, root = my_id, (my_id if stable and my_vacancy is not None else None)
+    relocate, vac, root_ok, reloc_ok = (None if stable else my_id), None, [], []
+    for m in inbox:
+        highest = max(highest, m.highest_id)
+        in_root, in_reloc = my_id in m.path_from_root, my_id in m.path_from_relocate
+        if (not in_root and not per_message) or (per_message and not in_root and not in_reloc):
+            root_ok.append(m)
+            if gt(m.root_id, root):
+                root, vac = m.root_id, m.vacancy
+        if (not in_reloc and not per_message) or (per_message and not in_root and not in_reloc):
+            reloc_ok.append(m)
+            if gt(m.relocate_id, relocate):
+                relocate = m.relocate_id
+    root_path = shortest([m for m in root_ok if m.root_id == root], "path_from_root") if root is not None else ()
+    reloc_path = (shortest([m for m in reloc_ok if m.relocate_id == relocate], "path_from_relocate")
+                  if relocate is not None else ())
+    return highest, root, relocate, vac, root_path, reloc_path, root_ok
+
+
+def test_algorithm_1_equals_the_literal_two_pass_form_on_random_inboxes():
+    """compute_message folds lines 21-22 into the loop and get_parent_msg is one pass
+    (docs/performance.md): same message, same parent as the literal form, 3,000 inboxes."""
+    rng = np.random.default_rng(7)
+    for _ in range(3000):
+        def path():
+            return tuple(int(x) for x in rng.choice(12, size=rng.integers(0, 5), replace=False))
+        inbox = [Song2016Message(int(rng.integers(12)), int(rng.integers(12)),
+                                 [None, 8, 9, 10, 11][rng.integers(5)],
+                                 [None, 3, 5, 7, 9, 11][rng.integers(6)], None,
+                                 Vacancy(1.0, 0.0, 0.0, "A", int(rng.integers(4))),
+                                 bool(rng.random() < 0.3), bool(rng.random() < 0.5), path(), path())
+                 for _ in range(rng.integers(0, 8))]
+        me, stable = int(rng.integers(12)), bool(rng.random() < 0.5)
+        my_vac = Vacancy(0.0, 1.0, 0.0, "A", 1) if rng.random() < 0.5 else None
+        for rumor in ("field", "message"):
+            for rule in ("stable_first", "fewest_hops"):
+                got, parent = compute_message(me, stable, my_vac, inbox, rumor, rule)
+                hi, root, reloc, vac, rpath, lpath, root_ok = _literal_lines_10_to_22(
+                    me, stable, my_vac, inbox, rumor == "message")
+                assert (got.highest_id, got.root_id, got.relocate_id) == (hi, root, reloc)
+                assert got.vacancy == (my_vac if me == root else vac)
+                assert (got.path_from_root, got.path_from_relocate) == (rpath + (me,), lpath + (me,))
+                if me != root:
+                    assert parent is _literal_parent(root_ok, root, reloc, rule == "stable_first")
+
+
+def _literal_parent(eligible, root_id, relocate_id, stable_first):
+    """Algorithm 1 line 27 / Sec. V-B as a sequence of filters (the unoptimised form)."""
+    cands = [m for m in eligible if root_id is not None and m.root_id == root_id and m.path_from_root]
+    if stable_first and any(m.stable for m in cands):
+        cands = [m for m in cands if m.stable]
+    rel = [m for m in cands if m.sender_id == relocate_id]
+    if rel and any(len(m.path_from_root) <= len(rel[0].path_from_root)
+                   for m in cands if m.sender_id != relocate_id):
+        cands = [m for m in cands if m.sender_id != relocate_id]
+    best = None
+    for m in cands:
+        if best is None or len(m.path_from_root) < len(best.path_from_root) or (
+                len(m.path_from_root) == len(best.path_from_root) and m.sender_id > best.sender_id):
+            best = m
+    return best
