@@ -1,7 +1,11 @@
 """Robot-steps per second of the simulation engine with a trivial controller.
 
-Usage: ``python benchmarks/bench_engine.py [--quick]``.  Prints one line per n;
-the numbers go to docs/performance.md ("Simulation engine and song2016").
+Usage: ``python benchmarks/bench_engine.py [--quick]``.  Prints one line per n for
+two controllers: ``wander`` (every robot turns and drives every step: the engine's
+general path, sensing every step) and ``still`` (nobody moves or changes its message,
+and the controller offers ``repeat_step`` / ``repeat_horizon``: the fixed per-step cost
+of the engine's shortcuts, docs/performance.md).  The numbers go to
+docs/performance.md ("Simulation engine and song2016").
 The anchor (DESIGN.md section 4) is 25,000 robot-steps/s for a plain per-robot
 Python loop with neighbor search and a 10x10 assignment.
 """
@@ -35,25 +39,47 @@ class _Wander:
         return self.k
 
 
+class _Still:
+    """Stands still with a constant broadcast; repeats itself until further notice."""
+
+    def __init__(self, robot_id):
+        self.cmd = Command(message=(robot_id,))
+
+    def step(self, obs):
+        return self.cmd
+
+    def repeat_step(self, step):
+        return self.cmd
+
+    def repeat_horizon(self, step):
+        return 2 ** 62
+
+    def state(self):
+        return 0
+
+
 class Trivial:
     name = "trivial"
     model = RobotModel()
     assumptions = ()
 
+    def __init__(self, still: bool = False):
+        self.still = still
+
     def controller(self, robot_id, params, lattice, rng):
-        return _Wander(robot_id)
+        return _Still(robot_id) if self.still else _Wander(robot_id)
 
     def finished(self, states):
         return False
 
 
-def bench(n: int, robot_steps: int, repeat: int = 3) -> float:
+def bench(n: int, robot_steps: int, repeat: int = 3, still: bool = False) -> float:
     init = random_connected(n, 1, range=1.2, min_separation=0.4)
     steps = max(robot_steps // n, 20)
     best = math.inf
     for _ in range(repeat):
         t0 = time.process_time()
-        simulate(Trivial(), None, init, Params(range=1.2), seed=1, max_steps=steps,
+        simulate(Trivial(still), None, init, Params(range=1.2), seed=1, max_steps=steps,
                  stop_when_static=False, record_clamps=True)
         best = min(best, time.process_time() - t0)
     return n * steps / best
@@ -67,7 +93,8 @@ def main() -> None:
     print("# CPU time of this process (time.process_time), best of 3")
     print(f"# {platform.platform()}, Python {platform.python_version()}, numpy {np.__version__}")
     for n in (10, 30, 100, 300):
-        print(f"n={n:4d}: {bench(n, total):10.0f} robot-steps/s")
+        print(f"n={n:4d}: wander {bench(n, total):10.0f}  still {bench(n, total, still=True):10.0f} "
+              "robot-steps/s")
 
 
 if __name__ == "__main__":
