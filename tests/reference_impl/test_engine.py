@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError
+from swarmproof.models.se2 import relative_many
 from swarmproof.models.trace import InitialConfiguration, Trace
 from swarmproof.reference_impl.engine import FaultModel, TableSchedule, default_static_window, simulate
 from swarmproof.reference_impl.examples import GatherToLowestId
@@ -297,10 +298,11 @@ class Repeating:
 
     def __init__(self, with_repeat=True):
         self.calls = []
+        self.seen = {}
         self.with_repeat = with_repeat
 
     def controller(self, rid, params, lattice, rng):
-        calls = self.calls
+        calls, seen = self.calls, self.seen
 
         class C:
             msg = ("m", rid)
@@ -308,6 +310,7 @@ class Repeating:
 
             def step(self, obs):
                 calls.append((obs.step, rid, "step"))
+                seen[(obs.step, rid)] = obs
                 if rid == 1 and obs.step == 2:
                     self.msg = ("changed", rid)
                 drive = (rid, obs.step) in ((0, 0), (0, 4))
@@ -346,6 +349,12 @@ def test_repeat_step_only_when_the_whole_observation_is_unchanged():
         4: ["0r", "0s", "1r", "2r", "3r"],        # 0 declines and drives
         5: ["0s", "1s", "2r", "3r"],              # 0 moved, no message changed
     }
+    # step 3 reused step 1's sensing (nobody moved in steps 1 and 2): still exact
+    obs = alg.seen[(3, 0)]
+    assert obs.neighbor_ids == (1,)
+    expect = relative_many(r.trace.poses[3][0], r.trace.poses[3][1:2])
+    assert np.abs(obs.neighbor_poses - expect).max() < 1e-12
+    assert abs(obs.neighbor_poses[0, 0] - 0.55) < 1e-12   # after robot 0 drove 0.05
     plain = Repeating(with_repeat=False)
     q = simulate(plain, None, init, P, seed=0, **kw)
     assert q.trace.to_json() == r.trace.to_json()
