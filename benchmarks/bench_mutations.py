@@ -1,0 +1,395 @@
+"""Mutation benchmark (issue 6): the explorer against plain Monte Carlo on seeded faults.
+
+For every fault of :mod:`mutants` (a copy of a reference implementation with
+one mistake) two hunters get the same wall-clock budget B and look for a
+violation of the fault's target property:
+
+(a) the explorer, :func:`swarmproof.checkers.explore.explore` with
+    ``budget=B``, ``robots=(lo, hi)`` and ``max_examples`` of 60 per budget
+    second (:func:`default_max_examples`), so that the budget, not the
+    example count, ends nearly every search (finding *and* shrinking share B);
+(b) plain seeded Monte Carlo: from ``numpy.random.default_rng(seed)``, again
+    and again, a random n in ``[lo, hi]``, a random bundled periodic lattice
+    and a random connected start (:func:`reference_impl.initial.random_connected`,
+    minimum separation range/4 as the explorer's scenarios), run by the same
+    :func:`~swarmproof.checkers.explore.run_scenario` and judged by the same
+    :func:`~swarmproof.checkers.explore.judge`, until a run violates the
+    property or B is spent (checked before each run, like the explorer).
+
+Recorded per fault and hunter: found or not, wall and CPU seconds
+(``time.process_time``) to the *first* counterexample, the robot count and
+violation step of the counterexample (the explorer's after shrinking, and of
+its first failing scenario before shrinking).  The explorer's time to its
+first failing scenario is taken by wrapping the explorer module's ``judge``
+for the run (the explorer itself is unchanged; its own ``seconds`` include
+shrinking).  A Monte Carlo hunt that finds nothing within B counts as not
+found; for the speed-up its time is taken as B, a lower bound, and the ratio
+is then printed as ``>= x``.
+
+Usage (from the repository root)::
+
+    .venv/bin/python benchmarks/bench_mutations.py --budget 60 --seed 0 --json mut.json
+    .venv/bin/python benchmarks/bench_mutations.py --faults song2016~nclb-ignored --budget 10
+    .venv/bin/python benchmarks/bench_mutations.py --list
+
+Deterministic given the seed, apart from the times (and, when a budget is
+hit while shrinking, the explorer's counterexample size, since Hypothesis
+stops shrinking at the budget).
+
+References
+----------
+Issue 6 ("Must hold": the mutation benchmark); 000_3ad33c5b62f11d5f.txt and
+001_7a4e517b856331bc.txt for the faults (see mutants.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import datetime
+import os
+import platform
+import statistics
+import sys
+import time
+from typing import Any, Sequence
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from mutants import FAULTS, FAULT_NAMES, Fault, get_fault, registered  # noqa: E402
+
+from swarmproof.models.errors import UsageError  # noqa: E402
+
+DEFAULT_BUDGET = 60.0
+DEFAULT_ROBOTS = (3, 8)
+#: Hypothesis examples per budget second.  The explorer checks its budget
+#: inside each example, but Hypothesis goes on generating (each example then
+#: returns at once, about 2 ms here) until ``max_examples``, so a huge value
+#: would run far past the budget; 60 per second is above what any fault's
+#: scenarios reach here (song2014 runs take about 17 ms each), so the budget
+#: still ends nearly every search.
+EXAMPLES_PER_SECOND = 60
+
+
+def default_max_examples(budget: float) -> int:
+    """``max_examples`` for a budget: :data:`EXAMPLES_PER_SECOND` per second, at least 100.
+
+    >>> default_max_examples(60), default_max_examples(0.5)
+    (3600, 100)
+    """
+    return max(100, int(EXAMPLES_PER_SECOND * budget))
+
+
+@contextlib.contextmanager
+def first_violation_clock():
+    """Wrap ``swarmproof.checkers.explore.judge`` to time-stamp the first violated judgment.
+
+    Yields a dict that gets ``wall``, ``cpu`` (absolute ``time.monotonic`` /
+    ``time.process_time`` readings), ``robots`` and ``step`` of the first
+    violating scenario; the original ``judge`` is restored on exit.
+    """
+    from swarmproof.checkers import explore as explore_mod
+
+    original = explore_mod.judge
+    seen: dict[str, Any] = {}
+
+    def judge(prop, algorithm, lattice, params, result, options=None):
+        r = original(prop, algorithm, lattice, params, result, options)
+        if r.violated and not seen:
+            seen.update(wall=time.monotonic(), cpu=time.process_time(), robots=int(result.trace.n),
+                        step=(r.witness or {}).get("step"))
+        return r
+
+    explore_mod.judge = judge
+    try:
+        yield seen
+    finally:
+        explore_mod.judge = original
+
+
+def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int],
+                  max_examples: int | None = None) -> dict:
+    """Hunt ``fault.target`` on the registered mutant with the explorer (budget ``budget``)."""
+    from swarmproof.checkers.explore import explore
+
+    with first_violation_clock() as first:
+        w0, c0 = time.monotonic(), time.process_time()
+        rep = explore(fault.name, [fault.target], budget=budget,
+                      max_examples=default_max_examples(budget) if max_examples is None else max_examples,
+                      robots=robots, seed=seed, options=fault.options, params=fault.params)
+        w1, c1 = time.monotonic(), time.process_time()
+    v = rep.properties[fault.target]
+    cx = v.counterexample
+    replayed = None
+    if cx is not None:
+        from swarmproof.checkers.replay import replay
+
+        replayed = replay(cx)
+    return {
+        "hunter": "explorer", "status": v.status, "found": v.status == "violated",
+        "seconds_to_first": None if not first else first["wall"] - w0,
+        "cpu_to_first": None if not first else first["cpu"] - c0,
+        "first_robots": first.get("robots"), "first_step": first.get("step"),
+        "robots": None if cx is None else len(cx.robots),
+        "step": None if cx is None else cx.violation.get("step"),
+        "lattice": None if cx is None else cx.lattice,
+        "run_steps": None if replayed is None else int(replayed.result.steps),
+        "replay_reproduced": None if replayed is None else bool(replayed.reproduced),
+        "counterexample": None if cx is None else cx.as_dict(),
+        "message": v.message, "scenarios": v.scenarios, "steps": v.steps,
+        "seconds_total": w1 - w0, "cpu_total": c1 - c0, "budget_hit": v.budget_hit,
+    }
+
+
+def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, int],
+                     lattices: Sequence[str] | None = None) -> dict:
+    """Plain seeded Monte Carlo on the registered mutant until a violation or ``budget`` seconds."""
+    import numpy as np
+
+    from swarmproof.checkers.explore import MIN_SEP_FRACTION, PERIODIC_LATTICES, judge, run_scenario
+    from swarmproof.checkers.runs import build_params
+    from swarmproof.models.library import load
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    names = list(PERIODIC_LATTICES if lattices is None else lattices)
+    loaded = {name: load(name) for name in names}
+    rng = np.random.default_rng(seed)
+    runs = steps = 0
+    w0, c0 = time.monotonic(), time.process_time()
+    out = {"hunter": "monte_carlo", "status": "held", "found": False, "seconds_to_first": None,
+           "cpu_to_first": None, "robots": None, "step": None, "lattice": None, "message": "",
+           "run_steps": None,
+           "run_seed": None}
+    while time.monotonic() - w0 < budget:
+        n = int(rng.integers(robots[0], robots[1] + 1))
+        name = names[int(rng.integers(len(names)))]
+        run_seed = int(rng.integers(0, 2**31 - 1))
+        lattice = loaded[name]
+        phi = float(lattice.range)
+        init = random_connected(n, run_seed, range=phi, min_separation=MIN_SEP_FRACTION * phi)
+        algo = get_algorithm(fault.name, n_robots=n)
+        params = build_params(algo, phi, n, **fault.params)
+        algo, result = run_scenario(fault.name, lattice, init.ids.tolist(), init.poses.tolist(), params,
+                                    seed=run_seed)
+        r = judge(fault.target, algo, lattice, params, result, fault.options)
+        runs += 1
+        steps += int(result.steps)
+        if r.violated:
+            out.update(status="violated", found=True, seconds_to_first=time.monotonic() - w0,
+                       cpu_to_first=time.process_time() - c0, robots=n,
+                       step=(r.witness or {}).get("step"), lattice=name, message=r.message,
+                       run_steps=int(result.steps),
+                       run_seed=run_seed)
+            break
+    out.update(runs=runs, steps=steps, seconds_total=time.monotonic() - w0,
+               cpu_total=time.process_time() - c0)
+    return out
+
+
+def speedup(explorer: dict, mc: dict) -> tuple[float | None, bool]:
+    """``(ratio, lower_bound)``: Monte Carlo's CPU seconds to first over the explorer's.
+
+    CPU time (``time.process_time``), because the machine is shared.  Monte
+    Carlo that found nothing counts with all the CPU time it spent in the
+    budget (a lower bound on its time to first); None when the explorer
+    found nothing.
+    """
+    if not explorer["found"] or explorer["cpu_to_first"] is None:
+        return None, False
+    t_e = max(explorer["cpu_to_first"], 1e-3)   # process_time resolution, no division by ~0
+    if mc["found"]:
+        return mc["cpu_to_first"] / t_e, False
+    return mc["cpu_total"] / t_e, True
+
+
+def run_benchmark(faults: Sequence[Fault], budget: float, seed: int, robots: tuple[int, int],
+                  mc_robots: tuple[int, int] | None = None, max_examples: int | None = None,
+                  log=None) -> dict:
+    """Run both hunters on every fault; returns the JSON document (see :func:`summarize`)."""
+    rows = []
+    with registered(faults):
+        for f in faults:
+            e = hunt_explorer(f, budget, seed, robots, max_examples)
+            m = hunt_monte_carlo(f, budget, seed, mc_robots or robots)
+            ratio, lower = speedup(e, m)
+            row = {"fault": f.name, "reference": f.reference, "description": f.description,
+                   "breaks": f.breaks, "property": f.target, "options": dict(f.options),
+                   "params": dict(f.params),
+                   "explorer": e, "monte_carlo": m, "speedup": ratio, "speedup_lower_bound": lower}
+            rows.append(row)
+            if log is not None:
+                log(format_row(row))
+    return summarize(rows, budget, seed, robots, mc_robots or robots)
+
+
+def _median(xs):
+    return None if not xs else statistics.median(xs)
+
+
+def summarize(rows: list[dict], budget: float, seed: int, robots, mc_robots) -> dict:
+    """The document: rows plus shares found, medians and the goals of issue 6."""
+    k = len(rows)
+    ef = [r for r in rows if r["explorer"]["found"]]
+    mf = [r for r in rows if r["monte_carlo"]["found"]]
+    e_times = [r["explorer"]["seconds_to_first"] for r in ef]
+    m_times = [r["monte_carlo"]["seconds_to_first"] for r in mf]
+    m_times_bound = [r["monte_carlo"]["seconds_to_first"] if r["monte_carlo"]["found"] else budget
+                     for r in rows]
+    e_cpu = [r["explorer"]["cpu_to_first"] for r in ef]
+    m_cpu_bound = [r["monte_carlo"]["cpu_to_first"] if r["monte_carlo"]["found"] else r["monte_carlo"]["cpu_total"]
+                   for r in rows]
+    ratios = [r["speedup"] for r in rows if r["speedup"] is not None]
+    e_sizes = [r["explorer"]["robots"] for r in ef]
+    summary = {
+        "faults": k,
+        "explorer_found": len(ef), "monte_carlo_found": len(mf),
+        "explorer_share": len(ef) / k if k else None, "monte_carlo_share": len(mf) / k if k else None,
+        "explorer_median_seconds_to_first": _median(e_times),
+        "monte_carlo_median_seconds_to_first_found": _median(m_times),
+        "monte_carlo_median_seconds_to_first_lower_bound": _median(m_times_bound),
+        "explorer_median_cpu_to_first": _median(e_cpu),
+        "monte_carlo_median_cpu_to_first_lower_bound": _median(m_cpu_bound),
+        "median_speedup": _median(ratios),
+        "explorer_max_robots": max(e_sizes) if e_sizes else None,
+        "monte_carlo_median_robots": _median([r["monte_carlo"]["robots"] for r in mf]),
+        "goal_every_fault_found": len(ef) == k,
+        "goal_5x_every_fault": bool(rows) and all(r["speedup"] is not None and r["speedup"] >= 5 for r in rows),
+        "goal_at_most_8_robots": bool(ef) and all(s <= 8 for s in e_sizes),
+    }
+    return {"benchmark": "mutations", "budget": budget, "seed": seed, "robots": list(robots),
+            "mc_robots": list(mc_robots), "rows": rows, "summary": summary}
+
+
+def _fmt_t(h: dict) -> str:
+    if not h["found"]:
+        return "not found"
+    return f"{h['seconds_to_first']:.2f} ({h['cpu_to_first']:.2f})"
+
+
+def _fmt_ratio(row: dict) -> str:
+    if row["speedup"] is None:
+        return "-"
+    r = row["speedup"]
+    return (">= " if row["speedup_lower_bound"] else "") + (f"{r:.1f}x" if r < 10 else f"{r:.0f}x")
+
+
+HEADER = ("| fault | property | explorer: s to 1st (cpu) | robots 1st -> shrunk, steps | "
+          "Monte Carlo: s to 1st (cpu) | MC runs | MC robots, steps | speed-up (cpu) |")
+RULE = "|---|---|---|---|---|---|---|---|"
+
+
+def _steps(h: dict) -> str:
+    """The counterexample's length: the violation step, else the run's steps (final-state properties)."""
+    if h["step"] is not None:
+        return f"step {h['step']}"
+    return f"{h['run_steps']} steps"
+
+
+def format_row(row: dict) -> str:
+    """One Markdown table row."""
+    e, m = row["explorer"], row["monte_carlo"]
+    esize = f"{e['first_robots']} -> {e['robots']}, {_steps(e)}" if e["found"] else "-"
+    msize = f"{m['robots']}, {_steps(m)}" if m["found"] else "-"
+    return (f"| {row['fault']} | {row['property']} | {_fmt_t(e)} | {esize} | {_fmt_t(m)} | "
+            f"{m['runs']} | {msize} | {_fmt_ratio(row)} |")
+
+
+def format_table(doc: dict) -> list[str]:
+    """The Markdown table and the summary lines."""
+    s = doc["summary"]
+    lines = [HEADER, RULE] + [format_row(r) for r in doc["rows"]]
+    B = doc["budget"]
+
+    def t(x):
+        return "-" if x is None else f"{x:.2f} s"
+    lines += [
+        "",
+        f"budget B = {B:g} s per hunter and fault, seed {doc['seed']}, robots "
+        f"{doc['robots'][0]}..{doc['robots'][1]} (Monte Carlo {doc['mc_robots'][0]}..{doc['mc_robots'][1]})",
+        f"found: explorer {s['explorer_found']}/{s['faults']}, Monte Carlo {s['monte_carlo_found']}/{s['faults']}",
+        f"median time to first counterexample: explorer {t(s['explorer_median_seconds_to_first'])} "
+        f"(found faults), Monte Carlo {t(s['monte_carlo_median_seconds_to_first_found'])} (found faults), "
+        f">= {t(s['monte_carlo_median_seconds_to_first_lower_bound'])} counting not found as B (wall); "
+        f"CPU: explorer {t(s['explorer_median_cpu_to_first'])}, Monte Carlo >= "
+        f"{t(s['monte_carlo_median_cpu_to_first_lower_bound'])}",
+        f"median speed-up (CPU) {'-' if s['median_speedup'] is None else format(s['median_speedup'], '.0f') + 'x'}; "
+        f"explorer counterexamples at most {s['explorer_max_robots']} robots after shrinking; "
+        f"Monte Carlo median {s['monte_carlo_median_robots']} robots",
+        f"goals: every fault found {'yes' if s['goal_every_fault_found'] else 'NO'}; "
+        f">= 5x on every fault {'yes' if s['goal_5x_every_fault'] else 'NO'}; "
+        f"<= 8 robots {'yes' if s['goal_at_most_8_robots'] else 'NO'}",
+    ]
+    return lines
+
+
+def _robots_arg(text: str) -> tuple[int, int]:
+    try:
+        lo, _, hi = text.partition("..")
+        pair = (int(lo), int(hi))
+    except ValueError:
+        raise UsageError(f"robots={text!r} is not MIN..MAX", fix="e.g. --robots 3..8") from None
+    if not 1 <= pair[0] <= pair[1]:
+        raise UsageError(f"robots={text!r} must satisfy 1 <= MIN <= MAX", fix="e.g. --robots 3..8")
+    return pair
+
+
+def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--budget", type=float, default=DEFAULT_BUDGET,
+                    help="seconds per hunter and fault (default %(default)s)")
+    ap.add_argument("--seed", type=int, default=0, help="explorer and Monte Carlo seed (default 0)")
+    ap.add_argument("--faults", default=None,
+                    help="comma-separated fault names (default: all; --list shows them)")
+    ap.add_argument("--robots", default="3..8", help="robots MIN..MAX for both hunters (default 3..8)")
+    ap.add_argument("--mc-robots", default=None, help="robots MIN..MAX for Monte Carlo only")
+    ap.add_argument("--json", dest="json_out", default=None, metavar="OUT", help="write the raw numbers")
+    ap.add_argument("--list", action="store_true", help="list the faults and exit")
+    return ap.parse_args(argv)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = parse_args(argv)
+    try:
+        if args.list:
+            for f in FAULTS:
+                print(f"{f.name}: {f.description} [{f.breaks}; hunts {f.target}]")
+            return 0
+        import math
+
+        if not (math.isfinite(args.budget) and args.budget > 0):
+            raise UsageError(f"budget={args.budget!r} must be a finite number of seconds > 0",
+                             fix="e.g. --budget 60")
+        if args.seed < 0:
+            raise UsageError(f"seed={args.seed!r} must be >= 0", fix="e.g. --seed 0")
+        names = FAULT_NAMES if args.faults is None else [s.strip() for s in args.faults.split(",") if s.strip()]
+        if not names:
+            raise UsageError(f"faults={args.faults!r} names no fault", fix=f"use some of {list(FAULT_NAMES)!r}")
+        faults = [get_fault(n) for n in names]
+        robots = _robots_arg(args.robots)
+        mc_robots = None if args.mc_robots is None else _robots_arg(args.mc_robots)
+    except UsageError as exc:
+        print(f"bench_mutations: error: {exc}", file=sys.stderr)
+        return 2
+    started = datetime.datetime.now(datetime.timezone.utc)
+    load0 = os.getloadavg()[0]
+    print(HEADER)
+    print(RULE)
+    doc = run_benchmark(faults, args.budget, args.seed, robots, mc_robots,
+                        log=lambda line: print(line, flush=True))
+    doc["machine"] = {"cpus": os.cpu_count(), "machine": platform.machine(),
+                      "python": platform.python_version(), "date": started.strftime("%Y-%m-%d %H:%M UTC"),
+                      "loadavg_1min_start": load0, "loadavg_1min_end": os.getloadavg()[0]}
+    for line in format_table(doc)[len(doc["rows"]) + 2:]:
+        print(line)
+    print(f"machine: {doc['machine']}")
+    if args.json_out:
+        from swarmproof.models.fileio import atomic_write_text, dumps_json
+
+        atomic_write_text(args.json_out, dumps_json(doc))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

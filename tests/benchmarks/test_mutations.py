@@ -1,0 +1,209 @@
+"""Smoke tests of the mutation benchmark (benchmarks/mutants.py, benchmarks/bench_mutations.py).
+
+Every seeded fault builds from the current reference implementation, is a
+real behavioural change (its trace differs from the reference's on a fixed
+start; the shrunk counterexample the benchmark found violates the property
+on the mutant and not on the reference), and the table code works on a tiny
+budget.  The benchmark itself (minutes) is run by hand; its numbers are in
+docs/performance.md.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import json
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+
+from swarmproof.checkers.explore import EXPLORE_PROPERTIES, run_scenario
+from swarmproof.checkers.replay import replay
+from swarmproof.checkers.runs import build_params
+from swarmproof.models.counterexample import Counterexample
+from swarmproof.models.library import load
+from swarmproof.reference_impl import registry
+from swarmproof.reference_impl.initial import random_connected
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _load_bench():
+    name = "swarmproof_bench_mutations"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "benchmarks", "bench_mutations.py"))
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+bench = _load_bench()
+mutants = sys.modules["mutants"]
+FAULTS = mutants.FAULTS
+
+with open(os.path.join(HERE, "mutation_witnesses.json"), encoding="utf-8") as fh:
+    WITNESSES = json.load(fh)
+
+
+@pytest.fixture(scope="module")
+def all_registered():
+    with mutants.registered(FAULTS) as names:
+        yield names
+    assert not any(n in registry.ALGORITHMS for n in names)
+
+
+def test_fault_table():
+    names = [f.name for f in FAULTS]
+    assert len(names) == len(set(names)) == 13
+    assert {f.reference for f in FAULTS} == {"song2014", "song2016"}
+    for f in FAULTS:
+        assert f.name.startswith(f.reference + "~")
+        assert f.breaks.startswith(("000 ", "001 ")), f.breaks
+        assert f.description and set(f.catches) <= set(EXPLORE_PROPERTIES)
+        if f.reference == "song2014":
+            # the reference already violates these (001 Sec. I): they would not tell the fault
+            assert f.target not in ("connectivity", "tree_links")
+
+
+def test_registered_names_build_mutants_and_are_removed_after(all_registered):
+    assert all_registered == [f.name for f in FAULTS]
+    for f in FAULTS:
+        alg = registry.get_algorithm(f.name, n_robots=4)
+        assert alg.name == f.name
+        assert type(alg).__module__ == f.module_name
+        assert registry.claims_of(f.name) == registry.claims_of(f.reference)
+    # the reference is untouched
+    assert registry.get_algorithm("song2016", n_robots=4).name == "song2016"
+    assert type(registry.get_algorithm("song2014")).__module__ == "swarmproof.reference_impl.song2014"
+
+
+def test_a_patch_that_no_longer_applies_names_the_fault_and_snippet():
+    bad = dataclasses.replace(FAULTS[0], name="song2016~broken", reference="song2016",
+                              override=None, patches=(("no such snippet", "x"),))
+    with pytest.raises(mutants.MutantBuildError,
+                       match=r"fault='song2016~broken': the snippet 'no such snippet' occurs 0 times"):
+        mutants.build_module(bad)
+    assert bad.module_name not in sys.modules
+
+
+def test_unknown_fault_lists_the_valid_ones():
+    with pytest.raises(mutants.UsageError, match=r"fault='nope' is not known.*song2014~no-eq8-turn"):
+        mutants.get_fault("nope")
+
+
+def _trace(name, lattice, init, params, seed):
+    _, r = run_scenario(name, lattice, init.ids.tolist(), init.poses.tolist(), params, seed=seed)
+    return r.trace.poses
+
+
+#: (n, seed) of a random_connected start on the square lattice where the traces differ
+#: (5, 1) unless that start never reaches the faulty code (no unmatched robot, NCLB not binding).
+DIFF_START = {"song2014~disperse-toward-parent": (6, 2), "song2016~nclb-ignored": (6, 1)}
+
+
+@pytest.mark.parametrize("fault", FAULTS, ids=[f.name for f in FAULTS])
+def test_mutant_trace_differs_from_reference_on_a_fixed_start(all_registered, fault):
+    lattice = load("square")
+    phi = float(lattice.range)
+    n, seed = DIFF_START.get(fault.name, (5, 1))
+    init = random_connected(n, seed, range=phi, min_separation=phi / 4)
+    p = build_params(registry.get_algorithm(fault.reference, n_robots=n), phi, n, **fault.params)
+    ref = _trace(fault.reference, lattice, init, p, seed)
+    mut = _trace(fault.name, lattice, init, p, seed)
+    assert ref.shape != mut.shape or not np.array_equal(ref, mut)
+
+
+#: Witnesses whose replay takes more than a second (8 robots to the song2014 step cap).
+SLOW_WITNESSES = {"song2014~disperse-toward-parent"}
+FOUND = [pytest.param(f, id=f.name, marks=[pytest.mark.slow] if f.name in SLOW_WITNESSES else [])
+         for f in FAULTS if f.name in WITNESSES]
+
+
+@pytest.mark.parametrize("fault", FOUND)
+def test_witness_violates_on_the_mutant_and_holds_on_the_reference(all_registered, fault):
+    cx = Counterexample.from_dict(WITNESSES[fault.name])
+    assert cx.algorithm == fault.name and cx.property == fault.target
+    assert len(cx.robots) <= 8
+    mut = replay(cx)
+    assert mut.reproduced, mut.verdict.message
+    ref = replay(dataclasses.replace(cx, algorithm=fault.reference))
+    assert not ref.reproduced
+    assert ref.verdict.status == "held", ref.verdict.message
+
+
+def _hunt(found, cpu, total=None, robots=None):
+    return {"found": found, "cpu_to_first": cpu, "seconds_to_first": cpu, "cpu_total": total,
+            "robots": robots, "first_robots": robots, "step": 3, "run_steps": 9, "runs": 2}
+
+
+def test_speedup_uses_cpu_and_a_lower_bound_when_monte_carlo_finds_nothing():
+    assert bench.speedup(_hunt(True, 0.5), _hunt(True, 3.0)) == (6.0, False)
+    assert bench.speedup(_hunt(True, 0.5), _hunt(False, None, total=40.0)) == (80.0, True)
+    assert bench.speedup(_hunt(False, None), _hunt(True, 1.0)) == (None, False)
+
+
+def test_summary_and_table_lines_exact():
+    rows = []
+    for name, e, m in (("a~x", _hunt(True, 0.5, robots=3), _hunt(True, 3.0, robots=8)),
+                       ("b~y", _hunt(True, 1.0, robots=4), _hunt(False, None, total=60.0)),
+                       ("c~z", _hunt(False, None), _hunt(False, None, total=60.0))):
+        ratio, lower = bench.speedup(e, m)
+        rows.append({"fault": name, "property": "formation", "explorer": e, "monte_carlo": m,
+                     "speedup": ratio, "speedup_lower_bound": lower})
+    doc = bench.summarize(rows, 60.0, 0, (3, 8), (3, 8))
+    s = doc["summary"]
+    assert (s["explorer_found"], s["monte_carlo_found"]) == (2, 1)
+    assert s["explorer_median_cpu_to_first"] == 0.75
+    assert s["monte_carlo_median_cpu_to_first_lower_bound"] == 60.0
+    assert s["median_speedup"] == 33.0
+    assert s["explorer_max_robots"] == 4
+    assert (s["goal_every_fault_found"], s["goal_5x_every_fault"], s["goal_at_most_8_robots"]) == (False, False, True)
+    lines = bench.format_table(doc)
+    assert lines[0] == bench.HEADER
+    assert lines[2] == "| a~x | formation | 0.50 (0.50) | 3 -> 3, step 3 | 3.00 (3.00) | 2 | 8, step 3 | 6.0x |"
+    assert lines[3] == "| b~y | formation | 1.00 (1.00) | 4 -> 4, step 3 | not found | 2 | - | >= 60x |"
+    assert lines[4] == "| c~z | formation | not found | - | not found | 2 | - | - |"
+    assert lines[-1] == "goals: every fault found NO; >= 5x on every fault NO; <= 8 robots yes"
+
+
+def test_benchmark_runs_on_a_tiny_budget():
+    fault = mutants.get_fault("song2014~no-eq8-turn")
+    doc = bench.run_benchmark([fault], 1.0, 0, (3, 4))
+    (row,) = doc["rows"]
+    e, m = row["explorer"], row["monte_carlo"]
+    # the fault breaks every run: both hunters find it at once, with 3..4 robots
+    assert e["found"] and m["found"] and m["runs"] == 1
+    assert e["robots"] <= e["first_robots"] <= 4 and 3 <= m["robots"] <= 4
+    assert e["replay_reproduced"] is True
+    assert doc["summary"]["explorer_found"] == doc["summary"]["monte_carlo_found"] == 1
+    assert bench.format_table(doc)[2].startswith("| song2014~no-eq8-turn | formation | ")
+    assert fault.name not in registry.ALGORITHMS
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--budget", "0"], "budget=0.0 must be a finite number of seconds > 0"),
+    (["--budget", "nan"], "budget=nan must be a finite number of seconds > 0"),
+    (["--seed", "-1"], "seed=-1 must be >= 0"),
+    (["--faults", "song2016~nope"], "fault='song2016~nope' is not known"),
+    (["--faults", ","], "faults=',' names no fault"),
+    (["--robots", "5..3"], "robots='5..3' must satisfy 1 <= MIN <= MAX"),
+    (["--robots", "x"], "robots='x' is not MIN..MAX"),
+], ids=["budget-zero", "budget-nan", "seed-negative", "fault-unknown", "faults-empty",
+        "robots-reversed", "robots-malformed"])
+def test_bad_input_exits_2_with_the_value_named(capsys, argv, message):
+    assert bench.main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("bench_mutations: error: ") and message in err
+    assert "Traceback" not in err
+
+
+def test_default_max_examples_scales_with_the_budget():
+    assert bench.default_max_examples(60) == 3600
+    assert bench.default_max_examples(0.5) == 100
+    assert math.isclose(bench.EXAMPLES_PER_SECOND, 60)
