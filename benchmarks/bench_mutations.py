@@ -313,7 +313,7 @@ def format_table(doc: dict) -> list[str]:
         f">= {t(s['monte_carlo_median_seconds_to_first_lower_bound'])} counting not found as B (wall); "
         f"CPU: explorer {t(s['explorer_median_cpu_to_first'])}, Monte Carlo >= "
         f"{t(s['monte_carlo_median_cpu_to_first_lower_bound'])}",
-        f"median speed-up (CPU) {'-' if s['median_speedup'] is None else format(s['median_speedup'], '.0f') + 'x'}; "
+        f"median speed-up (CPU) {'-' if s['median_speedup'] is None else format(s['median_speedup'], '.1f') + 'x'}; "
         f"explorer counterexamples at most {s['explorer_max_robots']} robots after shrinking; "
         f"Monte Carlo median {s['monte_carlo_median_robots']} robots",
         f"goals: every fault found {'yes' if s['goal_every_fault_found'] else 'NO'}; "

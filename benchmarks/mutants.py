@@ -343,7 +343,7 @@ FAULTS: tuple[Fault, ...] = (
     Fault("song2016~move-timeout-0", "song2016",
           "movement timeout of 0 steps: subtree robots move before the subtree marker has spread",
           "001 Sec. V-C, Sec. VI (movement timeout)", ("tree_links", "connectivity"),
-          override=_s16_cfg(movement_timeout=0)),
+          override=_s16_cfg(movement_timeout=0), params={"v": 0.8}),
     Fault("song2016~root-parent-case-dropped", "song2016",
           "the relocate robot always heads for its parent, also when the parent is the root",
           "001 Sec. V-C case 2 (\"unless its parent is the root ... toward the vacancy\")",
