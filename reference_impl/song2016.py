@@ -88,11 +88,20 @@ __all__ = [
 #: information when my ID is in pathFromRelocate.
 RUMOR_FILTERS = ("message", "field")
 
-#: The two statements of the parent rule (docs/decisions.md, "## song2016"):
-#: ``"stable_first"`` is Sec. V-B ("chooses for its parent [...] the stable neighbor
-#: that is the fewest hops from the root"); ``"fewest_hops"`` is the proof of Lemma 12
-#: ("selects the neighbor with 1) the shortest path to root, 2) the highest ID").
-PARENT_RULES = ("stable_first", "fewest_hops")
+#: The readings of the parent rule (docs/decisions.md, "## song2016", "Relocate
+#: robot's parent"). The paper states the rule twice:  Sec. V-B ("chooses for its
+#: parent [...] the stable neighbor that is the fewest hops from the root") and the
+#: proof of Lemma 12 ("selects the neighbor with 1) the shortest path to root, 2) the
+#: highest ID"), and describes the relocate robot's route as "its path to the root"
+#: (after Lemma 11; proof of Theorem 13).
+#:
+#: * ``"relocate_route"`` (default): Sec. V-B for every robot except the relocate
+#:   robot, whose parent is Lemma 12's (the neighbor on its shortest path to the
+#:   root), the one reading under which all of these sentences hold;
+#: * ``"stable_first"``: Sec. V-B for every robot, the relocate robot included
+#:   (it deadlocks: docs/song2016.md, "What the implementation found");
+#: * ``"fewest_hops"``: Lemma 12's rule for every robot.
+PARENT_RULES = ("relocate_route", "stable_first", "fewest_hops")
 
 
 # ---------------------------------------------------------------------------
@@ -381,7 +390,7 @@ _PATH_OF = {"path_from_root": attrgetter("path_from_root"),
 
 def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
                     in_messages: Sequence[Song2016Message], rumor_filter: str = "message",
-                    parent_rule: str = "stable_first"
+                    parent_rule: str = "relocate_route"
                     ) -> tuple[Song2016Message, Song2016Message | None]:
     """Algorithm 1 of 001 ("Compute message"), line by line.
 
@@ -398,7 +407,7 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
         increasing sender ID).
     rumor_filter : {"message", "field"}
         How line 12 rejects information (see :data:`RUMOR_FILTERS`).
-    parent_rule : {"stable_first", "fewest_hops"}
+    parent_rule : {"relocate_route", "stable_first", "fewest_hops"}
         Which statement of the parent rule line 27 follows (:data:`PARENT_RULES`).
 
     Returns
@@ -535,7 +544,13 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
         # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
         #    (root_cands: the eligible messages that carry this rootID, the only
         #    candidates getParentMsg considers)
-        parent_msg = get_parent_msg(root_cands, root, relocate, parent_rule == "stable_first")
+        #    (parent_rule "relocate_route": the relocate robot -- myID = relocateID
+        #    and unstable, as line 29 reads it -- follows its path to the root,
+        #    Lemma 12's rule; everyone else Sec. V-B's stable-first rule)
+        stable_first = (parent_rule == "stable_first"
+                        or (parent_rule == "relocate_route"
+                            and (stable or my_id != relocate)))
+        parent_msg = get_parent_msg(root_cands, root, relocate, stable_first)
         # 28 myMsg.parentID <- parentMsg.senderID
         parent_id = None if parent_msg is None else parent_msg.sender_id
         # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
@@ -584,7 +599,7 @@ class Song2016Config:
     heading_epsilon: float
     vacancy_tolerance: float
     rumor_filter: str
-    parent_rule: str = "stable_first"
+    parent_rule: str = "relocate_route"
 
 
 #: A step number no run reaches (repeat_horizon when no timeout is pending).
@@ -1077,7 +1092,7 @@ class Song2016:
                  movement_timeout: int | None = None, d_s: float | None = None,
                  arrival_epsilon: float = 1e-6, heading_epsilon: float = 1e-6,
                  vacancy_tolerance: float | None = None, rumor_filter: str = "field",
-                 parent_rule: str = "stable_first", memoize: bool = True) -> None:
+                 parent_rule: str = "relocate_route", memoize: bool = True) -> None:
         self.memoize = bool(memoize)
         if n_robots is not None:
             n_robots = _check_count("n_robots", n_robots)
@@ -1151,7 +1166,9 @@ class Song2016:
         value, name = self._value(params, "parent_rule")
         if value not in PARENT_RULES:
             raise UsageError(f"{name}={value!r} is not one of {PARENT_RULES!r}",
-                             fix="'stable_first' (Sec. V-B) or 'fewest_hops' (Lemma 12 proof)")
+                             fix="'relocate_route' (default: Sec. V-B, the relocate robot on its "
+                                 "path to the root), 'stable_first' (Sec. V-B for every robot) or "
+                                 "'fewest_hops' (Lemma 12 proof)")
         vals["parent_rule"] = value
         return Song2016Config(**vals)
 

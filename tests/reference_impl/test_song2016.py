@@ -21,8 +21,8 @@ from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Observation, Params
 from swarmproof.reference_impl.registry import get_algorithm
-from swarmproof.reference_impl.song2016 import (Song2016, Song2016Controller, Song2016Message,
-                                                Vacancy, compute_message, get_parent_msg,
+from swarmproof.reference_impl.song2016 import (PARENT_RULES, Song2016, Song2016Controller,
+                                                Song2016Message, Vacancy, compute_message, get_parent_msg,
                                                 sequential_fill, vacancies,
                                                 vacancy_in_observer_frame)
 from swarmproof.reference_impl.song2016_geometry import (closest_point_in_discs, in_discs,
@@ -200,6 +200,22 @@ def test_lemma_12_parent_rule_ignores_stability():
     m, _ = compute_message(7, False, None, cands, "field", "fewest_hops")
     assert m.parent_id == 4
     assert compute_message(7, False, None, cands, "field", "stable_first")[0].parent_id == 6
+
+
+def test_relocate_route_rule_sends_only_the_relocate_robot_along_its_shortest_path():
+    """PARENT_RULES "relocate_route" (docs/decisions.md, "Relocate robot's parent"): the
+    relocate robot takes Lemma 12's parent (its shortest path to the root, here through
+    unstable 4) where Sec. V-B would take the stable 6; every other robot keeps Sec. V-B."""
+    cands = [msg(4, root=9, root_path=(9, 4)), msg(6, root=9, root_path=(9, 2, 6), stable=True)]
+    # robot 7 is the relocate robot (unstable, highest unstable ID it knows)
+    assert compute_message(7, False, None, cands, "field", "relocate_route")[0].parent_id == 4
+    assert compute_message(7, False, None, cands, "field", "stable_first")[0].parent_id == 6
+    # robot 3 is unstable but not the relocate robot (7 is, by a message): Sec. V-B
+    reloc = [m for m in cands] + [msg(7, root=9, relocate=7, root_path=(9, 2, 6, 7))]
+    m3, _ = compute_message(3, False, None, reloc, "field", "relocate_route")
+    assert (m3.relocate_id, m3.parent_id) == (7, 6)
+    # a stable robot keeps Sec. V-B too
+    assert compute_message(5, True, None, cands, "field", "relocate_route")[0].parent_id == 6
 
 
 def test_no_parent_without_a_root():
@@ -451,7 +467,7 @@ def test_params_extra_overrides_the_constructor():
                                                        extra={"communication_timeout": 12}), 1.0)
     assert (cfg.communication_timeout, cfg.movement_timeout, cfg.d_s) == (12, 10, 0.3)
     assert cfg.vacancy_tolerance == 0.5 and cfg.rumor_filter == "field"
-    assert cfg.parent_rule == "stable_first"
+    assert cfg.parent_rule == "relocate_route"
 
 
 def test_registry_builds_song2016_with_options():
@@ -669,7 +685,7 @@ def test_algorithm_1_equals_the_literal_two_pass_form_on_random_inboxes():
         me, stable = int(rng.integers(12)), bool(rng.random() < 0.5)
         my_vac = Vacancy(0.0, 1.0, 0.0, "A", 1) if rng.random() < 0.5 else None
         for rumor in ("field", "message"):
-            for rule in ("stable_first", "fewest_hops"):
+            for rule in PARENT_RULES:
                 got, parent = compute_message(me, stable, my_vac, inbox, rumor, rule)
                 hi, root, reloc, vac, rpath, lpath, root_ok = _literal_lines_10_to_22(
                     me, stable, my_vac, inbox, rumor == "message")
@@ -677,7 +693,9 @@ def test_algorithm_1_equals_the_literal_two_pass_form_on_random_inboxes():
                 assert got.vacancy == (my_vac if me == root else vac)
                 assert (got.path_from_root, got.path_from_relocate) == (rpath + (me,), lpath + (me,))
                 if me != root:
-                    assert parent is _literal_parent(root_ok, root, reloc, rule == "stable_first")
+                    stable_first = rule == "stable_first" or (
+                        rule == "relocate_route" and (stable or me != reloc))
+                    assert parent is _literal_parent(root_ok, root, reloc, stable_first)
 
 
 def _literal_parent(eligible, root_id, relocate_id, stable_first):

@@ -13,11 +13,16 @@ robot by robot: the robot of ID rank k (0 = the highest) must stand at the k-th
 predicted pose in the frame of the highest-ID robot (1e-6), with the predicted role.
 Q is computed exactly (fractions of neighbor counts) and must equal the prediction.
 
-Known deadlocks: on a few starts the algorithm, as written, goes static with unstable robots
-left (docs/song2016.md, "What the implementation found": the relocate robot sits on a stable
-parent whose stable neighbors tie on hops).  Those starts are listed in
-:data:`KNOWN_DEADLOCKS`, and the test checks that they deadlock exactly that way (so the list
-fails if the behaviour changes either way); every other start gets the full check.
+The parent rule is the default ``"relocate_route"`` (docs/decisions.md, "Relocate robot's
+parent": Sec. V-B for every robot, the relocate robot on its path to the root as Lemma 11,
+Lemma 12 and Theorem 13 describe it); every start gets the full check.
+
+Sec. V-B's stable-first rule applied to the relocate robot too (``parent_rule="stable_first"``)
+deadlocks on some starts (docs/song2016.md, "What the implementation found": the relocate robot
+sits on a stable parent that is no closer to the root).  Those starts are listed in
+:data:`STABLE_FIRST_DEADLOCKS`, and a test checks that under that rule they deadlock exactly
+that way and under the default rule they finish (so the list fails if either behaviour
+changes).
 
 The full matrix is slow (240 runs; docs/performance.md); one small case runs by default.
 """
@@ -42,8 +47,9 @@ LATTICES = ("square", "hexagon", "octagon-square")
 SIZES = (10, 20, 30, 40)
 STARTS = 20
 
-#: (lattice, n) -> seeds on which the rules as written deadlock (found by this matrix).
-KNOWN_DEADLOCKS: dict[tuple[str, int], frozenset[int]] = {
+#: (lattice, n) -> seeds on which ``parent_rule="stable_first"`` deadlocks (found by this
+#: matrix when that rule was the default, 2026-11-22).
+STABLE_FIRST_DEADLOCKS: dict[tuple[str, int], frozenset[int]] = {
     ("square", 40): frozenset({15}),
     ("hexagon", 30): frozenset({0, 2, 8, 9, 11, 12, 15}),
     ("hexagon", 40): frozenset({2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 14, 16, 17, 18, 19}),
@@ -87,17 +93,18 @@ def check_known_deadlock(r, lattice, where) -> None:
     assert float(np.hypot(*(xy[k] - xy[q]))) >= phi
 
 
-def run_and_check(lattice, n, seed, pred_poses, pred_roles) -> Fraction | None:
-    """Full check of one start; None (after checking the deadlock) for a known deadlock."""
+def run(lattice, n, seed, **rule):
     phi = lattice.range
     init = random_connected(n, seed, range=phi, min_separation=0.3)
-    r = simulate(Song2016(n_robots=n), lattice, init, Params(range=phi, v=0.05), seed=seed)
+    return simulate(Song2016(n_robots=n, **rule), lattice, init, Params(range=phi, v=0.05),
+                    seed=seed)
+
+
+def run_and_check(lattice, n, seed, pred_poses, pred_roles) -> Fraction:
+    """Full check of one start under the default parent rule; returns its exact Q."""
+    phi = lattice.range
+    r = run(lattice, n, seed)
     where = f"{lattice.name} n={n} seed={seed}"
-    if seed in KNOWN_DEADLOCKS.get((lattice.name, n), ()):
-        check_known_deadlock(r, lattice, where)
-        conn = connected_throughout(r.trace, phi)
-        assert conn.held, f"{where}: {conn}"
-        return None
     assert r.status == "finished", f"{where}: {r.status} after {r.steps} steps"
     ids, poses = r.final_ids, r.final_poses
     sat = satisfies_lattice(ids, poses, lattice, phi)
@@ -113,6 +120,16 @@ def run_and_check(lattice, n, seed, pred_poses, pred_roles) -> Fraction | None:
     return exact_q(poses[order], roles, lattice, phi)
 
 
+def check_stable_first_deadlock(lattice, n, seed) -> None:
+    """Under Sec. V-B's rule for the relocate robot too, the start deadlocks as documented
+    (and stays connected); under the default rule it finishes."""
+    r = run(lattice, n, seed, parent_rule="stable_first")
+    where = f"{lattice.name} n={n} seed={seed} parent_rule=stable_first"
+    check_known_deadlock(r, lattice, where)
+    conn = connected_throughout(r.trace, lattice.range)
+    assert conn.held, f"{where}: {conn}"
+
+
 def test_small_representative_case_hexagon_n10():
     """Default suite: three starts of the matrix's smallest hexagon case."""
     lat = load("hexagon")
@@ -122,6 +139,15 @@ def test_small_representative_case_hexagon_n10():
     assert q == Fraction(3, 5)
 
 
+def test_stable_first_deadlock_and_the_default_rule_on_one_start():
+    """Default suite: hexagon n = 30 seed 0 deadlocks under the stable-first rule for the
+    relocate robot and forms the predicted lattice under the default rule."""
+    lat = load("hexagon")
+    check_stable_first_deadlock(lat, 30, 0)
+    poses, roles, q = predicted(lat, 30)
+    assert run_and_check(lat, 30, 0, poses, roles) == q
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("n", SIZES)
 @pytest.mark.parametrize("name", LATTICES)
@@ -129,6 +155,13 @@ def test_acceptance_twenty_starts(name, n):
     lat = load(name)
     poses, roles, q = predicted(lat, n)
     qs = [run_and_check(lat, n, seed, poses, roles) for seed in range(STARTS)]
-    finished = [x for x in qs if x is not None]
-    assert len(finished) == STARTS - len(KNOWN_DEADLOCKS.get((name, n), ()))
-    assert set(finished) == {q}, f"{name} n={n}: Q differs across starts: {sorted(set(finished))}"
+    assert set(qs) == {q}, f"{name} n={n}: Q differs across starts: {sorted(set(qs))}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", sorted(STABLE_FIRST_DEADLOCKS), ids=lambda c: f"{c[0]}-{c[1]}")
+def test_stable_first_rule_deadlocks_on_the_listed_starts(case):
+    name, n = case
+    lat = load(name)
+    for seed in sorted(STABLE_FIRST_DEADLOCKS[case]):
+        check_stable_first_deadlock(lat, n, seed)
