@@ -18,7 +18,9 @@ Every fault names the paper place it breaks (seed file and section / line)
 and the properties expected to catch it; each catching property is one the
 *reference* holds on the explorer's default scenarios (song2014 violates
 ``connectivity`` and ``tree_links`` as written, 001 Sec. I, so its faults
-are caught by ``formation``, ``deadlock`` or ``oscillation`` instead).
+are hunted with ``formation`` or ``oscillation`` instead).  Two song2016
+faults only show with long steps and carry ``params`` (v = 0.4 and 0.8,
+inside the assumption v dt < phi) that both hunters of the benchmark use.
 
 Usage::
 

@@ -194,8 +194,9 @@ def test_benchmark_runs_on_a_tiny_budget():
     (["--faults", ","], "faults=',' names no fault"),
     (["--robots", "5..3"], "robots='5..3' must satisfy 1 <= MIN <= MAX"),
     (["--robots", "x"], "robots='x' is not MIN..MAX"),
+    (["--from-json", "/nonexistent/x.json"], "from_json='/nonexistent/x.json' is not a saved benchmark document"),
 ], ids=["budget-zero", "budget-nan", "seed-negative", "fault-unknown", "faults-empty",
-        "robots-reversed", "robots-malformed"])
+        "robots-reversed", "robots-malformed", "from-json-missing"])
 def test_bad_input_exits_2_with_the_value_named(capsys, argv, message):
     assert bench.main(argv) == 2
     err = capsys.readouterr().err
@@ -207,3 +208,14 @@ def test_default_max_examples_scales_with_the_budget():
     assert bench.default_max_examples(60) == 3600
     assert bench.default_max_examples(0.5) == 100
     assert math.isclose(bench.EXAMPLES_PER_SECOND, 60)
+
+
+def test_a_violation_after_the_budget_counts_as_not_found():
+    late = bench.within_budget(_hunt(True, 70.0), 60.0)
+    assert (late["found"], late["status"], late["late_seconds"]) == (False, "late", 70.0)
+    assert bench.within_budget(_hunt(True, 59.0), 60.0)["found"] is True
+    row = bench.judge_row({"fault": "d~w", "property": "deadlock", "explorer": _hunt(True, 0.5, robots=3),
+                           "monte_carlo": dict(_hunt(True, 70.0, total=70.0, robots=27))}, 60.0)
+    assert (row["speedup"], row["speedup_lower_bound"]) == (140.0, True)
+    assert bench.format_row(row) == ("| d~w | deadlock | 0.50 (0.50) | 3 -> 3, step 3 | after B (70) | 2 | - "
+                                     "| >= 140x |")
