@@ -159,7 +159,13 @@ def build_module(fault: Fault) -> types.ModuleType:
     except BaseException:
         sys.modules.pop(fault.module_name, None)
         raise
-    getattr(mod, cls).name = fault.name
+    from swarmproof.invariants.premises import ALGORITHM_PREMISES
+
+    algo_cls = getattr(mod, cls)
+    algo_cls.name = fault.name
+    # the copy declares the lemma premises its reference declares (the premise monitors are
+    # looked up by name, and the mutant has its own name)
+    algo_cls.premise_monitors = ALGORITHM_PREMISES.get(fault.reference, ())
     return mod
 
 
@@ -327,8 +333,8 @@ FAULTS: tuple[Fault, ...] = (
           override=_s14_disperse_toward_parent),
     Fault("song2016~range-phi", "song2016",
           "bounded range radius phi instead of phi - v dt (safe region and d_s too large)",
-          "001 Lemma 7, Definition 8, Sec. V-C", ("tree_links", "connectivity"),
-          override=_s16_range_phi),
+          "001 Lemma 7, Definition 8, Sec. V-C", ("premises", "tree_links", "connectivity"),
+          override=_s16_range_phi, params={"v": 0.4}),
     Fault("song2016~nclb-ignored", "song2016",
           "a moving parent/relocate robot goes straight to its goal, ignoring its children's bounded ranges",
           "001 Sec. V-C (No Child Left Behind, safe region)", ("tree_links", "connectivity"),
