@@ -520,7 +520,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         msg = f"ids contain duplicates {dup!r} (001 Sec. III-A: unique comparable IDs)"
         if not allow_violations:
             raise AssumptionError("unique_ids", msg,
-                                  fix="give every robot its own ID, or pass allow_violations=True")
+                                  fix="give every robot its own ID, or pass allow_violations=True "
+                                      "(--allow-violations on the command line)")
         broken.append("unique_ids")
     for a in algorithm.assumptions:
         msg = a.check(params, n0, None if anonymous else ids0)
@@ -530,7 +531,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             if not allow_violations:
                 raise AssumptionError(a.name, f"{msg} ({a.statement}; {a.cites})",
                                       fix="change the value, or pass allow_violations=True "
-                                          "to break the assumption on purpose")
+                                          "(--allow-violations on the command line) to break "
+                                          "the assumption on purpose")
             broken.append(a.name)
     for name in broken:
         events.append(Event(0, "assumption_broken", (), (("assumption", name),)))
