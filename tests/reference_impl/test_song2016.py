@@ -211,7 +211,7 @@ def test_relocate_route_rule_sends_only_the_relocate_robot_along_its_shortest_pa
     assert compute_message(7, False, None, cands, "field", "relocate_route")[0].parent_id == 4
     assert compute_message(7, False, None, cands, "field", "stable_first")[0].parent_id == 6
     # robot 3 is unstable but not the relocate robot (7 is, by a message): Sec. V-B
-    reloc = [m for m in cands] + [msg(7, root=9, relocate=7, root_path=(9, 2, 6, 7))]
+    reloc = cands + [msg(7, root=9, relocate=7, root_path=(9, 2, 6, 7))]
     m3, _ = compute_message(3, False, None, reloc, "field", "relocate_route")
     assert (m3.relocate_id, m3.parent_id) == (7, 6)
     # a stable robot keeps Sec. V-B too
