@@ -233,12 +233,53 @@ def deadlock(trace, k: int, goal_reached=False) -> InvariantResult:
                            f"no {k} quiet steps short of the goal over {len(quiet)} steps{msg}")
 
 
-def _state_key(trace, t: int, pos_tol: float):
-    P = np.asarray(trace.poses[t], float)
+def _global_state_key(poses, present, states, pos_tol: float):
+    """The global state of oscillation's rule 1: poses rounded to ``pos_tol``, presence, controller states."""
+    P = np.asarray(poses, float)
     q = np.round(P[:, :2] / pos_tol).astype(np.int64)
     th = np.round(np.mod(P[:, 2], 2 * np.pi) / pos_tol).astype(np.int64)
-    pres = trace.present_at(t)
-    return (q.tobytes(), th.tobytes(), pres.tobytes(), trace.states[t])
+    return (q.tobytes(), th.tobytes(), np.asarray(present, bool).tobytes(), states)
+
+
+def _state_key(trace, t: int, pos_tol: float):
+    return _global_state_key(trace.poses[t], trace.present_at(t), trace.states[t], pos_tol)
+
+
+class CycleMonitor:
+    """Run-time form of :func:`oscillation`'s rule 1, for ``simulate(stop_when=...)``.
+
+    Called with each recorded step's poses, states and presence, it returns
+    True at the first step whose global state (the same key as rule 1)
+    repeats an earlier one other than the step just before: from there a
+    deterministic run can only repeat itself, so the explorer stops it
+    instead of running to the step cap.  It does not look at the goal:
+    judging the stopped trace with :func:`oscillation` decides (the
+    explorer runs again without the monitor when that judgment is not a
+    violation).  ``step`` is where it fired.
+
+    >>> import numpy as np
+    >>> m = CycleMonitor(1e-3)
+    >>> [m(t, np.array([[x, 0.0, 0.0]]), ("go",), np.array([True])) for t, x in enumerate([0, 1, 1, 0])]
+    [False, False, False, True]
+    >>> m.step, m.revisits
+    (3, 0)
+    """
+
+    def __init__(self, pos_tol: float = 1e-6) -> None:
+        self.pos_tol = float(pos_tol)
+        self.seen: dict = {}
+        self.prev = None
+        self.step: int | None = None
+        self.revisits: int | None = None
+
+    def __call__(self, t: int, poses, states, present) -> bool:
+        key = _global_state_key(poses, present, states, self.pos_tol)
+        if key in self.seen and key != self.prev:
+            self.step, self.revisits = int(t), int(self.seen[key])
+            return True
+        self.seen.setdefault(key, int(t))
+        self.prev = key
+        return False
 
 
 def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: float | None = None,

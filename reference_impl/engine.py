@@ -323,7 +323,8 @@ class SimulationResult:
     ----------
     status : str
         ``"finished"`` (the algorithm's own end condition), ``"static"``
-        (quiet for ``static_window`` steps) or ``"step_cap"`` (inconclusive).
+        (quiet for ``static_window`` steps), ``"step_cap"`` (inconclusive) or
+        ``"stopped"`` (a ``stop_when`` monitor ended the run).
     steps : int
         Steps run (T).
     trace : Trace
@@ -451,7 +452,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
              record_messages: bool = False, stop_when_static: bool | int = True,
              faults: FaultModel | None = None,
              progress: Callable[[int, int], None] | None = None,
-             record_clamps: bool = True) -> SimulationResult:
+             record_clamps: bool = True,
+             stop_when: Callable[[int, np.ndarray, tuple, np.ndarray], bool] | None = None) -> SimulationResult:
     """Run ``algorithm`` from ``initial`` until it finishes, goes static or hits the cap.
 
     Parameters
@@ -481,6 +483,11 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         Called every :data:`PROGRESS_EVERY` steps and at the end.
     record_clamps : bool
         Record an Event per step listing the robots whose command was clamped.
+    stop_when : callable ``(t, poses, states, present) -> bool``, optional
+        A run-time monitor, called with the start (t = 0) and after every
+        step t with the poses, controller states and presence mask the trace
+        records for t (read-only views); True ends the run there with status
+        ``"stopped"`` (the explorer's early stop at a repeated global state).
 
     Returns
     -------
@@ -630,6 +637,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     if finished:
         status = "finished"
     t = 0
+    if stop_when is not None and not finished and stop_when(0, poses, states, present):
+        status, finished = "stopped", True
     while not finished and t < max_steps:
         # 1. faults at the start of the step
         for rid in faults.crashes.get(t, ()):
@@ -872,6 +881,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             break
         if window and quiet >= window:
             status = "static"
+            break
+        if stop_when is not None and stop_when(t, poses, states, present):
+            status = "stopped"
             break
     if progress is not None:
         progress(t, max_steps)

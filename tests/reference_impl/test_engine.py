@@ -367,3 +367,21 @@ def test_repeat_step_is_not_used_under_a_fault_model():
     simulate(alg, None, init, P, seed=0, max_steps=4, stop_when_static=False,
              faults=FaultModel(schedule=TableSchedule({})))
     assert [how for _, _, how in alg.calls] == ["step"] * 8
+
+
+def test_stop_when_monitor_ends_the_run_with_status_stopped():
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0, 0]])
+    seen = []
+
+    def at_step_4(t, poses, states, present):
+        seen.append((t, poses.shape, len(states), int(present.sum())))
+        return t == 4
+
+    r = simulate(Scripted(lambda rid, obs, rng: Command(forward=0.01)), None, init, P, seed=0,
+                 max_steps=50, stop_when_static=False, stop_when=at_step_4)
+    assert r.status == "stopped" and r.steps == 4 and len(r.trace.poses) == 5
+    assert [s[0] for s in seen] == [0, 1, 2, 3, 4]   # the start, then after every step
+    assert seen[0][1:] == ((2, 3), 2, 2)
+    full = simulate(Scripted(lambda rid, obs, rng: Command(forward=0.01)), None, init, P, seed=0,
+                    max_steps=50, stop_when_static=False)
+    assert full.status == "step_cap" and np.array_equal(full.trace.poses[:5], r.trace.poses)
