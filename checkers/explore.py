@@ -44,7 +44,7 @@ from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
 __all__ = ["EXPLORE_PROPERTIES", "PERIODIC_LATTICES", "ExploreReport", "PropertyVerdict", "Scenario",
-           "explore", "judge", "run_scenario"]
+           "explore", "judge", "run_and_judge", "run_scenario"]
 
 #: Properties the explorer judges: the registry's (runs.py judging) plus issue 6's.
 EXPLORE_PROPERTIES: tuple[str, ...] = ("connectivity", "tree_links", "termination", "formation",
@@ -68,6 +68,7 @@ class Scenario:
     poses: tuple          # ((x, y, theta), ...) radians
     seed: int
     faults: Any = None    # a drawn FaultModel (data-driven hooks only) or None
+    v: float | None = None  # a drawn speed (explore(speeds=...)), None: the run's params decide
 
     @property
     def n(self) -> int:
@@ -89,6 +90,13 @@ class PropertyVerdict:
     counterexample: Counterexample | None = None
     counterexample_path: str | None = None
     message: str = ""
+    #: Wall and CPU seconds from the property's start to its first failing scenario (before
+    #: shrinking), that scenario's robot count, and how many scenarios ran until then
+    #: (None while nothing failed).  Not in :meth:`as_dict`: times differ from run to run.
+    first_failure_seconds: float | None = None
+    first_failure_cpu: float | None = None
+    first_failure_robots: int | None = None
+    first_failure_scenarios: int | None = None
 
     def as_dict(self) -> dict:
         return {"status": self.status, "scenarios": self.scenarios, "conclusive": self.conclusive,
@@ -117,6 +125,8 @@ class ExploreReport:
     algorithm_ref: str = ""
     #: Proof-suite lemmas whose premises the algorithm's premise monitors check.
     premise_lemmas: list = field(default_factory=list)
+    #: The speeds scenarios drew ``v`` from (``explore(speeds=...)``), None: fixed parameters.
+    speeds: tuple | None = None
 
     @property
     def exit_code(self) -> int:
@@ -157,6 +167,7 @@ class ExploreReport:
                                for k, v in self.properties.items()},
                 "algorithm_ref": self.algorithm_ref or self.algorithm,
                 "premise_lemmas": list(self.premise_lemmas),
+                "speeds": None if self.speeds is None else list(self.speeds),
                 "exit_code": self.exit_code}
 
 
@@ -285,10 +296,11 @@ def resolve_algorithm(algorithm) -> AlgorithmSpec:
 # ----------------------------------------------------------------------------
 
 def run_scenario(algorithm_name, lattice, ids, poses, params, *, seed: int, max_steps=None,
-                 allow_violations: bool = False, faults=None):
+                 allow_violations: bool = False, faults=None, stop_when=None):
     """Run the engine on one scenario; returns ``(algorithm, SimulationResult)``.
 
     ``algorithm_name``: anything :func:`resolve_algorithm` accepts, or an :class:`AlgorithmSpec`.
+    ``stop_when``: a run-time monitor for ``simulate`` (e.g. a :class:`CycleMonitor`).
     """
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
@@ -297,8 +309,39 @@ def run_scenario(algorithm_name, lattice, ids, poses, params, *, seed: int, max_
     initial = InitialConfiguration(list(ids), [list(p) for p in poses])
     algorithm = spec.build(n_robots=initial.n)
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
-                      allow_violations=allow_violations, faults=faults)
+                      allow_violations=allow_violations, faults=faults, stop_when=stop_when)
     return algorithm, result
+
+
+def run_and_judge(algorithm_name, prop: str, lattice, ids, poses, params, *, seed: int, max_steps=None,
+                  allow_violations: bool = False, faults=None, options: Mapping[str, Any] | None = None,
+                  early_stop: bool = True):
+    """Run one scenario and judge ``prop``; returns ``(algorithm, SimulationResult, InvariantResult)``.
+
+    With ``early_stop`` (the explorer's default) an ``oscillation`` run of a
+    deterministic algorithm carries a :class:`~swarmproof.invariants.properties.CycleMonitor`:
+    the run ends at the first repeated global state (oscillation's rule 1)
+    instead of at the step cap, and the shortened trace is judged.  Rule 1
+    then finds the same first cycle, at the same step, as on the whole run,
+    so the verdict and its message are the same; when the shortened trace is
+    *not* judged violated (the goal held at that step, or another rule would
+    have to decide) the scenario is run again to its end without the monitor
+    and judged as usual.  Replay always runs to the end.
+    """
+    spec = algorithm_name if isinstance(algorithm_name, AlgorithmSpec) else resolve_algorithm(algorithm_name)
+    monitor = None
+    if early_stop and prop == "oscillation" and not getattr(spec.factory, "randomized", False):
+        from swarmproof.invariants.properties import CycleMonitor
+
+        monitor = CycleMonitor(float(dict(options or {}).get("pos_tol", 1e-6)))
+    algo, result = run_scenario(spec, lattice, ids, poses, params, seed=seed, max_steps=max_steps,
+                                allow_violations=allow_violations, faults=faults, stop_when=monitor)
+    r = judge(prop, algo, lattice, params, result, options)
+    if result.status == "stopped" and not r.violated:
+        algo, result = run_scenario(spec, lattice, ids, poses, params, seed=seed, max_steps=max_steps,
+                                    allow_violations=allow_violations, faults=faults)
+        r = judge(prop, algo, lattice, params, result, options)
+    return algo, result, r
 
 
 def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, Any] | None = None):
@@ -368,6 +411,28 @@ def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, A
 
         return premises(trace, premise_monitors_of(algorithm), phi, params.v, params.dt)
     raise UsageError(f"property={prop!r} is not known", fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+
+
+def closeness(prop: str, result) -> float | None:
+    """How near a run that held came to violating ``prop`` (higher is nearer), or None.
+
+    The explorer hands it to Hypothesis's ``target()``, whose optimisation
+    passes (after the first 200 valid scenarios, interleaved with
+    generation) mutate the scenarios that came nearest.  Only ``tree_links``
+    has a score: the longest tree link after its step, as a fraction of phi
+    (1 breaks the link; ``detail["longest_link_ratio"]`` of
+    :func:`~swarmproof.invariants.connectivity.tree_links_survive`).
+
+    >>> from swarmproof.invariants.result import InvariantResult
+    >>> closeness("tree_links", InvariantResult("tree_links", "held", "", detail={"longest_link_ratio": 0.9}))
+    0.9
+    >>> closeness("formation", InvariantResult("formation", "held", "")) is None
+    True
+    """
+    if prop == "tree_links":
+        value = (result.detail or {}).get("longest_link_ratio")
+        return None if value is None else float(value)
+    return None
 
 
 def progress_values(trace, measure) -> list:
@@ -469,40 +534,81 @@ def _fault_probe(kinds: Sequence[str]):
                       noise_std=(0.01, 0.01) if "noise" in kinds else (0.0, 0.0))
 
 
+#: Angle steps tried, in order, when a drawn placement lands closer than range/4 to a robot
+#: already placed (the construction turns the drawn angle by multiples of 2 pi / 12).
+PLACEMENT_TURNS = 12
+
+
+def place_robot(pts: Sequence[tuple], parent: int, dist: float, ang: float, min_sep: float):
+    """Where a robot placed ``dist`` from ``pts[parent]`` at angle ``ang`` goes, or None.
+
+    The first of ``ang``, ``ang + 2 pi/12``, ``ang + 4 pi/12``, ... whose point
+    is at least ``min_sep`` from every point of ``pts``; None when all twelve
+    are too close.  (Turning instead of rejecting keeps almost every draw
+    valid, the smallest draw included, which Hypothesis tries first.)
+
+    >>> place_robot([(0.0, 0.0)], 0, 1.0, 0.0, 0.3)
+    (1.0, 0.0)
+    >>> x, y = place_robot([(0.0, 0.0), (1.0, 0.0)], 0, 1.0, 0.0, 0.3)
+    >>> round(x, 6), round(y, 6)
+    (0.866025, 0.5)
+    """
+    px, py = pts[parent]
+    for k in range(PLACEMENT_TURNS):
+        a = ang + 2.0 * math.pi * k / PLACEMENT_TURNS
+        x, y = px + dist * math.cos(a), py + dist * math.sin(a)
+        if all(math.hypot(x - qx, y - qy) >= min_sep for qx, qy in pts):
+            return (x, y)
+    return None
+
+
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
-                      fault_kinds: Sequence[str] = ()):
+                      fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None):
     """A Hypothesis strategy of connected :class:`Scenario` objects.
 
-    Robot 0 of the construction sits at the origin; robot ``k`` is placed at
-    a drawn distance in ``[range/4, 0.95 range]`` and a drawn angle from a
-    drawn earlier robot (so the start is connected, 001 Sec. III); a draw
-    closer than ``range/4`` to any robot is rejected.  Headings are drawn,
-    the IDs are a drawn permutation of ``0..n-1``.
+    Robot 0 of the construction sits at the origin with a drawn heading;
+    every further robot is one element of a drawn list ``(parent, distance,
+    angle, heading)``: it is placed at the distance, drawn in
+    ``[range/4, 0.95 range]``, from an earlier robot (``parent`` modulo the
+    robots placed so far), so the start is connected (001 Sec. III).  A
+    placement closer than ``range/4`` to a robot already placed is turned by
+    multiples of 30 degrees (:func:`place_robot`) and rejected only when no
+    turn fits.  The IDs are a drawn permutation of ``0..n-1``.
+
+    Because each robot after the first is one list element, Hypothesis's
+    shrinker drops a robot in one step (deleting the element), and the
+    smallest scenario, tried first, is a valid ``robots[0]``-robot start.
+    ``speeds``: when given, each scenario also draws its ``v`` from them
+    (``sampled_from``: shrinking goes toward the first).
     """
     from hypothesis import assume
     from hypothesis import strategies as st
+
+    lo, hi = robots
+    angle = st.floats(-math.pi, math.pi)
 
     @st.composite
     def build(draw):
         lat = draw(st.sampled_from(list(lattices)))
         phi = phi_of[lat]
         min_sep = MIN_SEP_FRACTION * phi
-        n = draw(st.integers(robots[0], robots[1]))
+        v = None if not speeds else float(draw(st.sampled_from(list(speeds))))
+        placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), st.floats(min_sep, 0.95 * phi),
+                                             angle, angle),
+                                   min_size=lo - 1, max_size=hi - 1))
         pts = [(0.0, 0.0)]
-        for k in range(1, n):
-            parent = draw(st.integers(0, k - 1))
-            dist = draw(st.floats(min_sep, 0.95 * phi))
-            ang = draw(st.floats(-math.pi, math.pi))
-            x = pts[parent][0] + dist * math.cos(ang)
-            y = pts[parent][1] + dist * math.sin(ang)
-            assume(all(math.hypot(x - px, y - py) >= min_sep for px, py in pts))
-            pts.append((x, y))
-        heads = [draw(st.floats(-math.pi, math.pi)) for _ in range(n)]
+        heads = [draw(angle)]
+        for k, (parent, dist, ang, head) in enumerate(placements, start=1):
+            p = place_robot(pts, parent % k, dist, ang, min_sep)
+            assume(p is not None)
+            pts.append(p)
+            heads.append(head)
+        n = len(pts)
         perm = draw(st.permutations(list(range(n))))
         seed = draw(st.integers(0, 1000))
         poses = tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads))
         faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
-        return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults)
+        return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
 
     return build()
 
@@ -510,6 +616,35 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
 # ----------------------------------------------------------------------------
 # explore
 # ----------------------------------------------------------------------------
+
+class _BudgetSpent(BaseException):
+    """Raised inside the Hypothesis test once a property's share of the budget is spent.
+
+    A ``BaseException`` (not an ``Exception``), so Hypothesis does not take it
+    for a failure to shrink but lets it end the run at once -- generation or
+    shrinking -- instead of generating empty examples up to ``max_examples``.
+    """
+
+
+def _check_speeds(speeds, params) -> tuple | None:
+    """``speeds`` as a tuple of floats; UsageError naming the bad value."""
+    if speeds is None:
+        return None
+    if isinstance(speeds, (str, bytes)) or not hasattr(speeds, "__iter__"):
+        raise UsageError(f"speeds={speeds!r} must be a sequence of speeds", fix="e.g. speeds=[0.05, 0.4, 0.8]")
+    out = []
+    for s in speeds:
+        if isinstance(s, bool) or not isinstance(s, (int, float)) or not math.isfinite(s) or s <= 0:
+            raise UsageError(f"speeds contains {s!r}: every speed must be a finite number > 0",
+                             fix="e.g. speeds=[0.05, 0.4, 0.8]")
+        out.append(float(s))
+    if not out:
+        raise UsageError("speeds=[] is empty", fix="give one or more speeds, or leave speeds out")
+    if params.get("v") is not None:
+        raise UsageError(f"speeds={out!r} and params v={params['v']!r} were both given",
+                         fix="give one of them (speeds draws v per scenario)")
+    return tuple(out)
+
 
 @contextlib.contextmanager
 def _without_local_constants():
@@ -588,7 +723,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             progress: Callable[[str, int, int], None] | None = None, params: Mapping[str, Any] | None = None,
             allow_violations: bool = False, max_steps: int | None = None,
             options: Mapping[str, Any] | None = None, draw_faults: Sequence[str] = (),
-            database_dir: str | os.PathLike | None = None) -> ExploreReport:
+            database_dir: str | os.PathLike | None = None,
+            speeds: Sequence[float] | None = None) -> ExploreReport:
     """Hunt counterexamples to ``properties`` of ``algorithm``.
 
     Parameters
@@ -643,6 +779,13 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         known failures first (found at once).  Default None: no database,
         which the determinism guarantee assumes (a database replays stored
         examples before generating).
+    speeds : sequence of float, optional
+        Let every scenario draw its speed ``v`` from these values (the first
+        is the one shrinking goes toward, e.g. the paper's).  Each must keep
+        the algorithm's assumptions on every lattice (else ``allow_violations``);
+        not together with ``params["v"]``.  Longer steps (``v*dt`` nearer
+        ``phi``) stress the bounded-range and safe-region margins and end runs
+        in fewer steps.
 
     Returns
     -------
@@ -652,10 +795,10 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     ------
     UsageError
         Unknown algorithm, property or lattice, non-positive budget or
-        max_examples, bad robots range, or parameters that break an
-        assumption without ``allow_violations``.
+        max_examples, bad robots range, bad speeds, or parameters that break
+        an assumption without ``allow_violations``.
     """
-    from hypothesis import HealthCheck, Phase, given, settings
+    from hypothesis import HealthCheck, Phase, given, settings, target
     from hypothesis import seed as hseed
 
     from swarmproof.checkers.runs import build_params
@@ -668,19 +811,22 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
 
     # which assumptions the chosen parameters keep and break (the engine raises on a break
     # unless allow_violations; probe once per lattice range with the largest n)
+    speeds = _check_speeds(speeds, params)
     algo = spec.build(n_robots=rng_robots[1])
     kept, broken = [], []
     for a in getattr(algo, "assumptions", ()):
         msgs = []
         for name in lats:
-            p = build_params(algo, phi_of[name], rng_robots[1], v=params.get("v"), omega=params.get("omega"),
-                             dt=params.get("dt"), extra=params.get("extra"))
-            msg = a.check(p, rng_robots[1], list(range(rng_robots[1])))
-            if msg:
-                msgs.append(msg)
+            for v_try in (speeds or (params.get("v"),)):
+                p = build_params(algo, phi_of[name], rng_robots[1], v=v_try, omega=params.get("omega"),
+                                 dt=params.get("dt"), extra=params.get("extra"))
+                msg = a.check(p, rng_robots[1], list(range(rng_robots[1])))
+                if msg:
+                    msgs.append(msg)
         (broken if msgs else kept).append(a.name)
     if broken and not allow_violations:
-        raise UsageError(f"params={params!r} break the assumptions {broken!r} of {spec.label!r}",
+        what = f"speeds={list(speeds)!r}" if speeds else f"params={params!r}"
+        raise UsageError(f"{what} break the assumptions {broken!r} of {spec.label!r}",
                          fix="pass allow_violations=True (--allow-violations) to explore outside the paper's assumptions")
     draw_faults = tuple(draw_faults or ())
     for kind in draw_faults:
@@ -699,14 +845,15 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     lemmas = sorted({MONITOR_LEMMAS[m] for m in premise_monitors_of(algo)})
     report = ExploreReport(spec.label, seed, max_examples, rng_robots, lats, kept, broken,
                            claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref,
-                           premise_lemmas=lemmas)
+                           premise_lemmas=lemmas, speeds=speeds)
     share = budget / len(props)
-    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults)
+    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds)
 
     for prop in props:
-        t0 = time.monotonic()
+        t0, c0 = time.monotonic(), time.process_time()
         deadline = t0 + share
-        stats = {"runs": 0, "conclusive": 0, "steps": 0, "capped": 0, "hit": False, "examples": 0}
+        stats = {"runs": 0, "conclusive": 0, "steps": 0, "capped": 0, "hit": False, "examples": 0,
+                 "first": None}
         failures: list = []
 
         def make_test(prop=prop, stats=stats, failures=failures, deadline=deadline):
@@ -716,15 +863,18 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   progress(prop, stats["examples"], max_examples)
               if time.monotonic() > deadline:
                   stats["hit"] = True
-                  return
+                  raise _BudgetSpent()
               lattice = loaded[scn.lattice]
               algo_n = spec.build(n_robots=scn.n)
-              p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v"), omega=params.get("omega"),
-                               dt=params.get("dt"), extra=params.get("extra"))
-              algo_run, result = run_scenario(spec, lattice, scn.ids, scn.poses, p, seed=scn.seed,
-                                              max_steps=max_steps, allow_violations=allow_violations,
-                                              faults=scn.faults if scn.faults is not None else fault_model)
-              r = judge(prop, algo_run, lattice, p, result, options)
+              p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v") if scn.v is None else scn.v,
+                               omega=params.get("omega"), dt=params.get("dt"), extra=params.get("extra"))
+              algo_run, result, r = run_and_judge(
+                  spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=max_steps,
+                  allow_violations=allow_violations,
+                  faults=scn.faults if scn.faults is not None else fault_model, options=options)
+              score = closeness(prop, r)
+              if score is not None:
+                  target(score, label=prop)
               stats["runs"] += 1
               stats["steps"] += int(result.steps)
               stats["capped"] += int(result.status == "step_cap")
@@ -734,6 +884,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   stats["why"] = r.message
               fm = scn.faults if scn.faults is not None else fault_model
               if r.violated:
+                  if stats["first"] is None:
+                      stats["first"] = (time.monotonic() - t0, time.process_time() - c0, scn.n, stats["runs"])
                   step = (r.witness or {}).get("step")
                   failures.append(Counterexample(
                       algorithm=spec.ref,
@@ -762,12 +914,17 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         try:
             with _without_local_constants():
                 run()
+        except _BudgetSpent:
+            pass  # the share of the budget is spent: keep what was found (and shrunk) so far
         except Exception:  # noqa: BLE001 - the failure is what we recorded in `failures`
             if not failures:
                 raise
         v = PropertyVerdict(prop, "held", scenarios=stats["runs"], conclusive=stats["conclusive"],
                             steps=stats["steps"], capped=stats["capped"], budget_hit=stats["hit"],
                             seconds=time.monotonic() - t0)
+        if stats["first"] is not None:
+            (v.first_failure_seconds, v.first_failure_cpu, v.first_failure_robots,
+             v.first_failure_scenarios) = stats["first"]
         if failures:
             cx = failures[-1]  # Hypothesis only accepts smaller failing examples: the last is the smallest
             v.status = "violated"

@@ -130,6 +130,7 @@ def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "pers
     checked = 0
     unsensed = 0
     any_parent = False
+    longest = 0.0   # the longest checked link after its step, as a fraction of phi
     for t in range(trace.steps):
         before, after = trace.states[t], trace.states[t + 1]
         p0, p1 = trace.poses[t], trace.poses[t + 1]
@@ -156,6 +157,7 @@ def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "pers
                 continue
             checked += 1
             d1 = float(np.hypot(*(p1[q, :2] - p1[k, :2])))
+            longest = max(longest, d1 / phi)
             if not d1 < phi:
                 child = int(trace.ids[k])
                 return InvariantResult(
@@ -164,10 +166,12 @@ def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "pers
                      "distance_after": d1, "mode": mode},
                     f"step {t}: the link child {child} -> parent {int(par)} broke "
                     f"(distance {d0:.6g} -> {d1:.6g}, range {phi:g}; {mode} links)",
-                    detail={"links_checked": checked, "unsensed_parents": unsensed})
+                    detail={"links_checked": checked, "unsensed_parents": unsensed,
+                            "longest_link_ratio": longest})
     if not any_parent:
         return InvariantResult("tree_links", "held", LEMMA_11, None,
                                f"vacuous: no controller state has a {key!r} entry", applicable=False)
     return InvariantResult("tree_links", "held", LEMMA_11, None,
                            f"{checked} link-steps checked ({mode} links), none broke",
-                           detail={"links_checked": checked, "unsensed_parents": unsensed})
+                           detail={"links_checked": checked, "unsensed_parents": unsensed,
+                                   "longest_link_ratio": longest})

@@ -41,6 +41,9 @@ def add_arguments(p) -> None:
                    help="draw faults of this kind per scenario, repeatable: schedule, crashes, drops, additions, noise "
                         "(breaks robot-model assumptions; reported)")
     p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default: the algorithm's)")
+    p.add_argument("--speeds", metavar="V1,V2,...",
+                   help="every scenario draws its speed v from these (shrinking goes toward the first); "
+                        "not with --v")
     p.add_argument("--omega", type=float, metavar="W", help="maximum angular speed, rad per time")
     p.add_argument("--dt", type=float, metavar="DT", help="step length")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
@@ -66,6 +69,24 @@ def parse_robots(text: str) -> tuple[int, int]:
     if not 1 <= lo <= hi:
         raise UsageError(f"--robots {text!r} must satisfy 1 <= MIN <= MAX", fix="e.g. --robots 3..8")
     return lo, hi
+
+
+def parse_speeds(text: str | None) -> list[float] | None:
+    """``"0.05,0.4,0.8"`` -> ``[0.05, 0.4, 0.8]``; None stays None.
+
+    >>> parse_speeds("0.05, 0.4,0.8")
+    [0.05, 0.4, 0.8]
+    """
+    if text is None:
+        return None
+    out = []
+    for part in text.split(","):
+        try:
+            out.append(float(part))
+        except ValueError:
+            raise UsageError(f"--speeds {text!r}: {part.strip()!r} is not a number",
+                             fix="e.g. --speeds 0.05,0.4,0.8") from None
+    return out
 
 
 def _progress():
@@ -98,14 +119,16 @@ def run(args) -> int:
     report = explore(args.algorithm, args.properties, budget=args.budget, max_examples=args.max_examples,
                      robots=robots, seed=args.seed, out_dir=args.out, progress=progress,
                      database_dir=args.database, draw_faults=tuple(args.faults), params=params,
-                     allow_violations=args.allow_violations, max_steps=args.max_steps)
+                     allow_violations=args.allow_violations, max_steps=args.max_steps,
+                     speeds=parse_speeds(args.speeds))
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()
     if args.json:
         emit_json(doc)
     lines = [f"explore {report.algorithm}: seed {report.seed}, robots {robots[0]}..{robots[1]}, "
-             f"max {report.max_examples} examples per property",
+             f"max {report.max_examples} examples per property" +
+             (f", v drawn from {list(report.speeds)}" if report.speeds else ""),
              f"  assumptions kept: {', '.join(report.kept_assumptions) or '-'}; "
              f"broken: {', '.join(report.broken_assumptions) or '-'}"]
     for name, v in report.properties.items():

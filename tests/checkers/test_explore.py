@@ -60,7 +60,7 @@ def test_broken_assumption_is_named_and_violation_reported(tmp_path):
 def test_song2016_with_a_crash_fault_names_no_crashes(tmp_path):
     from swarmproof.reference_impl.engine import FaultModel
 
-    r = explore("song2016", ["connectivity"], budget=20, max_examples=20, robots=(3, 6), lattices=["square"],
+    r = explore("song2016", ["connectivity"], budget=20, max_examples=40, robots=(3, 6), lattices=["square"],
                 seed=0, fault_model=FaultModel(crashes={3: [1]}), out_dir=tmp_path)
     assert r.broken_assumptions == ["no_crashes"]
     v = r.properties["connectivity"]
@@ -112,6 +112,13 @@ def test_explore_properties_cover_registry_and_issue6():
     pytest.param(dict(robots=(0, 3)), r"robots=\(0, 3\)", id="robots-zero"),
     pytest.param(dict(seed=-1), "seed=-1", id="negative-seed"),
     pytest.param(dict(lattices=["sqare"]), "lattice='sqare'", id="unknown-lattice"),
+    pytest.param(dict(speeds=[0.05, 0]), "speeds contains 0", id="zero-speed"),
+    pytest.param(dict(speeds=[float("inf")]), "speeds contains inf", id="infinite-speed"),
+    pytest.param(dict(speeds=[]), r"speeds=\[\] is empty", id="no-speeds"),
+    pytest.param(dict(speeds="0.4"), "speeds='0.4' must be a sequence", id="speeds-string"),
+    pytest.param(dict(speeds=[0.4], params={"v": 0.05}), r"speeds=\[0.4\] and params v=0.05", id="speeds-and-v"),
+    pytest.param(dict(speeds=[0.05, 1.3]), r"speeds=\[0.05, 1.3\] break the assumptions \['v_dt_below_range'\]",
+                 id="speed-breaks-assumption"),
 ])
 def test_bad_input(kwargs, match):
     args = dict(algorithm="song2014", properties=["connectivity"], budget=5, max_examples=2)
@@ -191,3 +198,70 @@ def test_drawn_crash_faults_are_named_shrunk_and_replayable(tmp_path):
 def test_bad_fault_options(kwargs, match):
     with pytest.raises(UsageError, match=match):
         explore("song2016", ["connectivity"], budget=5, max_examples=2, **kwargs)
+
+
+def test_exploration_stops_when_its_budget_is_spent():
+    # max_examples far beyond what 1 s allows: the budget, not the example count, ends the
+    # search (Hypothesis is stopped, not left generating empty examples)
+    t0 = time.monotonic()
+    r = explore("song2014", ["formation"], budget=1.0, max_examples=10**6, robots=(3, 4), seed=0)
+    elapsed = time.monotonic() - t0
+    v = r.properties["formation"]
+    assert v.budget_hit and v.status == "held" and 1 <= v.scenarios < 10**6
+    assert elapsed < 15, elapsed
+
+
+def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path):
+    from swarmproof.reference_impl.engine import FaultModel
+
+    speeds = [0.05, 0.4, 0.8]
+    r = explore("song2016", ["connectivity"], budget=30, max_examples=60, robots=(3, 6), lattices=["square"],
+                seed=0, speeds=speeds, fault_model=FaultModel(crashes={3: [1]}), out_dir=tmp_path)
+    assert r.speeds == tuple(speeds) and r.as_dict()["speeds"] == speeds
+    v = r.properties["connectivity"]
+    assert v.status == "violated"
+    assert v.counterexample.params["v"] in speeds
+    assert 3 <= v.first_failure_robots <= 6 and v.counterexample.robots and len(v.counterexample.robots) <= v.first_failure_robots
+    assert 1 <= v.first_failure_scenarios <= v.scenarios
+    assert 0 <= v.first_failure_cpu and 0 <= v.first_failure_seconds <= v.seconds
+    assert "first_failure_seconds" not in v.as_dict()   # times stay out of the (deterministic) JSON
+    assert replay_file(v.counterexample_path).reproduced
+    held = explore("song2016", ["connectivity"], budget=30, max_examples=5, robots=(3, 4), seed=0, speeds=speeds)
+    assert held.properties["connectivity"].first_failure_seconds is None
+
+
+def test_smallest_scenario_is_valid_and_robots_are_list_elements():
+    from hypothesis import find
+
+    from swarmproof.checkers.explore import scenario_strategy
+
+    strat = scenario_strategy((3, 8), ["square"], {"square": 1.2})
+    smallest = find(strat, lambda s: True)
+    assert smallest.n == 3 and smallest.v is None
+    # any scenario with 5+ robots shrinks to exactly 5: dropping a robot is one list deletion
+    assert find(strat, lambda s: s.n >= 5).n == 5
+
+
+@pytest.mark.parametrize("algorithm", ["song2014", "song2016"])
+def test_early_stop_at_a_repeated_state_gives_the_same_oscillation_verdict(algorithm):
+    # the explorer stops an oscillation run at its first repeated global state; on these
+    # starts the verdict and message must equal those of the whole run (the fallback reruns
+    # the scenario when the stopped trace is not a violation)
+    from swarmproof.checkers.explore import run_and_judge
+    from swarmproof.checkers.runs import build_params
+    from swarmproof.models.library import load
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    lattice = load("square")
+    phi = float(lattice.range)
+    for n, seed in ((3, 0), (4, 1), (5, 2)):
+        init = random_connected(n, seed, range=phi, min_separation=phi / 4)
+        p = build_params(get_algorithm(algorithm, n_robots=n), phi, n)
+        kw = dict(seed=seed, options={})
+        _, full, a = run_and_judge(algorithm, "oscillation", lattice, init.ids.tolist(), init.poses.tolist(), p,
+                                   early_stop=False, **kw)
+        _, short, b = run_and_judge(algorithm, "oscillation", lattice, init.ids.tolist(), init.poses.tolist(), p,
+                                    early_stop=True, **kw)
+        assert (a.status, a.message, a.witness) == (b.status, b.message, b.witness)
+        assert short.steps <= full.steps
