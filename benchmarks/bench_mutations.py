@@ -5,13 +5,14 @@ one mistake) two hunters get the same wall-clock budget B and look for a
 violation of the fault's target property:
 
 (a) the explorer, :func:`swarmproof.checkers.explore.explore` with
-    ``budget=B``, ``robots=(lo, hi)`` and ``max_examples`` of 60 per budget
-    second (:func:`default_max_examples`), so that the budget, not the
-    example count, ends nearly every search (finding *and* shrinking share B);
+    ``budget=B``, ``robots=(lo, hi)`` and ``max_examples`` so large
+    (:data:`MAX_EXAMPLES`) that the budget ends every search (finding *and*
+    shrinking share B), and the fault's ``speeds`` if it has any;
 (b) plain seeded Monte Carlo: from ``numpy.random.default_rng(seed)``, again
     and again, a random n in ``[lo, hi]``, a random bundled periodic lattice
     and a random connected start (:func:`reference_impl.initial.random_connected`,
-    minimum separation range/4 as the explorer's scenarios), run by the same
+    minimum separation range/4 as the explorer's scenarios) and, for a fault
+    with ``speeds``, a v drawn uniformly from them, run by the same
     :func:`~swarmproof.checkers.explore.run_scenario` and judged by the same
     :func:`~swarmproof.checkers.explore.judge`, until a run violates the
     property or B is spent (checked before each run, like the explorer).
@@ -62,22 +63,14 @@ from swarmproof.models.errors import UsageError  # noqa: E402
 
 DEFAULT_BUDGET = 60.0
 DEFAULT_ROBOTS = (3, 8)
-#: Hypothesis examples per budget second.  The explorer checks its budget
-#: inside each example, but Hypothesis goes on generating (each example then
-#: returns at once, about 2 ms here) until ``max_examples``, so a huge value
-#: would run far past the budget; 60 per second is above what any fault's
-#: scenarios reach here (song2014 runs take about 17 ms each), so the budget
-#: still ends nearly every search.
-EXAMPLES_PER_SECOND = 60
-
-
-def default_max_examples(budget: float) -> int:
-    """``max_examples`` for a budget: :data:`EXAMPLES_PER_SECOND` per second, at least 100.
-
-    >>> default_max_examples(60), default_max_examples(0.5)
-    (3600, 100)
-    """
-    return max(100, int(EXAMPLES_PER_SECOND * budget))
+#: The team sizes of each paper's own simulations, for ``--mc-robots paper`` (Monte Carlo "what
+#: the papers did", issue 6): 001 Sec. VI varied n between 10 and 40; 000 Sec. V between 50 and
+#: 250, of which only the smallest, 50, is used: one 50-robot song2014 run to its step cap took
+#: 28 s CPU and 841 MB here (2026-11-24), and larger ones would exceed the budget and the memory.
+PAPER_ROBOTS = {"song2014": (50, 50), "song2016": (10, 40)}
+#: The explorer's ``max_examples`` in the benchmark: so large that the budget, not the example
+#: count, ends every search (the explorer stops Hypothesis as soon as its budget is spent).
+MAX_EXAMPLES = 10**6
 
 
 @contextlib.contextmanager
@@ -115,8 +108,9 @@ def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int
     with first_violation_clock() as first:
         w0, c0 = time.monotonic(), time.process_time()
         rep = explore(fault.name, [fault.target], budget=budget,
-                      max_examples=default_max_examples(budget) if max_examples is None else max_examples,
-                      robots=robots, seed=seed, options=fault.options, params=fault.params)
+                      max_examples=MAX_EXAMPLES if max_examples is None else max_examples,
+                      robots=robots, seed=seed, options=fault.options, params=fault.params,
+                      speeds=fault.speeds or None)
         w1, c1 = time.monotonic(), time.process_time()
     v = rep.properties[fault.target]
     cx = v.counterexample
@@ -138,15 +132,22 @@ def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int
         "counterexample": None if cx is None else cx.as_dict(),
         "message": v.message, "scenarios": v.scenarios, "steps": v.steps,
         "seconds_total": w1 - w0, "cpu_total": c1 - c0, "budget_hit": v.budget_hit,
+        "first_scenarios": v.first_failure_scenarios,
+        "v": None if cx is None else cx.params.get("v"),
     }
 
 
 def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, int],
-                     lattices: Sequence[str] | None = None) -> dict:
-    """Plain seeded Monte Carlo on the registered mutant until a violation or ``budget`` seconds."""
+                     lattices: Sequence[str] | None = None, early_stop: bool = False) -> dict:
+    """Plain seeded Monte Carlo on the registered mutant until a violation or ``budget`` seconds.
+
+    Each run goes to its end and is judged then, as the papers' simulations
+    did; ``early_stop=True`` gives Monte Carlo the explorer's run-time cycle
+    monitor as well (:func:`~swarmproof.checkers.explore.run_and_judge`).
+    """
     import numpy as np
 
-    from swarmproof.checkers.explore import MIN_SEP_FRACTION, PERIODIC_LATTICES, judge, run_scenario
+    from swarmproof.checkers.explore import MIN_SEP_FRACTION, PERIODIC_LATTICES, run_and_judge
     from swarmproof.checkers.runs import build_params
     from swarmproof.models.library import load
     from swarmproof.reference_impl.initial import random_connected
@@ -165,14 +166,16 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
         n = int(rng.integers(robots[0], robots[1] + 1))
         name = names[int(rng.integers(len(names)))]
         run_seed = int(rng.integers(0, 2**31 - 1))
+        fixed = dict(fault.params)
+        if fault.speeds:
+            fixed["v"] = float(fault.speeds[int(rng.integers(len(fault.speeds)))])
         lattice = loaded[name]
         phi = float(lattice.range)
         init = random_connected(n, run_seed, range=phi, min_separation=MIN_SEP_FRACTION * phi)
         algo = get_algorithm(fault.name, n_robots=n)
-        params = build_params(algo, phi, n, **fault.params)
-        algo, result = run_scenario(fault.name, lattice, init.ids.tolist(), init.poses.tolist(), params,
-                                    seed=run_seed)
-        r = judge(fault.target, algo, lattice, params, result, fault.options)
+        params = build_params(algo, phi, n, **fixed)
+        algo, result, r = run_and_judge(fault.name, fault.target, lattice, init.ids.tolist(), init.poses.tolist(),
+                                        params, seed=run_seed, options=fault.options, early_stop=early_stop)
         runs += 1
         steps += int(result.steps)
         if r.violated:
@@ -180,7 +183,7 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
                        cpu_to_first=time.process_time() - c0, robots=n,
                        step=(r.witness or {}).get("step"), lattice=name, message=r.message,
                        run_steps=int(result.steps),
-                       run_seed=run_seed)
+                       run_seed=run_seed, v=params.v)
             break
     out.update(runs=runs, steps=steps, seconds_total=time.monotonic() - w0,
                cpu_total=time.process_time() - c0)
@@ -216,22 +219,41 @@ def speedup(explorer: dict, mc: dict) -> tuple[float | None, bool]:
     return mc["cpu_total"] / t_e, True
 
 
+def mc_robots_for(fault: Fault, robots: tuple[int, int], mc_robots) -> tuple[int, int]:
+    """Monte Carlo's robot range for ``fault``: ``mc_robots``, the paper's sizes for ``"paper"``, else ``robots``.
+
+    >>> f = get_fault("song2014~no-eq8-turn")
+    >>> mc_robots_for(f, (3, 8), None), mc_robots_for(f, (3, 8), (10, 30)), mc_robots_for(f, (3, 8), "paper")
+    ((3, 8), (10, 30), (50, 250))
+    """
+    if mc_robots == "paper":
+        return PAPER_ROBOTS[fault.reference]
+    return tuple(mc_robots or robots)
+
+
 def run_benchmark(faults: Sequence[Fault], budget: float, seed: int, robots: tuple[int, int],
-                  mc_robots: tuple[int, int] | None = None, max_examples: int | None = None,
-                  log=None) -> dict:
-    """Run both hunters on every fault; returns the JSON document (see :func:`summarize`)."""
+                  mc_robots: tuple[int, int] | str | None = None, max_examples: int | None = None,
+                  log=None, mc_early_stop: bool = False) -> dict:
+    """Run both hunters on every fault; returns the JSON document (see :func:`summarize`).
+
+    ``mc_robots``: Monte Carlo's robot range, or ``"paper"`` for each paper's own
+    team sizes (:data:`PAPER_ROBOTS`); default the explorer's ``robots``.
+    """
     rows = []
     with registered(faults):
         for f in faults:
             e = hunt_explorer(f, budget, seed, robots, max_examples)
-            m = hunt_monte_carlo(f, budget, seed, mc_robots or robots)
+            m = hunt_monte_carlo(f, budget, seed, mc_robots_for(f, robots, mc_robots), early_stop=mc_early_stop)
             row = judge_row({"fault": f.name, "reference": f.reference, "description": f.description,
                              "breaks": f.breaks, "property": f.target, "options": dict(f.options),
-                             "params": dict(f.params), "explorer": e, "monte_carlo": m}, budget)
+                             "params": dict(f.params), "speeds": list(f.speeds), "equivalent": f.equivalent,
+                             "explorer": e, "monte_carlo": m}, budget)
             rows.append(row)
             if log is not None:
                 log(format_row(row))
-    return summarize(rows, budget, seed, robots, mc_robots or robots)
+    doc = summarize(rows, budget, seed, robots, mc_robots or robots)
+    doc["mc_early_stop"] = bool(mc_early_stop)
+    return doc
 
 
 def judge_row(row: dict, budget: float) -> dict:
@@ -246,7 +268,7 @@ def retable(doc: dict) -> dict:
     """Re-judge a saved document's rows (:func:`judge_row`) and summarize them again."""
     B = doc["budget"]
     out = summarize([judge_row(r, B) for r in doc["rows"]], B, doc["seed"], doc["robots"], doc["mc_robots"])
-    for key in ("machine",):
+    for key in ("machine", "mc_early_stop"):
         if key in doc:
             out[key] = doc[key]
     return out
@@ -270,8 +292,11 @@ def summarize(rows: list[dict], budget: float, seed: int, robots, mc_robots) -> 
                    for r in rows]
     ratios = [r["speedup"] for r in rows if r["speedup"] is not None]
     e_sizes = [r["explorer"]["robots"] for r in ef]
+    live = [r for r in rows if not r.get("equivalent")]
     summary = {
         "faults": k,
+        "equivalent": k - len(live),
+        "explorer_found_live": sum(1 for r in live if r["explorer"]["found"]),
         "explorer_found": len(ef), "monte_carlo_found": len(mf),
         "explorer_share": len(ef) / k if k else None, "monte_carlo_share": len(mf) / k if k else None,
         "explorer_median_seconds_to_first": _median(e_times),
@@ -280,14 +305,19 @@ def summarize(rows: list[dict], budget: float, seed: int, robots, mc_robots) -> 
         "explorer_median_cpu_to_first": _median(e_cpu),
         "monte_carlo_median_cpu_to_first_lower_bound": _median(m_cpu_bound),
         "median_speedup": _median(ratios),
+        "median_cpu_ratio": (None if not e_cpu or not m_cpu_bound
+                             else _median(m_cpu_bound) / max(_median(e_cpu), 1e-3)),
         "explorer_max_robots": max(e_sizes) if e_sizes else None,
         "monte_carlo_median_robots": _median([r["monte_carlo"]["robots"] for r in mf]),
         "goal_every_fault_found": len(ef) == k,
+        "goal_every_live_fault_found": all(r["explorer"]["found"] for r in live),
         "goal_5x_every_fault": bool(rows) and all(r["speedup"] is not None and r["speedup"] >= 5 for r in rows),
+        "goal_5x_median": bool(ratios) and _median(ratios) >= 5,
         "goal_at_most_8_robots": bool(ef) and all(s <= 8 for s in e_sizes),
     }
     return {"benchmark": "mutations", "budget": budget, "seed": seed, "robots": list(robots),
-            "mc_robots": list(mc_robots), "rows": rows, "summary": summary}
+            "mc_robots": mc_robots if isinstance(mc_robots, str) else list(mc_robots), "rows": rows,
+            "summary": summary}
 
 
 def _fmt_t(h: dict) -> str:
@@ -337,18 +367,26 @@ def format_table(doc: dict) -> list[str]:
     lines += [
         "",
         f"budget B = {B:g} s per hunter and fault, seed {doc['seed']}, robots "
-        f"{doc['robots'][0]}..{doc['robots'][1]} (Monte Carlo {doc['mc_robots'][0]}..{doc['mc_robots'][1]})",
+        f"{doc['robots'][0]}..{doc['robots'][1]} (Monte Carlo " +
+        ("the papers' team sizes: " + ", ".join(f"{k} {a}..{b}" for k, (a, b) in PAPER_ROBOTS.items())
+         if doc["mc_robots"] == "paper" else f"{doc['mc_robots'][0]}..{doc['mc_robots'][1]}") +
+        ("; with the explorer's cycle monitor" if doc.get("mc_early_stop") else "; plain runs") + ")",
         f"found: explorer {s['explorer_found']}/{s['faults']}, Monte Carlo {s['monte_carlo_found']}/{s['faults']}",
         f"median time to first counterexample: explorer {t(s['explorer_median_seconds_to_first'])} "
         f"(found faults), Monte Carlo {t(s['monte_carlo_median_seconds_to_first_found'])} (found faults), "
         f">= {t(s['monte_carlo_median_seconds_to_first_lower_bound'])} counting not found as B (wall); "
         f"CPU: explorer {t(s['explorer_median_cpu_to_first'])}, Monte Carlo >= "
         f"{t(s['monte_carlo_median_cpu_to_first_lower_bound'])}",
-        f"median speed-up (CPU) {'-' if s['median_speedup'] is None else format(s['median_speedup'], '.1f') + 'x'}; "
+        f"median speed-up (CPU) {'-' if s['median_speedup'] is None else format(s['median_speedup'], '.1f') + 'x'}"
+        f" (median of the per-fault ratios; ratio of the median CPU times "
+        f"{'-' if s.get('median_cpu_ratio') is None else format(s['median_cpu_ratio'], '.1f') + 'x'}); "
         f"explorer counterexamples at most {s['explorer_max_robots']} robots after shrinking; "
         f"Monte Carlo median {s['monte_carlo_median_robots']} robots",
-        f"goals: every fault found {'yes' if s['goal_every_fault_found'] else 'NO'}; "
-        f">= 5x on every fault {'yes' if s['goal_5x_every_fault'] else 'NO'}; "
+        f"goals: every fault found {'yes' if s['goal_every_fault_found'] else 'NO'}"
+        + (f" (every non-equivalent one {'yes' if s.get('goal_every_live_fault_found') else 'NO'}: "
+           f"{s['explorer_found_live']}/{s['faults'] - s['equivalent']})" if s.get("equivalent") else "") + "; "
+        f">= 5x on every fault {'yes' if s['goal_5x_every_fault'] else 'NO'}, "
+        f"median >= 5x {'yes' if s.get('goal_5x_median') else 'NO'}; "
         f"<= 8 robots {'yes' if s['goal_at_most_8_robots'] else 'NO'}",
     ]
     return lines
@@ -374,7 +412,11 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--faults", default=None,
                     help="comma-separated fault names (default: all; --list shows them)")
     ap.add_argument("--robots", default="3..8", help="robots MIN..MAX for both hunters (default 3..8)")
-    ap.add_argument("--mc-robots", default=None, help="robots MIN..MAX for Monte Carlo only")
+    ap.add_argument("--mc-robots", default=None,
+                    help="robots MIN..MAX for Monte Carlo only, or 'paper' for each paper's own team sizes "
+                         "(song2014 50..250, song2016 10..40)")
+    ap.add_argument("--mc-early-stop", action="store_true",
+                    help="give Monte Carlo the explorer's run-time cycle monitor too (default: plain runs)")
     ap.add_argument("--json", dest="json_out", default=None, metavar="OUT", help="write the raw numbers")
     ap.add_argument("--list", action="store_true", help="list the faults and exit")
     ap.add_argument("--from-json", dest="from_json", default=None, metavar="IN",
@@ -414,7 +456,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise UsageError(f"faults={args.faults!r} names no fault", fix=f"use some of {list(FAULT_NAMES)!r}")
         faults = [get_fault(n) for n in names]
         robots = _robots_arg(args.robots)
-        mc_robots = None if args.mc_robots is None else _robots_arg(args.mc_robots)
+        mc_robots = (None if args.mc_robots is None else
+                     "paper" if args.mc_robots.strip() == "paper" else _robots_arg(args.mc_robots))
     except UsageError as exc:
         print(f"bench_mutations: error: {exc}", file=sys.stderr)
         return 2
@@ -423,7 +466,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(HEADER)
     print(RULE)
     doc = run_benchmark(faults, args.budget, args.seed, robots, mc_robots,
-                        log=lambda line: print(line, flush=True))
+                        log=lambda line: print(line, flush=True), mc_early_stop=args.mc_early_stop)
     doc["machine"] = {"cpus": os.cpu_count(), "machine": platform.machine(),
                       "python": platform.python_version(), "date": started.strftime("%Y-%m-%d %H:%M UTC"),
                       "loadavg_1min_start": load0, "loadavg_1min_end": os.getloadavg()[0]}
