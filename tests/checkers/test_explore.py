@@ -265,3 +265,19 @@ def test_early_stop_at_a_repeated_state_gives_the_same_oscillation_verdict(algor
                                     early_stop=True, **kw)
         assert (a.status, a.message, a.witness) == (b.status, b.message, b.witness)
         assert short.steps <= full.steps
+
+
+def test_report_does_not_depend_on_hypothesis_runs_before_it():
+    # a Hypothesis run outside the explorer (here find() on the same strategy) fills Hypothesis's
+    # constants cache with the local modules' literals; exploring must not see them
+    from hypothesis import find, settings
+
+    from swarmproof.checkers.explore import scenario_strategy
+
+    kw = dict(budget=60, max_examples=10, robots=(3, 4), seed=0)
+    before = explore("song2016", ["connectivity"], **kw)
+    strat = scenario_strategy((3, 4), ["square", "hexagon"], {"square": 1.2, "hexagon": 1.5})
+    find(strat, lambda s: s.n == 4 and s.seed > 500, settings=settings(max_examples=500, database=None))
+    after = explore("song2016", ["connectivity"], **kw)
+    assert json.dumps(before.as_dict(), sort_keys=True) == json.dumps(after.as_dict(), sort_keys=True)
+    assert before.properties["connectivity"].steps == after.properties["connectivity"].steps

@@ -82,7 +82,7 @@ def test_exploration_rows_held_claimed_violated_and_finding():
     """song2016 connectivity held (claimed, 001 Lemma 11); song2014 tree_links
     violated (claimed, 000 Lemma 7); song2016 collision violated (not claimed)."""
     rows = (section_exploration(algorithms=["song2016"], properties=["connectivity", "collision"],
-                                max_examples=5, robots=(3, 4))
+                                max_examples=10, robots=(3, 4))
             + section_exploration(algorithms=["song2014"], properties=["tree_links"],
                                   max_examples=10, robots=(4, 6)))
     held, finding, violated = rows
@@ -92,10 +92,10 @@ def test_exploration_rows_held_claimed_violated_and_finding():
         Verdict.VIOLATED, "000 Lemma 7 (a descendant stays within range of its parent)")
     assert _table_body(Report(rows)) == [
         "subject          property      verdict       detail",
-        "song2016 n=3..4  connectivity  held          held over 5 scenarios, 384 steps "
+        "song2016 n=3..4  connectivity  held          held over 10 scenarios, 851 steps "
         "(explored, not proved)",
         "song2016 n=3..4  collision     violated*     3 robots on square: robots 1 and 2 "
-        "overlap in step 19: distance 0.1966 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify "
+        "overlap in step 17: distance 0.15 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify "
         "--out DIR",
         "song2014 n=4..6  tree_links    violated      4 robots on square: step 13: the link "
         "child 2 -> parent 1 broke (distance 1.2 -> 1.2353, range 1.2; persistent links); the file: "
@@ -121,7 +121,7 @@ def test_exploration_rows_held_claimed_violated_and_finding():
 
 def test_exploration_writes_counterexample_only_with_out_dir(tmp_path):
     out = tmp_path / "cx"
-    (row,) = section_exploration(algorithms=["song2016"], properties=["collision"], max_examples=5,
+    (row,) = section_exploration(algorithms=["song2016"], properties=["collision"], max_examples=10,
                                  robots=(3, 4), out_dir=str(out))
     path = str(out / "song2016-collision-seed0.json")
     assert os.listdir(out) == ["song2016-collision-seed0.json"]
@@ -205,7 +205,7 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
 
 def test_report_json_is_bit_identical_has_no_seconds_and_writes_no_files(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    opts = {"exploration": dict(algorithms=["song2016"], properties=["collision"], max_examples=5,
+    opts = {"exploration": dict(algorithms=["song2016"], properties=["collision"], max_examples=10,
                                 robots=(3, 4))}
     a = run_report(["exploration"], options=opts)
     b = run_report(["exploration"], options=opts)
