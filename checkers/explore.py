@@ -21,8 +21,9 @@ profile Hypothesis loads when ``CI`` is set changes nothing).  The same
 ``seed`` and ``max_examples`` give the same verdicts, counterexamples and
 JSON as long as the time budget is not hit (the budget is wall-clock time;
 the report says ``budget_hit``).  Shrinking is bounded: once the property's
-share of the budget is spent the test function stops failing, Hypothesis
-ends, and the smallest failing scenario seen so far is kept.
+share of the budget is spent the test function raises ``_BudgetSpent``,
+Hypothesis ends at once, and the smallest failing scenario seen so far is
+kept.
 
 References
 ----------
