@@ -43,6 +43,17 @@ def test_broken_assumption_and_drawn_faults_named_in_json(capsys, tmp_path):
     assert "broken assumptions: communication_timeout_sufficient" in err
 
 
+def test_speeds_drawn_per_scenario_named_in_output_and_json(capsys):
+    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
+                         "--max-examples", "3", "--robots", "3..4", "--speeds", "0.05,0.8")
+    assert code == 0
+    assert out.splitlines()[0] == ("explore song2016: seed 0, robots 3..4, max 3 examples per property, "
+                                   "v drawn from [0.05, 0.8]")
+    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
+                         "--max-examples", "3", "--robots", "3..4", "--speeds", "0.05,0.8", "--json")
+    assert code == 0 and json.loads(out)["speeds"] == [0.05, 0.8]
+
+
 def test_song2016_held_exit_0_human_output(capsys):
     code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
                          "--max-examples", "3", "--robots", "3..4")
@@ -62,6 +73,13 @@ def test_song2016_held_exit_0_human_output(capsys):
     pytest.param(["song2016", "--param", "communication_timeout=1"], "communication_timeout_sufficient.*"
                  "--allow-violations", id="broken-assumption-not-allowed"),
     pytest.param(["song2014", "--max-steps", "0"], "--max-steps 0 must be", id="zero-max-steps"),
+    pytest.param(["song2016", "--speeds", "0.05,fast"], r"--speeds '0.05,fast': 'fast' is not a number",
+                 id="speeds-not-a-number"),
+    pytest.param(["song2016", "--speeds", "0.05,-1"], "speeds contains -1.0", id="speeds-negative"),
+    pytest.param(["song2016", "--speeds", "0.05,2"], r"speeds=\[0.05, 2.0\] break the assumptions.*"
+                 "--allow-violations", id="speeds-break-assumption"),
+    pytest.param(["song2016", "--speeds", "0.4", "--v", "0.05"], "speeds=.* and params v=0.05",
+                 id="speeds-and-v"),
 ])
 def test_bad_input_exit_2(capsys, argv, match):
     code, out, err = run(capsys, *argv)
