@@ -73,22 +73,50 @@ PAPER_ROBOTS = {"song2014": (50, 50), "song2016": (10, 40)}
 MAX_EXAMPLES = 10**6
 
 
+def reference_fails_too(fault: Fault, prop: str, lattice, params, result, options=None) -> bool:
+    """Does the *reference* violate ``prop`` on the scenario of ``result`` (a mutant's run)?
+
+    The benchmark counts a violation as evidence of the fault only when the
+    reference passes the same start, parameters and seed (a differential
+    check): the reference song2016 itself breaks tree links at long steps on
+    some starts (docs/song2016.md), and such a run tells nothing about the fault.
+    """
+    from swarmproof.checkers.explore import judge, run_scenario
+
+    trace = result.trace
+    pres = trace.present_at(0)
+    ids = [int(i) for i, p in zip(trace.ids.tolist(), pres) if p]
+    poses = [list(map(float, q)) for q, p in zip(trace.poses[0], pres) if p]
+    algo, ref = run_scenario(fault.reference, lattice, ids, poses, params, seed=int(result.seed),
+                             max_steps=int(result.max_steps))
+    return judge(prop, algo, lattice, params, ref, options).violated
+
+
 @contextlib.contextmanager
-def first_violation_clock():
+def first_violation_clock(fault: Fault | None = None):
     """Wrap ``swarmproof.checkers.explore.judge`` to time-stamp the first violated judgment.
 
     Yields a dict that gets ``wall``, ``cpu`` (absolute ``time.monotonic`` /
     ``time.process_time`` readings), ``robots`` and ``step`` of the first
-    violating scenario; the original ``judge`` is restored on exit.
+    violating scenario; the original ``judge`` is restored on exit.  With
+    ``fault``, a violation on a scenario where the reference fails too
+    (:func:`reference_fails_too`) is turned into ``inconclusive`` for the
+    explorer (neither a counterexample nor a pass) and counted in
+    ``seen["reference_also"]``.
     """
     from swarmproof.checkers import explore as explore_mod
+    from swarmproof.invariants.result import InvariantResult
 
     original = explore_mod.judge
-    seen: dict[str, Any] = {}
+    seen: dict[str, Any] = {"reference_also": 0}
 
     def judge(prop, algorithm, lattice, params, result, options=None):
         r = original(prop, algorithm, lattice, params, result, options)
-        if r.violated and not seen:
+        if r.violated and fault is not None and reference_fails_too(fault, prop, lattice, params, result, options):
+            seen["reference_also"] += 1
+            return InvariantResult(r.name, "inconclusive", r.cites, None,
+                                   f"the reference {fault.reference} fails here too: {r.message}")
+        if r.violated and "wall" not in seen:
             seen.update(wall=time.monotonic(), cpu=time.process_time(), robots=int(result.trace.n),
                         step=(r.witness or {}).get("step"))
         return r
@@ -105,7 +133,7 @@ def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int
     """Hunt ``fault.target`` on the registered mutant with the explorer (budget ``budget``)."""
     from swarmproof.checkers.explore import explore
 
-    with first_violation_clock() as first:
+    with first_violation_clock(fault) as first:
         w0, c0 = time.monotonic(), time.process_time()
         rep = explore(fault.name, [fault.target], budget=budget,
                       max_examples=MAX_EXAMPLES if max_examples is None else max_examples,
@@ -121,8 +149,8 @@ def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int
         replayed = replay(cx)
     return {
         "hunter": "explorer", "status": v.status, "found": v.status == "violated",
-        "seconds_to_first": None if not first else first["wall"] - w0,
-        "cpu_to_first": None if not first else first["cpu"] - c0,
+        "seconds_to_first": None if "wall" not in first else first["wall"] - w0,
+        "cpu_to_first": None if "cpu" not in first else first["cpu"] - c0,
         "first_robots": first.get("robots"), "first_step": first.get("step"),
         "robots": None if cx is None else len(cx.robots),
         "step": None if cx is None else cx.violation.get("step"),
@@ -133,6 +161,7 @@ def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int
         "message": v.message, "scenarios": v.scenarios, "steps": v.steps,
         "seconds_total": w1 - w0, "cpu_total": c1 - c0, "budget_hit": v.budget_hit,
         "first_scenarios": v.first_failure_scenarios,
+        "reference_also": first["reference_also"],
         "v": None if cx is None else cx.params.get("v"),
     }
 
@@ -156,7 +185,7 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
     names = list(PERIODIC_LATTICES if lattices is None else lattices)
     loaded = {name: load(name) for name in names}
     rng = np.random.default_rng(seed)
-    runs = steps = 0
+    runs = steps = reference_also = 0
     w0, c0 = time.monotonic(), time.process_time()
     out = {"hunter": "monte_carlo", "status": "held", "found": False, "seconds_to_first": None,
            "cpu_to_first": None, "robots": None, "step": None, "lattice": None, "message": "",
@@ -178,6 +207,9 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
                                         params, seed=run_seed, options=fault.options, early_stop=early_stop)
         runs += 1
         steps += int(result.steps)
+        if r.violated and reference_fails_too(fault, fault.target, lattice, params, result, fault.options):
+            reference_also += 1
+            continue
         if r.violated:
             out.update(status="violated", found=True, seconds_to_first=time.monotonic() - w0,
                        cpu_to_first=time.process_time() - c0, robots=n,
@@ -185,9 +217,48 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
                        run_steps=int(result.steps),
                        run_seed=run_seed, v=params.v)
             break
-    out.update(runs=runs, steps=steps, seconds_total=time.monotonic() - w0,
+    out.update(runs=runs, steps=steps, reference_also=reference_also, seconds_total=time.monotonic() - w0,
                cpu_total=time.process_time() - c0)
     return out
+
+
+def reference_verdict(fault: Fault, hunt: dict) -> str | None:
+    """The *reference* algorithm's verdict on the scenario of a hunter's counterexample.
+
+    A fault is only told by a counterexample the reference passes, so each one
+    is run again with ``fault.reference`` in place of the mutant: the
+    explorer's shrunk counterexample through replay, Monte Carlo's failing run
+    rebuilt from its ``run_seed``, robot count, lattice and ``v``.  Returns
+    ``"held"``, ``"violated"`` (the reference fails there too: not evidence of
+    the fault) or ``"inconclusive"``; None when the hunter found nothing.
+    """
+    if not hunt.get("found"):
+        return None
+    if hunt["hunter"] == "explorer":
+        import dataclasses
+
+        from swarmproof.checkers.replay import replay
+        from swarmproof.models.counterexample import Counterexample
+
+        cx = Counterexample.from_dict(hunt["counterexample"])
+        return replay(dataclasses.replace(cx, algorithm=fault.reference)).verdict.status
+    from swarmproof.checkers.explore import MIN_SEP_FRACTION, run_and_judge
+    from swarmproof.checkers.runs import build_params
+    from swarmproof.models.library import load
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    lattice = load(hunt["lattice"])
+    phi = float(lattice.range)
+    n, run_seed = int(hunt["robots"]), int(hunt["run_seed"])
+    init = random_connected(n, run_seed, range=phi, min_separation=MIN_SEP_FRACTION * phi)
+    fixed = dict(fault.params)
+    if hunt.get("v") is not None:
+        fixed["v"] = float(hunt["v"])
+    params = build_params(get_algorithm(fault.reference, n_robots=n), phi, n, **fixed)
+    _, _, r = run_and_judge(fault.reference, fault.target, lattice, init.ids.tolist(), init.poses.tolist(),
+                            params, seed=run_seed, options=fault.options, early_stop=False)
+    return r.status
 
 
 def within_budget(hunt: dict, budget: float) -> dict:
@@ -244,6 +315,7 @@ def run_benchmark(faults: Sequence[Fault], budget: float, seed: int, robots: tup
         for f in faults:
             e = hunt_explorer(f, budget, seed, robots, max_examples)
             m = hunt_monte_carlo(f, budget, seed, mc_robots_for(f, robots, mc_robots), early_stop=mc_early_stop)
+            e["reference"], m["reference"] = reference_verdict(f, e), reference_verdict(f, m)
             row = judge_row({"fault": f.name, "reference": f.reference, "description": f.description,
                              "breaks": f.breaks, "property": f.target, "options": dict(f.options),
                              "params": dict(f.params), "speeds": list(f.speeds), "equivalent": f.equivalent,
@@ -309,6 +381,10 @@ def summarize(rows: list[dict], budget: float, seed: int, robots, mc_robots) -> 
                              else _median(m_cpu_bound) / max(_median(e_cpu), 1e-3)),
         "explorer_max_robots": max(e_sizes) if e_sizes else None,
         "monte_carlo_median_robots": _median([r["monte_carlo"]["robots"] for r in mf]),
+        "explorer_also_on_reference": sum(1 for r in ef if r["explorer"].get("reference") == "violated"),
+        "explorer_skipped_reference_fails": sum(int(r["explorer"].get("reference_also") or 0) for r in rows),
+        "monte_carlo_skipped_reference_fails": sum(int(r["monte_carlo"].get("reference_also") or 0) for r in rows),
+        "monte_carlo_also_on_reference": sum(1 for r in mf if r["monte_carlo"].get("reference") == "violated"),
         "goal_every_fault_found": len(ef) == k,
         "goal_every_live_fault_found": all(r["explorer"]["found"] for r in live),
         "goal_5x_every_fault": bool(rows) and all(r["speedup"] is not None and r["speedup"] >= 5 for r in rows),
@@ -371,7 +447,14 @@ def format_table(doc: dict) -> list[str]:
         ("the papers' team sizes: " + ", ".join(f"{k} {a}..{b}" for k, (a, b) in PAPER_ROBOTS.items())
          if doc["mc_robots"] == "paper" else f"{doc['mc_robots'][0]}..{doc['mc_robots'][1]}") +
         ("; with the explorer's cycle monitor" if doc.get("mc_early_stop") else "; plain runs") + ")",
-        f"found: explorer {s['explorer_found']}/{s['faults']}, Monte Carlo {s['monte_carlo_found']}/{s['faults']}",
+        f"found: explorer {s['explorer_found']}/{s['faults']}, Monte Carlo {s['monte_carlo_found']}/{s['faults']}"
+        + ("" if "explorer_also_on_reference" not in s else
+           f"; counterexamples the reference fails too: explorer {s['explorer_also_on_reference']}, "
+           f"Monte Carlo {s['monte_carlo_also_on_reference']}")
+        + ("" if "monte_carlo_skipped_reference_fails" not in s else
+           f"; violations skipped because the reference failed too: explorer "
+           f"{s['explorer_skipped_reference_fails']} scenarios, Monte Carlo "
+           f"{s['monte_carlo_skipped_reference_fails']} runs"),
         f"median time to first counterexample: explorer {t(s['explorer_median_seconds_to_first'])} "
         f"(found faults), Monte Carlo {t(s['monte_carlo_median_seconds_to_first_found'])} (found faults), "
         f">= {t(s['monte_carlo_median_seconds_to_first_lower_bound'])} counting not found as B (wall); "
@@ -421,6 +504,8 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--list", action="store_true", help="list the faults and exit")
     ap.add_argument("--from-json", dest="from_json", default=None, metavar="IN",
                     help="print the table of a saved --json document (re-judged) and exit")
+    ap.add_argument("--check-reference", action="store_true",
+                    help="with --from-json: run every counterexample again on the reference first")
     return ap.parse_args(argv)
 
 
@@ -437,6 +522,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             try:
                 with open(args.from_json, encoding="utf-8") as fh:
                     saved = json.load(fh)
+                if args.check_reference:
+                    with registered([get_fault(r["fault"]) for r in saved["rows"]]):
+                        for r in saved["rows"]:
+                            f = get_fault(r["fault"])
+                            for hunter in ("explorer", "monte_carlo"):
+                                r[hunter]["reference"] = reference_verdict(f, r[hunter])
                 doc = retable(saved)
             except (OSError, ValueError, KeyError, TypeError) as exc:
                 raise UsageError(f"from_json={args.from_json!r} is not a saved benchmark document ({exc})",
