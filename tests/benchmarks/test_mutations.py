@@ -254,3 +254,30 @@ def test_equivalent_faults_are_named_and_counted_apart():
             s["goal_every_live_fault_found"]) == (1, 1, False, True)
     assert "(every non-equivalent one yes: 1/1)" in bench.format_table(
         bench.summarize(rows, 60.0, 0, (3, 8), (3, 8)))[-1]
+
+
+def test_a_violation_the_reference_shares_does_not_count(all_registered):
+    # a Monte Carlo run (seed 1, 2026-11-24) where move-timeout-0 broke a tree link -- and so
+    # does the reference song2016 on the same start (v = 1.1): not evidence of the fault
+    from swarmproof.checkers.explore import judge
+
+    fault = mutants.get_fault("song2016~move-timeout-0")
+    lattice = load("octagon-square")
+    phi = float(lattice.range)
+    n, run_seed = 7, 890073276
+    init = random_connected(n, run_seed, range=phi, min_separation=phi / 4)
+    p = build_params(registry.get_algorithm(fault.reference, n_robots=n), phi, n, v=1.1)
+    algo, res = run_scenario(fault.name, lattice, init.ids.tolist(), init.poses.tolist(), p, seed=run_seed)
+    assert judge(fault.target, algo, lattice, p, res, fault.options).violated
+    assert bench.reference_fails_too(fault, fault.target, lattice, p, res, fault.options)
+    # the stored witness, by contrast, fails on the mutant only
+    cx = Counterexample.from_dict(WITNESSES[fault.name])
+    wl = load(cx.lattice)
+    from swarmproof.reference_impl.protocol import Params
+
+    wp = Params(range=cx.params["range"], v=cx.params["v"], omega=cx.params["omega"], dt=cx.params["dt"],
+                extra=cx.params.get("extra") or {})
+    algo, res = run_scenario(fault.name, wl, [i for i, _ in cx.robots], [list(q) for _, q in cx.robots], wp,
+                             seed=cx.seed, max_steps=cx.max_steps)
+    assert judge(fault.target, algo, wl, wp, res, fault.options).violated
+    assert not bench.reference_fails_too(fault, fault.target, wl, wp, res, fault.options)
