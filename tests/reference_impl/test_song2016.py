@@ -713,3 +713,21 @@ def _literal_parent(eligible, root_id, relocate_id, stable_first):
                 len(m.path_from_root) == len(best.path_from_root) and m.sender_id > best.sender_id):
             best = m
     return best
+
+
+def test_known_defect_case3_robot_moves_away_from_still_parent():
+    """A pinned finding (docs/song2016.md, "Open defect"): at v = 0.8 a case-3 subtree robot
+    outside its safe region drives away from its still parent (the waiting relocate robot) and
+    the tree link breaks, under the paper's assumptions. Sec. V-C case 3 says such a robot moves
+    directly toward its parent. When the implementation is fixed this replay stops reproducing:
+    then turn this test around (assert not reproduced) and keep the file as a regression case."""
+    import os
+
+    from swarmproof.checkers.replay import replay_file
+
+    path = os.path.join(os.path.dirname(__file__), "data", "song2016_case3_moves_away.json")
+    r = replay_file(path)
+    assert r.reproduced
+    assert r.verdict.message == ("step 12: the link child 1 -> parent 2 broke (distance 1 -> 1.6, "
+                                 "range 1.2; persistent links)")
+    assert r.result.broken_assumptions == ()
