@@ -281,3 +281,20 @@ def test_a_violation_the_reference_shares_does_not_count(all_registered):
                              seed=cx.seed, max_steps=cx.max_steps)
     assert judge(fault.target, algo, wl, wp, res, fault.options).violated
     assert not bench.reference_fails_too(fault, fault.target, wl, wp, res, fault.options)
+
+
+def test_explorer_hunt_skips_a_violation_the_reference_shares(all_registered, monkeypatch):
+    # inside the hunt the explorer's judge is wrapped; the reference check must use the plain
+    # judge (it once recursed through the wrapper on a start the reference fails as well)
+    from swarmproof.checkers import explore as explore_mod
+
+    fault = mutants.get_fault("song2016~move-timeout-0")
+    lattice = load("octagon-square")
+    phi = float(lattice.range)
+    init = random_connected(7, 890073276, range=phi, min_separation=phi / 4)
+    p = build_params(registry.get_algorithm(fault.reference, n_robots=7), phi, 7, v=1.1)
+    with bench.first_violation_clock(fault) as seen:
+        _, _, r = explore_mod.run_and_judge(fault.name, fault.target, lattice, init.ids.tolist(),
+                                            init.poses.tolist(), p, seed=890073276, options=fault.options)
+    assert r.status == "inconclusive" and "fails here too" in r.message
+    assert seen["reference_also"] == 1 and "wall" not in seen
