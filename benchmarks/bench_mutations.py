@@ -79,8 +79,9 @@ def reference_fails_too(fault: Fault, prop: str, lattice, params, result, option
 
     The benchmark counts a violation as evidence of the fault only when the
     reference passes the same start, parameters and seed (a differential
-    check): the reference song2016 itself breaks tree links at long steps on
-    some starts (docs/song2016.md), and such a run tells nothing about the fault.
+    check): the reference song2016 itself broke tree links at long steps on
+    some starts until its case-3 fix (docs/song2016.md), and such a run tells
+    nothing about the fault.
     """
     from swarmproof.checkers.explore import run_scenario
 

@@ -71,7 +71,7 @@ from swarmproof.models.errors import ProtocolError, UsageError, check_finite
 from swarmproof.models.se2 import wrap_angle
 from .protocol import Assumption, Command, Observation, Params, RobotModel, connected_start
 from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
-                                in_discs, reachable_point)
+                                farthest_point_toward, in_discs, reachable_point)
 
 __all__ = [
     "Vacancy", "Song2016Message", "Song2016Config", "Song2016", "Song2016Controller",
@@ -941,7 +941,13 @@ class Song2016Controller:
                 # case 1), so it is not waited for (it still bounds the safe region).
                 pass
             else:
-                way = closest_point_in_discs(goal, centers, self._safe_radius)
+                if mover == "subtree":
+                    # Sec. V-C case 3: "moves directly toward its parent while staying
+                    # within its own NCLB safe region" -- along the line to the parent.
+                    way = farthest_point_toward(goal, centers, self._safe_radius)
+                else:
+                    # the relocate robot: the intermediate goal of Figs. 9 and 11
+                    way = closest_point_in_discs(goal, centers, self._safe_radius)
                 if way is not None and (way[0] != 0.0 or way[1] != 0.0):
                     tr, fw, ex, ey = reachable_point(way, self.params.v, self.params.omega,
                                                      self.params.dt)

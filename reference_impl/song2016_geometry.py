@@ -162,6 +162,65 @@ def closest_point_in_discs(goal: tuple[float, float], centers: Sequence[tuple[fl
     return min(candidates, key=lambda p: (p[0] - gx) ** 2 + (p[1] - gy) ** 2)
 
 
+def farthest_point_toward(goal: tuple[float, float], centers: Sequence[tuple[float, float]],
+                          radius: float) -> tuple[float, float] | None:
+    """The point of the segment from the robot (the origin) to ``goal`` that lies in every
+    disc of ``radius`` around ``centers`` and is nearest ``goal``; None when none does.
+
+    This is the way point of a robot of the moving subtree, 001 Sec. V-C case 3: it "moves
+    directly toward its parent while staying within its own NCLB safe region" -- along the
+    straight line to the parent, never off it (unlike :func:`closest_point_in_discs`, the
+    intermediate goal Figs. 9 and 11 give the relocate robot, which may slide along the
+    region's border).  A robot that starts outside its safe region (a child farther than
+    phi - v*dt) goes to where the line re-enters the region, and waits when the line misses
+    it (as "the robot does not move" for an empty region).
+
+    Examples
+    --------
+    >>> farthest_point_toward((3.0, 0.0), [(0.0, 0.0)], 1.0)
+    (1.0, 0.0)
+    >>> farthest_point_toward((0.5, 0.0), [(0.0, 0.0)], 1.0)
+    (0.5, 0.0)
+    >>> farthest_point_toward((3.0, 0.0), [(2.0, 0.0)], 0.5)     # starts outside, enters
+    (2.5, 0.0)
+    >>> farthest_point_toward((3.0, 0.0), [(-1.0, 0.0)], 0.5) is None  # child behind: wait
+    True
+    >>> farthest_point_toward((1.0, 1.0), [], 0.5)
+    (1.0, 1.0)
+
+    References
+    ----------
+    001_7a4e517b856331bc.txt, Sec. V-C (case 3; "the children ... will only move toward the
+    robot"), Lemma 11.
+    """
+    gx, gy = float(goal[0]), float(goal[1])
+    lo, hi = 0.0, 1.0
+    gg = gx * gx + gy * gy
+    if gg == 0.0:
+        return (0.0, 0.0) if in_discs(0.0, 0.0, centers, radius) else None
+    for cx, cy in centers:
+        # |t g - c|^2 <= r^2  <=>  gg t^2 - 2 (g.c) t + (|c|^2 - r^2) <= 0
+        b = gx * cx + gy * cy
+        c = cx * cx + cy * cy - radius * radius
+        disc = b * b - gg * c
+        if disc < 0.0:
+            return None
+        root = math.sqrt(disc)
+        lo = max(lo, (b - root) / gg)
+        hi = min(hi, (b + root) / gg)
+        if lo > hi:
+            return None
+    t = hi
+    x, y = t * gx, t * gy
+    if not in_discs(x, y, centers, radius):
+        # rounding at the border: step back a hair along the line
+        t = max(lo, hi * (1.0 - 1e-12))
+        x, y = t * gx, t * gy
+        if not in_discs(x, y, centers, radius):
+            return None
+    return (x, y)
+
+
 def reachable_point(target: tuple[float, float], v: float, omega: float, dt: float
                     ) -> tuple[float, float, float, float]:
     """Where "turn toward ``target``, then drive" ends after one step.

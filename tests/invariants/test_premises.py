@@ -52,6 +52,7 @@ def test_song2016_meets_every_premise(seed):
 def test_nclb_monitor_fires_on_a_controller_that_ignores_its_childrens_bounded_ranges(monkeypatch):
     # Mutation: the safe region is ignored (the goal itself is taken, any end point "is inside").
     monkeypatch.setattr(song2016, "closest_point_in_discs", lambda goal, centers, radius: goal)
+    monkeypatch.setattr(song2016, "farthest_point_toward", lambda goal, centers, radius: goal)
     monkeypatch.setattr(song2016, "in_discs", lambda *a, **k: True)
     trace = run16("square", 20, 2)
     r = parents_in_bounded_ranges(trace, *(1.2, 0.05, 1.0))
