@@ -17,13 +17,16 @@ Each failure names its lemma.
   root, the root does not move and both ends of the relocate robot's step are
   strictly within ``phi`` of it (the premises of ``relocate_stays_in_range``,
   so the whole straight path is).
+* :func:`children_toward_still_parents` — a robot whose parent stays still
+  in a step does not end farther from it (``spanning_tree_kept``, case
+  ``child_toward_still_parent``; the relocate robot excepted).
 * :func:`descendants_in_parent_bounded_ranges` — song2014's reading of 000
   Lemma 7: every robot that moves in a step ends within ``phi - v*dt`` of
   the old position of the parent it chose (``bounded_range``'s premise
   ``child_in_parent_bounded_range``; state key ``"parent"``).
 
 :data:`ALGORITHM_PREMISES` says which monitors apply to which algorithm
-(song2016: the first three; song2014: the step bound and the last one);
+(song2016: the first four; song2014: the step bound and the last one);
 :func:`check_premises` runs those of the trace's algorithm.  Positions are
 compared with a tolerance of ``tol * phi`` (default 1e-9) for the engine's
 floating point.  Measured findings (docs/proofs.md, "Premise monitors"):
@@ -259,6 +262,70 @@ def relocate_path_in_range(trace, phi: float, *, tol: float = 1e-9) -> Invariant
                            applicable=checked > 0, detail={"checked": checked})
 
 
+def children_toward_still_parents(trace, phi: float, v: float, dt: float, *,
+                                  tol: float = 1e-9) -> InvariantResult:
+    """A robot that moves in step ``t`` while its parent stays still ends no farther
+    from the parent than it started (001 Sec. V-C: "the children ... will only move
+    toward the robot"; case ``child_toward_still_parent`` of ``spanning_tree_kept``).
+
+    The parent is the one named in the robot's state both before and after the
+    step (state key ``"parent"``); the relocate robot (state key ``"relocate"``)
+    is left to :func:`relocate_path_in_range`, since it heads for a vacancy, not
+    for its parent, when the parent is the root.  Distances compare with a
+    tolerance of ``tol * phi``.  Added 2026-11-24: a subtree robot that drove
+    away from its still parent broke links with every other premise met
+    (docs/song2016.md, "Case 3 steered to the nearest safe point").
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.1, 0, 0]]], dtype=float)
+    >>> st = ((("parent", None), ("relocate", False)), (("parent", 1), ("relocate", False)))
+    >>> r = children_toward_still_parents(Trace(ids=[1, 2], poses=poses, states=[st] * 2), 1.2, 0.1, 1.0)
+    >>> r.status, r.witness["child"], r.witness["parent"], r.witness["after"]
+    ('violated', 2, 1, 1.1)
+    """
+    cites = "spanning_tree_kept, case child_toward_still_parent (001 Sec. V-C, Lemma 11)"
+    slot = _slot(trace)
+    eps = tol * phi
+    checked = 0
+    for t in range(trace.steps):
+        before, after = trace.states[t], trace.states[t + 1]
+        p0, p1 = trace.poses[t], trace.poses[t + 1]
+        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
+        for k in range(trace.n):
+            if not (pres0[k] and pres1[k]):
+                continue
+            par = state_value(before[k], "parent", _MISSING)
+            if par is _MISSING:
+                return InvariantResult("premise:child_toward_parent", "inconclusive", cites, None,
+                                       f"robot {int(trace.ids[k])} has no 'parent' in its state")
+            if par is None or state_value(after[k], "parent", None) != par:
+                continue
+            if state_value(before[k], "relocate", False) or state_value(after[k], "relocate", False):
+                continue
+            q = slot.get(int(par))
+            if q is None or not (pres0[q] and pres1[q]):
+                continue
+            if math.hypot(*(p1[q, :2] - p0[q, :2])) > eps or math.hypot(*(p1[k, :2] - p0[k, :2])) <= eps:
+                continue
+            checked += 1
+            d0 = math.hypot(*(p0[k, :2] - p0[q, :2]))
+            d1 = math.hypot(*(p1[k, :2] - p0[q, :2]))
+            if d1 > d0 + eps:
+                child = int(trace.ids[k])
+                return InvariantResult(
+                    "premise:child_toward_parent", "violated", cites,
+                    {"step": t, "child": child, "parent": int(par), "before": round(d0, 12),
+                     "after": round(d1, 12), "lemma": "spanning_tree_kept"},
+                    f"robot {child} moved away from its still parent {int(par)} in step {t}: "
+                    f"{d0:.6g} -> {d1:.6g}")
+    return InvariantResult("premise:child_toward_parent", "held", cites, None,
+                           f"{checked} child moves toward a still parent, none away",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
 def check_premises(trace, phi: float | None = None, v: float | None = None,
                    dt: float | None = None, monitors=None) -> list:
     """The premise monitors of the trace's algorithm over one trace.
@@ -272,7 +339,7 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
     monitors : sequence of str, optional
         Names from :data:`MONITORS`.  By default those of
         :data:`ALGORITHM_PREMISES` for ``trace.meta["algorithm"]``, and
-        song2016's three for a trace that names no algorithm listed there.
+        song2016's four for a trace that names no algorithm listed there.
 
     Returns
     -------
@@ -317,17 +384,19 @@ MONITORS = {
     "nclb": lambda trace, phi, v, dt: parents_in_bounded_ranges(trace, phi, v, dt),
     "relocate": lambda trace, phi, v, dt: relocate_path_in_range(trace, phi),
     "parent_bounded_range": lambda trace, phi, v, dt: descendants_in_parent_bounded_ranges(trace, phi, v, dt),
+    "child_toward_parent": lambda trace, phi, v, dt: children_toward_still_parents(trace, phi, v, dt),
 }
 
 #: The proof-suite lemma (``swarmproof prove`` id) whose premise each monitor checks.
 MONITOR_LEMMAS = {"step_bounded": "bounded_range", "nclb": "nclb_link_kept",
-                  "relocate": "relocate_stays_in_range", "parent_bounded_range": "bounded_range"}
+                  "relocate": "relocate_stays_in_range", "parent_bounded_range": "bounded_range",
+                  "child_toward_parent": "spanning_tree_kept"}
 
 #: The monitors whose lemmas each reference algorithm's proof uses (docs/proofs.md): song2016
 #: (001 Lemma 7, NCLB of Sec. V-C, the relocate case of Lemma 11); song2014 (000 Lemma 7:
 #: moves at most v dt, ends in the parent's disc phi - v dt).  Keyed by the algorithm's ``name``.
 ALGORITHM_PREMISES = {
-    "song2016": ("step_bounded", "nclb", "relocate"),
+    "song2016": ("step_bounded", "nclb", "relocate", "child_toward_parent"),
     "song2014": ("step_bounded", "parent_bounded_range"),
 }
 

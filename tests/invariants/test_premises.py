@@ -45,7 +45,7 @@ def _copy(trace, poses=None):
 def test_song2016_meets_every_premise(seed):
     trace = run16("hexagon", 10, seed)
     results = check_premises(trace)
-    assert [r.status for r in results] == ["held", "held", "held"], [r.message for r in results]
+    assert [r.status for r in results] == ["held", "held", "held", "held"], [r.message for r in results]
     assert results[2].detail["checked"] > 0  # the relocate monitor really examined steps
 
 
@@ -177,3 +177,27 @@ def test_premises_hold_on_the_song2016_acceptance_matrix(lattice, n):
         results = check_premises(run16(lattice, n, seed))
         bad = [r for r in results if r.status != "held"]
         assert not bad, f"{lattice} n={n} seed={seed}: {[r.message for r in bad]}"
+
+
+def test_child_toward_parent_monitor_fires_on_the_old_case3_rule(monkeypatch):
+    # Before 2026-11-24 a case-3 subtree robot steered to the nearest safe point and could drive
+    # away from its still parent; every other premise held while the link broke.  Put that rule
+    # back and replay the stored 4-robot start: this monitor names the step and the robots.
+    import os
+
+    from swarmproof.checkers.replay import replay_file
+    from swarmproof.invariants.premises import children_toward_still_parents
+
+    path = os.path.join(os.path.dirname(__file__), "..", "reference_impl", "data",
+                        "song2016_case3_moves_away.json")
+    fixed = replay_file(path)
+    assert children_toward_still_parents(fixed.result.trace, 1.2, 0.8, 1.0).status == "held"
+    monkeypatch.setattr(song2016, "farthest_point_toward", song2016.closest_point_in_discs)
+    old = replay_file(path)
+    assert old.reproduced                      # the link breaks again under the old rule
+    r = children_toward_still_parents(old.result.trace, 1.2, 0.8, 1.0)
+    assert r.status == "violated" and r.witness["lemma"] == "spanning_tree_kept"
+    assert (r.witness["step"], r.witness["child"], r.witness["parent"]) == (12, 1, 2)
+    assert r.message == "robot 1 moved away from its still parent 2 in step 12: 1 -> 1.6"
+    others = [x for x in check_premises(old.result.trace) if x.name != "premise:child_toward_parent"]
+    assert [x.status for x in others] == ["held", "held", "held"]   # the gap the monitor closes
