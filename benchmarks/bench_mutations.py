@@ -170,6 +170,24 @@ def hunt_explorer(fault: Fault, budget: float, seed: int, robots: tuple[int, int
     }
 
 
+def monte_carlo_start(fault: Fault, algorithm: str, lattice, n: int, run_seed: int, v: float | None):
+    """A Monte Carlo run's start and parameters: ``random_connected(n, run_seed)`` (minimum
+    separation range/4, as the explorer's scenarios) and ``algorithm``'s parameters with the
+    fault's ``params`` and, when given, speed ``v``.  Returns ``(initial, params)``; the hunt
+    and :func:`reference_verdict` rebuild the same run from these four numbers."""
+    from swarmproof.checkers.explore import MIN_SEP_FRACTION
+    from swarmproof.checkers.runs import build_params
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    phi = float(lattice.range)
+    init = random_connected(n, run_seed, range=phi, min_separation=MIN_SEP_FRACTION * phi)
+    fixed = dict(fault.params)
+    if v is not None:
+        fixed["v"] = float(v)
+    return init, build_params(get_algorithm(algorithm, n_robots=n), phi, n, **fixed)
+
+
 def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, int],
                      lattices: Sequence[str] | None = None, early_stop: bool = False) -> dict:
     """Plain seeded Monte Carlo on the registered mutant until a violation or ``budget`` seconds.
@@ -180,11 +198,8 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
     """
     import numpy as np
 
-    from swarmproof.checkers.explore import MIN_SEP_FRACTION, PERIODIC_LATTICES, run_and_judge
-    from swarmproof.checkers.runs import build_params
+    from swarmproof.checkers.explore import PERIODIC_LATTICES, run_and_judge
     from swarmproof.models.library import load
-    from swarmproof.reference_impl.initial import random_connected
-    from swarmproof.reference_impl.registry import get_algorithm
 
     names = list(PERIODIC_LATTICES if lattices is None else lattices)
     loaded = {name: load(name) for name in names}
@@ -199,14 +214,9 @@ def hunt_monte_carlo(fault: Fault, budget: float, seed: int, robots: tuple[int, 
         n = int(rng.integers(robots[0], robots[1] + 1))
         name = names[int(rng.integers(len(names)))]
         run_seed = int(rng.integers(0, 2**31 - 1))
-        fixed = dict(fault.params)
-        if fault.speeds:
-            fixed["v"] = float(fault.speeds[int(rng.integers(len(fault.speeds)))])
+        v = float(fault.speeds[int(rng.integers(len(fault.speeds)))]) if fault.speeds else None
         lattice = loaded[name]
-        phi = float(lattice.range)
-        init = random_connected(n, run_seed, range=phi, min_separation=MIN_SEP_FRACTION * phi)
-        algo = get_algorithm(fault.name, n_robots=n)
-        params = build_params(algo, phi, n, **fixed)
+        init, params = monte_carlo_start(fault, fault.name, lattice, n, run_seed, v)
         algo, result, r = run_and_judge(fault.name, fault.target, lattice, init.ids.tolist(), init.poses.tolist(),
                                         params, seed=run_seed, options=fault.options, early_stop=early_stop)
         runs += 1
@@ -246,20 +256,13 @@ def reference_verdict(fault: Fault, hunt: dict) -> str | None:
 
         cx = Counterexample.from_dict(hunt["counterexample"])
         return replay(dataclasses.replace(cx, algorithm=fault.reference)).verdict.status
-    from swarmproof.checkers.explore import MIN_SEP_FRACTION, run_and_judge
-    from swarmproof.checkers.runs import build_params
+    from swarmproof.checkers.explore import run_and_judge
     from swarmproof.models.library import load
-    from swarmproof.reference_impl.initial import random_connected
-    from swarmproof.reference_impl.registry import get_algorithm
 
     lattice = load(hunt["lattice"])
-    phi = float(lattice.range)
-    n, run_seed = int(hunt["robots"]), int(hunt["run_seed"])
-    init = random_connected(n, run_seed, range=phi, min_separation=MIN_SEP_FRACTION * phi)
-    fixed = dict(fault.params)
-    if hunt.get("v") is not None:
-        fixed["v"] = float(hunt["v"])
-    params = build_params(get_algorithm(fault.reference, n_robots=n), phi, n, **fixed)
+    run_seed = int(hunt["run_seed"])
+    init, params = monte_carlo_start(fault, fault.reference, lattice, int(hunt["robots"]), run_seed,
+                                     hunt.get("v"))
     _, _, r = run_and_judge(fault.reference, fault.target, lattice, init.ids.tolist(), init.poses.tolist(),
                             params, seed=run_seed, options=fault.options, early_stop=False)
     return r.status
@@ -299,7 +302,7 @@ def mc_robots_for(fault: Fault, robots: tuple[int, int], mc_robots) -> tuple[int
 
     >>> f = get_fault("song2014~no-eq8-turn")
     >>> mc_robots_for(f, (3, 8), None), mc_robots_for(f, (3, 8), (10, 30)), mc_robots_for(f, (3, 8), "paper")
-    ((3, 8), (10, 30), (50, 250))
+    ((3, 8), (10, 30), (50, 50))
     """
     if mc_robots == "paper":
         return PAPER_ROBOTS[fault.reference]

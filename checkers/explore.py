@@ -56,6 +56,7 @@ PERIODIC_LATTICES: tuple[str, ...] = ("square", "hexagon", "octagon-square", "tr
                                       "honeycomb-rotating")
 
 DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges have unit length
+DEFAULT_POS_TOL = 1e-6     # oscillation: poses rounded to this when global states are compared
 DEFAULT_PROGRESS_WINDOW = 200  # steps without progress that "oscillation" reports for randomized algorithms
 MIN_SEP_FRACTION = 0.25     # initial robots at least range/4 apart (as initial.random_connected)
 
@@ -334,7 +335,7 @@ def run_and_judge(algorithm_name, prop: str, lattice, ids, poses, params, *, see
     if early_stop and prop == "oscillation" and not getattr(spec.factory, "randomized", False):
         from swarmproof.invariants.properties import CycleMonitor
 
-        monitor = CycleMonitor(float(dict(options or {}).get("pos_tol", 1e-6)))
+        monitor = CycleMonitor(float(dict(options or {}).get("pos_tol", DEFAULT_POS_TOL)))
     algo, result = run_scenario(spec, lattice, ids, poses, params, seed=seed, max_steps=max_steps,
                                 allow_violations=allow_violations, faults=faults, stop_when=monitor)
     r = judge(prop, algo, lattice, params, result, options)
@@ -403,7 +404,7 @@ def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, A
         if callable(measure) and (randomized or window is not None):
             window = int(DEFAULT_PROGRESS_WINDOW if window is None else window)
             progress = progress_values(trace, measure)
-        return oscillation(trace, float(options.get("pos_tol", 1e-6)), goal_reached=lambda t: g and t == T,
+        return oscillation(trace, float(options.get("pos_tol", DEFAULT_POS_TOL)), goal_reached=lambda t: g and t == T,
                            randomized=randomized, progress=progress, window=window,
                            progress_eps=float(options.get("progress_eps", 1e-9)))
     if prop == "premises":

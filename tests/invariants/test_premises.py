@@ -9,8 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.invariants.premises import (check_premises, parents_in_bounded_ranges,
-                                            relocate_path_in_range, step_bounded)
+from swarmproof.invariants.premises import (check_premises, children_toward_still_parents,
+                                             parents_in_bounded_ranges, relocate_path_in_range,
+                                             step_bounded)
 from swarmproof.reference_impl.protocol import Command
 from swarmproof.reference_impl.song2014 import Song2014
 from swarmproof.models.library import load
@@ -163,6 +164,9 @@ def test_missing_state_keys_are_inconclusive_not_held():
     t = Trace(ids=[1], poses=poses, states=[((("parent", None),),)] * 2)
     assert parents_in_bounded_ranges(t, 1.0, 0.05, 1.0).status == "inconclusive"
     assert relocate_path_in_range(t, 1.0).status == "inconclusive"
+    no_parent = Trace(ids=[1], poses=poses, states=[((("children", ()),),)] * 2)
+    r = children_toward_still_parents(no_parent, 1.0, 0.05, 1.0)
+    assert r.status == "inconclusive" and r.message == "robot 1 has no 'parent' in its state"
 
 
 LATTICES = ("square", "hexagon", "octagon-square")
@@ -186,7 +190,6 @@ def test_child_toward_parent_monitor_fires_on_the_old_case3_rule(monkeypatch):
     import os
 
     from swarmproof.checkers.replay import replay_file
-    from swarmproof.invariants.premises import children_toward_still_parents
 
     path = os.path.join(os.path.dirname(__file__), "..", "reference_impl", "data",
                         "song2016_case3_moves_away.json")
