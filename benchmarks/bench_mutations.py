@@ -504,7 +504,7 @@ def parse_args(argv: Sequence[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--robots", default="3..8", help="robots MIN..MAX for both hunters (default 3..8)")
     ap.add_argument("--mc-robots", default=None,
                     help="robots MIN..MAX for Monte Carlo only, or 'paper' for each paper's own team sizes "
-                         "(song2014 50..250, song2016 10..40)")
+                         "(song2014 50, the smallest of 000 Sec. V's 50..250; song2016 10..40)")
     ap.add_argument("--mc-early-stop", action="store_true",
                     help="give Monte Carlo the explorer's run-time cycle monitor too (default: plain runs)")
     ap.add_argument("--json", dest="json_out", default=None, metavar="OUT", help="write the raw numbers")

@@ -59,6 +59,11 @@ DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges h
 DEFAULT_POS_TOL = 1e-6     # oscillation: poses rounded to this when global states are compared
 DEFAULT_PROGRESS_WINDOW = 200  # steps without progress that "oscillation" reports for randomized algorithms
 MIN_SEP_FRACTION = 0.25     # initial robots at least range/4 apart (as initial.random_connected)
+#: The longest start link the scenarios draw, as a fraction of the range: just short of phi
+#: (neighbors are strictly closer than phi, 001 Sec. III), with room for the 1e-12 rounding of
+#: the coordinates.  Links in the last part of the range are the ones the bounded range
+#: (001 Lemma 7) and NCLB (Sec. V-C) work hardest to keep (docs/decisions.md).
+MAX_LINK_FRACTION = 1.0 - 1e-9
 
 
 @dataclass(frozen=True)
@@ -572,15 +577,17 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
     Robot 0 of the construction sits at the origin with a drawn heading;
     every further robot is one element of a drawn list ``(parent, distance,
     angle, heading)``: it is placed at the distance, drawn in
-    ``[range/4, 0.95 range]``, from an earlier robot (``parent`` modulo the
-    robots placed so far), so the start is connected (001 Sec. III).  A
+    ``[range/4, (1 - 1e-9) range]`` (:data:`MAX_LINK_FRACTION`) and shrinking
+    toward the long end, from an earlier robot (``parent`` modulo the robots
+    placed so far), so the start is connected (001 Sec. III).  A
     placement closer than ``range/4`` to a robot already placed is turned by
     multiples of 30 degrees (:func:`place_robot`) and rejected only when no
     turn fits.  The IDs are a drawn permutation of ``0..n-1``.
 
     Because each robot after the first is one list element, Hypothesis's
     shrinker drops a robot in one step (deleting the element), and the
-    smallest scenario, tried first, is a valid ``robots[0]``-robot start.
+    smallest scenario, tried first, is a valid ``robots[0]``-robot start
+    with every drawn link just short of the range.
     ``speeds``: when given, each scenario also draws its ``v`` from them
     (``sampled_from``: shrinking goes toward the first).
     """
@@ -596,8 +603,11 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
         phi = phi_of[lat]
         min_sep = MIN_SEP_FRACTION * phi
         v = None if not speeds else float(draw(st.sampled_from(list(speeds))))
-        placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), st.floats(min_sep, 0.95 * phi),
-                                             angle, angle),
+        # the distance is drawn as "longest minus a slack" so that Hypothesis's simplest
+        # draws, tried first and shrunk toward, are the most stretched links
+        longest = MAX_LINK_FRACTION * phi
+        dist = st.floats(0.0, longest - min_sep).map(lambda slack: longest - slack)
+        placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), dist, angle, angle),
                                    min_size=lo - 1, max_size=hi - 1))
         pts = [(0.0, 0.0)]
         heads = [draw(angle)]

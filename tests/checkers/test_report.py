@@ -84,7 +84,7 @@ def test_exploration_rows_held_claimed_violated_and_finding():
     rows = (section_exploration(algorithms=["song2016"], properties=["connectivity", "collision"],
                                 max_examples=10, robots=(3, 4))
             + section_exploration(algorithms=["song2014"], properties=["tree_links"],
-                                  max_examples=10, robots=(4, 6)))
+                                  max_examples=20, robots=(4, 6)))
     held, finding, violated = rows
     assert (held.verdict, held.claim) == (Verdict.HELD, "001 Lemma 11 (communication graph stays connected)")
     assert (finding.verdict, finding.claim) == (Verdict.VIOLATED, None)
@@ -92,13 +92,13 @@ def test_exploration_rows_held_claimed_violated_and_finding():
         Verdict.VIOLATED, "000 Lemma 7 (a descendant stays within range of its parent)")
     assert _table_body(Report(rows)) == [
         "subject          property      verdict       detail",
-        "song2016 n=3..4  connectivity  held          held over 10 scenarios, 851 steps "
+        "song2016 n=3..4  connectivity  held          held over 10 scenarios, 1040 steps "
         "(explored, not proved)",
-        "song2016 n=3..4  collision     violated*     3 robots on square: robots 1 and 2 "
-        "overlap in step 17: distance 0.15 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify "
+        "song2016 n=3..4  collision     violated*     4 robots on square: robots 1 and 2 "
+        "overlap in step 23: distance 0.1936 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify "
         "--out DIR",
-        "song2014 n=4..6  tree_links    violated      4 robots on square: step 13: the link "
-        "child 2 -> parent 1 broke (distance 1.2 -> 1.2353, range 1.2; persistent links); the file: "
+        "song2014 n=4..6  tree_links    violated      4 robots on square: step 3: the link "
+        "child 1 -> parent 0 broke (distance 1.2 -> 1.20961, range 1.2; persistent links); the file: "
         "swarmproof verify --out DIR",
         "",
         "* not claimed by the paper: a finding about the algorithm, not counted in the verdict",
@@ -109,11 +109,11 @@ def test_exploration_rows_held_claimed_violated_and_finding():
     assert Report([held, finding]).verdict is Verdict.HELD
     assert Report(rows).exit_code == 1
     doc = violated.to_json()
-    assert doc["reproduce"] == ("swarmproof explore song2014 --property tree_links --max-examples 10 "
+    assert doc["reproduce"] == ("swarmproof explore song2014 --property tree_links --max-examples 20 "
                                 "--robots 4..6 --seed 0 --budget 180 --out DIR")
     assert (doc["status"], doc["counterexample"], doc["counterexample_robots"]) == ("violated", None, 4)
-    assert doc["violation"] == {"step": 13, "message": "step 13: the link child 2 -> parent 1 broke (distance "
-                                                       "1.2 -> 1.2353, range 1.2; persistent links)"}
+    assert doc["violation"] == {"step": 3, "message": "step 3: the link child 1 -> parent 0 broke (distance "
+                                                      "1.2 -> 1.20961, range 1.2; persistent links)"}
     assert {"algorithm", "robots", "seed", "max_examples", "budget", "explored", "scenarios", "conclusive",
             "steps", "capped", "budget_hit", "kept_assumptions", "broken_assumptions"} <= set(doc)
     assert doc["broken_assumptions"] == [] and doc["budget_hit"] is False

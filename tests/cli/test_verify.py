@@ -48,9 +48,9 @@ def test_exploration_held_and_finding_exit_0_exact_lines(capsys, small):
     assert lines[0].startswith("== exploration (") and lines[0].endswith(" s)")
     assert lines[1:] == [
         "subject          property      verdict       detail",
-        "song2016 n=3..4  connectivity  held          held over 10 scenarios, 851 steps (explored, not proved)",
-        "song2016 n=3..4  collision     violated*     3 robots on square: robots 1 and 2 overlap in step 17: "
-        "distance 0.15 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify --out DIR",
+        "song2016 n=3..4  connectivity  held          held over 10 scenarios, 1040 steps (explored, not proved)",
+        "song2016 n=3..4  collision     violated*     4 robots on square: robots 1 and 2 overlap in step 23: "
+        "distance 0.1936 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify --out DIR",
         "",
         "* not claimed by the paper: a finding about the algorithm, not counted in the verdict",
         "verify: HELD (0 proved, 1 held, 1 violated, 0 inconclusive)"]
@@ -59,7 +59,7 @@ def test_exploration_held_and_finding_exit_0_exact_lines(capsys, small):
 def test_exploration_claimed_violation_exit_1_and_out_dir(capsys, small, tmp_path):
     small(["song2014"], ["tree_links"])
     out_dir = tmp_path / "cx"
-    code, out, err = run(capsys, "--section", "exploration", "--max-examples", "10", "--robots", "4..6",
+    code, out, err = run(capsys, "--section", "exploration", "--max-examples", "20", "--robots", "4..6",
                          "--json", "--out", str(out_dir))
     doc = json.loads(out)
     assert code == 1 and err == ""
