@@ -254,6 +254,12 @@ def test_equivalent_faults_are_named_and_counted_apart():
             s["goal_every_live_fault_found"]) == (1, 1, False, True)
     assert "(every non-equivalent one yes: 1/1)" in bench.format_table(
         bench.summarize(rows, 60.0, 0, (3, 8), (3, 8)))[-1]
+    # the 5x goal: the equivalent fault has no speed-up; the live one is 2x, then 6x
+    assert (s["goal_5x_every_fault"], s["goal_5x_every_live_fault"]) == (False, False)
+    rows[0]["speedup"] = 6.0
+    doc = bench.summarize(rows, 60.0, 0, (3, 8), (3, 8))
+    assert (doc["summary"]["goal_5x_every_fault"], doc["summary"]["goal_5x_every_live_fault"]) == (False, True)
+    assert ">= 5x on every fault NO (every non-equivalent one yes), " in bench.format_table(doc)[-1]
 
 
 #: A 6-robot start (the README's song2014 counterexample) on which the reference song2014
