@@ -41,10 +41,34 @@ COUNTEREXAMPLE_FORMAT = "swarmproof-counterexample/1"
 COUNTEREXAMPLE_VERSION = 1
 
 
-def _g(x: float) -> str:
+def _g(x: float, digits: int = 6) -> str:
     """Short, exact-enough number text for people (``%.6g``, no ``-0``)."""
-    s = f"{float(x):.6g}"
+    s = f"{float(x):.{digits}g}"
     return "0" if s == "-0" else s
+
+
+def _position_digits(points, phi: float) -> int:
+    """The fewest significant digits (6 to 17) at which the printed positions keep every pair's
+    neighbor relation (distance < ``phi``, 001 Sec. III) of the exact ones.
+
+    The explorer draws starting links just short of phi; at 6 digits such a link prints as
+    exactly phi, and a person who rebuilt the start from the printed steps would get robots
+    that are not neighbors.
+
+    >>> _position_digits([(0.0, 0.0), (1.0, 0.0)], 1.2)
+    6
+    >>> _position_digits([(0.0, 0.0), (1.1999999988, 0.0)], 1.2)
+    10
+    """
+    def links(pts):
+        return [math.hypot(px - qx, py - qy) < phi
+                for i, (px, py) in enumerate(pts) for (qx, qy) in pts[i + 1:]]
+    exact = links(points)
+    for d in range(6, 17):
+        shown = [(float(f"{x:.{d}g}"), float(f"{y:.{d}g}")) for x, y in points]
+        if links(shown) == exact:
+            return d
+    return 17
 
 
 def _fault_phrases(faults: Mapping) -> list[str]:
@@ -248,8 +272,10 @@ class Counterexample:
                  f"lattice {self.lattice}, range {_g(p['range'])}, v={_g(p['v'])}, "
                  f"omega={_g(p['omega'])}, dt={_g(p['dt'])}"]
         k = 0
+        digits = _position_digits([(float(x), float(y)) for _, (x, y, _) in self.robots], float(p["range"]))
         for k, (rid, (x, y, th)) in enumerate(self.robots, start=1):
-            lines.append(f"{k}. place robot {rid} at ({_g(x)}, {_g(y)}) heading {_g(math.degrees(th))} deg")
+            lines.append(f"{k}. place robot {rid} at ({_g(x, digits)}, {_g(y, digits)}) "
+                         f"heading {_g(math.degrees(th))} deg")
         sched = "synchronous" if not self.schedule else "asynchronous schedule from the file"
         active = _fault_phrases(self.faults or {})
         fault_text = "no faults" if not active else "faults: " + "; ".join(active)

@@ -262,9 +262,9 @@ def test_equivalent_faults_are_named_and_counted_apart():
     assert ">= 5x on every fault NO (every non-equivalent one yes), " in bench.format_table(doc)[-1]
 
 
-#: A 6-robot start (the README's song2014 counterexample) on which the reference song2014
-#: loses connectivity (001 Sec. I) -- and so does the mutant def5-longer-wins: a violation the
-#: reference shares is no evidence of the fault.
+#: A 6-robot start (the README's song2014 counterexample until 2026-11-24, third session) on
+#: which the reference song2014 loses connectivity (001 Sec. I) -- and so does the mutant
+#: def5-longer-wins: a violation the reference shares is no evidence of the fault.
 SHARED_IDS = [0, 1, 2, 3, 4, 5]
 SHARED_POSES = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.866025403784, 0.5, 0.0], [0.5, 0.866025403784, 0.0],
                 [0.0, 1.0, 0.0], [-0.5, 0.866025403784, 0.0]]

@@ -63,6 +63,21 @@ def test_format_steps_exact_lines():
     ]
 
 
+def test_format_steps_prints_a_link_just_short_of_the_range_as_such():
+    # the explorer's stretched-first starts: 1.1999999988 would print as 1.2 at 6 digits,
+    # exactly the range, and the start rebuilt from the steps would not be connected
+    c = Counterexample(algorithm="song2014", params={"range": 1.2, "v": 0.05, "omega": 0.5, "dt": 1.0},
+                       lattice="square", robots=[(0, (0.0, 0.0, 0.0)), (1, (1.1999999988, 0.0, 0.0)),
+                                                 (2, (0.5, 0.25, 0.0))],
+                       seed=0, property="connectivity", violation={"step": 3, "message": "split"})
+    lines = c.format_steps()
+    assert lines[2:5] == ["1. place robot 0 at (0, 0) heading 0 deg",
+                          "2. place robot 1 at (1.199999999, 0) heading 0 deg",
+                          "3. place robot 2 at (0.5, 0.25) heading 0 deg"]
+    shown = float(lines[3].split("(")[1].split(",")[0])
+    assert shown < 1.2
+
+
 def _doc(cx):
     return json.loads(cx.to_json())
 
