@@ -889,10 +889,10 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
               algo_n = spec.build(n_robots=scn.n)
               p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v") if scn.v is None else scn.v,
                                omega=params.get("omega"), dt=params.get("dt"), extra=params.get("extra"))
+              fm = scn.faults if scn.faults is not None else fault_model
               algo_run, result, r = run_and_judge(
                   spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=max_steps,
-                  allow_violations=allow_violations,
-                  faults=scn.faults if scn.faults is not None else fault_model, options=options)
+                  allow_violations=allow_violations, faults=fm, options=options)
               score = closeness(prop, r)
               if score is not None:
                   target(score, label=prop)
@@ -903,7 +903,6 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   stats["conclusive"] += 1
               else:
                   stats["why"] = r.message
-              fm = scn.faults if scn.faults is not None else fault_model
               if r.violated:
                   if stats["first"] is None:
                       stats["first"] = (time.monotonic() - t0, time.process_time() - c0, scn.n, stats["runs"])
