@@ -698,18 +698,16 @@ class _Analysis:
                 # Cramer: the coefficient of b_i in x is cross(x, b_other)/det, so it is
                 # at most |x| |b_other| / det in absolute value.
                 ext = [int(math.ceil(radius * math.hypot(*Bm[1 - i]) / det)) + 1 for i in range(2)]
-                cb = np.floor(np.linalg.solve(Bm.T, base[:, :2].T).T).astype(np.int64)
-                r0 = np.arange(lo[0] - ext[0], hi[0] + ext[0] + 1)
-                r1 = np.arange(lo[1] - ext[1], hi[1] + ext[1] + 1)
-                offs = np.array(np.meshgrid(r0, r1, indexing="ij")).reshape(2, -1).T
+                spans = [int(hi[i]) - int(lo[i]) + 2 * ext[i] + 1 for i in range(2)]
             else:
                 b = Bm[0]
                 t = centers @ b / np.dot(b, b)
                 lo, hi = int(math.floor(t.min())), int(math.floor(t.max()))
                 ext = int(math.ceil(radius / math.hypot(*b))) + 1
-                cb = np.floor(base[:, :2] @ b / np.dot(b, b)).astype(np.int64)[:, None]
-                offs = np.arange(lo - ext, hi + ext + 1)[:, None]
-            total = len(base) * len(offs)
+                spans = [hi - lo + 2 * ext + 1]
+            # The budget bounds memory: the window's size is counted (exact Python
+            # integers) before any array of it is allocated.
+            total = len(base) * math.prod(spans)
             if total > self.budget:
                 lam = min(math.hypot(*b) for b in Bm)
                 if lam < radius / (self.m_min / 2 + 1):
@@ -721,6 +719,14 @@ class _Analysis:
                         {"translation_basis": [[_r(b[0]), _r(b[1])] for b in Bm]})
                 raise _Inconclusive(
                     f"the pattern window holds {total} candidate points, over budget={self.budget}")
+            if rank == 2:
+                cb = np.floor(np.linalg.solve(Bm.T, base[:, :2].T).T).astype(np.int64)
+                r0 = np.arange(lo[0] - ext[0], hi[0] + ext[0] + 1)
+                r1 = np.arange(lo[1] - ext[1], hi[1] + ext[1] + 1)
+                offs = np.array(np.meshgrid(r0, r1, indexing="ij")).reshape(2, -1).T
+            else:
+                cb = np.floor(base[:, :2] @ b / np.dot(b, b)).astype(np.int64)[:, None]
+                offs = np.arange(lo - ext, hi + ext + 1)[:, None]
             red = base[:, :2] - cb @ Bm
             cand_pos = (red[:, None, :] + (offs @ Bm)[None, :, :]).reshape(-1, 2)
             lc = (offs[None, :, :] - cb[:, None, :]).reshape(-1, rank)

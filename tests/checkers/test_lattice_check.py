@@ -608,3 +608,37 @@ def first_visible_problem(g, phi, check_radius=2.5, max_points=3000):
             if g.find_edge(ra, rb, ta.inverse() @ tb, 1e-6, 1e-6) is None:
                 return f"{ra}@{ta} sees {rb}@{tb} without an edge"
     return None
+
+
+# -- issue 13, item 1: the point budget bounds memory before anything is allocated --------
+
+ROUNDED_RING_VALUES = ("0.866", "0.8660", "0.86603", "0.866025", "0.8661", "0.8662", "0.8665")
+
+
+@pytest.mark.parametrize("value", ROUNDED_RING_VALUES, ids=lambda v: f"sqrt3/2-as-{v}")
+def test_rounded_hexagon_ring_is_decided_within_bounded_memory(tmp_path, value):
+    """hexagon-ring with sqrt(3)/2 rounded: its translations become tiny, the pattern window
+    would hold billions of points.  The budget is counted before the window is allocated,
+    so the check ends (here: missing inverses, and the self-consistency defect of a pattern
+    that repeats too densely) under a 3 GB address-space cap instead of a MemoryError."""
+    import json
+    import resource
+    import subprocess
+    import sys
+
+    text = library.text("hexagon-ring")
+    assert "0.8660254037844386" in text
+    f = tmp_path / "ring-rounded.yaml"
+    f.write_text(text.replace("0.8660254037844386", value), encoding="utf-8")
+
+    def cap():
+        resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+
+    proc = subprocess.run([sys.executable, "-m", "swarmproof.cli", "check-lattice", str(f), "--json"],
+                          capture_output=True, text=True, timeout=120, preexec_fn=cap)
+    assert "Traceback" not in proc.stderr and "MemoryError" not in proc.stderr, proc.stderr[-2000:]
+    doc = json.loads(proc.stdout)
+    assert proc.returncode == 1
+    assert doc["valid"] is False
+    kinds = [d["kind"] for d in doc["defects"]]
+    assert kinds.count("missing_inverse") == 2 and "self_consistency" in kinds
