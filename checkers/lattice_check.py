@@ -87,6 +87,10 @@ __all__ = [
 DEFAULT_MAX_ROTATION_ORDER = 720
 #: Largest number of candidate pattern points the enumeration examines.
 DEFAULT_BUDGET = 2_000_000
+#: Largest position tolerance, as a fraction of the shortest edge, and largest angle
+#: tolerance (radians): tolerances absorb rounding, they must not merge distinct points.
+MAX_REL_POS_TOL = 1e-2
+MAX_ANG_TOL_RAD = 1e-2
 #: Relative tolerances: multiplied by the longest edge length (positions).
 DEFAULT_REL_POS_TOL = 1e-7
 #: Angle tolerance in radians.
@@ -795,6 +799,17 @@ def _tolerances(graph: LatticeGraph, pos_tol, ang_tol) -> tuple[float, float]:
     scale = graph.max_edge_length() or 1.0
     pt = DEFAULT_REL_POS_TOL * scale if pos_tol is None else check_positive("pos_tol", pos_tol)
     at = DEFAULT_ANG_TOL_RAD if ang_tol is None else check_positive("ang_tol", ang_tol)
+    # A tolerance absorbs rounding; one that is a sizeable part of an edge merges
+    # distinct points and the checker's answers contradict each other (issue 13 item 10).
+    shortest = min((e.transform.norm() for e in graph.edges if e.transform.norm() > 0), default=None)
+    limit = MAX_REL_POS_TOL * (shortest if shortest else scale)
+    if pt > limit:
+        raise UsageError(f"pos_tol={pt!r} is too large for this graph (its shortest edge is "
+                         f"{shortest if shortest else scale:.9g} long; at most {limit:.3g})",
+                         fix="use a tolerance for rounding only, e.g. --pos-tol 1e-6")
+    if at > MAX_ANG_TOL_RAD:
+        raise UsageError(f"ang_tol={at!r} rad is too large (at most {MAX_ANG_TOL_RAD})",
+                         fix="use a tolerance for rounding only, e.g. --ang-tol 1e-6")
     return pt, at
 
 

@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")  # no screen here, nor in CI
 import matplotlib.pyplot as plt  # noqa: E402
 
-from swarmproof.models.fileio import atomic_write_bytes  # noqa: E402
+from swarmproof.models.fileio import atomic_write_bytes, check_output_path  # noqa: E402
 
 __all__ = ["new_figure", "save_png", "save_gif", "animate_trace", "gif_frames", "ROLE_COLORS", "plt"]
 
@@ -38,6 +38,7 @@ def new_figure(width: float = 7.0, height: float = 7.0):
 
 def save_png(fig, path) -> str:
     """Render ``fig`` to PNG (no metadata, so bit-identical reruns) and write atomically."""
+    check_output_path(path)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", metadata={"Software": None}, bbox_inches="tight")
     plt.close(fig)
@@ -56,6 +57,7 @@ def save_gif(fig, update, frames, path, *, fps: int = 8) -> str:
 
     folder = os.path.dirname(os.path.abspath(os.fspath(path)))
     os.makedirs(folder, exist_ok=True)
+    check_output_path(path)
     fd, tmp = tempfile.mkstemp(suffix=".gif", dir=folder)
     os.close(fd)
     try:

@@ -748,6 +748,9 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
         If ``timeout_s`` is not a positive number.
     """
     timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
+    if timeout_s > 86400:
+        raise UsageError(f"timeout={timeout_s!r} seconds is over one day (z3 takes 32-bit milliseconds)",
+                         fix="give a timeout of at most 86400 seconds")
     _configure()
     params = tuple(lemma.solver_params)
     t0 = time.perf_counter()

@@ -23,22 +23,60 @@ from typing import Any
 
 from .errors import UsageError
 
-__all__ = ["atomic_write_bytes", "atomic_write_text", "atomic_write_json", "dumps_json"]
+__all__ = ["check_output_path", "atomic_write_bytes", "atomic_write_text", "atomic_write_json", "dumps_json"]
+
+
+def _umask() -> int:
+    """The process's file-mode creation mask (read without changing it for long)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def check_output_path(path: str | os.PathLike, option: str = "path") -> str:
+    """Check, before any work, that ``path`` can be written as a file; return it as a string.
+
+    Commands call it on every output option first, so a long run never ends
+    in an error about where to write its result.
+
+    >>> check_output_path("")
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: path='' is empty; fix: give a file name
+    >>> import tempfile
+    >>> check_output_path(tempfile.gettempdir(), "--plot")
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: --plot=... is a folder; fix: give a file name (e.g. inside that folder)
+    """
+    text = os.fspath(path)
+    if not text:
+        raise UsageError(f"{option}='' is empty", fix="give a file name")
+    if os.path.isdir(text):
+        raise UsageError(f"{option}={text!r} is a folder", fix="give a file name (e.g. inside that folder)")
+    folder = os.path.dirname(os.path.abspath(text))
+    if not os.path.isdir(folder):
+        raise UsageError(f"{option}={text!r}: folder {folder!r} does not exist",
+                         fix="create the folder first or choose another path")
+    if not os.access(folder, os.W_OK):
+        raise UsageError(f"{option}={text!r}: folder {folder!r} is not writable", fix="choose a writable folder")
+    return text
 
 
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> str:
     """Write ``data`` to ``path`` atomically; return the path as a string.
 
+    The file gets the mode a plain ``open(path, "w")`` would give it
+    (``0o666`` less the user's umask), not the ``0o600`` of a temporary file.
+
     Raises
     ------
     UsageError
-        If the folder does not exist or is not writable (names the path).
+        If the path is empty or a folder, the folder does not exist or is
+        not writable, or the disk is full (names the path and the cause).
     """
-    path = os.fspath(path)
+    path = check_output_path(path)
     folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise UsageError(f"path={path!r}: folder {folder!r} does not exist",
-                         fix="create the folder first or choose another path")
     try:
         fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=os.path.basename(path), dir=folder)
     except OSError as exc:
@@ -49,12 +87,16 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> str:
             f.write(data)
             f.flush()
             os.fsync(f.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(exc, OSError):
+            raise UsageError(f"path={path!r} cannot be written ({exc.strerror or exc})",
+                             fix="free disk space, or choose another path") from None
         raise
     return path
 

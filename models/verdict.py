@@ -28,12 +28,14 @@ from __future__ import annotations
 import enum
 from typing import Iterable
 
-__all__ = ["Verdict", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE"]
+__all__ = ["Verdict", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE", "EXIT_INTERNAL"]
 
 EXIT_OK = 0
 EXIT_VIOLATED = 1
 EXIT_USAGE = 2
 EXIT_INCONCLUSIVE = 3
+#: swarmproof's own bug (never a finding): one line on stderr, the traceback in a file.
+EXIT_INTERNAL = 4
 
 
 class Verdict(str, enum.Enum):

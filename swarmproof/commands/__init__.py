@@ -11,10 +11,25 @@ from typing import Any
 from swarmproof.models.fileio import dumps_json
 
 
+_EMITTED = [False]
+
+
 def emit_json(obj: Any) -> None:
     """Print one deterministic JSON document on stdout (and nothing else there)."""
-    sys.stdout.write(dumps_json(obj))
+    text = dumps_json(obj)
+    _EMITTED[0] = True
+    sys.stdout.write(text)
     sys.stdout.flush()
+
+
+def reset_json_emitted() -> None:
+    """Forget an earlier command's JSON document (the CLI runs several commands in one process in tests)."""
+    _EMITTED[0] = False
+
+
+def json_emitted() -> bool:
+    """Whether this process already printed its JSON document (an error after it adds none)."""
+    return _EMITTED[0]
 
 
 def human(args, *lines: str) -> None:

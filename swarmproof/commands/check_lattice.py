@@ -22,28 +22,32 @@ DESCRIPTION = (
 )
 
 
-def _positive_float(text: str) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"PHI={text!r} is not a number") from None
-    if not (x > 0 and x != float("inf")):
-        raise argparse.ArgumentTypeError(f"PHI={text!r} must be a finite number > 0")
-    return x
+def _positive_float(name: str):
+    """An argparse type for option ``name``: a finite number > 0, errors naming the option."""
+    def parse(text: str) -> float:
+        try:
+            x = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name}={text!r} is not a number") from None
+        if not (x > 0 and x != float("inf")):
+            raise argparse.ArgumentTypeError(f"{name}={text!r} must be a finite number > 0")
+        return x
+    parse.__name__ = name
+    return parse
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE",
                         help="a lattice-graph/1 file (YAML or JSON) or a bundled lattice name")
-    parser.add_argument("--range", dest="range", type=_positive_float, default=None, metavar="PHI",
+    parser.add_argument("--range", dest="range", type=_positive_float("--range"), default=None, metavar="PHI",
                         help="sensing range phi; overrides the file's `range:`")
     parser.add_argument("--json", action="store_true",
                         help="print one JSON document on stdout and nothing else there")
     parser.add_argument("--plot", metavar="PNG", default=None,
                         help="draw the unrolled pattern with any defect highlighted to PNG")
-    parser.add_argument("--pos-tol", dest="pos_tol", type=_positive_float, default=None,
+    parser.add_argument("--pos-tol", dest="pos_tol", type=_positive_float("--pos-tol"), default=None,
                         metavar="TOL", help="position tolerance (default 1e-7 x longest edge)")
-    parser.add_argument("--ang-tol", dest="ang_tol", type=_positive_float, default=None,
+    parser.add_argument("--ang-tol", dest="ang_tol", type=_positive_float("--ang-tol"), default=None,
                         metavar="RAD", help="angle tolerance in radians (default 1e-7)")
 
 
@@ -53,9 +57,13 @@ def run(args) -> int:
     from swarmproof.commands import emit_json, human
     from swarmproof.models import library
 
+    if args.plot is not None:
+        from swarmproof.models.fileio import check_output_path
+
+        check_output_path(args.plot, "--plot")
     graph = library.resolve(args.file)
     report = check_lattice(graph, args.range, pos_tol=args.pos_tol, ang_tol=args.ang_tol)
-    if args.plot:
+    if args.plot is not None:
         plot_lattice_check(graph, report, args.plot)
     if args.json:
         emit_json(report.to_json())

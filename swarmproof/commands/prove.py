@@ -26,11 +26,19 @@ DESCRIPTION = (
 )
 
 
+#: Longest accepted --timeout (one day): z3 takes its timeout as 32-bit milliseconds.
+MAX_TIMEOUT_S = 86400.0
+
+
 def _timeout(text: str) -> float:
     try:
-        return float(text)
+        x = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"S={text!r} is not a number of seconds") from None
+        raise argparse.ArgumentTypeError(f"--timeout={text!r} is not a number of seconds") from None
+    if not 0 < x <= MAX_TIMEOUT_S:
+        raise argparse.ArgumentTypeError(f"--timeout={text!r} must be > 0 and at most {MAX_TIMEOUT_S:g} "
+                                         "seconds (one day)")
+    return x
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -100,8 +100,8 @@ def test_inconclusive_exits_3(tmp_path, capsys):
 @pytest.mark.parametrize("args,match", [
     (["check-lattice", "no-such-lattice"], "no-such-lattice"),
     (["check-lattice", "{tmp}/norange.yaml"], r"range is not given.*fix: pass --range PHI"),
-    (["check-lattice", "square", "--range", "0"], r"PHI='0' must be a finite number > 0"),
-    (["check-lattice", "square", "--range", "abc"], r"PHI='abc' is not a number"),
+    (["check-lattice", "square", "--range", "0"], r"--range='0' must be a finite number > 0"),
+    (["check-lattice", "square", "--range", "abc"], r"--range='abc' is not a number"),
     (["check-lattice", "{tmp}/broken.yaml"], r"broken.yaml"),
 ], ids=["unknown-name", "no-range-anywhere", "zero-range", "non-numeric-range", "malformed-yaml"])
 def test_usage_errors_exit_2_without_traceback(tmp_path, capsys, args, match):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import json
 import re
 
 import pytest
@@ -76,7 +77,12 @@ def test_bad_file_exits_2_with_location_and_fix(tmp_path, capsys, name, content,
     code = main(["check-lattice", path] + (["--json"] if json_flag else []))
     out, err = capsys.readouterr()
     assert code == 2
-    assert out == ""
+    if json_flag:  # the error as one JSON document on stdout, nothing else there
+        doc = json.loads(out)
+        assert doc["exit_code"] == 2 and doc["error"]["kind"] == "usage"
+        assert re.search(pattern, doc["error"]["message"])
+    else:
+        assert out == ""
     assert err.startswith("swarmproof check-lattice: error: ")
     assert "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
@@ -88,7 +94,7 @@ def test_no_range_anywhere_is_a_usage_error(tmp_path, capsys):
     p.write_text(GOOD.replace("range: 1.2\n", ""))
     assert main(["check-lattice", str(p), "--json"]) == 2
     out, err = capsys.readouterr()
-    assert out == "" and "range" in err and "fix:" in err
+    assert json.loads(out)["error"]["kind"] == "usage" and "range" in err and "fix:" in err
 
 
 def test_good_file_still_checks(tmp_path, capsys):
@@ -107,5 +113,5 @@ def test_mutated_files_always_exit_2(tmp_path_factory, doc):
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main(["check-lattice", str(p), "--json"])
-    assert code == 2 and out.getvalue() == ""
+    assert code == 2 and json.loads(out.getvalue())["error"]["kind"] == "usage"
     assert str(p) in err.getvalue() and "fix:" in err.getvalue()

@@ -93,9 +93,9 @@ def test_vacuous_lemma_exit_3(capsys, monkeypatch):
 
 @pytest.mark.parametrize("argv, message", [
     (["lemma7"], r"lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance"),
-    (["--timeout", "0"], r"timeout=0.0 must be > 0"),
-    (["--timeout", "-2"], r"timeout=-2.0 must be > 0"),
-    (["--timeout", "inf"], r"timeout=inf must be a finite number"),
+    (["--timeout", "0"], r"--timeout='0' must be > 0"),
+    (["--timeout", "-2"], r"--timeout='-2' must be > 0"),
+    (["--timeout", "inf"], r"--timeout='inf' must be > 0 and at most 86400"),
 ], ids=["unknown-id", "zero-timeout", "negative-timeout", "infinite-timeout"])
 def test_usage_errors_exit_2(capsys, argv, message):
     code, out, err = run(capsys, *argv)
@@ -104,7 +104,5 @@ def test_usage_errors_exit_2(capsys, argv, message):
 
 
 def test_non_numeric_timeout_exit_2(capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(["prove", "--timeout", "soon"])
-    assert exc.value.code == 2
-    assert "S='soon' is not a number of seconds" in capsys.readouterr().err
+    assert main(["prove", "--timeout", "soon"]) == 2
+    assert "--timeout='soon' is not a number of seconds" in capsys.readouterr().err
