@@ -1210,18 +1210,28 @@ def plot_lattice_check(graph: LatticeGraph, report: LatticeReport, path, radius:
     graph's edges are grey segments between pattern points; missing edges
     (self-consistency defects) are red dashed segments; contradictions are red
     crosses; out-of-range edges are orange dotted segments from the start
-    robot.  Returns the path written.
+    robot; an edge without an inverse is a magenta arrow with a magenta ring
+    where no edge leads back.  A dense pattern (no discrete positions) is not
+    unrolled: the start robot and its edges are drawn, with a note saying why.
+    Returns the path written.
     """
     from swarmproof.checkers.plotting import ROLE_COLORS, new_figure, save_png
 
     scale = graph.max_edge_length() or 1.0
     radius = max(3 * scale, 2 * report.range) if radius is None else radius
-    pts = unroll(graph, None, radius, pos_tol=report.tolerances.get("pos_tol"),
-                 ang_tol=report.tolerances.get("ang_tol"))
+    dense = report.classification.get("kind") == "dense" or any(d.kind == "dense" for d in report.defects)
+    if dense:
+        # A dense pattern has no discrete set of positions: unrolling it fills the disc
+        # (issue 13 item 9).  Draw the start robot and its own edges only, and say why.
+        pts = [(graph.v0, SE2(0.0, 0.0, 0.0))] + [
+            (e.target, e.transform) for e in graph.out_edges(graph.v0) if e.transform.norm() <= radius]
+    else:
+        pts = unroll(graph, None, radius, pos_tol=report.tolerances.get("pos_tol"),
+                     ang_tol=report.tolerances.get("ang_tol"))
     fig, ax = new_figure()
     role_ix = {r: i for i, r in enumerate(graph.roles)}
     segs = []
-    for role, p in pts:
+    for role, p in (pts[:1] if dense else pts):
         for e in graph.out_edges(role):
             q = p @ e.transform
             if q.norm() <= radius:
@@ -1240,7 +1250,7 @@ def plot_lattice_check(graph: LatticeGraph, report: LatticeReport, path, radius:
     ax.scatter([0], [0], s=160, facecolors="none", edgecolors="k", zorder=4, label=f"start ({graph.v0})")
     drew = set()
     for d in report.defects:
-        if d.kind == "self_consistency":
+        if d.kind == "self_consistency" and "poses" in d.details:
             pa, pb = d.details["poses"]
             lab = None if "missing" in drew else "missing edge"
             drew.add("missing")
@@ -1251,6 +1261,20 @@ def plot_lattice_check(graph: LatticeGraph, report: LatticeReport, path, radius:
             drew.add("contra")
             ax.scatter([pa[0]], [pa[1]], marker="x", s=160, color="red", linewidths=2.5, zorder=6,
                        label=lab)
+        elif d.kind == "missing_inverse":
+            # the edge as drawn from one robot of its source role (the start robot when it
+            # is the source): a solid magenta arrow, and a magenta ring where no edge leads back
+            e = graph.edges[d.details["edge"]]
+            p = next((q for r, q in pts if r == e.source), None)
+            if p is not None:
+                q = p @ e.transform
+                lab = None if "inv" in drew else "edge without inverse"
+                drew.add("inv")
+                ax.annotate("", xy=(q.x, q.y), xytext=(p.x, p.y), zorder=6,
+                            arrowprops={"arrowstyle": "-|>", "color": "magenta", "lw": 2.2})
+                ax.plot([p.x, q.x], [p.y, q.y], color="magenta", lw=2.2, zorder=5, label=lab)
+                ax.scatter([q.x], [q.y], s=260, facecolors="none", edgecolors="magenta", linewidths=2,
+                           zorder=6)
         elif d.kind == "out_of_range_edge":
             e = graph.edges[d.details["edge"]]
             if e.source == graph.v0:
@@ -1263,6 +1287,10 @@ def plot_lattice_check(graph: LatticeGraph, report: LatticeReport, path, radius:
     verdict = report.verdict.value
     ax.set_title(f"{graph.name}: {verdict}, range {report.range:g}, "
                  f"{report.classification.get('kind')}")
+    if dense:
+        ax.text(0.02, 0.02, "dense: the pattern has no discrete positions;\nonly the start robot's edges are drawn",
+                transform=ax.transAxes, fontsize=9, color="red", va="bottom",
+                bbox={"facecolor": "white", "alpha": 0.9, "edgecolor": "red"})
     ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
     return save_png(fig, path)
 

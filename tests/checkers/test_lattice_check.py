@@ -642,3 +642,35 @@ def test_rounded_hexagon_ring_is_decided_within_bounded_memory(tmp_path, value):
     assert doc["valid"] is False
     kinds = [d["kind"] for d in doc["defects"]]
     assert kinds.count("missing_inverse") == 2 and "self_consistency" in kinds
+
+
+# -- issue 13, item 9: the plot shows a missing inverse; a dense pattern is not a solid disc --
+
+def _pixels(path):
+    from PIL import Image
+
+    return np.asarray(Image.open(path).convert("RGB")).reshape(-1, 3).astype(int)
+
+
+def test_plot_highlights_an_edge_without_inverse(tmp_path):
+    g = G("square-missing-inverse", ["A"], [("A", "A", 1, 0, 0), ("A", "A", 0, 1, 0), ("A", "A", -1, 0, 0)])
+    r = check_lattice(g, 1.2)
+    assert "missing_inverse" in kinds(r)
+    plot_lattice_check(g, r, tmp_path / "bad.png")
+    good = G("square", ["A"], [("A", "A", 1, 0, 0), ("A", "A", 0, 1, 0), ("A", "A", -1, 0, 0),
+                               ("A", "A", 0, -1, 0)])
+    plot_lattice_check(good, check_lattice(good, 1.2), tmp_path / "good.png")
+    magenta = lambda px: int(((px[:, 0] > 200) & (px[:, 1] < 80) & (px[:, 2] > 200)).sum())
+    assert magenta(_pixels(tmp_path / "bad.png")) > 300
+    assert magenta(_pixels(tmp_path / "good.png")) == 0
+
+
+def test_plot_of_a_dense_pattern_is_not_a_filled_disc(tmp_path):
+    g = G("dense", ["A"], ring_rows(GOLDEN_DEG))
+    r = check_lattice(g, 1.5)
+    assert r.classification["kind"] == "dense"
+    plot_lattice_check(g, r, tmp_path / "dense.png")
+    px = _pixels(tmp_path / "dense.png")
+    role_blue = int(((abs(px[:, 0] - 31) < 40) & (abs(px[:, 1] - 119) < 40) & (px[:, 2] > 150)).sum())
+    assert role_blue < 0.02 * len(px), f"{role_blue} of {len(px)} pixels are pattern points"
+    assert int(((px[:, 0] > 200) & (px[:, 1] < 60) & (px[:, 2] < 60)).sum()) > 50  # the red note
