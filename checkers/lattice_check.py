@@ -179,6 +179,13 @@ class LatticeReport:
     notes: list = field(default_factory=list)
     inconclusive_reason: str | None = None
     tolerances: dict = field(default_factory=dict)
+    #: The unit of the angles in the fix rows this report prints and writes (``deg`` or
+    #: ``rad``): the unit of the user's file, so that a pasted row means what it says.
+    angle_unit: str = "deg"
+
+    def rows(self, rows) -> list:
+        """Fix rows (kept internally in degrees) in :attr:`angle_unit`."""
+        return [_row_in_unit(r, self.angle_unit) for r in rows]
 
     def to_json(self) -> dict:
         """The check-lattice JSON document of DESIGN.md section 2 (plus extras)."""
@@ -190,7 +197,8 @@ class LatticeReport:
             "self_consistent": self.self_consistent,
             "classification": dict(self.classification),
             "defects": [d.to_json() for d in self.defects],
-            "suggested_edges": [list(r) for r in self.suggested_edges],
+            "suggested_edges": self.rows(self.suggested_edges),
+            "angle_unit": self.angle_unit,
             "verdict": self.verdict.value,
             "notes": list(self.notes),
             "inconclusive_reason": self.inconclusive_reason,
@@ -231,7 +239,7 @@ class LatticeReport:
             lines.append(f"- {d.kind}: {d.message}")
             fix = d.details.get("fix_edge")
             if fix is not None:
-                lines.append(f"  fix: add the edge row  - {_row_text(fix)}")
+                lines.append(f"  fix: add the edge row  - {_row_text(_row_in_unit(fix, self.angle_unit))}")
             elif d.details.get("fix"):
                 lines.append(f"  fix: {d.details['fix']}")
         for kind, k in shown.items():
@@ -242,7 +250,7 @@ class LatticeReport:
         if len(self.suggested_edges) > 1:
             lines.append(f"add these {len(self.suggested_edges)} rows under `edges:` to fix "
                          "the missing edges:")
-            lines.extend(f"  - {_row_text(r)}" for r in self.suggested_edges[:limit])
+            lines.extend(f"  - {_row_text(r)}" for r in self.rows(self.suggested_edges[:limit]))
             if len(self.suggested_edges) > limit:
                 lines.append(f"  ... and {len(self.suggested_edges) - limit} more (all are in --json)")
         lines.append(f"verdict: {self.verdict.value}")
@@ -256,6 +264,17 @@ def _num(x: float) -> str:
     if r == int(r) and abs(r) < 1e15:
         return str(int(r))
     return f"{r:.9g}"
+
+
+def _row_in_unit(row, unit: str) -> list:
+    """A fix row ``[from, to, x, y, theta_deg]`` with its angle in ``unit`` (``deg`` or ``rad``).
+
+    >>> _row_in_unit(["A", "A", 1.0, 0.0, 90.0], "rad")
+    ['A', 'A', 1.0, 0.0, 1.570796326795]
+    """
+    if unit == "deg":
+        return list(row)
+    return list(row[:4]) + [_r(math.radians(row[4]))]
 
 
 def _row_text(row) -> str:

@@ -36,6 +36,24 @@ def _positive_float(name: str):
     return parse
 
 
+def _file_angle_unit(file: str) -> str:
+    """The ``angle_unit`` of a lattice file (``deg`` for bundled names and files without one).
+
+    The file was already read and validated by the loader; this reads the one key again so
+    the suggested fix rows are printed in the file's own unit (issue 13 item 8).
+    """
+    import os
+
+    import yaml
+
+    if not os.path.isfile(file):
+        return "deg"
+    with open(file, encoding="utf-8") as fh:
+        doc = yaml.safe_load(fh)
+    unit = doc.get("angle_unit", "deg") if isinstance(doc, dict) else "deg"
+    return unit if unit in ("deg", "rad") else "deg"
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE",
                         help="a lattice-graph/1 file (YAML or JSON) or a bundled lattice name")
@@ -63,6 +81,7 @@ def run(args) -> int:
         check_output_path(args.plot, "--plot")
     graph = library.resolve(args.file)
     report = check_lattice(graph, args.range, pos_tol=args.pos_tol, ang_tol=args.ang_tol)
+    report.angle_unit = _file_angle_unit(args.file)
     if args.plot is not None:
         plot_lattice_check(graph, report, args.plot)
     if args.json:

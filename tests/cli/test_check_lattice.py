@@ -135,3 +135,41 @@ def test_json_mode_keeps_stdout_clean_with_plot(tmp_path, capsys):
     assert main(["check-lattice", "hexagon", "--json", "--plot", str(png)]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["valid"] is True and png.exists()
+
+
+RAD_HEXAGON_MISSING = """format: lattice-graph/1
+name: hexagon-rad
+range: 1.2
+angle_unit: rad
+roles: [A]
+edges:
+  - [A, A, 1, 0, 0]
+  - [A, A, 0.5, 0.8660254037844386, 0]
+  - [A, A, -0.5, 0.8660254037844386, 0]
+  - [A, A, -1, 0, 0]
+  - [A, A, -0.5, -0.8660254037844386, 0]
+"""
+
+
+def test_fix_rows_of_a_radian_file_are_in_radians_and_paste_back(tmp_path, capsys):
+    """Issue 13 item 8: the suggested rows are printed, and written to JSON, in the file's unit;
+    pasting the printed rows into the file makes it valid (in degrees it became dense)."""
+    path = _file(tmp_path, "hex-rad.yaml", RAD_HEXAGON_MISSING)
+    assert main(["check-lattice", path]) == 1
+    out = capsys.readouterr().out
+    rows = [line.split("  - ", 1)[1] for line in out.splitlines() if "fix: add the edge row  - " in line]
+    assert rows == ["[A, A, 0.5, -0.866025404, 0]"]
+    assert main(["check-lattice", path, "--json"]) == 1
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["angle_unit"] == "rad" and doc["suggested_edges"] == [["A", "A", 0.5, -0.866025403784, 0.0]]
+    fixed = _file(tmp_path, "fixed.yaml", RAD_HEXAGON_MISSING + "".join(f"  - {r}\n" for r in rows))
+    assert main(["check-lattice", fixed]) == 0
+
+
+def test_fix_rows_with_a_rotation_in_radians(tmp_path, capsys):
+    text = RAD_HEXAGON_MISSING.replace("  - [A, A, 1, 0, 0]\n", "  - [A, A, 1, 0, 1.5707963267948966]\n")
+    path = _file(tmp_path, "turned.yaml", text)
+    main(["check-lattice", path, "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    inverse = [r for r in doc["suggested_edges"] if r[2] == 0.0]
+    assert inverse == [["A", "A", 0.0, 1.0, -1.570796326795]]
