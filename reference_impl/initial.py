@@ -179,6 +179,10 @@ def to_file(config: InitialConfiguration, path, angle_unit: str = "deg") -> str:
     return atomic_write_text(path, dumps(config, fmt, angle_unit))
 
 
+#: Two robots of an initial file closer than this stand on one spot (an input error).
+SAME_POINT_TOL = 1e-9
+
+
 def loads(text: str, fmt: str = "yaml", source: str = "<string>") -> InitialConfiguration:
     """Parse a ``swarmproof-initial/1`` document.
 
@@ -238,6 +242,12 @@ def loads(text: str, fmt: str = "yaml", source: str = "<string>") -> InitialConf
             vals.append(float(v))
         if unit == "deg":
             vals[2] = math.radians(vals[2])
+        for j, q in enumerate(poses):
+            if math.hypot(vals[0] - q[0], vals[1] - q[1]) <= SAME_POINT_TOL:
+                raise err(("robots", k, "pose"),
+                          f"robots[{k}] (id={rid!r}) at ({vals[0]!r}, {vals[1]!r}) is on the same point as "
+                          f"robots[{j}] (id={ids[j]!r}): two robots cannot stand on one spot",
+                          "move one of them")
         ids.append(rid)
         poses.append(vals)
     return InitialConfiguration(np.array(ids, dtype=np.int64), np.array(poses))

@@ -84,6 +84,10 @@ BAD_FILES = [
     ("unknown-key", HEAD + "  - {id: 1, pose: [0, 0, 0], role: A}\n", r"unknown key 'role'"),
     ("bad-unit", "format: swarmproof-initial/1\nangle_unit: grad\nrobots: []\n", r"s\.yaml:2: field 'angle_unit'"),
     ("malformed-yaml", HEAD + "  - {id: 1, pose: [0, 0, 0\n", r"s\.yaml:\d+: malformed YAML"),
+    ("same-point", HEAD + "  - {id: 1, pose: [0.5, 1, 0]}\n  - {id: 2, pose: [1, 0, 0]}\n"
+     "  - {id: 3, pose: [0.5, 1.0, 90]}\n",
+     r"s\.yaml:5: field 'robots\[2\]\.pose': robots\[2\] \(id=3\) at \(0\.5, 1\.0\) is on the same point as "
+     r"robots\[0\] \(id=1\): two robots cannot stand on one spot; fix: move one of them"),
 ]
 
 
