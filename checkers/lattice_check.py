@@ -883,7 +883,8 @@ def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: f
     if range is None:
         range = graph.range
     if range is None:
-        raise UsageError("range is not given (range=None and the graph has no range)",
+        where = f"{graph.source}: " if getattr(graph, "source", None) and not str(graph.source).startswith("library:") else ""
+        raise UsageError(f"{where}range is not given (range=None and the graph has no range)",
                          fix="pass --range PHI or set `range:` in the file")
     phi = check_positive("range", range)
     if not isinstance(max_rotation_order, int) or max_rotation_order < 1:

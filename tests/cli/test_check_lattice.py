@@ -99,7 +99,7 @@ def test_inconclusive_exits_3(tmp_path, capsys):
 
 @pytest.mark.parametrize("args,match", [
     (["check-lattice", "no-such-lattice"], "no-such-lattice"),
-    (["check-lattice", "{tmp}/norange.yaml"], r"range is not given.*fix: pass --range PHI"),
+    (["check-lattice", "{tmp}/norange.yaml"], r"norange.yaml: range is not given.*fix: pass --range PHI"),
     (["check-lattice", "square", "--range", "0"], r"--range='0' must be a finite number > 0"),
     (["check-lattice", "square", "--range", "abc"], r"--range='abc' is not a number"),
     (["check-lattice", "{tmp}/broken.yaml"], r"broken.yaml"),
