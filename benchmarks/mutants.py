@@ -170,13 +170,11 @@ def build_module(fault: Fault) -> types.ModuleType:
     except BaseException:
         sys.modules.pop(fault.module_name, None)
         raise
-    from swarmproof.invariants.premises import ALGORITHM_PREMISES
-
     algo_cls = getattr(mod, cls)
     algo_cls.name = fault.name
-    # the copy declares the lemma premises its reference declares (the premise monitors are
-    # looked up by name, and the mutant has its own name)
-    algo_cls.premise_monitors = ALGORITHM_PREMISES.get(fault.reference, ())
+    # the copy keeps its reference's claims and premise monitors (class attributes), but gets
+    # no rows of its own in swarmproof verify
+    algo_cls.verify = None
     return mod
 
 
@@ -186,7 +184,6 @@ def register(fault: Fault) -> str:
 
     build_module(fault)
     registry.ALGORITHMS[fault.name] = f"{fault.module_name}:{REFERENCE_MODULES[fault.reference][1]}"
-    registry.CLAIMS[fault.name] = dict(registry.CLAIMS[fault.reference])
     return fault.name
 
 
@@ -195,7 +192,6 @@ def unregister(fault: Fault) -> None:
     from swarmproof.reference_impl import registry
 
     registry.ALGORITHMS.pop(fault.name, None)
-    registry.CLAIMS.pop(fault.name, None)
     sys.modules.pop(fault.module_name, None)
 
 

@@ -41,23 +41,31 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
 
+from swarmproof.invariants.registry import (DEFAULT_POS_TOL, DEFAULT_PROGRESS_WINDOW, DEFAULT_RADIUS,
+                                            progress_values)
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
-__all__ = ["EXPLORE_PROPERTIES", "PERIODIC_LATTICES", "ExploreReport", "PropertyVerdict", "Scenario",
+__all__ = ["explore_properties", "PERIODIC_LATTICES", "ExploreReport", "PropertyVerdict", "Scenario",
            "explore", "judge", "run_and_judge", "run_scenario"]
 
-#: Properties the explorer judges: the registry's (runs.py judging) plus issue 6's.
-EXPLORE_PROPERTIES: tuple[str, ...] = ("connectivity", "tree_links", "termination", "formation",
-                                       "collision", "deadlock", "oscillation", "premises")
+def explore_properties() -> tuple[str, ...]:
+    """The properties the explorer judges by default: every registered one, in
+    registration order (:mod:`swarmproof.invariants.registry`; a user's own
+    property joins once registered).
+
+    >>> explore_properties()[:2]
+    ('connectivity', 'tree_links')
+    """
+    from swarmproof.invariants.registry import property_names
+
+    return tuple(property_names())
+
 
 #: The bundled periodic lattices (models/library.py table).
 PERIODIC_LATTICES: tuple[str, ...] = ("square", "hexagon", "octagon-square", "triangle", "kagome",
                                       "honeycomb-rotating")
 
-DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges have unit length
-DEFAULT_POS_TOL = 1e-6     # oscillation: poses rounded to this when global states are compared
-DEFAULT_PROGRESS_WINDOW = 200  # steps without progress that "oscillation" reports for randomized algorithms
 MIN_SEP_FRACTION = 0.25     # initial robots at least range/4 apart (as initial.random_connected)
 #: The longest start link the scenarios draw, as a fraction of the range: just short of phi
 #: (neighbors are strictly closer than phi, 001 Sec. III), with room for the 1e-12 rounding of
@@ -268,12 +276,11 @@ def resolve_algorithm(algorithm) -> AlgorithmSpec:
     >>> resolve_algorithm(s.ref).factory is GatherToLowestId
     True
     """
-    from swarmproof.reference_impl.registry import ALGORITHMS, CLAIMS, PROPERTIES, algorithm_factory, algorithm_names
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names, claims_of
 
     if isinstance(algorithm, str):
-        if algorithm in ALGORITHMS:
-            claims = dict(CLAIMS.get(algorithm, {p: None for p in PROPERTIES}))
-            return AlgorithmSpec(algorithm, algorithm, algorithm_factory(algorithm), claims)
+        if algorithm in algorithm_names():
+            return AlgorithmSpec(algorithm, algorithm, algorithm_factory(algorithm), claims_of(algorithm))
         if ":" not in algorithm:
             raise UsageError(f"algorithm={algorithm!r} is not known",
                              fix=f"use one of {algorithm_names()!r}, or module:qualname of your algorithm class")
@@ -336,11 +343,12 @@ def run_and_judge(algorithm_name, prop: str, lattice, ids, poses, params, *, see
     and judged as usual.  Replay always runs to the end.
     """
     spec = algorithm_name if isinstance(algorithm_name, AlgorithmSpec) else resolve_algorithm(algorithm_name)
-    monitor = None
-    if early_stop and prop == "oscillation" and not getattr(spec.factory, "randomized", False):
-        from swarmproof.invariants.properties import CycleMonitor
+    from swarmproof.invariants.registry import get_property
 
-        monitor = CycleMonitor(float(dict(options or {}).get("pos_tol", DEFAULT_POS_TOL)))
+    rule = get_property(prop)
+    monitor = None
+    if early_stop and rule.run_monitor is not None:
+        monitor = rule.run_monitor(spec.factory, dict(options or {}))
     algo, result = run_scenario(spec, lattice, ids, poses, params, seed=seed, max_steps=max_steps,
                                 allow_violations=allow_violations, faults=faults, stop_when=monitor)
     r = judge(prop, algo, lattice, params, result, options)
@@ -352,72 +360,19 @@ def run_and_judge(algorithm_name, prop: str, lattice, ids, poses, params, *, see
 
 
 def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, Any] | None = None):
-    """Judge property ``prop`` on a finished run, as :func:`swarmproof.checkers.runs.run_and_check` does.
+    """Judge property ``prop`` on a finished run: the registered property's ``check``
+    (:mod:`swarmproof.invariants.registry`).
 
-    Returns an :class:`~swarmproof.invariants.result.InvariantResult`.
+    ``prop`` is a registered name or ``module:name`` of a user's property.
+    Returns an :class:`~swarmproof.invariants.result.InvariantResult`;
     ``termination`` and ``formation`` are inconclusive when the run hit its
     step cap (without a bound that decides it).
     """
-    from swarmproof.invariants.connectivity import connected_throughout, tree_links_survive
-    from swarmproof.invariants.properties import collision, deadlock, oscillation
-    from swarmproof.invariants.result import InvariantResult
-    from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
-                                                    satisfies_lattice)
+    from swarmproof.invariants.registry import PropertyContext, get_property
 
-    options = dict(options or {})
-    trace, phi = result.trace, params.range
-    if prop == "connectivity":
-        return connected_throughout(trace, phi)
-    if prop == "tree_links":
-        return tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
-    if prop == "collision":
-        return collision(trace, float(options.get("radius", DEFAULT_RADIUS)))
-
-    def goal_held() -> bool:
-        pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
-        return satisfies_lattice(result.final_ids, result.final_poses, lattice, phi,
-                                 pos_tol=pos_tol, ang_tol=ang_tol).held
-
-    if prop == "formation":
-        if result.status == "step_cap":
-            return InvariantResult("formation", "inconclusive", "001 Thm. 13 / Def. 2", None,
-                                   f"step cap {result.max_steps} reached before the run ended")
-        pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
-        sat = satisfies_lattice(result.final_ids, result.final_poses, lattice, phi,
-                                pos_tol=pos_tol, ang_tol=ang_tol)
-        return InvariantResult("formation", sat.status, sat.cites, sat.witness, sat.message)
-    if prop == "termination":
-        bound_fn = getattr(algorithm, "termination_bound", None)
-        if callable(bound_fn):
-            from swarmproof.invariants.termination import static_by_bound
-
-            return static_by_bound(trace, int(bound_fn(params, trace.n)))
-        if result.status == "step_cap":
-            return InvariantResult("termination", "inconclusive", "001 Def. 5", None,
-                                   f"step cap {result.max_steps} reached; no termination bound to judge by")
-        return InvariantResult("termination", "held", "001 Def. 5", None,
-                               f"the run ended ({result.status}) after {result.steps} steps")
-    if prop == "deadlock":
-        return deadlock(trace, int(options.get("deadlock_k", result.static_window)), goal_reached=goal_held())
-    if prop == "oscillation":
-        T = result.steps
-        g = goal_held()
-        randomized = bool(getattr(algorithm, "randomized", False))
-        window = options.get("progress_window")
-        measure = getattr(algorithm, "progress_measure", None)
-        progress = None
-        if callable(measure) and (randomized or window is not None):
-            window = int(DEFAULT_PROGRESS_WINDOW if window is None else window)
-            progress = progress_values(trace, measure)
-        return oscillation(trace, float(options.get("pos_tol", DEFAULT_POS_TOL)), goal_reached=lambda t: g and t == T,
-                           randomized=randomized, progress=progress, window=window,
-                           progress_eps=float(options.get("progress_eps", 1e-9)))
-    if prop == "premises":
-        from swarmproof.invariants.premises import premise_monitors_of
-        from swarmproof.invariants.properties import premises
-
-        return premises(trace, premise_monitors_of(algorithm), phi, params.v, params.dt)
-    raise UsageError(f"property={prop!r} is not known", fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+    rule = get_property(prop)
+    ctx = PropertyContext(algorithm, lattice, params, result, dict(options or {}))
+    return rule.check(result.trace, ctx)
 
 
 def closeness(prop: str, result) -> float | None:
@@ -436,30 +391,10 @@ def closeness(prop: str, result) -> float | None:
     >>> closeness("formation", InvariantResult("formation", "held", "")) is None
     True
     """
-    if prop == "tree_links":
-        value = (result.detail or {}).get("longest_link_ratio")
-        return None if value is None else float(value)
-    return None
+    from swarmproof.invariants.registry import get_property
 
-
-def progress_values(trace, measure) -> list:
-    """``measure(ids, poses, states)`` of the present robots at every recorded step of ``trace``.
-
-    ``measure`` is an algorithm's ``progress_measure`` (the omniscient
-    observer's goal measure, higher is closer to the goal); consecutive
-    steps with the same poses and states reuse the previous value.
-    """
-    out: list = []
-    prev = None
-    for t in range(trace.steps + 1):
-        pres = trace.present_at(t)
-        key = (trace.poses[t].tobytes(), pres.tobytes(), trace.states[t])
-        if key != prev:
-            value = float(measure(trace.ids[pres], trace.poses[t][pres],
-                                  tuple(s for s, p in zip(trace.states[t], pres) if p)))
-            prev = key
-        out.append(value)
-    return out
+    fn = get_property(prop).closeness
+    return None if fn is None else fn(result)
 
 
 # ----------------------------------------------------------------------------
@@ -701,21 +636,29 @@ def _without_local_constants():
 
 def _file_label(spec: AlgorithmSpec) -> str:
     """The algorithm's label made safe for a file name."""
+    return _safe(spec.label)
+
+
+def _safe(text: str) -> str:
+    """``text`` made safe for a file name (a user's ``module:name`` property has a colon)."""
     import re
 
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", spec.label)
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", text)
 
 
 def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices):
     from swarmproof.models import library
 
     spec = resolve_algorithm(algorithm)
-    props = list(EXPLORE_PROPERTIES) if properties is None else list(properties)
+    from swarmproof.invariants.registry import get_property
+
+    props = list(explore_properties()) if properties is None else list(properties)
     for p in props:
-        if p not in EXPLORE_PROPERTIES:
-            raise UsageError(f"property={p!r} is not known", fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+        get_property(p)  # unknown names fail here, listing the registered ones
+    if len(set(props)) != len(props):
+        raise UsageError(f"properties={props!r} names a property twice", fix="give each property once")
     if not props:
-        raise UsageError("properties=[] is empty", fix=f"give one or more of {list(EXPLORE_PROPERTIES)!r}")
+        raise UsageError("properties=[] is empty", fix=f"give one or more of {list(explore_properties())!r}")
     if isinstance(budget, bool) or not (isinstance(budget, (int, float)) and math.isfinite(budget) and budget > 0):
         raise UsageError(f"budget={budget!r} must be a finite number of seconds > 0")
     if isinstance(max_examples, bool) or not isinstance(max_examples, int) or max_examples < 1:
@@ -758,7 +701,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         files record the registry name or ``"module:qualname"``, which
         ``swarmproof replay`` imports.
     properties : sequence of str, optional
-        Names from :data:`EXPLORE_PROPERTIES`; default all.
+        Registered property names (or ``module:name`` of a user's property);
+        default all (:func:`explore_properties`).
     budget : float
         Wall-clock seconds for the whole exploration, split evenly between
         the properties (finding and shrinking).
@@ -953,7 +897,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             if out_dir is not None:
                 os.makedirs(out_dir, exist_ok=True)
                 v.counterexample_path = cx.save(os.path.join(os.fspath(out_dir),
-                                                             f"{_file_label(spec)}-{prop}-seed{seed}.json"))
+                                                             f"{_file_label(spec)}-{_safe(prop)}-seed{seed}.json"))
         elif stats["conclusive"] == 0:
             v.status = "inconclusive"
             v.message = ("no scenario gave a judgment" +

@@ -52,7 +52,8 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         The file names an unknown algorithm, lattice or property, or faults
         that cannot be rebuilt.
     """
-    from swarmproof.checkers.explore import EXPLORE_PROPERTIES, judge, resolve_algorithm, run_scenario
+    from swarmproof.checkers.explore import judge, resolve_algorithm, run_scenario
+    from swarmproof.invariants.registry import get_property
     from swarmproof.models import library
     from swarmproof.reference_impl.engine import FaultModel
     from swarmproof.reference_impl.protocol import Params
@@ -62,9 +63,10 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         text = exc.message if hasattr(exc, "message") else str(exc)
         return InputFileError(f"{fld}={value!r}: {text}", file=file, field=fld, fix=fix)
 
-    if cx.property not in EXPLORE_PROPERTIES:
-        raise InputFileError(f"property={cx.property!r} is not known", file=file, field="property",
-                             fix=f"use one of {list(EXPLORE_PROPERTIES)!r}")
+    try:
+        get_property(cx.property)
+    except UsageError as exc:
+        raise InputFileError(exc.message, file=file, field="property", fix=exc.fix) from None
     try:
         spec = resolve_algorithm(cx.algorithm)
     except UsageError as exc:

@@ -22,8 +22,8 @@ Sections (they grow with the project):
   what was explored, never proved), ``violated`` with the counterexample, or
   ``inconclusive``; a time budget that was hit is never a pass.
 
-Rows of properties a paper does not claim (``reference_impl/registry.py``
-``CLAIMS``) are findings: shown, marked ``*``, not counted in the verdict.
+Rows of properties a paper does not claim (the algorithm class's ``claims``,
+:func:`~swarmproof.reference_impl.registry.claims_of`) are findings: shown, marked ``*``, not counted in the verdict.
 Wall-clock seconds stay out of the JSON, so the same inputs give a
 bit-identical document.
 
@@ -161,14 +161,23 @@ def section_lattices(*, progress: Progress | None = None) -> list[Row]:
     return rows
 
 
-#: The algorithm rows: each reference implementation on each periodic lattice of
-#: the papers (000 Figs. 2, 3, 7), ``VERIFY_ROBOTS`` robots from the seeded
-#: connected starts ``VERIFY_SEEDS``.  Small on purpose: ``make verify`` must stay
-#: within 10 minutes; the acceptance runs (``make test-slow``) go wider.
-VERIFY_ALGORITHMS = ("song2016", "song2014")
-VERIFY_LATTICES = ("square", "hexagon", "octagon-square")
-VERIFY_ROBOTS = 10
-VERIFY_SEEDS = (0, 1, 2)
+#: The algorithm rows: each registered algorithm whose class declares a
+#: ``verify`` plan (:func:`~swarmproof.reference_impl.registry.verify_plans`), on
+#: the plan's targets, its robots from the seeded connected starts of its seeds.
+#: Small on purpose: ``make verify`` must stay within 10 minutes; the acceptance
+#: runs (``make test-slow``) go wider.
+
+
+def verify_algorithms() -> tuple[str, ...]:
+    """The algorithms verify has rows for, in report order."""
+    from swarmproof.reference_impl.registry import verify_plans
+
+    return tuple(name for name, _ in verify_plans())
+
+
+#: The registered properties :func:`~swarmproof.checkers.runs.run_and_check` judges of every
+#: run (the ``algorithms`` rows, in this order).
+RUN_PROPERTIES = ("termination", "formation", "connectivity", "tree_links")
 
 
 def _run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
@@ -196,21 +205,21 @@ def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
     """Each reference implementation on each lattice: its claims, run by run (001, 000)."""
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models import library
-    from swarmproof.reference_impl.registry import PROPERTIES, claims_of
+    from swarmproof.reference_impl.registry import claims_of, verify_plans
 
     rows = []
-    for algo in VERIFY_ALGORITHMS:
+    for algo, plan in verify_plans():
         claims = claims_of(algo)
-        for lname in VERIFY_LATTICES:
+        for lname in plan.targets:
             lattice = library.load(lname)
-            per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in PROPERTIES}
-            for seed in VERIFY_SEEDS:
+            per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in RUN_PROPERTIES}
+            for seed in plan.seeds:
                 if progress:
                     progress(f"{algo} {lname} seed {seed}")
-                checked = run_and_check(algo, lattice, seed=seed, robots=VERIFY_ROBOTS)
+                checked = run_and_check(algo, lattice, seed=seed, robots=plan.robots)
                 for prop, (verdict, msg) in _run_property_verdicts(checked).items():
                     per_prop[prop].append((seed, verdict, msg))
-            for prop in PROPERTIES:
+            for prop in per_prop:
                 results = per_prop[prop]
                 verdict = Verdict.combine(v for _, v, _ in results)
                 held = sum(v.passed for _, v, _ in results)
@@ -218,9 +227,9 @@ def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
                 worst = next(((s, m) for s, v, m in results if v is verdict and not v.passed), None)
                 if worst is not None:
                     detail += f"; seed {worst[0]}: {worst[1]}"
-                rows.append(Row("algorithms", f"{algo} {lname} n={VERIFY_ROBOTS}", prop, verdict,
-                                detail, {"algorithm": algo, "lattice": lname, "robots": VERIFY_ROBOTS,
-                                         "seeds": list(VERIFY_SEEDS)}, claim=claims.get(prop)))
+                rows.append(Row("algorithms", f"{algo} {lname} n={plan.robots}", prop, verdict,
+                                detail, {"algorithm": algo, "lattice": lname, "robots": plan.robots,
+                                         "seeds": list(plan.seeds)}, claim=claims.get(prop)))
     return rows
 
 
@@ -401,9 +410,9 @@ def section_exploration(*, algorithms=None, properties=None,
                         out_dir: str | None = None, progress: Progress | None = None) -> list[Row]:
     """The explorer's property matrix: each algorithm by each explorer property (issue 6).
 
-    For each algorithm (default :data:`VERIFY_ALGORITHMS`) and each property
-    (default ``EXPLORE_PROPERTIES`` as the explorer defines it when this
-    runs) one :func:`~swarmproof.checkers.explore.explore` run with
+    For each algorithm (default: those whose ``verify`` plan asks for
+    exploration, :func:`verify_algorithms`) and each property (default
+    every registered one when this runs, :func:`~swarmproof.checkers.explore.explore_properties`) one :func:`~swarmproof.checkers.explore.explore` run with
     ``max_examples``, ``robots``, ``seed`` and a time ``budget`` per property
     (default :data:`VERIFY_EXPLORE_BUDGET`, read when the section runs, as is
     ``section_budget``).
@@ -413,13 +422,14 @@ def section_exploration(*, algorithms=None, properties=None,
     Once ``section_budget`` seconds are spent the remaining properties are
     not explored and are inconclusive.
     """
-    from swarmproof.checkers.explore import EXPLORE_PROPERTIES, explore
-    from swarmproof.reference_impl.registry import claims_of
+    from swarmproof.checkers.explore import explore, explore_properties
+    from swarmproof.reference_impl.registry import claims_of, verify_plans
 
     budget = VERIFY_EXPLORE_BUDGET if budget is None else budget
     section_budget = VERIFY_EXPLORE_SECTION_BUDGET if section_budget is None else section_budget
-    algos = VERIFY_ALGORITHMS if algorithms is None else tuple(algorithms)
-    props = tuple(EXPLORE_PROPERTIES) if properties is None else tuple(properties)
+    algos = (tuple(name for name, plan in verify_plans() if plan.explore) if algorithms is None
+             else tuple(algorithms))
+    props = explore_properties() if properties is None else tuple(properties)
     deadline = time.monotonic() + section_budget
     rows = []
     for algo in algos:

@@ -46,56 +46,14 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from swarmproof.models.sensing import neighbor_pairs
+# Q and the non-fulfillment ratio are a lattice target's own figures, so they live in models/
+# (a lattice graph is a Target, models/targets.py); re-exported here.
+from swarmproof.models.satisfaction import fulfillment_ratio, neighbor_counts, non_fulfillment_ratio
 
-from .satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL, satisfies_lattice
 from .termination import execution_steps
 
 __all__ = ["fulfillment_ratio", "non_fulfillment_ratio", "execution_steps", "total_distance",
            "min_separation", "neighbor_counts"]
-
-
-def neighbor_counts(poses, phi: float) -> np.ndarray:
-    """``N_i``: how many robots are strictly closer than ``phi`` to each robot."""
-    poses = np.asarray(poses, dtype=float).reshape(-1, 3)
-    i, j, _ = neighbor_pairs(poses[:, :2], phi)
-    return np.bincount(np.concatenate((i, j)), minlength=len(poses))
-
-
-def _ratios(ids, poses, lattice, phi, roles, pos_tol, ang_tol):
-    ids = [int(x) for x in ids]
-    if not ids:
-        return None
-    if roles is None:
-        sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
-        if not sat.held:
-            return None
-        roles = sat.roles
-    counts = neighbor_counts(poses, phi)
-    out = []
-    for k, rid in enumerate(ids):
-        e = len(lattice.out_edges(roles[rid]))
-        nk = int(counts[k])
-        out.append((nk, e))
-    return out
-
-
-def fulfillment_ratio(ids, poses, lattice, phi: float, roles: dict | None = None, *,
-                      pos_tol: float = DEFAULT_SAT_POS_TOL, ang_tol: float = DEFAULT_SAT_ANG_TOL):
-    """Q of 001 Sec. III-C-2 (see the module docstring); None when roles are undefined."""
-    r = _ratios(ids, poses, lattice, phi, roles, pos_tol, ang_tol)
-    if r is None:
-        return None
-    return float(sum((nk / e) if e else (1.0 if nk == 0 else 0.0) for nk, e in r) / len(r))
-
-
-def non_fulfillment_ratio(ids, poses, lattice, phi: float, roles: dict | None = None, *,
-                          pos_tol: float = DEFAULT_SAT_POS_TOL, ang_tol: float = DEFAULT_SAT_ANG_TOL):
-    """The non-fulfillment ratio of 000 Eq. 3; None when roles are undefined."""
-    r = _ratios(ids, poses, lattice, phi, roles, pos_tol, ang_tol)
-    if r is None:
-        return None
-    return float(sum(((e - nk) / e) if e else (0.0 if nk == 0 else 1.0) for nk, e in r) / len(r))
 
 
 def total_distance(trace) -> float:

@@ -25,9 +25,10 @@ Each failure names its lemma.
   the old position of the parent it chose (``bounded_range``'s premise
   ``child_in_parent_bounded_range``; state key ``"parent"``).
 
-:data:`ALGORITHM_PREMISES` says which monitors apply to which algorithm
-(song2016: the first four; song2014: the step bound and the last one);
-:func:`check_premises` runs those of the trace's algorithm.  Positions are
+An algorithm's class says which monitors apply to it (``premise_monitors``;
+song2016: the first four; song2014: the step bound and the last one); the
+engine records them in ``trace.meta["premise_monitors"]`` and
+:func:`check_premises` runs those of the trace.  Positions are
 compared with a tolerance of ``tol * phi`` (default 1e-9) for the engine's
 floating point.  Measured findings (docs/proofs.md, "Premise monitors"):
 song2016 met every premise on all 240 acceptance runs; song2014 breaks
@@ -67,7 +68,7 @@ from .result import InvariantResult, state_value
 
 __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range",
            "descendants_in_parent_bounded_ranges", "check_premises", "params_of", "MONITORS",
-           "MONITOR_LEMMAS", "ALGORITHM_PREMISES", "premise_monitors_of"]
+           "MONITOR_LEMMAS", "premise_monitors_of"]
 
 _MISSING = object()
 
@@ -337,9 +338,10 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
     phi, v, dt : float, optional
         Range, speed and step; from ``trace.meta["params"]`` when omitted.
     monitors : sequence of str, optional
-        Names from :data:`MONITORS`.  By default those of
-        :data:`ALGORITHM_PREMISES` for ``trace.meta["algorithm"]``, and
-        song2016's four for a trace that names no algorithm listed there.
+        Names from :data:`MONITORS`.  By default those the engine recorded
+        from the algorithm (``trace.meta["premise_monitors"]``); a trace
+        without them (written by hand, or before they were recorded) needs
+        ``monitors``.
 
     Returns
     -------
@@ -353,6 +355,7 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
     >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.1, 0, 0]]], dtype=float)
     >>> st = ((("parent", None),), (("parent", 1),))
     >>> t = Trace(ids=[1, 2], poses=poses, states=[st] * 2, meta={"algorithm": "song2014",
+    ...           "premise_monitors": ["step_bounded", "parent_bounded_range"],
     ...           "params": {"range": 1.2, "v": 0.1, "dt": 1.0}})
     >>> [(r.name, r.status) for r in check_premises(t)]
     [('premise:step_bounded', 'held'), ('premise:parent_bounded_range', 'held')]
@@ -365,7 +368,12 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
     if not (math.isfinite(phi) and phi > 0 and v >= 0 and dt > 0):
         raise ValueError(f"phi={phi!r}, v={v!r}, dt={dt!r} must be positive finite numbers")
     if monitors is None:
-        monitors = ALGORITHM_PREMISES.get(trace.meta.get("algorithm"), ALGORITHM_PREMISES["song2016"])
+        monitors = trace.meta.get("premise_monitors")
+        if monitors is None:
+            raise ValueError(f"trace of algorithm={trace.meta.get('algorithm')!r} names no premise monitors "
+                             "(trace.meta['premise_monitors'], recorded by the engine from the algorithm's "
+                             "premise_monitors); pass monitors=[...] from "
+                             f"{sorted(MONITORS)!r}")
     return [MONITORS[m](trace, phi, v, dt) for m in _known(monitors)]
 
 
@@ -392,26 +400,14 @@ MONITOR_LEMMAS = {"step_bounded": "bounded_range", "nclb": "nclb_link_kept",
                   "relocate": "relocate_stays_in_range", "parent_bounded_range": "bounded_range",
                   "child_toward_parent": "spanning_tree_kept"}
 
-#: The monitors whose lemmas each reference algorithm's proof uses (docs/proofs.md): song2016
-#: (001 Lemma 7, NCLB of Sec. V-C, the relocate case of Lemma 11); song2014 (000 Lemma 7:
-#: moves at most v dt, ends in the parent's disc phi - v dt).  Keyed by the algorithm's ``name``.
-ALGORITHM_PREMISES = {
-    "song2016": ("step_bounded", "nclb", "relocate", "child_toward_parent"),
-    "song2014": ("step_bounded", "parent_bounded_range"),
-}
-
-
 def premise_monitors_of(algorithm) -> tuple:
-    """The monitor names that apply to ``algorithm``: its ``premise_monitors``
-    attribute when it has one, else :data:`ALGORITHM_PREMISES` by its ``name``,
-    else ``()`` (no lemma premises declared).
+    """The monitor names that apply to ``algorithm``: its class's ``premise_monitors``
+    attribute (the lemmas its paper's proof uses), else ``()`` (no lemma premises declared).
 
-    >>> premise_monitors_of(type("A", (), {"name": "song2014"})())
-    ('step_bounded', 'parent_bounded_range')
+    >>> premise_monitors_of(type("A", (), {"name": "mine"})())
+    ()
     >>> premise_monitors_of(type("B", (), {"name": "mine", "premise_monitors": ("nclb",)})())
     ('nclb',)
     """
     names = getattr(algorithm, "premise_monitors", None)
-    if names is None:
-        names = ALGORITHM_PREMISES.get(getattr(algorithm, "name", None), ())
-    return _known(names)
+    return _known(names or ())

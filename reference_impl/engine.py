@@ -890,6 +890,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
 
     meta = {
         "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
+        "premise_monitors": list(getattr(algorithm, "premise_monitors", None) or ()),
         "lattice": None if lattice is None else getattr(lattice, "name", None),
         "params": {"range": params.range, "v": params.v, "omega": params.omega, "dt": params.dt,
                    "extra": to_jsonable(dict(params.extra))},

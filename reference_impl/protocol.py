@@ -47,7 +47,7 @@ from typing import Any, Callable, Hashable, Mapping, Protocol, Sequence, runtime
 import numpy as np
 
 __all__ = [
-    "Assumption", "RobotModel", "Params", "Observation", "Command", "Controller",
+    "Assumption", "RobotModel", "Params", "VerifyPlan", "Observation", "Command", "Controller",
     "Algorithm", "steer_toward", "connected_start",
 ]
 
@@ -220,6 +220,46 @@ class Algorithm(Protocol):
         unstable robot remains).  Return False if the paper has none; the
         engine then stops on a static state or the step cap."""
         ...
+
+    # Optional class attributes (everything the checkers need to know of an
+    # algorithm lives on its class, so a new algorithm is one module):
+    #
+    # claims : Mapping[str, str | None]
+    #     Property name -> the paper's citation for it; a property that is
+    #     absent (or None) is not claimed, and its violation is a finding.
+    # premise_monitors : tuple of str
+    #     The lemma-premise monitors (invariants/premises.py ``MONITORS``) its
+    #     proof rests on; the ``premises`` property checks exactly these.
+    # verify : VerifyPlan
+    #     What ``swarmproof verify`` runs of it; without one it has no rows.
+
+
+@dataclass(frozen=True)
+class VerifyPlan:
+    """What ``swarmproof verify`` runs of one algorithm (its class's ``verify`` attribute).
+
+    Attributes
+    ----------
+    targets : tuple of str
+        Bundled target names for the ``algorithms`` rows (the lattices of
+        its paper's figures).
+    robots : int
+        Robots per run, from the seeded connected starts ``seeds``.
+    seeds : tuple of int
+    explore : bool
+        Whether it gets ``exploration`` rows (every registered property).
+    rank : int
+        Order of the algorithms in the report (lower first; ties by name).
+
+    >>> VerifyPlan(("square",)).robots
+    10
+    """
+
+    targets: tuple = ()
+    robots: int = 10
+    seeds: tuple = (0, 1, 2)
+    explore: bool = True
+    rank: int = 100
 
 
 def steer_toward(target_xy, params: Params, heading: float | None = None,

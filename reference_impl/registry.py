@@ -4,7 +4,11 @@
 called with keyword options (if any) and returns an object following
 :class:`~swarmproof.reference_impl.protocol.Algorithm`.  Modules are imported
 only when asked for, so a broken or slow algorithm module never slows down
-the rest.
+the rest.  Everything else the checkers need of an algorithm -- what its paper
+claims, the lemma premises its proof uses, what ``swarmproof verify`` runs of
+it -- is declared on its class (``claims``, ``premise_monitors``, ``verify``;
+:class:`~swarmproof.reference_impl.protocol.Algorithm`), so a new algorithm is
+one module and one line here (or one entry point in another package).
 
 Examples
 --------
@@ -25,59 +29,77 @@ import inspect
 
 from swarmproof.models.errors import UsageError
 
-__all__ = ["ALGORITHMS", "CLAIMS", "PROPERTIES", "get_algorithm", "algorithm_names",
-           "algorithm_factory", "claims_of"]
+__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "get_algorithm", "algorithm_names", "algorithm_factory",
+           "claims_of", "verify_plans"]
 
-#: Registry name -> ``"module:factory"``.
+#: swarmproof's own algorithms: registry name -> ``"module:factory"``.  Another
+#: package adds its own under the entry-point group :data:`ENTRY_POINT_GROUP`
+#: (``[project.entry-points."swarmproof.algorithms"]`` in its pyproject.toml,
+#: ``name = "package.module:Class"``); a name taken here wins.
 ALGORITHMS: dict[str, str] = {
     "song2016": "swarmproof.reference_impl.song2016:Song2016",
     "song2014": "swarmproof.reference_impl.song2014:Song2014",
     "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
 }
 
+ENTRY_POINT_GROUP = "swarmproof.algorithms"
 
-#: The properties swarmproof judges a run by (``swarmproof verify`` rows; the
-#: explorer's property names).
-PROPERTIES: tuple[str, ...] = ("termination", "formation", "connectivity", "tree_links")
+_PLUGINS_LOADED = False
 
-#: What each paper claims, property -> citation; ``None`` marks a property the
-#: paper does NOT claim (a violation is then a finding about the algorithm,
-#: shown in the matrix, not a failed claim).  A new algorithm registers its
-#: claims here and needs no change in checkers/.
-CLAIMS: dict[str, dict[str, str | None]] = {
-    "song2016": {
-        "termination": "001 Thm. 13 (all robots static in finite time)",
-        "formation": "001 Thm. 13 (final configuration satisfies the lattice, Def. 2)",
-        "connectivity": "001 Lemma 11 (communication graph stays connected)",
-        "tree_links": "001 Lemma 11, Sec. V-C (NCLB keeps every spanning-tree link)",
-    },
-    "song2014": {
-        "termination": None,   # 001 Sec. I: "no guarantee that the robots will eventually ... terminate"
-        "formation": None,     # 001 Sec. I: "no guarantee that the robots will eventually form the desired pattern"
-        "connectivity": None,  # 001 Sec. I: orphans' motion "often caused the team to become disconnected"
-        "tree_links": "000 Lemma 7 (a descendant stays within range of its parent)",
-    },
-    "example-gather": {p: None for p in ("termination", "formation", "connectivity", "tree_links")},
-}
+
+def _load_entry_points() -> None:
+    """Add the installed packages' algorithms (once per process)."""
+    global _PLUGINS_LOADED
+    if _PLUGINS_LOADED:
+        return
+    _PLUGINS_LOADED = True
+    from importlib.metadata import entry_points
+
+    try:
+        eps = entry_points(group=ENTRY_POINT_GROUP)
+    except Exception:  # noqa: BLE001 - broken metadata of another package must not stop swarmproof
+        return
+    for ep in sorted(eps, key=lambda e: e.name):
+        ALGORITHMS.setdefault(ep.name, ep.value)
 
 
 def claims_of(name: str) -> dict[str, str | None]:
-    """Property -> citation (or None when not claimed) for a registered algorithm.
+    """Property -> citation (or None when not claimed) for a registered algorithm:
+    its class's ``claims`` attribute.
 
     >>> claims_of("song2014")["connectivity"] is None
     True
+    >>> claims_of("example-gather")
+    {}
     """
-    algorithm_factory(name)
-    return dict(CLAIMS.get(name, {p: None for p in PROPERTIES}))
+    claims = getattr(algorithm_factory(name), "claims", None)
+    return dict(claims) if claims else {}
+
+
+def verify_plans() -> list[tuple[str, object]]:
+    """``(name, VerifyPlan)`` of every registered algorithm whose class declares a
+    ``verify`` plan, in the plans' ``rank`` order (ties by name).
+
+    >>> [name for name, _ in verify_plans()]
+    ['song2016', 'song2014']
+    """
+    plans = []
+    for name in algorithm_names():
+        plan = getattr(algorithm_factory(name), "verify", None)
+        if plan is not None:
+            plans.append((name, plan))
+    return sorted(plans, key=lambda np_: (getattr(np_[1], "rank", 100), np_[0]))
 
 
 def algorithm_names() -> list[str]:
-    """The registered names, sorted."""
+    """The registered names (swarmproof's and the installed plug-ins'), sorted."""
+    _load_entry_points()
     return sorted(ALGORITHMS)
 
 
 def algorithm_factory(name: str):
     """The factory (usually the class) registered under ``name``."""
+    _load_entry_points()
     if not isinstance(name, str) or name not in ALGORITHMS:
         raise UsageError(f"algorithm={name!r} is not known", fix=f"use one of {algorithm_names()!r}")
     modname, _, attr = ALGORITHMS[name].partition(":")

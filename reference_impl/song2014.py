@@ -60,7 +60,7 @@ from swarmproof.models.errors import AssumptionError, ProtocolError
 from swarmproof.models.geometry import nearest_xy
 from swarmproof.models.se2 import wrap_angle
 
-from .protocol import Assumption, Command, Observation, Params, RobotModel
+from .protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
 
 __all__ = [
     "Song2014", "Song2014Controller", "Song2014Message", "authority_key", "is_higher",
@@ -686,6 +686,18 @@ class Song2014:
     name = "song2014"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
+    #: What 000 claims, property -> citation; ``None``: not claimed (001 Sec. I says so of
+    #: the 2014 algorithm), a violation is then a finding, not a failed claim.
+    claims = {
+        "termination": None,   # 001 Sec. I: "no guarantee that the robots will eventually ... terminate"
+        "formation": None,     # 001 Sec. I: "no guarantee that the robots will eventually form the desired pattern"
+        "connectivity": None,  # 001 Sec. I: orphans' motion "often caused the team to become disconnected"
+        "tree_links": "000 Lemma 7 (a descendant stays within range of its parent)",
+    }
+    #: 000 Lemma 7's premises: moves at most v dt, ends in the parent's disc phi - v dt.
+    premise_monitors = ("step_bounded", "parent_bounded_range")
+    #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
+    verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=1)
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi",
                    "000 Sec. IV-C, Lemma 7 (the disc of radius phi - v*dt)", _check_v_dt),

@@ -69,7 +69,7 @@ import numpy as np
 
 from swarmproof.models.errors import ProtocolError, UsageError, check_finite
 from swarmproof.models.se2 import wrap_angle
-from .protocol import Assumption, Command, Observation, Params, RobotModel, connected_start
+from .protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start
 from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
                                 farthest_point_toward, in_discs, reachable_point)
 
@@ -1093,6 +1093,18 @@ class Song2016:
     name = "song2016"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
+    #: What 001 claims, property -> citation (every checked property is claimed).
+    claims = {
+        "termination": "001 Thm. 13 (all robots static in finite time)",
+        "formation": "001 Thm. 13 (final configuration satisfies the lattice, Def. 2)",
+        "connectivity": "001 Lemma 11 (communication graph stays connected)",
+        "tree_links": "001 Lemma 11, Sec. V-C (NCLB keeps every spanning-tree link)",
+    }
+    #: The lemma premises 001's proof uses (docs/proofs.md): Lemma 7's step bound, NCLB of
+    #: Sec. V-C, the relocate case of Lemma 11, a child moving toward a still parent.
+    premise_monitors = ("step_bounded", "nclb", "relocate", "child_toward_parent")
+    #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
+    verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=0)
 
     def __init__(self, n_robots: int | None = None, *, communication_timeout: int | None = None,
                  movement_timeout: int | None = None, d_s: float | None = None,

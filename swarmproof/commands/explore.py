@@ -1,8 +1,10 @@
 """``swarmproof explore``: hunt counterexamples to properties of an algorithm with Hypothesis.
 
 Draws connected starts on the bundled periodic lattices, runs ALGORITHM and
-judges each requested property (default: all of connectivity, tree_links,
-termination, formation, collision, deadlock, oscillation, premises); a violation is
+judges each requested property (default: every registered one -- connectivity,
+tree_links, termination, formation, collision, deadlock, oscillation, premises,
+and any a user registered; ``--property module:name`` imports a user's own,
+swarmproof.invariants.registry); a violation is
 shrunk and, with ``--out DIR``, written as a swarmproof-counterexample/1 file
 to re-run with ``swarmproof replay FILE``.  "held" means held over what was
 explored, never proved.
@@ -28,7 +30,8 @@ def add_arguments(p) -> None:
     p.add_argument("algorithm", metavar="ALGORITHM",
                    help="registry name, e.g. song2016, song2014, or module:qualname of your algorithm class")
     p.add_argument("--property", action="append", dest="properties", metavar="P",
-                   help="property to check, repeatable (default: all)")
+                   help="property to check: a registered name, or module:name of your own "
+                        "(a Property, or a check registered with @property_check); repeatable (default: all)")
     p.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
                    help="wall-clock budget for the whole exploration (default 60)")
     p.add_argument("--max-examples", type=int, default=100, metavar="N",

@@ -5,7 +5,7 @@ import time
 
 import pytest
 
-from swarmproof.checkers.explore import EXPLORE_PROPERTIES, explore
+from swarmproof.checkers.explore import explore, explore_properties
 from swarmproof.checkers.replay import replay_file
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
@@ -94,11 +94,14 @@ def test_inconclusive_when_every_run_is_capped():
     assert v.status == "inconclusive" and v.capped == v.scenarios >= 1 and r.exit_code == 3
 
 
-def test_explore_properties_cover_registry_and_issue6():
-    from swarmproof.reference_impl.registry import PROPERTIES
+def test_explore_properties_are_the_registry_in_order():
+    from swarmproof.checkers.report import RUN_PROPERTIES
+    from swarmproof.invariants.registry import properties
 
-    assert set(PROPERTIES) <= set(EXPLORE_PROPERTIES)
-    assert {"collision", "deadlock", "oscillation"} <= set(EXPLORE_PROPERTIES)
+    names = explore_properties()
+    assert names == tuple(p.name for p in properties())
+    assert set(RUN_PROPERTIES) <= set(names)
+    assert {"collision", "deadlock", "oscillation", "premises"} <= set(names)
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -177,7 +177,7 @@ def test_exploration_row_mapping(entry, verdict, detail):
 def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
     from swarmproof.checkers import explore as explore_mod
 
-    monkeypatch.setattr(explore_mod, "EXPLORE_PROPERTIES", ("connectivity", "termination"))
+    monkeypatch.setattr(explore_mod, "explore_properties", lambda: ("connectivity", "termination"))
     calls = []
 
     class _Rep:

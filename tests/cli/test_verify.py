@@ -11,6 +11,7 @@ import pytest
 from swarmproof.checkers import explore as explore_mod
 from swarmproof.checkers import proofs, report
 from swarmproof.cli import main
+from swarmproof.reference_impl import registry
 
 
 def run(capsys, *argv):
@@ -23,8 +24,9 @@ def run(capsys, *argv):
 def small(monkeypatch):
     """Explore only the named algorithms and properties (read at run time by the section)."""
     def set_(algorithms, properties):
-        monkeypatch.setattr(report, "VERIFY_ALGORITHMS", tuple(algorithms))
-        monkeypatch.setattr(explore_mod, "EXPLORE_PROPERTIES", tuple(properties))
+        plans = dict(registry.verify_plans())
+        monkeypatch.setattr(registry, "verify_plans", lambda: [(a, plans[a]) for a in algorithms])
+        monkeypatch.setattr(explore_mod, "explore_properties", lambda: tuple(properties))
     return set_
 
 

@@ -1,0 +1,363 @@
+"""Properties as objects: the registry the explorer, verify, replay and the pytest plugin iterate.
+
+A :class:`Property` has a name, a kind (``safety``: one bad step violates it;
+``liveness``: only the whole run can), what it reads from a run, its blind
+spots (what it cannot see), where its statement comes from, and a
+``check(trace, context) -> InvariantResult`` that returns one of the three
+verdicts (held, violated with a witness, inconclusive).  The built-in
+properties are registered here in the order the explorer and ``swarmproof
+verify`` list them; a user registers their own with :func:`register_property`
+(or the :func:`property_check` decorator) and explores for it by name, or by
+``module:name`` on the command line, which also lets ``swarmproof replay``
+find it again from a counterexample file.
+
+Examples
+--------
+>>> [p.name for p in properties()][:4]
+['connectivity', 'tree_links', 'termination', 'formation']
+>>> get_property("collision").kind
+'safety'
+>>> get_property("no-such")
+Traceback (most recent call last):
+...
+swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises'], or module:name of a property you registered
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping
+
+from swarmproof.models.errors import UsageError
+
+from .connectivity import LEMMA_11
+from .properties import CITE_COLLISION, CITE_DEADLOCK, CITE_OSCILLATION, CITE_PREMISES
+from .result import InvariantResult
+from .termination import THEOREM_13
+
+__all__ = ["Property", "PropertyContext", "register_property", "unregister_property", "property_check",
+           "get_property", "properties", "property_names", "progress_values",
+           "DEFAULT_RADIUS", "DEFAULT_POS_TOL", "DEFAULT_PROGRESS_WINDOW"]
+
+DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges have unit length
+DEFAULT_POS_TOL = 1e-6     # oscillation: poses rounded to this when global states are compared
+DEFAULT_PROGRESS_WINDOW = 200  # steps without progress that "oscillation" reports for randomized algorithms
+
+KINDS = ("safety", "liveness")
+
+
+@dataclass(frozen=True)
+class PropertyContext:
+    """Everything besides the trace that a property may read about one finished run.
+
+    Attributes
+    ----------
+    algorithm : object
+        The algorithm object that ran (its optional attributes --
+        ``satisfaction_tol``, ``termination_bound``, ``randomized``,
+        ``progress_measure``, ``premise_monitors``, ``tree_link_mode`` --
+        refine some properties).
+    target : object
+        The target the run aimed at (a lattice graph today).
+    params : Params
+        The run's parameters (``range`` is phi).
+    result : SimulationResult
+        Status, step count, step cap, static window and final configuration.
+    options : mapping
+        The explorer's property options (``radius``, ``pos_tol``, ``deadlock_k``, ...).
+    """
+
+    algorithm: Any
+    target: Any
+    params: Any
+    result: Any
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def phi(self) -> float:
+        return float(self.params.range)
+
+
+@dataclass(frozen=True)
+class Property:
+    """One property a run is judged by.
+
+    Attributes
+    ----------
+    name : str
+        The name the explorer, verify rows and counterexample files use.
+    kind : str
+        ``"safety"`` or ``"liveness"``.
+    check : callable ``(trace, PropertyContext) -> InvariantResult``
+        The judgment: held, violated (with a witness) or inconclusive.
+    reads : tuple of str
+        What the check reads of a run, e.g. ``("poses", "range")``.
+    blind_spots : str
+        What it cannot see (so a held verdict is read for what it is).
+    cites : str
+        Where the statement comes from (a paper's lemma, or "swarmproof").
+    closeness : callable ``(InvariantResult) -> float | None``, optional
+        How near a run that held came to violating it (higher is nearer);
+        the explorer steers Hypothesis toward such runs.
+    run_monitor : callable ``(factory, options) -> monitor | None``, optional
+        A monitor that may end a run early once the property is decided
+        (the explorer re-runs to the end when the early verdict is not a
+        violation).
+    """
+
+    name: str
+    kind: str
+    check: Callable[[Any, PropertyContext], InvariantResult]
+    reads: tuple = ()
+    blind_spots: str = ""
+    cites: str = ""
+    closeness: Callable[[InvariantResult], float | None] | None = None
+    run_monitor: Callable[[Any, Mapping[str, Any]], Any] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name or ":" in self.name or self.name != self.name.strip():
+            raise UsageError(f"property name={self.name!r} must be a non-empty string without ':' or spaces "
+                             "at its ends", fix="e.g. name='no_far_robot'")
+        if self.kind not in KINDS:
+            raise UsageError(f"property {self.name!r}: kind={self.kind!r} is not one of {list(KINDS)!r}")
+        if not callable(self.check):
+            raise UsageError(f"property {self.name!r}: check={self.check!r} is not callable",
+                             fix="give a function (trace, context) -> InvariantResult")
+
+    def as_dict(self) -> dict:
+        """The table row of ``swarmproof explore --list`` and docs."""
+        return {"name": self.name, "kind": self.kind, "reads": list(self.reads),
+                "blind_spots": self.blind_spots, "cites": self.cites}
+
+
+_REGISTRY: dict[str, Property] = {}
+
+
+def register_property(prop: Property, *, replace: bool = False) -> Property:
+    """Add ``prop`` to the registry (a new name goes last); returns it.
+
+    A name already registered is refused unless ``replace=True`` (a
+    re-imported user module registers the same property again: that is
+    allowed when it is the same check function's qualified name).
+    """
+    if not isinstance(prop, Property):
+        raise UsageError(f"property={prop!r} is not a Property", fix="build one with Property(name, kind, check)")
+    old = _REGISTRY.get(prop.name)
+    if old is not None and not replace:
+        same = (getattr(old.check, "__module__", None), getattr(old.check, "__qualname__", None)) == \
+               (getattr(prop.check, "__module__", None), getattr(prop.check, "__qualname__", None))
+        if not same:
+            raise UsageError(f"property name={prop.name!r} is registered already",
+                             fix="choose another name, or pass replace=True")
+    _REGISTRY[prop.name] = prop
+    return prop
+
+
+def unregister_property(name: str) -> None:
+    """Remove a user's property (tests; a built-in one can be removed too, at your own risk)."""
+    _REGISTRY.pop(name, None)
+
+
+def property_check(name: str, kind: str, *, reads=(), blind_spots: str = "", cites: str = "", **extra):
+    """Decorator: register ``check(trace, context)`` as property ``name``.
+
+    >>> @property_check("few_robots", "safety", reads=("ids",), cites="example")
+    ... def _few(trace, ctx):
+    ...     bad = trace.n > 100
+    ...     return InvariantResult("few_robots", "violated" if bad else "held", "example",
+    ...                            {"n": trace.n} if bad else None, f"{trace.n} robots")
+    >>> get_property("few_robots").kind
+    'safety'
+    >>> unregister_property("few_robots")
+    """
+    def deco(fn):
+        register_property(Property(name, kind, fn, tuple(reads), blind_spots, cites, **extra))
+        return fn
+    return deco
+
+
+def property_names() -> list[str]:
+    """Registered names, in registration order."""
+    return list(_REGISTRY)
+
+
+def properties() -> list[Property]:
+    """Registered properties, in registration order."""
+    return list(_REGISTRY.values())
+
+
+def get_property(name) -> Property:
+    """The property called ``name``, or given as ``module:name`` (the module is imported and must
+    register it, or hold a :class:`Property` or a decorated check under that name)."""
+    if isinstance(name, Property):
+        return name
+    if isinstance(name, str) and name in _REGISTRY:
+        return _REGISTRY[name]
+    if isinstance(name, str) and ":" in name:
+        modname, _, attr = name.partition(":")
+        try:
+            mod = importlib.import_module(modname)
+        except Exception as exc:  # noqa: BLE001 - a user's module: its error is the message
+            raise UsageError(f"property={name!r}: module {modname!r} cannot be imported "
+                             f"({type(exc).__name__}: {exc})",
+                             fix="check the module name and that it is on the Python path") from None
+        obj = getattr(mod, attr, None)
+        if isinstance(obj, Property):
+            return register_property(obj)
+        if attr in _REGISTRY:
+            return _REGISTRY[attr]
+        raise UsageError(f"property={name!r}: {modname} has no Property {attr!r} and registers none of that name",
+                         fix="define it with Property(...) or @property_check(name, kind)")
+    raise UsageError(f"property={name!r} is not known",
+                     fix=f"use one of {property_names()!r}, or module:name of a property you registered")
+
+
+# ----------------------------------------------------------------------------
+# the built-in properties (moved from the explorer's judge; messages unchanged)
+# ----------------------------------------------------------------------------
+
+def progress_values(trace, measure) -> list:
+    """``measure(ids, poses, states)`` of the present robots at every recorded step of ``trace``.
+
+    ``measure`` is an algorithm's ``progress_measure`` (the omniscient
+    observer's goal measure, higher is closer to the goal); consecutive
+    steps with the same poses and states reuse the previous value.
+    """
+    out: list = []
+    prev = None
+    for t in range(trace.steps + 1):
+        pres = trace.present_at(t)
+        key = (trace.poses[t].tobytes(), pres.tobytes(), trace.states[t])
+        if key != prev:
+            value = float(measure(trace.ids[pres], trace.poses[t][pres],
+                                  tuple(s for s, p in zip(trace.states[t], pres) if p)))
+            prev = key
+        out.append(value)
+    return out
+
+
+def _satisfaction(ctx: PropertyContext):
+    from swarmproof.models.satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL, satisfies_lattice
+
+    pos_tol, ang_tol = getattr(ctx.algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
+    return satisfies_lattice(ctx.result.final_ids, ctx.result.final_poses, ctx.target, ctx.phi,
+                             pos_tol=pos_tol, ang_tol=ang_tol)
+
+
+def _connectivity(trace, ctx):
+    from .connectivity import connected_throughout
+
+    return connected_throughout(trace, ctx.phi)
+
+
+def _tree_links(trace, ctx):
+    from .connectivity import tree_links_survive
+
+    return tree_links_survive(trace, ctx.phi, mode=getattr(ctx.algorithm, "tree_link_mode", "persistent"))
+
+
+def _tree_links_closeness(r: InvariantResult):
+    value = (r.detail or {}).get("longest_link_ratio")
+    return None if value is None else float(value)
+
+
+def _termination(trace, ctx):
+    result = ctx.result
+    bound_fn = getattr(ctx.algorithm, "termination_bound", None)
+    if callable(bound_fn):
+        from .termination import static_by_bound
+
+        return static_by_bound(trace, int(bound_fn(ctx.params, trace.n)))
+    if result.status == "step_cap":
+        return InvariantResult("termination", "inconclusive", "001 Def. 5", None,
+                               f"step cap {result.max_steps} reached; no termination bound to judge by")
+    return InvariantResult("termination", "held", "001 Def. 5", None,
+                           f"the run ended ({result.status}) after {result.steps} steps")
+
+
+def _formation(trace, ctx):
+    if ctx.result.status == "step_cap":
+        return InvariantResult("formation", "inconclusive", "001 Thm. 13 / Def. 2", None,
+                               f"step cap {ctx.result.max_steps} reached before the run ended")
+    sat = _satisfaction(ctx)
+    return InvariantResult("formation", sat.status, sat.cites, sat.witness, sat.message)
+
+
+def _collision(trace, ctx):
+    from .properties import collision
+
+    return collision(trace, float(ctx.options.get("radius", DEFAULT_RADIUS)))
+
+
+def _deadlock(trace, ctx):
+    from .properties import deadlock
+
+    return deadlock(trace, int(ctx.options.get("deadlock_k", ctx.result.static_window)),
+                    goal_reached=_satisfaction(ctx).held)
+
+
+def _oscillation(trace, ctx):
+    from .properties import oscillation
+
+    options, algorithm = ctx.options, ctx.algorithm
+    T = ctx.result.steps
+    g = _satisfaction(ctx).held
+    randomized = bool(getattr(algorithm, "randomized", False))
+    window = options.get("progress_window")
+    measure = getattr(algorithm, "progress_measure", None)
+    progress = None
+    if callable(measure) and (randomized or window is not None):
+        window = int(DEFAULT_PROGRESS_WINDOW if window is None else window)
+        progress = progress_values(trace, measure)
+    return oscillation(trace, float(options.get("pos_tol", DEFAULT_POS_TOL)), goal_reached=lambda t: g and t == T,
+                       randomized=randomized, progress=progress, window=window,
+                       progress_eps=float(options.get("progress_eps", 1e-9)))
+
+
+def _oscillation_monitor(factory, options):
+    """Deterministic algorithms: end the run at the first repeated global state (rule 1)."""
+    if getattr(factory, "randomized", False):
+        return None
+    from .properties import CycleMonitor
+
+    return CycleMonitor(float(dict(options or {}).get("pos_tol", DEFAULT_POS_TOL)))
+
+
+def _premises(trace, ctx):
+    from .premises import premise_monitors_of
+    from .properties import premises
+
+    return premises(trace, premise_monitors_of(ctx.algorithm), ctx.phi, ctx.params.v, ctx.params.dt)
+
+
+for _p in (
+    Property("connectivity", "safety", _connectivity, ("poses", "presence", "range"),
+             "judged at recorded steps only: between two steps the graph is not sampled",
+             LEMMA_11),
+    Property("tree_links", "safety", _tree_links, ("states' parent", "poses", "range"),
+             "only robots whose state names a 'parent'; an algorithm without a tree holds vacuously "
+             "(the result says 0 links checked)", LEMMA_11,
+             closeness=_tree_links_closeness),
+    Property("termination", "liveness", _termination, ("run status", "poses", "algorithm's termination_bound"),
+             "without a termination bound a run cut by the step cap is inconclusive, never held",
+             THEOREM_13),
+    Property("formation", "liveness", _formation, ("final poses", "ids", "target", "range"),
+             "judges the final configuration only; a run cut by the step cap is inconclusive",
+             "001 Thm. 13 / Def. 2"),
+    Property("collision", "safety", _collision, ("poses between steps", "radius option"),
+             "robots are discs of the radius option; motion within a step is taken as straight",
+             CITE_COLLISION),
+    Property("deadlock", "liveness", _deadlock, ("poses", "states", "final poses", "target"),
+             "a static window shorter than the run; a goal reached is never a deadlock",
+             CITE_DEADLOCK),
+    Property("oscillation", "liveness", _oscillation, ("poses", "states", "algorithm's progress_measure"),
+             "states compared up to pos_tol; randomized algorithms only by a progress window",
+             CITE_OSCILLATION,
+             run_monitor=_oscillation_monitor),
+    Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
+             "only the lemma premises the algorithm declares (premise_monitors)",
+             CITE_PREMISES),
+):
+    register_property(_p)
+del _p
