@@ -634,6 +634,20 @@ def _without_local_constants():
         providers.CONSTANTS_CACHE = original_cache
 
 
+def _cx_target(label: str, target) -> dict | None:
+    """What a counterexample file records of a target beyond its label: nothing for a bundled
+    lattice (files as before), else the target's description (a user's lattice with its whole
+    document), so the file replays without the original."""
+    from swarmproof.models.targets import describe_target
+
+    d = describe_target(target)
+    return None if d == {"kind": "lattice", "name": label} else d
+
+
+def _cx_lattice(label: str, target) -> str | None:
+    return label if getattr(target, "kind", "lattice") == "lattice" else None
+
+
 def _file_label(spec: AlgorithmSpec) -> str:
     """The algorithm's label made safe for a file name."""
     return _safe(spec.label)
@@ -647,8 +661,6 @@ def _safe(text: str) -> str:
 
 
 def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices):
-    from swarmproof.models import library
-
     spec = resolve_algorithm(algorithm)
     from swarmproof.invariants.registry import get_property
 
@@ -671,14 +683,42 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         raise UsageError(f"robots={robots!r} must satisfy 1 <= MIN <= MAX", fix="e.g. robots=(3, 8)")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise UsageError(f"seed={seed!r} must be an integer >= 0")
-    lats = tuple(PERIODIC_LATTICES if lattices is None else lattices)
-    if not lats:
-        raise UsageError("lattices=() is empty", fix=f"give one or more of {list(PERIODIC_LATTICES)!r}")
-    loaded = {name: library.load(name) for name in lats}
-    for name, g in loaded.items():
-        if g.range is None:
-            raise UsageError(f"lattice {name!r} has no default range")
+    lats, loaded = _load_targets(lattices)
     return spec, props, float(budget), (lo, hi), lats, loaded
+
+
+def _load_targets(lattices):
+    """Labels and targets the scenarios draw from: bundled periodic lattices by default; else
+    each item a bundled name, ``KIND:NAME``, a file (a user's lattice) or a target object."""
+    from swarmproof.models import library
+    from swarmproof.models.targets import resolve_target, target_kinds
+
+    items = tuple(PERIODIC_LATTICES if lattices is None else lattices)
+    if not items:
+        raise UsageError("lattices=() is empty", fix=f"give one or more of {list(PERIODIC_LATTICES)!r}")
+    loaded: dict = {}
+    for item in items:
+        if isinstance(item, (str, os.PathLike)):
+            label = os.fspath(item)
+            if label in library.names():
+                target = library.load(label)
+            elif os.path.exists(label) or label.partition(":")[0] in target_kinds():
+                target = resolve_target(label)
+            else:
+                raise UsageError(f"lattice={label!r} is not known",
+                                 fix=f"use one of {library.names()!r}, or the path of a lattice-graph/1 file")
+        elif hasattr(item, "satisfied") and hasattr(item, "name"):
+            label, target = str(item.name), item
+        else:
+            raise UsageError(f"lattices item={item!r} is not a name, a file or a target",
+                             fix=f"give bundled names such as {list(PERIODIC_LATTICES)[:3]!r} or lattice files")
+        if label in loaded:
+            raise UsageError(f"lattices item={label!r} is given twice", fix="give each target once")
+        if getattr(target, "range", None) is None:
+            raise UsageError(f"{getattr(target, 'kind', 'lattice')} {label!r} has no default range",
+                             fix="give a lattice file with a range")
+        loaded[label] = target
+    return tuple(loaded), loaded
 
 
 def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float = 60.0,
@@ -713,8 +753,11 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     seed : int
         Hypothesis seed (``@seed``); with the same ``max_examples`` and the
         budget not hit, the report is the same.
-    lattices : sequence of str, optional
-        Bundled lattice names; default :data:`PERIODIC_LATTICES`.
+    lattices : sequence, optional
+        Targets the scenarios draw from: bundled lattice names, lattice-graph/1
+        files of your own, ``KIND:NAME`` or target objects; default
+        :data:`PERIODIC_LATTICES`.  A counterexample on a user's lattice carries
+        its whole document (``target``), so it replays without the file.
     fault_model : FaultModel, optional
         Passed to the engine; the assumptions it breaks are reported.
     out_dir : path, optional
@@ -855,7 +898,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                       algorithm=spec.ref,
                       params={"range": p.range, "v": p.v, "omega": p.omega, "dt": p.dt,
                               "extra": {k: v for k, v in dict(p.extra).items()}},
-                      lattice=scn.lattice, robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
+                      lattice=_cx_lattice(scn.lattice, lattice), target=_cx_target(scn.lattice, lattice),
+                      robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
                       seed=scn.seed, property=prop,
                       violation={"step": None if step is None else int(step), "message": r.message},
                       schedule=None if fm is None else fm.describe().get("schedule"),

@@ -71,10 +71,16 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         spec = resolve_algorithm(cx.algorithm)
     except UsageError as exc:
         raise bad("algorithm", exc, cx.algorithm) from None
-    try:
-        lattice = library.resolve(cx.lattice)
-    except UsageError as exc:
-        raise bad("lattice", exc, cx.lattice) from None
+    if cx.target is not None:
+        # the algorithm's module is imported already (resolve_algorithm), so a kind it registers is known
+        from swarmproof.models.targets import target_from_description
+
+        lattice = target_from_description(cx.target, file=file, field_name="target")
+    else:
+        try:
+            lattice = library.resolve(cx.lattice)
+        except UsageError as exc:
+            raise bad("lattice", exc, cx.lattice) from None
     faults = None
     if cx.faults:
         try:

@@ -2,12 +2,13 @@
 
 Shared by ``swarmproof simulate`` and the algorithm rows of
 ``swarmproof verify`` so both judge a run the same way: the final formation
-against the lattice (001 Def. 2), connectivity at every step (001 Lemma 11),
+against the target (a lattice: 001 Def. 2; any kind of
+:mod:`swarmproof.models.targets`), connectivity at every step (001 Lemma 11),
 the spanning-tree links, the algorithm's own termination bound when it offers
 one (001 Theorem 13), and the metrics of 001 Sec. III-C and 000 Eq. 3.
 
 Exit code (the run's verdict): 0 the run ended (finished or static), the
-final formation satisfies the lattice and connectivity held; 1 a checked
+final formation satisfies the target and connectivity held; 1 a checked
 property failed; 3 the step cap was reached first (inconclusive).  A broken
 link or connectivity loss outranks the step cap.
 """
@@ -38,9 +39,14 @@ class CheckedRun:
     result : SimulationResult
         The engine's result (with its trace).
     lattice, algorithm, params, initial
-        What was run.
+        What was run (``lattice`` is the target, whatever its kind).
     satisfaction, connectivity, tree_links, termination
-        The invariant results (termination is None when the algorithm offers no bound).
+        The invariant results (termination is None when the algorithm offers no bound);
+        ``satisfaction`` is a lattice's
+        :class:`~swarmproof.models.satisfaction.SatisfactionResult` or another target's
+        :class:`~swarmproof.models.targets.TargetCheck`.
+    metrics : dict
+        The target's figures and the algorithm's (``metrics(result)``, when it has one).
     """
 
     doc: dict
@@ -54,6 +60,7 @@ class CheckedRun:
     connectivity: Any
     tree_links: Any
     termination: Any
+    metrics: dict = dataclasses.field(default_factory=dict)
 
 
 def build_params(algorithm, phi: float, n: int, *, v: float | None = None, omega: float | None = None,
@@ -80,7 +87,14 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   extra: Mapping[str, Any] | None = None, min_separation: float | None = None,
                   allow_violations: bool = False,
                   progress: Callable[[int, int], None] | None = None) -> CheckedRun:
-    """Run ``algorithm_name`` on ``lattice`` from a seeded connected start (or ``initial``) and check it.
+    """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
+    and check it.
+
+    The JSON document keeps every field it had for lattices and adds
+    ``target{kind, name}``, ``satisfied`` (the target's verdict on the final
+    configuration: true, false, or null when inconclusive) and ``metrics{}``
+    (the target's and the algorithm's figures); for other kinds ``lattice``,
+    ``satisfies_lattice``, ``satisfaction.roles`` and the fulfillment ratios are null.
 
     Raises
     ------
@@ -101,10 +115,11 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     algorithm_factory(algorithm_name)  # unknown names fail first, listing the valid ones
     if seed < 0:
         raise UsageError(f"seed={seed!r} must be >= 0")
+    kind = getattr(lattice, "kind", "lattice")
     if phi is None:
-        phi = lattice.range
+        phi = getattr(lattice, "range", None)
     if phi is None:
-        raise UsageError(f"lattice {lattice.name!r} has no default range", fix="pass --range PHI")
+        raise UsageError(f"{kind} {lattice.name!r} has no default range", fix="pass --range PHI")
     if not (math.isfinite(phi) and phi > 0):
         raise UsageError(f"range={phi!r} must be a finite number > 0")
     if max_steps is not None and max_steps < 0:
@@ -123,14 +138,26 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     trace = result.trace
     pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
     ids, poses = result.final_ids, result.final_poses
-    sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
+    is_lattice = kind == "lattice"
+    if is_lattice:
+        sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
+        q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+        nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+        metrics = {"fulfillment_ratio": q, "non_fulfillment_ratio": nq}
+    else:
+        tol = getattr(algorithm, "satisfaction_tol", None)
+        sat = lattice.satisfied(ids, poses, phi=phi, tol=tol)
+        q = nq = None
+        metrics = dict(lattice.metrics(ids, poses, phi=phi))
+    own = getattr(algorithm, "metrics", None)
+    if callable(own):
+        metrics.update(own(result))
     conn = connected_throughout(trace, phi)
     links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
-    q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
-    nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+    satisfied = sat.held if sat.status != "inconclusive" else None
     doc = {
         "algorithm": algorithm.name,
-        "lattice": lattice.name,
+        "lattice": lattice.name if is_lattice else None,
         "robots": int(initial.n),
         "seed": int(seed),
         "range": float(phi),
@@ -138,7 +165,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "status": result.status,
         "static": bool(result.static),
         "execution_steps": int(execution_steps(trace)),
-        "satisfies_lattice": sat.held if sat.status != "inconclusive" else None,
+        "satisfies_lattice": satisfied if is_lattice else None,
         "satisfaction": sat.as_dict(),
         "fulfillment_ratio": q,
         "non_fulfillment_ratio": nq,
@@ -149,6 +176,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "min_separation": min_sep(trace),
         "broken_assumptions": list(result.broken_assumptions),
         "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
+        "target": {"kind": kind, "name": lattice.name},
+        "satisfied": satisfied,
+        "metrics": metrics,
     }
     bound_fn = getattr(algorithm, "termination_bound", None)
     term = None
@@ -166,4 +196,4 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     else:
         code = EXIT_OK
     doc["exit_code"] = code
-    return CheckedRun(doc, code, result, lattice, algorithm, params, initial, sat, conn, links, term)
+    return CheckedRun(doc, code, result, lattice, algorithm, params, initial, sat, conn, links, term, metrics)

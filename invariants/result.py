@@ -19,11 +19,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from swarmproof.models.verdict import ThreeValued
+
 __all__ = ["InvariantResult", "state_value"]
 
 
 @dataclass(frozen=True)
-class InvariantResult:
+class InvariantResult(ThreeValued):
     """Outcome of one invariant over one trace or state.
 
     Attributes
@@ -49,19 +51,8 @@ class InvariantResult:
     detail: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        if self.status not in ("held", "violated", "inconclusive"):
-            raise ValueError(f"status={self.status!r} must be held, violated or inconclusive")
+        self._check_status()
 
-    @property
-    def held(self) -> bool:
-        return self.status == "held"
-
-    @property
-    def violated(self) -> bool:
-        return self.status == "violated"
-
-    def __bool__(self) -> bool:
-        return self.held
 
     def as_dict(self) -> dict:
         return {"name": self.name, "status": self.status, "cites": self.cites,

@@ -107,8 +107,8 @@ class Counterexample:
     algorithm : str
     params : dict
         ``range, v, omega, dt`` and optionally ``extra``.
-    lattice : str
-        A bundled lattice name (or a path).
+    lattice : str or None
+        A bundled lattice name (or a path); None when ``target`` is of another kind.
     robots : list of (id, (x, y, theta radians))
     seed : int
         The engine's seed.
@@ -124,6 +124,10 @@ class Counterexample:
     broken_assumptions : list of str
     options : dict
         Property options (e.g. ``radius``).
+    target : dict or None
+        The target's ``describe()`` (:mod:`swarmproof.models.targets`) when it is not
+        simply the bundled lattice ``lattice`` names; written only then, so files of
+        bundled lattices are as before and every older file still loads.
     """
 
     algorithm: str
@@ -139,9 +143,10 @@ class Counterexample:
     allow_violations: bool = False
     broken_assumptions: list = field(default_factory=list)
     options: dict = field(default_factory=dict)
+    target: dict | None = None
 
     def as_dict(self) -> dict:
-        return {
+        doc = {
             "format": COUNTEREXAMPLE_FORMAT,
             "version": COUNTEREXAMPLE_VERSION,
             "algorithm": self.algorithm,
@@ -159,6 +164,9 @@ class Counterexample:
             "options": dict(self.options),
             "violation": {"step": self.violation.get("step"), "message": str(self.violation.get("message", ""))},
         }
+        if self.target is not None:
+            doc["target"] = dict(self.target)
+        return doc
 
     def to_json(self) -> str:
         return dumps_json(self.as_dict())
@@ -188,8 +196,15 @@ class Counterexample:
         if d.get("version") != COUNTEREXAMPLE_VERSION:
             raise err("version", f"version={d.get('version')!r} is not supported",
                       fix=f"this swarmproof reads version {COUNTEREXAMPLE_VERSION}")
+        target = d.get("target")
+        if target is not None and not (isinstance(target, Mapping) and isinstance(target.get("kind"), str)
+                                       and isinstance(target.get("name"), str)):
+            raise err("target", f"target={target!r} must be a JSON object with string 'kind' and 'name'",
+                      fix="write it as the target's describe() gives it, or drop it and name a lattice")
         for key, typ in (("algorithm", str), ("lattice", str), ("property", str), ("params", Mapping),
                          ("initial", Mapping), ("violation", Mapping)):
+            if key == "lattice" and target is not None and d.get(key) is None:
+                continue
             if key not in d:
                 raise err(key, f"field {key!r} is missing")
             if not isinstance(d[key], typ):
@@ -234,13 +249,14 @@ class Counterexample:
         for key in ("schedule", "faults"):
             if d.get(key) is not None and not isinstance(d.get(key), Mapping):
                 raise err(key, f"{key}={d.get(key)!r} must be a JSON object or null")
-        return cls(algorithm=d["algorithm"], params=params, lattice=d["lattice"], robots=robots,
+        return cls(algorithm=d["algorithm"], params=params, lattice=d.get("lattice"), robots=robots,
                    seed=seed, property=d["property"],
                    violation={"step": step, "message": str(viol.get("message", ""))},
                    schedule=d.get("schedule"), faults=d.get("faults"), max_steps=max_steps,
                    allow_violations=bool(d.get("allow_violations", False)),
                    broken_assumptions=list(d.get("broken_assumptions") or []),
-                   options=dict(d.get("options") or {}))
+                   options=dict(d.get("options") or {}),
+                   target=None if target is None else dict(target))
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "Counterexample":
@@ -265,11 +281,17 @@ class Counterexample:
                                  fix=f"give a {COUNTEREXAMPLE_FORMAT} JSON file") from None
         return cls.from_dict(doc, file=name)
 
+    def target_label(self) -> str:
+        """``lattice NAME``, or ``KIND NAME`` of another target."""
+        if self.target is not None:
+            return f"{self.target['kind']} {self.target['name']}"
+        return f"lattice {self.lattice}"
+
     def format_steps(self) -> list[str]:
         """The counterexample as steps a person can follow (one string per line)."""
         p = self.params
         lines = [f"counterexample: {self.algorithm} violates {self.property}",
-                 f"lattice {self.lattice}, range {_g(p['range'])}, v={_g(p['v'])}, "
+                 f"{self.target_label()}, range {_g(p['range'])}, v={_g(p['v'])}, "
                  f"omega={_g(p['omega'])}, dt={_g(p['dt'])}"]
         k = 0
         digits = _position_digits([(float(x), float(y)) for _, (x, y, _) in self.robots], float(p["range"]))

@@ -237,3 +237,59 @@ class LatticeGraph:
                 == [(e.source, e.target, e.transform) for e in other._edges])
 
     __hash__ = None  # mutable-looking container; compare with == only
+
+    # -- as a target (models/targets.py) -----------------------------------
+    #: The target kind (:mod:`swarmproof.models.targets`).
+    kind = "lattice"
+
+    def _phi(self, phi):
+        phi = self.range if phi is None else phi
+        if phi is None:
+            raise UsageError(f"lattice {self.name!r} has no range and none was given", fix="pass phi=PHI")
+        return float(phi)
+
+    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None):
+        """001 Def. 2 (000 Def. 2): do the robots satisfy the graph at range ``phi``?
+
+        ``tol`` is ``(pos_tol, ang_tol)`` (default 1e-6 each).  Returns a
+        :class:`~swarmproof.models.targets.TargetCheck` whose ``detail`` holds the
+        role of each robot when it held.
+
+        >>> from swarmproof.models import library
+        >>> sq = library.load("square")
+        >>> sq.satisfied([1, 2], [[0, 0, 0], [1, 0, 0]]).status
+        'held'
+        """
+        from .satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL, satisfies_lattice
+        from .targets import TargetCheck
+
+        pos_tol, ang_tol = (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL) if tol is None else tol
+        sat = satisfies_lattice(ids, poses, self, self._phi(phi), pos_tol=pos_tol, ang_tol=ang_tol)
+        return TargetCheck(sat.status, sat.message, sat.cites, sat.witness,
+                           {"roles": {str(k): v for k, v in sat.roles.items()}} if sat.held and sat.roles else {})
+
+    def progress(self, ids, poses, *, phi: float | None = None) -> float:
+        """Q (001 Sec. III-C-2) when the robots satisfy the graph, else 0."""
+        from .satisfaction import fulfillment_ratio
+
+        q = fulfillment_ratio(ids, poses, self, self._phi(phi))
+        return 0.0 if q is None else q
+
+    def metrics(self, ids, poses, *, phi: float | None = None) -> dict:
+        """``fulfillment_ratio`` Q (001 Sec. III-C-2) and ``non_fulfillment_ratio`` (000 Eq. 3);
+        None when the configuration does not satisfy the graph (roles undefined)."""
+        from .satisfaction import fulfillment_ratio, non_fulfillment_ratio
+
+        phi = self._phi(phi)
+        return {"fulfillment_ratio": fulfillment_ratio(ids, poses, self, phi),
+                "non_fulfillment_ratio": non_fulfillment_ratio(ids, poses, self, phi)}
+
+    def describe(self) -> dict:
+        """``{"kind": "lattice", "name"}`` for a bundled lattice; a user's graph also carries its
+        whole lattice-graph/1 document (radians), so a counterexample replays without the file."""
+        src = self.source or ""
+        if src.startswith("library:") and src[len("library:"):] == self.name:
+            return {"kind": "lattice", "name": self.name}
+        from .lattice_io import lattice_to_document
+
+        return {"kind": "lattice", "name": self.name, "document": lattice_to_document(self, "rad")}

@@ -49,6 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .se2 import wrap_angle
+from .verdict import ThreeValued
 from .sensing import components, neighbor_pairs
 
 __all__ = ["SatisfactionResult", "satisfies_lattice", "DEFAULT_SAT_POS_TOL", "DEFAULT_SAT_ANG_TOL",
@@ -62,7 +63,7 @@ DEF_2 = "001 Def. 2 (R satisfies G); 000 Def. 2, Eq. 2"
 
 
 @dataclass(frozen=True)
-class SatisfactionResult:
+class SatisfactionResult(ThreeValued):
     """Outcome of :func:`satisfies_lattice`.
 
     Attributes
@@ -84,16 +85,6 @@ class SatisfactionResult:
     message: str
     cites: str = DEF_2
 
-    @property
-    def held(self) -> bool:
-        return self.status == "held"
-
-    @property
-    def violated(self) -> bool:
-        return self.status == "violated"
-
-    def __bool__(self) -> bool:
-        return self.held
 
     def as_dict(self) -> dict:
         return {"status": self.status, "roles": None if self.roles is None else

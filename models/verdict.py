@@ -28,7 +28,7 @@ from __future__ import annotations
 import enum
 from typing import Iterable
 
-__all__ = ["Verdict", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE", "EXIT_INTERNAL"]
+__all__ = ["Verdict", "ThreeValued", "STATUSES", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE", "EXIT_INTERNAL"]
 
 EXIT_OK = 0
 EXIT_VIOLATED = 1
@@ -73,3 +73,37 @@ class Verdict(str, enum.Enum):
 
     def __str__(self) -> str:
         return self.value
+
+
+#: The three statuses a check's result carries (held / violated / inconclusive).
+STATUSES = ("held", "violated", "inconclusive")
+
+
+class ThreeValued:
+    """Mixin of a result with a ``status`` among :data:`STATUSES`: ``held``, ``violated``, and
+    truth only when held (inconclusive is never a pass).
+
+    >>> from dataclasses import dataclass
+    >>> @dataclass(frozen=True)
+    ... class R(ThreeValued):
+    ...     status: str
+    >>> bool(R("inconclusive")), R("violated").violated
+    (False, True)
+    """
+
+    __slots__ = ()
+
+    @property
+    def held(self) -> bool:
+        return self.status == "held"
+
+    @property
+    def violated(self) -> bool:
+        return self.status == "violated"
+
+    def __bool__(self) -> bool:
+        return self.held
+
+    def _check_status(self) -> None:
+        if self.status not in STATUSES:
+            raise ValueError(f"status={self.status!r} must be held, violated or inconclusive")

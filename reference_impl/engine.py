@@ -891,7 +891,10 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     meta = {
         "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
         "premise_monitors": list(getattr(algorithm, "premise_monitors", None) or ()),
-        "lattice": None if lattice is None else getattr(lattice, "name", None),
+        "lattice": (None if lattice is None or getattr(lattice, "kind", "lattice") != "lattice"
+                    else getattr(lattice, "name", None)),
+        "target": None if lattice is None else {"kind": getattr(lattice, "kind", "lattice"),
+                                                 "name": getattr(lattice, "name", None)},
         "params": {"range": params.range, "v": params.v, "omega": params.omega, "dt": params.dt,
                    "extra": to_jsonable(dict(params.extra))},
         "seed": seed,

@@ -32,6 +32,9 @@ def add_arguments(p) -> None:
     p.add_argument("--property", action="append", dest="properties", metavar="P",
                    help="property to check: a registered name, or module:name of your own "
                         "(a Property, or a check registered with @property_check); repeatable (default: all)")
+    p.add_argument("--target", "--lattice", action="append", dest="targets", metavar="[KIND:]NAME|FILE",
+                   help="draw scenarios on this target, repeatable: a bundled lattice name or a lattice-graph/1 "
+                        "file of your own (default: the bundled periodic lattices)")
     p.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
                    help="wall-clock budget for the whole exploration (default 60)")
     p.add_argument("--max-examples", type=int, default=100, metavar="N",
@@ -123,7 +126,7 @@ def run(args) -> int:
                      robots=robots, seed=args.seed, out_dir=args.out, progress=progress,
                      database_dir=args.database, draw_faults=tuple(args.faults), params=params,
                      allow_violations=args.allow_violations, max_steps=args.max_steps,
-                     speeds=parse_speeds(args.speeds))
+                     speeds=parse_speeds(args.speeds), lattices=args.targets)
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()

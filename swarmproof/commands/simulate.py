@@ -2,13 +2,14 @@
 
 Runs ALGORITHM (a registry name, :mod:`swarmproof.reference_impl.registry`)
 from a random connected start of ``--robots`` robots (seeded; or
-``--initial FILE``) on a lattice (a bundled name or a ``lattice-graph/1``
-file), then checks the final formation against the lattice (001 Def. 2),
-connectivity at every step (001 Lemma 11) and reports the metrics of
-001 Sec. III-C / 000 Eq. 3.
+``--initial FILE``) toward a target -- ``--target [KIND:]NAME|FILE`` of any
+kind (lattice, lines, shape; ``--lattice``, ``--shape`` and ``--pattern`` are
+aliases fixing the kind) -- then checks the final formation against the
+target (a lattice: 001 Def. 2), connectivity at every step (001 Lemma 11)
+and reports the target's metrics (a lattice: 001 Sec. III-C / 000 Eq. 3).
 
 Exit codes: 0 the run ended (finished or static), the final formation
-satisfies the lattice and connectivity held; 1 a checked property failed;
+satisfies the target and connectivity held; 1 a checked property failed;
 2 usage error or unreadable input; 3 the step cap was reached first
 (inconclusive).
 """
@@ -29,7 +30,13 @@ DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
 
 def add_arguments(p) -> None:
     p.add_argument("algorithm", metavar="ALGORITHM", help="registry name, e.g. song2016, song2014, example-gather")
-    p.add_argument("--lattice", required=True, metavar="NAME|FILE", help="bundled lattice name or lattice-graph/1 file")
+    which = p.add_mutually_exclusive_group(required=True)
+    which.add_argument("--target", metavar="[KIND:]NAME|FILE",
+                       help="the target: a bundled name (a kind prefix decides when two kinds bundle it, "
+                            "e.g. lattice:hexagon), a lattice-graph/1 file or a target description file")
+    which.add_argument("--lattice", metavar="NAME|FILE", help="a lattice target (--target lattice:NAME)")
+    which.add_argument("--shape", metavar="NAME|FILE", help="a goal-set target (--target shape:NAME)")
+    which.add_argument("--pattern", metavar="NAME|FILE", help="a repeating-pattern target (--target pattern:NAME)")
     p.add_argument("--robots", type=int, metavar="N", help="number of robots (random connected start)")
     p.add_argument("--seed", type=int, required=True, metavar="S", help="seed of the start and of the run")
     p.add_argument("--range", type=float, dest="range_", metavar="PHI",
@@ -82,12 +89,16 @@ def _progress_printer():
 
 def run(args) -> int:
     from swarmproof.checkers.runs import run_and_check
-    from swarmproof.models.library import resolve
+    from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl import initial as initial_mod
     from swarmproof.reference_impl.registry import algorithm_factory
 
     algorithm_factory(args.algorithm)  # unknown names fail first, listing the valid ones
-    lattice = resolve(args.lattice)
+    if args.target is not None:
+        lattice = resolve_target(args.target)
+    else:
+        kind = next(k for k in ("lattice", "shape", "pattern") if getattr(args, k) is not None)
+        lattice = resolve_target(getattr(args, kind), kind=kind)
     if args.seed < 0:
         raise UsageError(f"--seed {args.seed!r} must be >= 0")
     if args.range_ is not None and not (math.isfinite(args.range_) and args.range_ > 0):
@@ -120,21 +131,25 @@ def run(args) -> int:
     if args.trace:
         doc["trace"] = trace.save(args.trace)
     if args.plot:
-        doc["plot"] = plot_run(trace, lattice, sat.roles, args.plot, phi)
+        doc["plot"] = plot_run(trace, lattice, getattr(sat, "roles", None), args.plot, phi)
     if args.json:
         emit_json(doc)
     else:
         q_txt = "undefined (lattice not satisfied)" if q is None else f"{q:.4f}"
+        kind = doc["target"]["kind"]
         lines = [
             f"{algorithm.name} on {lattice.name}: {init.n} robots, seed {args.seed}, range {phi:g}",
             f"  run: {result.status} after {result.steps} steps (static from step {doc['execution_steps']})",
-            f"  satisfies lattice: {sat.status} - {sat.message}",
+            f"  satisfies {kind}: {sat.status} - {sat.message}",
             f"  connectivity: {conn.status} - {conn.message}",
             f"  tree links: {links.status} - {links.message}",
-            f"  fulfillment ratio Q: {q_txt}",
-            f"  total distance: {doc['total_distance']:.6g}, min separation: "
-            + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"),
         ]
+        if kind == "lattice":
+            lines.append(f"  fulfillment ratio Q: {q_txt}")
+        else:
+            lines += [f"  {key}: {_fmt(val)}" for key, val in doc["metrics"].items()]
+        lines.append(f"  total distance: {doc['total_distance']:.6g}, min separation: "
+                     + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"))
         if term is not None:
             lines.append(f"  termination: {term.status} - {term.message}")
         if result.broken_assumptions:
@@ -149,9 +164,14 @@ def run(args) -> int:
     return code
 
 
+def _fmt(val) -> str:
+    return "n/a" if val is None else (f"{val:.6g}" if isinstance(val, float) else str(val))
+
+
 def plot_run(trace, lattice, roles, path, phi) -> str:
     """Draw trajectories (thin), the final formation (roles coloured), headings and the
-    spanning tree read from the final controller states' ``"parent"``."""
+    spanning tree read from the final controller states' ``"parent"``; a goal-set target's
+    cells as open squares."""
     import numpy as np
 
     from swarmproof.checkers.plotting import ROLE_COLORS, new_figure, save_png
@@ -175,13 +195,19 @@ def plot_run(trace, lattice, roles, path, phi) -> str:
         role = (roles or {}).get(ids[k])
         if role is None:
             role = state_value(trace.states[-1][k], "role")
-        ci = lattice.roles.index(role) if role in lattice.roles else None
+        role_names = tuple(getattr(lattice, "roles", ()))
+        ci = role_names.index(role) if role in role_names else None
         color = ROLE_COLORS[ci % len(ROLE_COLORS)] if ci is not None else "#999999"
         x, y, th = final[k]
         ax.scatter([x], [y], s=40, color=color, edgecolors="black", linewidths=0.5, zorder=3)
         ax.arrow(x, y, 0.15 * phi * np.cos(th), 0.15 * phi * np.sin(th), width=0.005 * phi,
                  color="black", zorder=4, length_includes_head=True)
         ax.annotate(str(ids[k]), (x, y), xytext=(3, 3), textcoords="offset points", fontsize=7)
+    goals = getattr(lattice, "positions", None)
+    if callable(goals):
+        g = goals()
+        ax.scatter(g[:, 0], g[:, 1], s=120, marker="s", facecolors="none", edgecolors="#2a9d8f",
+                   linewidths=1.0, zorder=0, label="goal cells")
     ax.set_title(f"{trace.meta.get('algorithm')} on {lattice.name}: {trace.n} robots, "
                  f"{trace.steps} steps ({trace.meta.get('status')})")
     return save_png(fig, path)

@@ -1,0 +1,549 @@
+"""Targets: what a formation algorithm aims at, and how a configuration is judged against it.
+
+The engine, the properties and the metrics take a *target*, not a lattice
+(issue 12).  A target has a ``kind`` and a ``name`` and answers four
+questions about a configuration of robots (IDs and poses):
+
+* ``satisfied(ids, poses, *, phi, tol)`` -> :class:`TargetCheck`: the
+  paper's goal predicate (held, violated with a witness, or inconclusive);
+* ``progress(ids, poses, *, phi)`` -> float: higher is closer to the goal;
+* ``metrics(ids, poses, *, phi)`` -> dict: the paper's figures (JSON-ready);
+* ``describe()`` -> dict: ``{"kind", "name", ...}``, enough to rebuild it
+  (:func:`target_from_description`), which counterexample files record.
+
+Kinds (DESIGN.md section 5, "Targets on the command line"):
+
+=========  ================================================  =========================
+kind       class                                             paper
+=========  ================================================  =========================
+lattice    :class:`~swarmproof.models.lattice.LatticeGraph`  001 Def. 2 (000 Def. 2), Q
+lines      :class:`LinePattern`                              003 Sec. 3 (uni-line type)
+shape      :class:`GoalSet`                                  004 Sec. III (goal cells)
+pattern    (Jiang et al.'s repeating pattern: to come)       002 Defs. 3-10
+=========  ================================================  =========================
+
+Kinds are a registry: :func:`register_target_kind` adds one (a user's, or an
+algorithm module's at import time).  :func:`resolve_target` reads the
+command line's ``[KIND:]NAME|FILE``; a bare name that two kinds bundle is a
+usage error naming both.
+
+Examples
+--------
+>>> resolve_target("square").kind, resolve_target("lattice:square").name
+('lattice', 'square')
+>>> line = resolve_target("lines:line")
+>>> line.satisfied([1, 2, 3], [[0, 0, 0], [0, 1, 0], [0, 2, 0]]).status
+'held'
+>>> sorted(target_kinds())
+['lattice', 'lines', 'shape']
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+
+import numpy as np
+
+from .errors import InputFileError, UsageError
+from .verdict import ThreeValued
+
+__all__ = ["TargetCheck", "Target", "LinePattern", "GoalSet", "register_target_kind", "target_kinds",
+           "target_from_description", "resolve_target", "target_names", "describe_target"]
+
+@dataclass(frozen=True)
+class TargetCheck(ThreeValued):
+    """A target's verdict on one configuration."""
+
+    status: str
+    message: str
+    cites: str
+    witness: dict | None = None
+    detail: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self._check_status()
+
+
+    def as_dict(self) -> dict:
+        return {"status": self.status, "message": self.message, "cites": self.cites,
+                "witness": self.witness, **({"detail": self.detail} if self.detail else {})}
+
+
+@runtime_checkable
+class Target(Protocol):
+    """What the engine, the properties and the metrics need of a target."""
+
+    kind: str
+    name: str
+
+    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck: ...
+
+    def progress(self, ids, poses, *, phi: float | None = None) -> float: ...
+
+    def metrics(self, ids, poses, *, phi: float | None = None) -> dict: ...
+
+    def describe(self) -> dict: ...
+
+
+# ----------------------------------------------------------------------------
+# the kind registry
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Kind:
+    kind: str
+    from_description: Callable[[Mapping], Any]
+    bundled: Callable[[], list]            # -> bundled names
+    by_name: Callable[[str], Any] | None   # bundled name -> target
+    load_file: Callable[[str], Any] | None  # path -> target (None: files of this kind are JSON descriptions)
+
+
+_KINDS: dict[str, _Kind] = {}
+
+
+def register_target_kind(kind: str, *, from_description: Callable[[Mapping], Any],
+                         bundled: Callable[[], list] | None = None,
+                         by_name: Callable[[str], Any] | None = None,
+                         load_file: Callable[[str], Any] | None = None) -> None:
+    """Register a target kind.
+
+    ``from_description(d)`` rebuilds a target from its ``describe()``
+    dictionary; ``bundled()`` lists the bundled names and ``by_name(name)``
+    builds one; ``load_file(path)`` reads a file of this kind.
+    """
+    if not isinstance(kind, str) or not kind or ":" in kind:
+        raise UsageError(f"target kind={kind!r} must be a non-empty string without ':'")
+    _KINDS[kind] = _Kind(kind, from_description, bundled or (lambda: []), by_name, load_file)
+
+
+def target_kinds() -> list[str]:
+    """The registered kinds, in registration order."""
+    return list(_KINDS)
+
+
+def target_names(kind: str | None = None) -> list[tuple[str, str]]:
+    """``(kind, name)`` of every bundled target (of one kind)."""
+    out = []
+    for k in ([kind] if kind else _KINDS):
+        out += [(k, n) for n in _kind(k).bundled()]
+    return out
+
+
+def _kind(kind: str) -> _Kind:
+    if kind not in _KINDS:
+        raise UsageError(f"target kind={kind!r} is not known", fix=f"use one of {target_kinds()!r}")
+    return _KINDS[kind]
+
+
+def describe_target(target) -> dict:
+    """``target.describe()``, or ``{"kind": "lattice", "name": ...}`` for an object without it."""
+    fn = getattr(target, "describe", None)
+    if callable(fn):
+        return dict(fn())
+    return {"kind": getattr(target, "kind", "lattice"), "name": getattr(target, "name", None)}
+
+
+def target_from_description(d: Mapping, *, file: str | None = None, field_name: str = "target"):
+    """Rebuild a target from its ``describe()`` dictionary.
+
+    Malformed descriptions raise :class:`~swarmproof.models.errors.UsageError`
+    (or :class:`~swarmproof.models.errors.InputFileError` with ``file``)
+    naming the field.
+    """
+    def bad(msg, fix=None):
+        if file is not None:
+            return InputFileError(msg, file=file, field=field_name, fix=fix)
+        return UsageError(f"{field_name}: {msg}", fix=fix)
+
+    if not isinstance(d, Mapping):
+        raise bad(f"{field_name}={d!r} must be an object with 'kind' and 'name'")
+    kind = d.get("kind")
+    if kind not in _KINDS:
+        raise bad(f"kind={kind!r} is not a known target kind", fix=f"use one of {target_kinds()!r}")
+    try:
+        return _KINDS[kind].from_description(d)
+    except UsageError as exc:
+        if file is not None and not isinstance(exc, InputFileError):
+            raise InputFileError(exc.message, file=file, field=field_name, fix=exc.fix) from None
+        raise
+
+
+def resolve_target(text, kind: str | None = None):
+    """A target from the command line's ``[KIND:]NAME|FILE``.
+
+    ``kind`` (an alias option such as ``--lattice``) fixes the kind; a
+    ``KIND:`` prefix does the same.  An existing file wins over a bundled
+    name.  A bare name bundled by two kinds is a usage error naming both.
+    """
+    try:
+        text = os.fspath(text)
+    except TypeError:
+        raise UsageError(f"target={text!r} must be a name or a path") from None
+    prefix, sep, rest = text.partition(":")
+    if kind is None and sep and prefix in _KINDS and not os.path.exists(text):
+        kind, text = prefix, rest
+    if kind is not None:
+        k = _kind(kind)
+        if os.path.exists(text):
+            if k.load_file is not None:
+                return k.load_file(text)
+            return _load_description_file(text, expect=kind)
+        if text in k.bundled() and k.by_name is not None:
+            return k.by_name(text)
+        raise InputFileError(f"no such file and no bundled {kind} target of that name", file=text,
+                             fix=f"give a file path or one of the bundled {kind} names {k.bundled()!r}")
+    if os.path.exists(text):
+        return _load_any_file(text)
+    matches = [k for k in _KINDS if text in _KINDS[k].bundled()]
+    if len(matches) == 1:
+        return _KINDS[matches[0]].by_name(text)
+    if len(matches) > 1:
+        raise UsageError(f"target={text!r} is ambiguous: bundled as {', '.join(matches)}",
+                         fix="say which: " + " or ".join(f"{k}:{text}" for k in matches))
+    names = [f"{k}:{n}" for k, n in target_names()]
+    raise InputFileError("no such file and no bundled target of that name", file=text,
+                         fix=f"give a file path or one of {names!r}")
+
+
+def _read_json(path: str):
+    import json
+
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read()
+    except OSError as exc:
+        raise InputFileError(f"cannot read the file ({exc.strerror or exc})", file=path) from None
+    try:
+        return json.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise InputFileError("the file is not UTF-8 text", file=path, fix="save it as UTF-8") from None
+    except json.JSONDecodeError as exc:
+        raise InputFileError(f"not JSON: {exc.msg}", file=path, line=exc.lineno) from None
+
+
+def _load_description_file(path: str, expect: str | None = None):
+    d = _read_json(path)
+    if isinstance(d, Mapping) and expect is not None and d.get("kind") != expect:
+        raise InputFileError(f"kind={d.get('kind')!r}, but a {expect} target was asked for", file=path,
+                             field="kind", fix=f"give a {expect} target file")
+    return target_from_description(d, file=path, field_name="target")
+
+
+def _load_any_file(path: str):
+    """A lattice-graph/1 file (YAML or JSON) or a JSON target description."""
+    if path.endswith((".yaml", ".yml")):
+        return _kind("lattice").load_file(path)
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4096)
+    except OSError as exc:
+        raise InputFileError(f"cannot read the file ({exc.strerror or exc})", file=path) from None
+    if b"lattice-graph/" in head or b'"kind"' not in head:
+        return _kind("lattice").load_file(path)
+    return _load_description_file(path)
+
+
+# ----------------------------------------------------------------------------
+# lines (003): points of a pattern, judged on positions up to a rigid motion
+# ----------------------------------------------------------------------------
+
+def _as_xy(poses) -> np.ndarray:
+    a = np.asarray(poses, dtype=float)
+    return a.reshape(-1, a.shape[-1])[:, :2] if a.size else np.zeros((0, 2))
+
+
+def _kabsch_error(xy: np.ndarray, goal: np.ndarray) -> float:
+    """Largest distance after the least-squares proper rigid motion of ``xy`` onto ``goal``
+    (row k onto row k; Kabsch)."""
+    a, b = xy - xy.mean(0), goal - goal.mean(0)
+    u, _, vt = np.linalg.svd(a.T @ b)
+    d = np.sign(np.linalg.det(u @ vt)) or 1.0
+    rot = u @ np.diag([1.0, d]) @ vt
+    return float(np.hypot(*((a @ rot) - b).T).max())
+
+
+def _rigid_fit(template: np.ndarray, xy: np.ndarray, tol: float):
+    """The best proper rigid motion and one-to-one assignment of ``xy`` onto ``template``.
+
+    Anchors: template point 0 and its nearest other point ``q`` against every
+    ordered pair of robots at (about) the same distance; for each, the
+    rigid motion mapping the pair onto the anchors, then an optimal
+    assignment (scipy's ``linear_sum_assignment``) of all robots, then the
+    least-squares rigid motion for that assignment (Kabsch) when it fits
+    better.  Returns ``(max_error, assignment)`` of the best candidate, or
+    ``(inf, None)``.  The error is an upper bound of the best achievable
+    (minimax) one, exact when the robots form the pattern.
+    """
+    from scipy.optimize import linear_sum_assignment
+
+    n = len(template)
+    if n == 1:
+        return 0.0, [0]
+    d0 = np.hypot(*(template - template[0]).T)
+    d0[0] = np.inf
+    q = int(np.argmin(d0))
+    a0, b0 = template[0], template[q]
+    ang0 = math.atan2(b0[1] - a0[1], b0[0] - a0[0])
+    dd = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+    best = (math.inf, None)
+    slack = max(4 * tol, 1e-9)
+    for i, j in zip(*np.nonzero(np.abs(dd - d0[q]) <= slack)):
+        if i == j:
+            continue
+        ang = math.atan2(xy[j, 1] - xy[i, 1], xy[j, 0] - xy[i, 0])
+        c, s = math.cos(ang0 - ang), math.sin(ang0 - ang)
+        rel = xy - xy[i]
+        moved = np.column_stack((c * rel[:, 0] - s * rel[:, 1], s * rel[:, 0] + c * rel[:, 1])) + a0
+        cost = np.hypot(moved[:, None, 0] - template[None, :, 0], moved[:, None, 1] - template[None, :, 1])
+        rows, cols = linear_sum_assignment(cost)
+        err = min(float(cost[rows, cols].max()), _kabsch_error(xy, template[cols]))
+        if err < best[0]:
+            best = (err, cols.tolist())
+            if err <= tol:
+                break
+    return best
+
+
+@dataclass(frozen=True)
+class LinePattern:
+    """A uni-line pattern of 003 Sec. 3: ``n`` points at a uniform interval ``d_u``.
+
+    ``shape="line"``: the points ``(k d_u, 0)``, k = 0..n-1 (the horizontal
+    or vertical line of Table 1; which one depends only on the common
+    direction, so up to a rigid motion they are the same pattern).  The
+    robots are anonymous, so ``satisfied`` matches positions, not IDs, up
+    to a proper rigid motion and a permutation (DESIGN.md section 5), within
+    ``tol`` (default ``1e-6 d_u``); headings are not judged.
+
+    >>> p = LinePattern("line", interval=1.0)
+    >>> p.satisfied([7, 8, 9], [[0, 0, 0], [0.7071067811865476, 0.7071067811865476, 1],
+    ...                         [1.4142135623730951, 1.4142135623730951, 2]]).status
+    'held'
+    >>> p.satisfied([1, 2, 3], [[0, 0, 0], [1, 0, 0], [2.5, 0, 0]]).status
+    'violated'
+    >>> p.describe()
+    {'kind': 'lines', 'name': 'line', 'shape': 'line', 'interval': 1.0}
+    """
+
+    name: str
+    shape: str = "line"
+    interval: float = 1.0
+    kind: str = "lines"
+    cites: str = "003 Sec. 3 (uni-line type, uniform interval d_u)"
+
+    SHAPES = ("line",)
+
+    def __post_init__(self) -> None:
+        if self.shape not in self.SHAPES:
+            raise UsageError(f"shape={self.shape!r} is not a known line pattern", fix=f"use one of {self.SHAPES!r}")
+        if isinstance(self.interval, bool) or not (isinstance(self.interval, (int, float))
+                                                   and math.isfinite(self.interval) and self.interval > 0):
+            raise UsageError(f"interval={self.interval!r} must be a finite number > 0")
+
+    def points(self, n: int) -> np.ndarray:
+        """The pattern's ``n`` target points in its own frame."""
+        return np.column_stack((np.arange(n, dtype=float) * float(self.interval), np.zeros(n)))
+
+    def _fit(self, poses, tol):
+        xy = _as_xy(poses)
+        tol = 1e-6 * float(self.interval) if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
+        if len(xy) == 0:
+            return xy, tol, math.inf, None
+        err, assign = _rigid_fit(self.points(len(xy)), xy, tol)
+        return xy, tol, err, assign
+
+    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck:
+        xy, tol, err, assign = self._fit(poses, tol)
+        if len(xy) == 0:
+            return TargetCheck("inconclusive", "no robots", self.cites)
+        if err <= tol:
+            return TargetCheck("held", f"{len(xy)} robots form the {self.shape} at interval "
+                                       f"{self.interval:g} (largest error {err:.3g})", self.cites,
+                               detail={"max_error": err})
+        return TargetCheck("violated", f"{len(xy)} robots are not a {self.shape} at interval {self.interval:g}: "
+                                       f"the best rigid fit leaves a robot {err:.4g} from its slot (tol {tol:.3g})",
+                           self.cites, {"max_error": err}, {"max_error": err})
+
+    def progress(self, ids, poses, *, phi: float | None = None) -> float:
+        """Minus the largest slot error of the best rigid fit, in intervals (0 at the goal)."""
+        _, _, err, _ = self._fit(poses, None)
+        return -float(err) / float(self.interval) if math.isfinite(err) else -math.inf
+
+    def metrics(self, ids, poses, *, phi: float | None = None) -> dict:
+        _, _, err, _ = self._fit(poses, None)
+        return {"max_slot_error": err if math.isfinite(err) else None}
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "name": self.name, "shape": self.shape, "interval": float(self.interval)}
+
+    @classmethod
+    def from_description(cls, d: Mapping) -> "LinePattern":
+        return cls(str(d.get("name") or d.get("shape") or "line"), shape=d.get("shape", "line"),
+                   interval=d.get("interval", 1.0))
+
+
+_BUNDLED_LINES = {"line": lambda: LinePattern("line", "line", 1.0)}
+
+
+# ----------------------------------------------------------------------------
+# shape (004): a set of goal cells on a grid
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class GoalSet:
+    """Goal cells of 004 Sec. III: the shape is a set of grid waypoints, one robot each.
+
+    ``cells`` are integer ``(i, j)``; a cell's position is ``origin + spacing
+    * (i, j)`` in the common frame (004's robots know global coordinates).
+    Satisfied when every goal cell holds exactly one robot (within ``tol``,
+    default ``1e-9 spacing``) and no robot stands elsewhere.  A bitmap
+    builds one: ``'#'`` a goal cell, ``'.'`` none, rows from top to bottom.
+
+    >>> g = GoalSet.from_bitmap("L", ["#.", "##"], spacing=0.2)
+    >>> sorted(g.cells)
+    [(0, 0), (0, 1), (1, 0)]
+    >>> g.satisfied([1, 2, 3], [[0, 0, 0], [0, 0.2, 0], [0.2, 0, 0]]).status
+    'held'
+    >>> g.progress([1, 2, 3], [[0, 0, 0], [0, 0.2, 0], [5, 5, 0]])
+    0.6666666666666666
+    """
+
+    name: str
+    cells: frozenset
+    spacing: float = 1.0
+    origin: tuple = (0.0, 0.0)
+    kind: str = "shape"
+    cites: str = "004 Sec. III (goal set on grid waypoints; shape complete)"
+
+    def __post_init__(self) -> None:
+        cells = frozenset((int(i), int(j)) for i, j in self.cells)
+        if not cells:
+            raise UsageError("cells=[] is empty", fix="give at least one goal cell")
+        object.__setattr__(self, "cells", cells)
+        if not (isinstance(self.spacing, (int, float)) and math.isfinite(self.spacing) and self.spacing > 0):
+            raise UsageError(f"spacing={self.spacing!r} must be a finite number > 0")
+        object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
+
+    @classmethod
+    def from_bitmap(cls, name: str, rows, spacing: float = 1.0, origin=(0.0, 0.0)) -> "GoalSet":
+        rows = list(rows)
+        cells = []
+        for r, line in enumerate(rows):
+            for c, ch in enumerate(line):
+                if ch == "#":
+                    cells.append((c, len(rows) - 1 - r))
+                elif ch != ".":
+                    raise UsageError(f"bitmap row {r} column {c}: {ch!r} is neither '#' (goal) nor '.' (free)")
+        return cls(name, frozenset(cells), spacing, origin)
+
+    def positions(self) -> np.ndarray:
+        """Goal cell positions, sorted by cell."""
+        cells = sorted(self.cells)
+        return np.array([(self.origin[0] + self.spacing * i, self.origin[1] + self.spacing * j)
+                         for i, j in cells], dtype=float)
+
+    def _occupancy(self, poses, tol):
+        xy = _as_xy(poses)
+        tol = 1e-9 * self.spacing if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
+        cells = sorted(self.cells)
+        goal = self.positions()
+        on = {}
+        off = []
+        for k, (x, y) in enumerate(xy):
+            d = np.hypot(goal[:, 0] - x, goal[:, 1] - y)
+            g = int(np.argmin(d))
+            if d[g] <= tol:
+                on.setdefault(cells[g], []).append(k)
+            else:
+                off.append(k)
+        return xy, on, off
+
+    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck:
+        xy, on, off = self._occupancy(poses, tol)
+        ids = [int(x) for x in ids]
+        doubled = {c: ks for c, ks in on.items() if len(ks) > 1}
+        empty = sorted(self.cells - set(on))
+        if not doubled and not off and not empty:
+            return TargetCheck("held", f"all {len(self.cells)} goal cells of {self.name!r} hold one robot each",
+                               self.cites)
+        if doubled:
+            c, ks = sorted(doubled.items())[0]
+            return TargetCheck("violated", f"goal cell {c} holds robots {[ids[k] for k in ks]}", self.cites,
+                               {"cell": list(c), "robots": [ids[k] for k in ks]})
+        if off:
+            k = off[0]
+            return TargetCheck("violated", f"robot {ids[k]} at ({xy[k, 0]:.4g}, {xy[k, 1]:.4g}) is on no goal "
+                                           f"cell ({len(off)} robot(s) off the shape)", self.cites,
+                               {"robot": ids[k], "off": len(off)})
+        return TargetCheck("violated", f"goal cell {empty[0]} is empty ({len(empty)} empty; "
+                                       f"{len(xy)} robots for {len(self.cells)} cells)", self.cites,
+                           {"cell": list(empty[0]), "empty": len(empty)})
+
+    def progress(self, ids, poses, *, phi: float | None = None) -> float:
+        """The fraction of goal cells occupied."""
+        _, on, _ = self._occupancy(poses, None)
+        return len(on) / len(self.cells)
+
+    def metrics(self, ids, poses, *, phi: float | None = None) -> dict:
+        _, on, off = self._occupancy(poses, None)
+        return {"cells": len(self.cells), "occupied": len(on), "off_shape": len(off)}
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "name": self.name, "cells": [list(c) for c in sorted(self.cells)],
+                "spacing": float(self.spacing), "origin": list(self.origin)}
+
+    @classmethod
+    def from_description(cls, d: Mapping) -> "GoalSet":
+        name = d.get("name")
+        if name in _BUNDLED_SHAPES and "cells" not in d:
+            return _BUNDLED_SHAPES[name]()
+        cells = d.get("cells")
+        if not isinstance(cells, (list, tuple)) or not all(
+                isinstance(c, (list, tuple)) and len(c) == 2 and all(isinstance(v, int) and not isinstance(v, bool)
+                                                                   for v in c) for c in cells):
+            raise UsageError(f"cells={cells!r} must be a list of [i, j] integer pairs", fix="e.g. [[0, 0], [1, 0]]")
+        return cls(str(name or "shape"), frozenset(map(tuple, cells)), d.get("spacing", 1.0),
+                   tuple(d.get("origin", (0.0, 0.0))))
+
+
+#: Small bundled shapes (004 Fig. 10 uses large bitmaps; these keep tests fast).  Spacing
+#: l = 0.20 m (004 Sec. V-B3).
+_BUNDLED_SHAPES = {
+    "square-9": lambda: GoalSet.from_bitmap("square-9", ["###", "###", "###"], spacing=0.2),
+    "letter-l": lambda: GoalSet.from_bitmap("letter-l", ["#..", "#..", "###"], spacing=0.2),
+}
+
+
+# ----------------------------------------------------------------------------
+# registration of the built-in kinds
+# ----------------------------------------------------------------------------
+
+def _lattice_kind() -> None:
+    from . import library
+    from .lattice_io import load_lattice_file
+
+    def from_description(d):
+        doc = d.get("document")
+        if doc is not None:
+            from .lattice_io import loads_lattice
+            import json
+
+            return loads_lattice(json.dumps(doc), "json", source=f"<{d.get('name')}>")
+        name = d.get("name")
+        if name not in library.names():
+            raise UsageError(f"name={name!r} is not a bundled lattice and no document is given",
+                             fix=f"use one of {library.names()!r}")
+        return library.load(name)
+
+    register_target_kind("lattice", from_description=from_description, bundled=library.names,
+                         by_name=library.load, load_file=load_lattice_file)
+
+
+_lattice_kind()
+register_target_kind("lines", from_description=LinePattern.from_description,
+                     bundled=lambda: sorted(_BUNDLED_LINES), by_name=lambda n: _BUNDLED_LINES[n]())
+register_target_kind("shape", from_description=GoalSet.from_description,
+                     bundled=lambda: sorted(_BUNDLED_SHAPES), by_name=lambda n: _BUNDLED_SHAPES[n]())
