@@ -49,18 +49,19 @@ __all__ = ["first_disconnection", "connected_throughout", "tree_links_survive", 
 LEMMA_11 = "001 Lemma 11 (connectivity is preserved)"
 
 
-def components_at(trace, t: int, phi: float) -> list[list[int]]:
-    """Components (as sorted lists of robot IDs) of the communication graph after ``t`` steps."""
+def components_at(trace, t: int, phi: float, inclusive: bool = False) -> list[list[int]]:
+    """Components (as sorted lists of robot IDs) of the communication graph after ``t`` steps
+    (neighbors strictly closer than ``phi``; ``inclusive``: at most ``phi``)."""
     mask = trace.present_at(t)
     idx = np.flatnonzero(mask)
     xy = trace.poses[t][idx, :2]
-    i, j, _ = neighbor_pairs(xy, phi)
+    i, j, _ = neighbor_pairs(xy, phi, inclusive)
     ids = trace.ids[idx]
     comps = [sorted(int(ids[k]) for k in c) for c in components(len(idx), i, j)]
     return sorted(comps, key=lambda c: c[0])
 
 
-def first_disconnection(trace, phi: float):
+def first_disconnection(trace, phi: float, inclusive: bool = False):
     """``(step, components)`` of the first disconnected step, or None if never.
 
     Steps whose poses and presence equal the previous step's are skipped (same
@@ -72,24 +73,28 @@ def first_disconnection(trace, phi: float):
         if prev is not None and np.array_equal(cur[0], prev[0]) and np.array_equal(cur[1], prev[1]):
             continue
         prev = cur
-        comps = components_at(trace, t, phi)
+        comps = components_at(trace, t, phi, inclusive)
         if len(comps) > 1:
             return t, comps
     return None
 
 
-def connected_throughout(trace, phi: float) -> InvariantResult:
+def connected_throughout(trace, phi: float, inclusive: bool | None = None) -> InvariantResult:
     """The communication graph is connected at every step when it was at the start (Lemma 11).
 
-    Returns a vacuous ``held`` (``applicable=False``) when the start is
-    disconnected.
+    Neighbors are strictly closer than ``phi`` unless the run's robot model
+    declares ``neighbor_rule="inclusive"`` (``trace.meta["model"]``) or
+    ``inclusive`` says so.  A disconnected start makes the claim vacuous:
+    ``inconclusive`` (``applicable=False``), never a pass.
     """
-    start = components_at(trace, 0, phi)
+    if inclusive is None:
+        inclusive = (trace.meta.get("model") or {}).get("neighbor_rule") == "inclusive"
+    start = components_at(trace, 0, phi, inclusive)
     if len(start) > 1:
-        return InvariantResult("connectivity", "held", LEMMA_11, None,
+        return InvariantResult("connectivity", "inconclusive", LEMMA_11, None,
                                f"vacuous: the start is disconnected ({len(start)} components)",
                                applicable=False)
-    hit = first_disconnection(trace, phi)
+    hit = first_disconnection(trace, phi, inclusive)
     if hit is None:
         return InvariantResult("connectivity", "held", LEMMA_11, None,
                                f"connected at all {trace.steps + 1} recorded steps")
@@ -169,8 +174,16 @@ def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "pers
                     detail={"links_checked": checked, "unsensed_parents": unsensed,
                             "longest_link_ratio": longest})
     if not any_parent:
-        return InvariantResult("tree_links", "held", LEMMA_11, None,
-                               f"vacuous: no controller state has a {key!r} entry", applicable=False)
+        # vacuous: nothing to check is never a pass (DESIGN.md section 1, "Verdicts")
+        return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
+                               f"vacuous: no controller state has a {key!r} entry (the algorithm keeps no "
+                               "spanning tree)", applicable=False)
+    if checked == 0:
+        return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
+                               f"vacuous: no tree link was between neighbors at the start of a step ({mode} "
+                               f"links; {unsensed} to robots out of range)", applicable=False,
+                               detail={"links_checked": 0, "unsensed_parents": unsensed,
+                                       "longest_link_ratio": longest})
     return InvariantResult("tree_links", "held", LEMMA_11, None,
                            f"{checked} link-steps checked ({mode} links), none broke",
                            detail={"links_checked": checked, "unsensed_parents": unsensed,

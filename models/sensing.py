@@ -64,8 +64,10 @@ def pair_distances(xy: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     return np.hypot(d[:, 0], d[:, 1])
 
 
-def neighbor_pairs(xy, phi: float):
-    """All unordered neighbor pairs ``i < j`` with distance strictly below ``phi``.
+def neighbor_pairs(xy, phi: float, inclusive: bool = False):
+    """All unordered neighbor pairs ``i < j`` with distance strictly below ``phi``
+    (``inclusive``: at most ``phi``, for models that declare ``neighbor_rule="inclusive"``,
+    e.g. 004's ``<= R``).
 
     Parameters
     ----------
@@ -93,7 +95,7 @@ def neighbor_pairs(xy, phi: float):
         # the exact filter below makes the result identical to the tree's.
         iu, ju = _triu(n)
         d = pair_distances(xy, iu, ju)
-        keep = d < phi
+        keep = d <= phi if inclusive else d < phi
         return iu[keep], ju[keep], d[keep]
     pairs = cKDTree(xy).query_pairs(r=float(phi) * _INFLATE, output_type="ndarray")
     if len(pairs) == 0:
@@ -103,7 +105,7 @@ def neighbor_pairs(xy, phi: float):
     order = np.lexsort((pairs[:, 1], pairs[:, 0]))
     pairs = pairs[order]
     d = pair_distances(xy, pairs[:, 0], pairs[:, 1])
-    keep = d < phi
+    keep = d <= phi if inclusive else d < phi
     return pairs[keep, 0], pairs[keep, 1], d[keep]
 
 

@@ -69,6 +69,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping as _MappingABC
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
@@ -150,8 +151,18 @@ class FaultModel:
         Perturb the ``(k, 3)`` body-frame poses a robot senses (return a new array).
     noise_std : (float, float)
         Gaussian noise standard deviations on sensed (x, y) and theta.
+    message_delay : int
+        Each delivery (after loss) arrives 0..``message_delay`` steps late,
+        drawn uniformly per delivery.
+    message_duplication : float
+        Probability that a delivery arrives twice (both copies with the same delay).
+    message_reorder : bool
+        Each robot's deliveries of a step are shuffled (``Observation.inbox``
+        order; ``messages`` keeps the last one per sender).
 
-    Every random draw uses the fault generator, spawned from the run's seed.
+    Every random draw uses the fault generator, spawned from the run's seed,
+    so a run with the same fault model and seed -- a replay -- is bit-identical;
+    late and duplicated deliveries are recorded as ``late_delivery`` events.
     """
 
     schedule: Callable[[int, np.ndarray, np.random.Generator], Any] | None = None
@@ -161,11 +172,18 @@ class FaultModel:
     message_loss: float = 0.0
     sensing_noise: Callable[[int, int, np.ndarray, np.random.Generator], np.ndarray] | None = None
     noise_std: tuple[float, float] = (0.0, 0.0)
+    message_delay: int = 0
+    message_duplication: float = 0.0
+    message_reorder: bool = False
 
     def __post_init__(self) -> None:
-        p = float(self.message_loss)
-        if not 0.0 <= p <= 1.0:
-            raise UsageError(f"message_loss={self.message_loss!r} must be in [0, 1]")
+        for name in ("message_loss", "message_duplication"):
+            p = getattr(self, name)
+            if isinstance(p, bool) or not isinstance(p, (int, float)) or not 0.0 <= float(p) <= 1.0:
+                raise UsageError(f"{name}={p!r} must be a number in [0, 1]")
+        d = self.message_delay
+        if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 0:
+            raise UsageError(f"message_delay={d!r} must be an integer >= 0 (steps)")
         for k, s in enumerate(self.noise_std):
             if not (math.isfinite(float(s)) and float(s) >= 0):
                 raise UsageError(f"noise_std[{k}]={s!r} must be a finite number >= 0")
@@ -173,6 +191,11 @@ class FaultModel:
     @property
     def drops_messages(self) -> bool:
         return self.drop_message is not None or self.message_loss > 0
+
+    @property
+    def late_messages(self) -> bool:
+        """Deliveries may come late, twice or out of order."""
+        return self.message_delay > 0 or self.message_duplication > 0 or bool(self.message_reorder)
 
     @property
     def noisy(self) -> bool:
@@ -191,6 +214,12 @@ class FaultModel:
             out.append("reliable_messages")
         if self.noisy:
             out.append("exact_sensing")
+        if self.message_delay > 0:
+            out.append("timely_messages")
+        if self.message_duplication > 0:
+            out.append("messages_delivered_once")
+        if self.message_reorder:
+            out.append("ordered_messages")
         return out
 
     def describe(self) -> dict:
@@ -207,7 +236,7 @@ class FaultModel:
                 return f.as_dict()
             return {"kind": "callable", "name": getattr(f, "__name__", type(f).__name__)}
 
-        return {
+        out = {
             "schedule": hook(self.schedule),
             "crashes": {str(k): [int(i) for i in v] for k, v in sorted(self.crashes.items())},
             "additions": {str(k): [[int(i), [float(x) for x in p]] for i, p in v]
@@ -217,6 +246,14 @@ class FaultModel:
             "sensing_noise": hook(self.sensing_noise),
             "noise_std": [float(s) for s in self.noise_std],
         }
+        # written only when used, so the files of earlier fault models stay as they were
+        if self.message_delay:
+            out["message_delay"] = int(self.message_delay)
+        if self.message_duplication:
+            out["message_duplication"] = float(self.message_duplication)
+        if self.message_reorder:
+            out["message_reorder"] = True
+        return out
 
     @staticmethod
     def from_dict(d: Mapping) -> "FaultModel":
@@ -255,6 +292,9 @@ class FaultModel:
                 message_loss=float(d.get("message_loss", 0.0)),
                 sensing_noise=hook(d.get("sensing_noise"), "sensing_noise"),
                 noise_std=tuple(float(x) for x in d.get("noise_std", (0.0, 0.0))),
+                message_delay=int(d.get("message_delay", 0)),
+                message_duplication=float(d.get("message_duplication", 0.0)),
+                message_reorder=bool(d.get("message_reorder", False)),
             )
         except (TypeError, ValueError, AttributeError) as exc:
             if isinstance(exc, UsageError):
@@ -412,6 +452,54 @@ def _new_observation(step, robot_id, neighbor_ids, neighbor_poses, messages, own
     d["messages"] = messages
     d["own_pose"] = own_pose
     return obs
+
+
+class _AllBut(_MappingABC):
+    """Read-only view of one step's broadcasts without the receiver's own (``communication="all"``):
+    built once per step and shared, so delivery costs O(n) per step, not O(n^2)."""
+
+    __slots__ = ("_base", "_own")
+
+    def __init__(self, base: dict, own) -> None:
+        self._base, self._own = base, own
+
+    def __getitem__(self, key):
+        if key == self._own:
+            raise KeyError(key)
+        return self._base[key]
+
+    def __iter__(self):
+        own = self._own
+        return (k for k in self._base if k != own)
+
+    def __len__(self) -> int:
+        return len(self._base) - (self._own in self._base)
+
+    def __contains__(self, key) -> bool:
+        return key != self._own and key in self._base
+
+    def __repr__(self) -> str:
+        return repr(dict(self.items()))
+
+
+def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple[dict, tuple]:
+    """The deliveries due at step ``t`` for receiver slot ``k`` (removed from ``pending``):
+    ``(messages by sender ID, ((sender slot, message), ...) in delivery order)``.
+
+    Due deliveries come in (due step, sending order); ``reorder`` shuffles them
+    with the fault generator.  ``messages`` keeps each sender's last delivery.
+    """
+    box = pending.get(k)
+    if not box:
+        return {}, ()
+    due = [e for e in box if e[0] <= t]
+    if not due:
+        return {}, ()
+    pending[k] = [e for e in box if e[0] > t]
+    due.sort(key=lambda e: (e[0], e[1]))
+    if reorder and len(due) > 1:
+        due = [due[i] for i in rng.permutation(len(due)).tolist()]
+    return {e[3]: e[4] for e in due}, tuple((e[2], e[4]) for e in due)
 
 
 def _robot_rng(seed: int, slot: int) -> np.random.Generator:
@@ -613,6 +701,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     repeaters = [getattr(c, "repeat_step", None) for c in controllers]
     repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
                  and not faults.drops_messages and not faults.noisy and faults.schedule is None
+                 and not faults.late_messages
                  and not any_presence_change and all(callable(f) for f in repeaters))
     last_keys = resensed = None
     horizons = [getattr(c, "repeat_horizon", None) for c in controllers]
@@ -631,6 +720,12 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     std_xy, std_th = (float(s) for s in faults.noise_std)
     drops = faults.drops_messages
     noisy = faults.noisy
+    inclusive = model.neighbor_rule == "inclusive"
+    late = faults.late_messages
+    max_delay = int(faults.message_delay)
+    dup_p = float(faults.message_duplication)
+    pending: dict = {}   # receiver slot -> [(due step, seq, sender slot, sender id, message)]
+    seq = 0
     status = "step_cap"
     quiet = 0
     finished = bool(algorithm.finished(tuple(s for s, p in zip(states, present) if p)))
@@ -647,6 +742,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                     present[k] = False
                     controllers[k] = None
                     last_msgs[k] = None
+                    pending.pop(k, None)
                     events.append(Event(t, "crash", (int(rid),)))
         for slot, p in slot_of_add.get(t, ()):
             poses[slot] = p
@@ -681,7 +777,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 rel = _rel_rows(pp[src], pp[dst])
                 order = np.lexsort((rel[:, 1], rel[:, 0], src))
             else:
-                i, j, _ = neighbor_pairs(pp[:, :2], phi)
+                i, j, _ = neighbor_pairs(pp[:, :2], phi, inclusive)
                 src = np.concatenate((i, j))
                 dst = np.concatenate((j, i))
                 order = np.lexsort((pres_ids[dst], src))
@@ -743,6 +839,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         idx_l = idx.tolist()
         pres_ids_l = pres_ids.tolist()
         all_senders = [(ids_list[s], s) for s in idx_l] if comm == "all" else None
+        all_msgs = ({sid: last_msgs[s] for sid, s in all_senders if last_msgs[s] is not None}
+                    if comm == "all" and not (drops or late or anonymous) else None)
+        late_log = [] if late else None
         # every present robot broadcast last step (the usual case): no None to filter
         silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
         get_msg = last_msgs.__getitem__
@@ -783,19 +882,28 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 continue
             k = idx_l[a]
             my_id = pres_ids_l[a]
-            if comm == "none":
+            delivered = None
+            if all_msgs is not None:
+                heard = None
+                msgs = _AllBut(all_msgs, my_id)
+            elif comm == "none":
                 heard = ()
             elif comm == "all":
                 heard = [(sid, s) for sid, s in all_senders if s != k]
-            elif not drops and not silent:
+            elif anonymous:
+                # anonymous robots sense everyone; they hear the ones in range
+                d = np.hypot(nb_rel[a][:, 0], nb_rel[a][:, 1])
+                near = (d <= phi) if inclusive else (d < phi)
+                heard = [(ids_list[s], s) for s, ok in zip(nb_slots[a], near.tolist()) if ok]
+            elif not drops and not silent and not late:
                 heard = None
                 msgs = dict(zip(nb_ids[a], map(get_msg, nb_slots[a])))
             else:
                 heard = zip(nb_ids[a], nb_slots[a])
             if heard is None:
                 pass
-            elif not drops:
-                msgs = {sid: last_msgs[s] for sid, s in heard if last_msgs[s] is not None}
+            elif not drops and not late:
+                msgs = {s if anonymous else sid: last_msgs[s] for sid, s in heard if last_msgs[s] is not None}
             else:
                 msgs = {}
                 for sid, s in heard:
@@ -808,13 +916,40 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                     if faults.message_loss > 0 and fault_rng.random() < faults.message_loss:
                         dropped.append((sid, my_id))
                         continue
-                    msgs[sid] = msg
+                    if late:
+                        delay = int(fault_rng.integers(0, max_delay + 1)) if max_delay else 0
+                        copies = 2 if dup_p > 0 and fault_rng.random() < dup_p else 1
+                        box = pending.setdefault(k, [])
+                        for _ in range(copies):
+                            box.append((t + delay, seq, s, sid, msg))
+                            seq += 1
+                        if delay or copies > 1:
+                            late_log.append((sid, my_id, t + delay, copies))
+                    else:
+                        msgs[s if anonymous else sid] = msg
+            if late:
+                msgs, delivered = _deliver_pending(pending, k, t, faults.message_reorder, fault_rng)
+            if anonymous:
+                # no sender IDs: a message is keyed by the row of neighbor_poses its sender is
+                # sensed at (messages of robots not sensed now are in the inbox only)
+                row = {s: r for r, s in enumerate(nb_slots[a])}
+                if delivered is None:   # msgs is keyed by sender slot here
+                    delivered = tuple((None, m_) for m_ in msgs.values())
+                    msgs = {row[s_]: m_ for s_, m_ in msgs.items() if s_ in row}
+                else:
+                    msgs = {row[s_]: m_ for s_, m_ in delivered if s_ in row}
+                    delivered = tuple((None, m_) for _, m_ in delivered)
+            elif delivered is not None:
+                delivered = tuple((ids_list[s_], m_) for s_, m_ in delivered)
             own = None
             if global_sensing:
                 own = poses[k].copy()
                 own.setflags(write=False)
             obs = _new_observation(t, None if anonymous else my_id,
-                                   None if anonymous else nb_ids[a], nb_rel[a], msgs, own)
+                                   None if anonymous else nb_ids[a],
+                                   nb_rel[a][:, :2] if anonymous else nb_rel[a], msgs, own)
+            if delivered is not None:
+                obs.__dict__["delivered"] = delivered
             cmd = controllers[k].step(obs)
             tu, fw = _command_values(cmd, my_id, t)
             turns_l[a] = tu
@@ -822,6 +957,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             new_msgs[k] = cmd.message
         if dropped:
             events.append(Event(t, "drop", (), (("deliveries", tuple(dropped)),)))
+        if late_log:
+            events.append(Event(t, "late_delivery", (), (("deliveries", tuple(late_log)),)))
 
         # 5. motion (vectorized)
         turns = np.array(turns_l, dtype=float)
@@ -905,7 +1042,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         "broken_assumptions": list(broken),
         "faults": faults.describe(),
         "model": {"sensing": model.sensing, "communication": model.communication,
-                  "motion": model.motion, "clocks": model.clocks},
+                  "motion": model.motion, "clocks": model.clocks,
+                  "neighbor_rule": getattr(model, "neighbor_rule", "strict")},
     }
     trace = Trace(ids=ids, poses=np.stack(pose_hist), states=state_hist, events=events,
                   messages=msg_hist,

@@ -20,7 +20,8 @@ Wang & Rubenstein      ``global``   ``neighbors``   ``grid``             ``async
 =====================  ===========  ==============  ===================  ============
 
 ``local``: IDs and body-frame poses of neighbors within range phi.
-``anonymous``: body-frame poses of all robots, no IDs (``neighbor_ids`` is None).
+``anonymous``: body-frame positions of all robots, no IDs, no headings
+(``neighbor_ids`` is None; messages carry no sender IDs).
 ``global``: additionally ``own_pose`` in the common frame.
 
 Motion (``differential``, 000 Sec. III-A-3 and 001 Sec. III-A): a command is
@@ -94,6 +95,21 @@ class RobotModel:
     communication: str = "neighbors"  # "neighbors" | "all" | "none"
     motion: str = "differential"    # "differential" | "holonomic" | "grid"
     clocks: str = "sync"            # "sync" | "async"
+    #: Who is a neighbor: ``"strict"`` (closer than phi, 000/001 Sec. III) or ``"inclusive"``
+    #: (at most phi, e.g. 004's ``<= R``); sensing, messages and the connectivity property use it.
+    neighbor_rule: str = "strict"
+
+    CHOICES = {"sensing": ("local", "anonymous", "global"), "communication": ("neighbors", "all", "none"),
+               "motion": ("differential", "holonomic", "grid"), "clocks": ("sync", "async"),
+               "neighbor_rule": ("strict", "inclusive")}
+
+    def __post_init__(self) -> None:
+        from swarmproof.models.errors import UsageError
+
+        for name, allowed in self.CHOICES.items():
+            value = getattr(self, name)
+            if value not in allowed:
+                raise UsageError(f"RobotModel {name}={value!r} is not one of {list(allowed)!r}")
 
 
 @dataclass(frozen=True)
@@ -141,14 +157,23 @@ class Observation:
     neighbor_ids : tuple of int, or None
         IDs of the sensed robots (None when the model is anonymous), in
         increasing ID order.
-    neighbor_poses : numpy.ndarray, shape (k, 3)
+    neighbor_poses : numpy.ndarray, shape (k, 3), or (k, 2) when anonymous
         Their poses ``[x, y, theta]`` in this robot's body frame, row i for
-        ``neighbor_ids[i]``.  Read-only.
+        ``neighbor_ids[i]``.  Anonymous robots sense positions only
+        (``[x, y]``, no headings: 003 Sec. 2), ordered by ``(x, y)``.  Read-only.
     messages : mapping
         ID -> message that robot broadcast in the previous step, for the
-        robots this one can hear now (only those that sent one).
+        robots this one can hear now (only those that sent one).  Anonymous
+        robots: row of ``neighbor_poses`` -> message of the robot sensed
+        there (no sender IDs).
     own_pose : numpy.ndarray or None
         ``[x, y, theta]`` in the common frame, only when ``sensing="global"``.
+    inbox : tuple of (sender, message)
+        Every delivery of this step in delivery order (a property): with
+        delayed, duplicated or reordered messages (fault models) it holds
+        what ``messages`` cannot (two messages of one sender, an old one
+        after a new one).  ``sender`` is the ID, or None for anonymous robots.
+        Without such faults it is ``messages``' items.
     """
 
     step: int
@@ -157,6 +182,15 @@ class Observation:
     neighbor_poses: np.ndarray
     messages: Mapping[int, Any]
     own_pose: np.ndarray | None = None
+    delivered: tuple | None = field(default=None, repr=False)
+
+    @property
+    def inbox(self) -> tuple:
+        if self.delivered is not None:
+            return self.delivered
+        if self.robot_id is None and self.neighbor_ids is None:
+            return tuple((None, m) for m in self.messages.values())
+        return tuple(self.messages.items())
 
 
 @dataclass(frozen=True)

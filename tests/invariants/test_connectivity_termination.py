@@ -29,9 +29,9 @@ def test_connected_throughout_held_and_violated():
     assert r.violated and r.witness == {"step": 1, "components": [[10, 11], [12]]}
 
 
-def test_disconnected_start_is_vacuous_not_a_violation():
+def test_disconnected_start_is_vacuous_inconclusive_neither_a_pass_nor_a_violation():
     r = connected_throughout(line_trace([[0, 5.0]]), 1.0)
-    assert r.held and not r.applicable and "vacuous" in r.message
+    assert r.status == "inconclusive" and not r.applicable and "vacuous" in r.message
 
 
 def test_exactly_at_range_is_disconnected():
@@ -86,3 +86,14 @@ def test_tree_link_modes_differ_on_a_one_step_parent_switch():
     assert tree_links_survive(t, 1.0).held                             # persistent: only 11 -> 10
     with pytest.raises(ValueError, match="mode='sometimes'"):
         tree_links_survive(t, 1.0, mode="sometimes")
+
+
+def test_tree_links_without_a_tree_or_without_a_checked_link_are_inconclusive():
+    from swarmproof.invariants.connectivity import tree_links_survive
+
+    none = tree_links_survive(line_trace([[0, 0.5], [0, 0.6]]), 1.0)
+    assert none.status == "inconclusive" and "keeps no spanning tree" in none.message
+    far = tree_links_survive(line_trace([[0, 3.0], [0, 3.1]], parents=[None, 10]), 1.0)
+    assert far.status == "inconclusive" and "no tree link was between neighbors" in far.message
+    kept = tree_links_survive(line_trace([[0, 0.5], [0, 0.6]], parents=[None, 10]), 1.0)
+    assert kept.held and kept.detail["links_checked"] == 1
