@@ -683,6 +683,8 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         raise UsageError(f"robots={robots!r} must satisfy 1 <= MIN <= MAX", fix="e.g. robots=(3, 8)")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise UsageError(f"seed={seed!r} must be an integer >= 0")
+    if lattices is None:
+        lattices = getattr(spec.factory, "explore_targets", None)   # an algorithm's own default targets
     lats, loaded = _load_targets(lattices)
     return spec, props, float(budget), (lo, hi), lats, loaded
 
@@ -937,7 +939,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             cx = failures[-1]  # Hypothesis only accepts smaller failing examples: the last is the smallest
             v.status = "violated"
             v.counterexample = cx
-            v.message = f"{len(cx.robots)} robots on {cx.lattice}: {cx.violation['message']}"
+            where = cx.lattice if cx.target is None else (cx.lattice or f"{cx.target['kind']}:{cx.target['name']}")
+            v.message = f"{len(cx.robots)} robots on {where}: {cx.violation['message']}"
             if out_dir is not None:
                 os.makedirs(out_dir, exist_ok=True)
                 v.counterexample_path = cx.save(os.path.join(os.fspath(out_dir),

@@ -204,14 +204,14 @@ def _run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
 def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
     """Each reference implementation on each lattice: its claims, run by run (001, 000)."""
     from swarmproof.checkers.runs import run_and_check
-    from swarmproof.models import library
+    from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl.registry import claims_of, verify_plans
 
     rows = []
     for algo, plan in verify_plans():
         claims = claims_of(algo)
         for lname in plan.targets:
-            lattice = library.load(lname)
+            lattice = resolve_target(lname)
             per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in RUN_PROPERTIES}
             for seed in plan.seeds:
                 if progress:

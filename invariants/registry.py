@@ -238,8 +238,12 @@ def progress_values(trace, measure) -> list:
 
 
 def _satisfaction(ctx: PropertyContext):
+    """The target's verdict on the final configuration (a lattice: 001 Def. 2, as before)."""
     from swarmproof.models.satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL, satisfies_lattice
 
+    if getattr(ctx.target, "kind", "lattice") != "lattice":
+        return ctx.target.satisfied(ctx.result.final_ids, ctx.result.final_poses, phi=ctx.phi,
+                                    tol=getattr(ctx.algorithm, "satisfaction_tol", None))
     pos_tol, ang_tol = getattr(ctx.algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
     return satisfies_lattice(ctx.result.final_ids, ctx.result.final_poses, ctx.target, ctx.phi,
                              pos_tol=pos_tol, ang_tol=ang_tol)

@@ -326,11 +326,14 @@ class LinePattern:
     'violated'
     >>> p.describe()
     {'kind': 'lines', 'name': 'line', 'shape': 'line', 'interval': 1.0}
+    >>> LinePattern("line", range=1.5).describe()["range"]
+    1.5
     """
 
     name: str
     shape: str = "line"
     interval: float = 1.0
+    range: float | None = None   # a recommended range phi for runs toward it (as a lattice file's)
     kind: str = "lines"
     cites: str = "003 Sec. 3 (uni-line type, uniform interval d_u)"
 
@@ -342,6 +345,9 @@ class LinePattern:
         if isinstance(self.interval, bool) or not (isinstance(self.interval, (int, float))
                                                    and math.isfinite(self.interval) and self.interval > 0):
             raise UsageError(f"interval={self.interval!r} must be a finite number > 0")
+        if self.range is not None and (isinstance(self.range, bool) or not isinstance(self.range, (int, float))
+                                       or not math.isfinite(self.range) or self.range <= 0):
+            raise UsageError(f"range={self.range!r} must be a finite number > 0 or null")
 
     def points(self, n: int) -> np.ndarray:
         """The pattern's ``n`` target points in its own frame."""
@@ -377,15 +383,20 @@ class LinePattern:
         return {"max_slot_error": err if math.isfinite(err) else None}
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "name": self.name, "shape": self.shape, "interval": float(self.interval)}
+        d = {"kind": self.kind, "name": self.name, "shape": self.shape, "interval": float(self.interval)}
+        if self.range is not None:
+            d["range"] = float(self.range)
+        return d
 
     @classmethod
     def from_description(cls, d: Mapping) -> "LinePattern":
         return cls(str(d.get("name") or d.get("shape") or "line"), shape=d.get("shape", "line"),
-                   interval=d.get("interval", 1.0))
+                   interval=d.get("interval", 1.0), range=d.get("range"))
 
 
-_BUNDLED_LINES = {"line": lambda: LinePattern("line", "line", 1.0)}
+#: ``line``: interval 1, recommended range 1.5 (a finished line is connected, next-but-one
+#: robots are not neighbors).
+_BUNDLED_LINES = {"line": lambda: LinePattern("line", "line", 1.0, 1.5)}
 
 
 # ----------------------------------------------------------------------------

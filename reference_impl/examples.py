@@ -1,4 +1,11 @@
-"""A tiny example algorithm that shows the protocol end to end: "gather to the lowest ID".
+"""Small example algorithms that show the protocol end to end (not from a paper).
+
+* :class:`GatherToLowestId` ("example-gather"): local sensing with IDs, messages.
+* :class:`AnonymousLine` ("example-anonymous-line"): anonymous robots (positions
+  only, no IDs, no messages, holonomic) form a line pattern -- a new algorithm
+  of another kind is one module (issue 12).
+
+"Gather to the lowest ID":
 
 It is not from a paper; docs/engine.md walks through it.  Every robot looks
 at the neighbors it senses (IDs and body-frame poses, nothing global).  If
@@ -28,9 +35,10 @@ from __future__ import annotations
 
 import math
 
-from .protocol import Assumption, Command, Observation, Params, RobotModel, connected_start, steer_toward
+from .protocol import (Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start,
+                       steer_toward)
 
-__all__ = ["GatherToLowestId", "GatherController"]
+__all__ = ["GatherToLowestId", "GatherController", "AnonymousLine", "AnonymousLineController"]
 
 
 def _v_dt_below_range(params: Params, n: int, ids) -> str | None:
@@ -90,3 +98,105 @@ class GatherToLowestId:
 
     def finished(self, states) -> bool:
         return all(dict(s)["done"] for s in states if s is not None)
+
+
+# ----------------------------------------------------------------------------
+# anonymous robots forming a line (positions only)
+# ----------------------------------------------------------------------------
+
+def _principal_axis(points):
+    """Unit vector of the points' principal axis, its sign fixed by the third moment of the
+    projections (frame-invariant); None when the moment is ~0 (a symmetric spread)."""
+    import numpy as np
+
+    c = points.mean(axis=0)
+    q = points - c
+    _, _, vt = np.linalg.svd(q, full_matrices=False)
+    u = vt[0]
+    skew = float(((q @ u) ** 3).sum())
+    scale = float((np.abs(q @ u) ** 3).sum()) or 1.0
+    if abs(skew) <= 1e-9 * scale:
+        return c, u, False
+    return c, (u if skew > 0 else -u), True
+
+
+class AnonymousLineController:
+    """One anonymous robot of :class:`AnonymousLine`: memoryless, positions only."""
+
+    def __init__(self, params: Params, interval: float) -> None:
+        self.params = params
+        self.interval = float(interval)
+        self.arrived = False
+        self.agreed = True
+
+    def step(self, obs: Observation) -> Command:
+        import numpy as np
+
+        others = np.asarray(obs.neighbor_poses, dtype=float).reshape(-1, 2)
+        pts = np.vstack(([0.0, 0.0], others))            # row 0: this robot, at its own origin
+        n = len(pts)
+        if n == 1:
+            self.arrived = True
+            return Command()
+        c, u, self.agreed = _principal_axis(pts)
+        if not self.agreed:                              # no frame-invariant direction: a tie
+            u = u if u[0] > 0 or (u[0] == 0 and u[1] > 0) else -u   # this robot's own guess
+        w = np.array([-u[1], u[0]])
+        proj = (pts - c) @ u
+        perp = (pts - c) @ w
+        order = np.lexsort((perp, proj))                 # along the axis, ties across it
+        rank = int(np.flatnonzero(order == 0)[0])
+        slot = c + (rank - (n - 1) / 2.0) * self.interval * u
+        dist = float(np.hypot(*slot))
+        self.arrived = dist <= 1e-9 * self.interval
+        if self.arrived:
+            return Command()
+        return steer_toward((float(slot[0]), float(slot[1])), self.params)
+
+    def state(self):
+        return (("arrived", self.arrived), ("agreed", self.agreed))
+
+
+class AnonymousLine:
+    """Anonymous robots form a line at a uniform interval (registry name ``"example-anonymous-line"``).
+
+    The kind of 003 (Lee & Chong): no IDs, positions only, no messages,
+    holonomic motion; the target is a line pattern (``lines`` kind, 003
+    Sec. 3's uni-line type with interval d_u).  Every robot sees every other
+    robot's body-frame position; it computes the centroid and the principal
+    axis of all positions (its sign fixed by the projections' third moment,
+    which every robot computes alike in its own frame), ranks the robots
+    along the axis and steers to its slot ``centroid + (rank - (n-1)/2) d_u
+    axis``.  Not from a paper: where the spread is symmetric the sign has no
+    frame-invariant choice, each robot guesses in its own frame, and robots
+    may disagree -- the explorer's business (``state()["agreed"]``).
+
+    >>> from swarmproof.reference_impl.engine import simulate
+    >>> from swarmproof.models.targets import resolve_target
+    >>> from swarmproof.models.trace import InitialConfiguration
+    >>> line = resolve_target("lines:line")
+    >>> init = InitialConfiguration([5, 9, 2], [[0, 0, 0.3], [0.9, 0.4, 2.0], [0.2, 1.1, -1.0]])
+    >>> r = simulate(AnonymousLine(), line, init, Params(range=1.5, v=0.1, omega=3.2), seed=0)
+    >>> r.status, line.satisfied(r.final_ids, r.final_poses).status
+    ('finished', 'held')
+    """
+
+    name = "example-anonymous-line"
+    model = RobotModel(sensing="anonymous", communication="none", motion="holonomic", clocks="sync")
+    assumptions = (
+        Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
+        connected_start("example (cf. 003 Sec. 2: robots start within sensing range)"),
+    )
+    #: The explorer draws its scenarios toward the bundled line (003's uni-line type).
+    explore_targets = ("lines:line",)
+    #: Nothing is claimed: it is an example (a violation is a finding, not a failed claim).
+    claims: dict = {}
+    #: ``swarmproof verify`` shows it beside the papers' algorithms (its rows are findings).
+    verify = VerifyPlan(targets=("lines:line",), robots=6, seeds=(0, 1, 2), explore=True, rank=50)
+
+    def controller(self, robot_id, params: Params, target, rng) -> AnonymousLineController:
+        interval = params.extra.get("interval", getattr(target, "interval", None) or 1.0)
+        return AnonymousLineController(params, float(interval))
+
+    def finished(self, states) -> bool:
+        return all(dict(s)["arrived"] for s in states if s is not None)
