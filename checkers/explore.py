@@ -506,7 +506,8 @@ def place_robot(pts: Sequence[tuple], parent: int, dist: float, ang: float, min_
 
 
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
-                      fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None):
+                      fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None,
+                      grid_spacing: float | None = None):
     """A Hypothesis strategy of connected :class:`Scenario` objects.
 
     Robot 0 of the construction sits at the origin with a drawn heading;
@@ -525,6 +526,9 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
     with every drawn link just short of the range.
     ``speeds``: when given, each scenario also draws its ``v`` from them
     (``sampled_from``: shrinking goes toward the first).
+    ``grid_spacing``: for ``motion="grid"`` algorithms, robots stand on distinct
+    cells; each further robot is ``(parent, dx, dy)``, a cell offset within
+    the range of an earlier robot (the start is connected), heading 0.
     """
     from hypothesis import assume
     from hypothesis import strategies as st
@@ -542,6 +546,23 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
         # draws, tried first and shrunk toward, are the most stretched links
         longest = MAX_LINK_FRACTION * phi
         dist = st.floats(0.0, longest - min_sep).map(lambda slack: longest - slack)
+        if grid_spacing is not None:
+            reach = max(1, int(math.floor(MAX_LINK_FRACTION * phi / grid_spacing)))
+            offs = st.integers(-reach, reach)
+            cells_drawn = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), offs, offs),
+                                        min_size=lo - 1, max_size=hi - 1))
+            cells = [(0, 0)]
+            for k, (parent, dx, dy) in enumerate(cells_drawn, start=1):
+                assume((dx, dy) != (0, 0) and math.hypot(dx, dy) * grid_spacing <= MAX_LINK_FRACTION * phi)
+                c = (cells[parent % k][0] + dx, cells[parent % k][1] + dy)
+                assume(c not in cells)
+                cells.append(c)
+            n = len(cells)
+            perm = draw(st.permutations(list(range(n))))
+            seed = draw(st.integers(0, 1000))
+            poses = tuple((cx * grid_spacing, cy * grid_spacing, 0.0) for cx, cy in cells)
+            faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
+            return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
         placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), dist, angle, angle),
                                    min_size=lo - 1, max_size=hi - 1))
         pts = [(0.0, 0.0)]
@@ -857,7 +878,11 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                            claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref,
                            premise_lemmas=lemmas, speeds=speeds)
     share = budget / len(props)
-    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds)
+    grid_spacing = None
+    if getattr(getattr(spec.factory, "model", None), "motion", None) == "grid":
+        first = build_params(algo, phi_of[lats[0]], rng_robots[1], extra=params.get("extra"))
+        grid_spacing = float((first.extra or {}).get("grid_spacing", 1.0))
+    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing)
 
     for prop in props:
         t0, c0 = time.monotonic(), time.process_time()

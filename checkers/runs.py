@@ -130,9 +130,16 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                              fix="e.g. --robots 10")
         if robots < 1:
             raise UsageError(f"robots={robots!r} must be >= 1")
-        initial = initial_mod.random_connected(robots, seed, range=phi, min_separation=min_separation)
-    algorithm = get_algorithm(algorithm_name, n_robots=initial.n)
-    params = build_params(algorithm, phi, initial.n, v=v, omega=omega, dt=dt, extra=extra)
+        initial = None
+    algorithm = get_algorithm(algorithm_name, n_robots=initial.n if initial is not None else robots)
+    n = initial.n if initial is not None else robots
+    params = build_params(algorithm, phi, n, v=v, omega=omega, dt=dt, extra=extra)
+    if initial is None:
+        if getattr(algorithm.model, "motion", None) == "grid":
+            initial = initial_mod.random_grid_connected(robots, seed, range=phi,
+                                                        spacing=float(params.extra.get("grid_spacing", 1.0)))
+        else:
+            initial = initial_mod.random_connected(robots, seed, range=phi, min_separation=min_separation)
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, progress=progress)
     trace = result.trace

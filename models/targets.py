@@ -426,6 +426,7 @@ class GoalSet:
     cells: frozenset
     spacing: float = 1.0
     origin: tuple = (0.0, 0.0)
+    range: float | None = None   # a recommended range for runs toward it (004 Sec. V-A: R = 0.6 m)
     kind: str = "shape"
     cites: str = "004 Sec. III (goal set on grid waypoints; shape complete)"
 
@@ -439,7 +440,8 @@ class GoalSet:
         object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
 
     @classmethod
-    def from_bitmap(cls, name: str, rows, spacing: float = 1.0, origin=(0.0, 0.0)) -> "GoalSet":
+    def from_bitmap(cls, name: str, rows, spacing: float = 1.0, origin=(0.0, 0.0),
+                    range: float | None = None) -> "GoalSet":
         rows = list(rows)
         cells = []
         for r, line in enumerate(rows):
@@ -448,7 +450,7 @@ class GoalSet:
                     cells.append((c, len(rows) - 1 - r))
                 elif ch != ".":
                     raise UsageError(f"bitmap row {r} column {c}: {ch!r} is neither '#' (goal) nor '.' (free)")
-        return cls(name, frozenset(cells), spacing, origin)
+        return cls(name, frozenset(cells), spacing, origin, range)
 
     def positions(self) -> np.ndarray:
         """Goal cell positions, sorted by cell."""
@@ -503,8 +505,11 @@ class GoalSet:
         return {"cells": len(self.cells), "occupied": len(on), "off_shape": len(off)}
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "name": self.name, "cells": [list(c) for c in sorted(self.cells)],
-                "spacing": float(self.spacing), "origin": list(self.origin)}
+        d = {"kind": self.kind, "name": self.name, "cells": [list(c) for c in sorted(self.cells)],
+             "spacing": float(self.spacing), "origin": list(self.origin)}
+        if self.range is not None:
+            d["range"] = float(self.range)
+        return d
 
     @classmethod
     def from_description(cls, d: Mapping) -> "GoalSet":
@@ -517,14 +522,14 @@ class GoalSet:
                                                                    for v in c) for c in cells):
             raise UsageError(f"cells={cells!r} must be a list of [i, j] integer pairs", fix="e.g. [[0, 0], [1, 0]]")
         return cls(str(name or "shape"), frozenset(map(tuple, cells)), d.get("spacing", 1.0),
-                   tuple(d.get("origin", (0.0, 0.0))))
+                   tuple(d.get("origin", (0.0, 0.0))), d.get("range"))
 
 
 #: Small bundled shapes (004 Fig. 10 uses large bitmaps; these keep tests fast).  Spacing
-#: l = 0.20 m (004 Sec. V-B3).
+#: l = 0.20 m (004 Sec. V-B3), range R = 0.6 m (004 Sec. V-A).
 _BUNDLED_SHAPES = {
-    "square-9": lambda: GoalSet.from_bitmap("square-9", ["###", "###", "###"], spacing=0.2),
-    "letter-l": lambda: GoalSet.from_bitmap("letter-l", ["#..", "#..", "###"], spacing=0.2),
+    "square-9": lambda: GoalSet.from_bitmap("square-9", ["###", "###", "###"], spacing=0.2, range=0.6),
+    "letter-l": lambda: GoalSet.from_bitmap("letter-l", ["#..", "#..", "###"], spacing=0.2, range=0.6),
 }
 
 

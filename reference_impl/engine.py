@@ -502,6 +502,117 @@ def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple
     return {e[3]: e[4] for e in due}, tuple((e[2], e[4]) for e in due)
 
 
+def _extra_number(params: Params, key: str, default: float, *, positive: bool = True) -> float:
+    val = params.extra.get(key, default) if params.extra else default
+    if isinstance(val, bool) or not isinstance(val, (int, float)) or not math.isfinite(val) \
+            or (positive and val <= 0):
+        raise UsageError(f"params.extra[{key!r}]={val!r} must be a finite number > 0")
+    return float(val)
+
+
+def _grid_spacing(params: Params) -> float:
+    """``motion="grid"``: the cell spacing, ``params.extra["grid_spacing"]`` (default 1)."""
+    return _extra_number(params, "grid_spacing", 1.0)
+
+
+def _snap_cells(poses: np.ndarray, spacing: float, ids, where: str) -> np.ndarray:
+    """Integer cells of positions that lie on the grid (within 1e-9 of a spacing); else a usage error."""
+    cells = np.rint(poses[:, :2] / spacing).astype(np.int64)
+    off = np.abs(poses[:, :2] - cells * spacing).max(axis=1) if len(poses) else np.zeros(0)
+    bad = np.flatnonzero(off > 1e-9 * spacing)
+    if len(bad):
+        k = int(bad[0])
+        raise UsageError(f"{where}: robot {ids[k]!r} at ({poses[k, 0]:.6g}, {poses[k, 1]:.6g}) is not on a "
+                         f"grid cell (grid_spacing={spacing:g})",
+                         fix="start grid robots on cells: integer multiples of the spacing")
+    return cells
+
+
+def _check_free_cells(cells: np.ndarray, ids) -> None:
+    seen: dict = {}
+    for k, c in enumerate(map(tuple, cells.tolist())):
+        if c in seen:
+            raise UsageError(f"robots {ids[seen[c]]!r} and {ids[k]!r} start on one cell {c}",
+                             fix="give every grid robot its own cell")
+        seen[c] = k
+
+
+_GRID_MOVES = ((1, 0), (-1, 0), (0, 1), (0, -1))
+
+
+def _grid_move(cmd: Any, robot_id, step: int):
+    """The move of a grid robot's command: None (wait) or a unit step; a malformed one is a ProtocolError."""
+    if not isinstance(cmd, Command):
+        raise ProtocolError(f"controller of robot {robot_id!r} returned {cmd!r} at step {step}, "
+                            "expected a Command")
+    if cmd.turn or cmd.forward:
+        raise ProtocolError(f"robot {robot_id!r} step {step}: grid motion takes Command(move=(dx, dy)), "
+                            f"not turn={cmd.turn!r}, forward={cmd.forward!r}")
+    mv = cmd.move
+    if mv is None:
+        return None
+    try:
+        mv = (int(mv[0]), int(mv[1])) if len(mv) == 2 and all(float(x).is_integer() for x in mv) else None
+    except (TypeError, ValueError):
+        mv = None
+    if mv not in _GRID_MOVES:
+        raise ProtocolError(f"robot {robot_id!r} step {step}: Command move={cmd.move!r} must be None or one of "
+                            f"{list(_GRID_MOVES)!r}")
+    return mv
+
+
+def _grid_motion(poses, cells, edge, frac, idx, moves, grid_step, spacing, pres_ids, t, events) -> bool:
+    """One step of grid motion for the present robots ``idx``; returns whether no pose changed.
+
+    A robot at a cell that was given a move starts crossing that edge; a robot on an edge
+    advances ``v dt / spacing`` of it and stops at the far cell when it gets there (it does
+    not start the next edge in the same step, so within a step every robot moves along one
+    straight segment: the collision property's exact minimum distance holds).  A position
+    on an edge is ``(cell + frac * edge) * spacing``; at a cell it is exactly ``cell * spacing``.
+    """
+    changed = False
+    started = []
+    for a, k in enumerate(idx.tolist()):
+        mv = moves[a] if a < len(moves) else None
+        if mv is not None and not edge[k].any():
+            edge[k] = mv
+            frac[k] = 0.0
+            started.append(int(pres_ids[a]))
+        if not edge[k].any():
+            continue
+        f = frac[k] + grid_step
+        if f >= 1.0:
+            cells[k] += edge[k]
+            edge[k] = 0
+            frac[k] = 0.0
+            poses[k, 0], poses[k, 1] = cells[k, 0] * spacing, cells[k, 1] * spacing
+        else:
+            frac[k] = f
+            poses[k, 0] = (cells[k, 0] + f * edge[k, 0]) * spacing
+            poses[k, 1] = (cells[k, 1] + f * edge[k, 1]) * spacing
+        changed = True
+    if started:
+        events.append(Event(t, "edge", tuple(started)))
+    return not changed
+
+
+def _draw_clocks(params: Params, n: int, seed: int):
+    """``clocks="async"``: per-robot phase in [0, 1) and rate in ``[clock_rate_min,
+    clock_rate_max]`` (``params.extra``, default 1 each), drawn from the run's seed (a
+    generator of their own, so the robots' and the faults' draws are untouched), and the
+    broadcast interval ``broadcast_every`` (local time units, default 1)."""
+    lo = _extra_number(params, "clock_rate_min", 1.0)
+    hi = _extra_number(params, "clock_rate_max", lo)
+    if hi < lo:
+        raise UsageError(f"params.extra clock_rate_max={hi!r} < clock_rate_min={lo!r}",
+                         fix="give clock_rate_min <= clock_rate_max")
+    every = _extra_number(params, "broadcast_every", 1.0)
+    crng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2,)))
+    phase = crng.uniform(0.0, 1.0, n)
+    rate = crng.uniform(lo, hi, n) if hi > lo else np.full(n, lo)
+    return phase, rate, every
+
+
 def _robot_rng(seed: int, slot: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
 
@@ -654,6 +765,22 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         slot_of_add.setdefault(step_k, []).append((n0 + k, p))
     any_presence_change = bool(add_rows) or any(faults.crashes.values())
 
+    grid = model.motion == "grid"
+    if grid:
+        spacing = _grid_spacing(params)
+        cells = np.zeros((n_total, 2), dtype=np.int64)
+        cells[:n0] = _snap_cells(poses[:n0], spacing, ids_list[:n0], "initial")
+        _check_free_cells(cells[:n0], ids_list[:n0])
+        poses[:n0, :2] = cells[:n0] * spacing
+        poses[:, 2] = 0.0
+        edge = np.zeros((n_total, 2), dtype=np.int64)   # the edge a robot is crossing (0, 0: at a cell)
+        frac = np.zeros(n_total)                         # how far along it, in [0, 1)
+        grid_step = params.v * params.dt / spacing
+    async_clocks = model.clocks == "async"
+    if async_clocks:
+        clock_phase, clock_rate, bcast_every = _draw_clocks(params, n_total, seed)
+        outbox: list = [None] * n_total
+        last_outbox: list = [None] * n_total
     fault_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
     controllers: list = [None] * n_total
     for k in range(n0):
@@ -701,7 +828,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     repeaters = [getattr(c, "repeat_step", None) for c in controllers]
     repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
                  and not faults.drops_messages and not faults.noisy and faults.schedule is None
-                 and not faults.late_messages
+                 and not faults.late_messages and not grid and not async_clocks
                  and not any_presence_change and all(callable(f) for f in repeaters))
     last_keys = resensed = None
     horizons = [getattr(c, "repeat_horizon", None) for c in controllers]
@@ -747,6 +874,10 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         for slot, p in slot_of_add.get(t, ()):
             poses[slot] = p
             poses[slot, 2] = wrap_angle(p[2])
+            if grid:
+                cells[slot] = _snap_cells(poses[slot:slot + 1], spacing, [ids_list[slot]], f"additions[{t}]")[0]
+                poses[slot, :2] = cells[slot] * spacing
+                poses[slot, 2] = 0.0
             present[slot] = True
             controllers[slot] = algorithm.controller(None if anonymous else ids_list[slot], params,
                                                      lattice, _robot_rng(seed, slot))
@@ -760,6 +891,13 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 raise UsageError(f"faults.schedule returned shape={act.shape!r}, expected ({m},)")
         else:
             act = np.ones(m, dtype=bool)
+        if async_clocks:
+            # a robot decides in step t when its local clock passes an integer during the step,
+            # and broadcasts its last decided message when the clock passes a broadcast instant
+            tau0 = clock_phase[idx] + clock_rate[idx] * t
+            tau1 = tau0 + clock_rate[idx]
+            act &= np.floor(tau1) > np.floor(tau0)
+            bcast = np.floor((tau1 + 0.5) / bcast_every) > np.floor((tau0 + 0.5) / bcast_every)
 
         # 2. sensing (vectorized).  Sensing is a pure function of the present robots'
         #    poses, so when none of them changed since the last sensing (bit for bit) the
@@ -874,6 +1012,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         else:
             turns_l = [0.0] * m
             fwds_l = [0.0] * m
+            moves_l = [None] * m
             new_msgs = [None] * n_total
             stepped = None
         # the general path: any model, fault hooks (empty when repeat_ok)
@@ -950,32 +1089,51 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                                    nb_rel[a][:, :2] if anonymous else nb_rel[a], msgs, own)
             if delivered is not None:
                 obs.__dict__["delivered"] = delivered
+            if async_clocks:
+                obs.__dict__["clock"] = float(tau0[a])
             cmd = controllers[k].step(obs)
-            tu, fw = _command_values(cmd, my_id, t)
-            turns_l[a] = tu
-            fwds_l[a] = fw
-            new_msgs[k] = cmd.message
+            if grid:
+                moves_l[a] = _grid_move(cmd, my_id, t)
+            else:
+                tu, fw = _command_values(cmd, my_id, t)
+                turns_l[a] = tu
+                fwds_l[a] = fw
+            if async_clocks:
+                outbox[k] = cmd.message
+            else:
+                new_msgs[k] = cmd.message
         if dropped:
             events.append(Event(t, "drop", (), (("deliveries", tuple(dropped)),)))
         if late_log:
             events.append(Event(t, "late_delivery", (), (("deliveries", tuple(late_log)),)))
+        if async_clocks:
+            for a, k in enumerate(idx_l):
+                if bcast[a]:
+                    new_msgs[k] = outbox[k]
 
-        # 5. motion (vectorized)
+        # 5. motion
+        if grid:
+            same_poses = _grid_motion(poses, cells, edge, frac, idx, moves_l, grid_step, spacing,
+                                      pres_ids, t, events)
+            turns_l = fwds_l = ()
         turns = np.array(turns_l, dtype=float)
         fwds = np.array(fwds_l, dtype=float)
-        if differential:
+        if grid:
+            moving = np.zeros(0, dtype=bool)
+        elif differential:
             tc = np.clip(turns, -max_turn, max_turn)
             limit = np.maximum(params.v * (params.dt - np.abs(tc) / params.omega), 0.0)
-        else:  # holonomic / grid: free turn, drive at most v*dt
+        else:  # holonomic: free turn, drive at most v*dt
             tc = turns
             limit = np.full(m, params.v * params.dt)
-        fc = np.minimum(fwds, limit)
-        if record_clamps:
-            clamped = (tc != turns) | (fc != fwds)
-            if clamped.any():
-                events.append(Event(t, "clamp", tuple(pres_ids[clamped].tolist())))
-        moving = (tc != 0) | (fc != 0)
-        same_poses = True
+        if not grid:
+            fc = np.minimum(fwds, limit)
+            if record_clamps:
+                clamped = (tc != turns) | (fc != fwds)
+                if clamped.any():
+                    events.append(Event(t, "clamp", tuple(pres_ids[clamped].tolist())))
+            moving = (tc != 0) | (fc != 0)
+            same_poses = True
         if moving.any():
             old = poses.copy()
             mv = idx[moving]
@@ -1004,7 +1162,12 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         state_hist.append(new_states)
         if msg_hist is not None:
             msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
-        quiet_step = not changed and same_poses and new_msgs == last_msgs
+        if async_clocks:
+            # broadcasts come and go with the clocks; what a robot would say is its outbox
+            quiet_step = not changed and same_poses and outbox == last_outbox
+            last_outbox = list(outbox)
+        else:
+            quiet_step = not changed and same_poses and new_msgs == last_msgs
         heard_msgs = last_msgs
         idx_l_prev = idx_l
         last_msgs = new_msgs
@@ -1041,6 +1204,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         "static_window": window,
         "broken_assumptions": list(broken),
         "faults": faults.describe(),
+        **({"clocks": {"phase": [float(x) for x in clock_phase], "rate": [float(x) for x in clock_rate],
+                       "broadcast_every": bcast_every}} if async_clocks else {}),
+        **({"grid_spacing": spacing} if grid else {}),
         "model": {"sensing": model.sensing, "communication": model.communication,
                   "motion": model.motion, "clocks": model.clocks,
                   "neighbor_rule": getattr(model, "neighbor_rule", "strict")},

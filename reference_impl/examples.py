@@ -4,6 +4,8 @@
 * :class:`AnonymousLine` ("example-anonymous-line"): anonymous robots (positions
   only, no IDs, no messages, holonomic) form a line pattern -- a new algorithm
   of another kind is one module (issue 12).
+* :class:`GridGoals` ("example-grid-goals"): robots on grid cells with
+  asynchronous clocks claim goal cells of a shape by message (004's kind).
 
 "Gather to the lowest ID":
 
@@ -38,7 +40,8 @@ import math
 from .protocol import (Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start,
                        steer_toward)
 
-__all__ = ["GatherToLowestId", "GatherController", "AnonymousLine", "AnonymousLineController"]
+__all__ = ["GatherToLowestId", "GatherController", "AnonymousLine", "AnonymousLineController", "GridGoals",
+           "GridGoalsController"]
 
 
 def _v_dt_below_range(params: Params, n: int, ids) -> str | None:
@@ -200,3 +203,127 @@ class AnonymousLine:
 
     def finished(self, states) -> bool:
         return all(dict(s)["arrived"] for s in states if s is not None)
+
+
+# ----------------------------------------------------------------------------
+# grid robots with asynchronous clocks claiming goal cells
+# ----------------------------------------------------------------------------
+
+class GridGoalsController:
+    """One robot of :class:`GridGoals`: its goal, the cell it is heading for, what it heard."""
+
+    def __init__(self, robot_id: int, params: Params, goals, spacing: float, origin) -> None:
+        self.robot_id = robot_id
+        self.goals = sorted(goals)
+        self.spacing = float(spacing)
+        self.origin = (float(origin[0]), float(origin[1]))
+        self.goal = None
+        self.on_goal = False
+
+    def _cell(self, x: float, y: float):
+        return (round((x - self.origin[0]) / self.spacing), round((y - self.origin[1]) / self.spacing))
+
+    def step(self, obs: Observation) -> Command:
+        x, y = float(obs.own_pose[0]), float(obs.own_pose[1])
+        here = self._cell(x, y)
+        on_edge = math.hypot(x - (self.origin[0] + here[0] * self.spacing),
+                             y - (self.origin[1] + here[1] * self.spacing)) > 1e-9 * self.spacing
+        at = {self._cell(x + float(dx), y + float(dy)): rid
+              for rid, (dx, dy) in zip(obs.neighbor_ids, obs.neighbor_poses[:, :2].tolist())}
+        # claims heard: (goal, next cell, swap request) of each neighbor; a lower ID wins a clash
+        taken, reserved, goal_of = set(), set(), {}
+        for sender, msg in obs.inbox:
+            if not (isinstance(msg, tuple) and len(msg) == 4 and msg[0] == "claim"):
+                continue
+            goal_of[sender] = msg[1]
+            if msg[3] is not None and msg[3][0] == self.robot_id and msg[3][1] is not None:
+                self.goal = msg[3][1]             # a blocked neighbor hands me its goal (a swap)
+            if sender < self.robot_id:
+                taken.add(msg[1])
+                reserved.add(msg[2])
+        if self.goal is None or self.goal in taken or (self.goal in at and self.goal != here
+                                                       and goal_of.get(at[self.goal]) == self.goal):
+            free = [g for g in self.goals if g not in taken and (g == here or g not in at)]
+            self.goal = min(free, key=lambda g: (abs(g[0] - here[0]) + abs(g[1] - here[1]), g), default=None)
+        self.on_goal = self.goal is not None and self.goal == here and not on_edge
+        nxt, move, swap = here, None, None
+        if self.goal is not None and not on_edge and self.goal != here:
+            dist = abs(self.goal[0] - here[0]) + abs(self.goal[1] - here[1])
+            blocker = None
+            for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                c = (here[0] + dx, here[1] + dy)
+                if abs(self.goal[0] - c[0]) + abs(self.goal[1] - c[1]) >= dist:
+                    continue
+                if c not in at and c not in reserved:
+                    nxt, move = c, (dx, dy)
+                    break
+                if c in at and goal_of.get(at[c]) == c and blocker is None:
+                    blocker = (at[c], c)
+            if move is None and blocker is not None:
+                # blocked by a robot that sits on its goal: swap goals (004 Sec. IV's task swap, simplified)
+                swap = (blocker[0], self.goal)
+                self.goal = blocker[1]
+        return Command(message=("claim", self.goal, nxt, swap), move=move)
+
+    def state(self):
+        return (("goal", self.goal), ("on_goal", self.on_goal))
+
+
+def _grid_default_params(range: float, n: int) -> Params:
+    """004 Sec. V-A/V-B3 values: v = 0.05 m/s, l = 0.20 m, clock rates within 10 %."""
+    return Params(range=range, v=0.05, dt=1.0, extra={"grid_spacing": 0.2, "clock_rate_min": 0.9,
+                                                      "clock_rate_max": 1.1})
+
+
+class GridGoals:
+    """Robots on a grid claim the cells of a shape (registry name ``"example-grid-goals"``).
+
+    The kind of 004 (Wang & Rubenstein): global coordinates, messages to the
+    robots within ``R`` (inclusive), grid motion (one edge at a time, taking
+    ``l / v``), asynchronous clocks (per-robot phase and rate, broadcasting on
+    its own schedule); the target is a goal set (``shape`` kind).  Each robot
+    claims the nearest goal cell that no lower-ID neighbor claims and that no
+    sensed robot stands on, and steps toward it onto a free cell no lower-ID
+    neighbor reserved; blocked by a robot sitting on its goal, it hands that
+    robot its own goal and takes the blocker's (a goal swap).  Not 004's
+    algorithm (no handshake, no priority planner): an example of the kind,
+    whose conflicts the explorer may find.
+
+    >>> from swarmproof.reference_impl.engine import simulate
+    >>> from swarmproof.models.targets import resolve_target
+    >>> from swarmproof.models.trace import InitialConfiguration
+    >>> shape = resolve_target("shape:letter-l")
+    >>> cells = [(-2, 0), (-1, 0), (-2, 1), (-1, 1), (-2, 2)]
+    >>> init = InitialConfiguration([1, 2, 3, 4, 5], [[0.2 * x, 0.2 * y, 0] for x, y in cells])
+    >>> alg = GridGoals()
+    >>> r = simulate(alg, shape, init, alg.default_params(range=0.6, n=5), seed=0)
+    >>> r.status, shape.satisfied(r.final_ids, r.final_poses).status
+    ('finished', 'held')
+    """
+
+    name = "example-grid-goals"
+    model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
+                       neighbor_rule="inclusive")
+    assumptions = (
+        Assumption("v_dt_below_range", "v*dt < R", "example (cf. 004 Sec. V-A)", _v_dt_below_range),
+        connected_start("example (cf. 004 Sec. III: robots start within range R)"),
+    )
+    explore_targets = ("shape:letter-l", "shape:square-9")
+    claims: dict = {}
+    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=60)
+
+    @staticmethod
+    def default_params(range: float, n: int) -> Params:
+        return _grid_default_params(range, n)
+
+    def controller(self, robot_id, params: Params, target, rng) -> GridGoalsController:
+        cells = getattr(target, "cells", None)
+        if cells is None:
+            from swarmproof.models.errors import UsageError
+
+            raise UsageError(f"example-grid-goals needs a shape target (goal cells), not {target!r}",
+                             fix="e.g. --target shape:letter-l")
+        return GridGoalsController(robot_id, params, cells, target.spacing, target.origin)
+
+    def finished(self, states) -> bool:
+        return all(dict(s)["on_goal"] for s in states if s is not None)

@@ -41,6 +41,7 @@ True
 
 from __future__ import annotations
 
+import builtins
 import math
 import os
 
@@ -145,6 +146,42 @@ def random_connected(n: int, rng_or_seed, *, range: float, min_separation: float
 # ----------------------------------------------------------------------------
 # Files
 # ----------------------------------------------------------------------------
+
+def random_grid_connected(n: int, rng_or_seed, *, range: float, spacing: float) -> InitialConfiguration:
+    """A random connected start on grid cells (``motion="grid"`` robots), heading 0.
+
+    Robot k > 0 takes a free cell within ``range`` (strictly: the start is
+    connected under either neighbor rule) of a robot placed before it,
+    chosen uniformly among such cells of a uniformly drawn earlier robot.
+
+    >>> c = random_grid_connected(6, 0, range=0.6, spacing=0.2)
+    >>> c.n, bool((abs(c.poses[:, :2] / 0.2 - (c.poses[:, :2] / 0.2).round()) < 1e-9).all())
+    (6, True)
+    """
+    check_type("n", n, (int, np.integer))
+    if n < 1:
+        raise UsageError(f"n={n!r} must be >= 1", fix="ask for at least one robot")
+    phi = check_positive("range", range)
+    step = check_positive("spacing", spacing)
+    reach = int(math.floor(phi / step))
+    offsets = [(dx, dy) for dx in builtins.range(-reach, reach + 1) for dy in builtins.range(-reach, reach + 1)
+               if (dx, dy) != (0, 0) and math.hypot(dx, dy) * step < phi]
+    if not offsets:
+        raise UsageError(f"range={phi!r} is not above spacing={step!r}: no two grid cells are neighbors",
+                         fix="give a range larger than the grid spacing")
+    rng = _generator(rng_or_seed)
+    cells = [(0, 0)]
+    taken = {(0, 0)}
+    while len(cells) < n:
+        base = cells[int(rng.integers(len(cells)))]
+        dx, dy = offsets[int(rng.integers(len(offsets)))]
+        c = (base[0] + dx, base[1] + dy)
+        if c not in taken:
+            cells.append(c)
+            taken.add(c)
+    poses = np.array([[cx * step, cy * step, 0.0] for cx, cy in cells], dtype=float)
+    return InitialConfiguration(list(builtins.range(n)), poses)
+
 
 def dumps(config: InitialConfiguration, fmt: str = "yaml", angle_unit: str = "deg") -> str:
     """The ``swarmproof-initial/1`` text of ``config`` (``fmt`` "yaml" or "json").

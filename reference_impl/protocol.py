@@ -183,6 +183,9 @@ class Observation:
     messages: Mapping[int, Any]
     own_pose: np.ndarray | None = None
     delivered: tuple | None = field(default=None, repr=False)
+    #: ``clocks="async"``: this robot's local clock ``phase + rate * t`` when it decides
+    #: (its phase and rate are drawn from the seed and recorded); None when synchronous.
+    clock: float | None = None
 
     @property
     def inbox(self) -> tuple:
@@ -208,11 +211,18 @@ class Command:
         Turn in place, radians (counter-clockwise positive), done first.
     forward : float
         Then drive straight this far (>= 0).
+    move : (int, int) or None
+        ``motion="grid"`` only (``turn`` and ``forward`` stay 0): cross the
+        edge to the 4-neighbouring cell ``(dx, dy)`` in the common frame --
+        one of ``(1, 0), (-1, 0), (0, 1), (0, -1)`` -- or None to wait.  The
+        crossing takes ``grid_spacing / v`` time; a command given while the
+        robot is on an edge is ignored until it arrives.
     """
 
     message: Any = None
     turn: float = 0.0
     forward: float = 0.0
+    move: tuple | None = None
 
 
 @runtime_checkable

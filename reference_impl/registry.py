@@ -19,7 +19,7 @@ True
 >>> get_algorithm("song2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'song2014', 'song2016']
+swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'song2014', 'song2016']
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ ALGORITHMS: dict[str, str] = {
     "song2014": "swarmproof.reference_impl.song2014:Song2014",
     "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
     "example-anonymous-line": "swarmproof.reference_impl.examples:AnonymousLine",
+    "example-grid-goals": "swarmproof.reference_impl.examples:GridGoals",
 }
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
@@ -82,7 +83,7 @@ def verify_plans() -> list[tuple[str, object]]:
     ``verify`` plan, in the plans' ``rank`` order (ties by name).
 
     >>> [name for name, _ in verify_plans()]
-    ['song2016', 'song2014', 'example-anonymous-line']
+    ['song2016', 'song2014', 'example-anonymous-line', 'example-grid-goals']
     """
     plans = []
     for name in algorithm_names():

@@ -10,6 +10,7 @@ in spirit; we load ours explicitly so local and CI runs agree.  Set
 from __future__ import annotations
 
 import os
+import sys
 
 import matplotlib
 
@@ -22,3 +23,31 @@ settings.register_profile("swarmproof", derandomize=True, database=None, deadlin
 settings.register_profile("explore", parent=settings.get_profile("swarmproof"),
                           derandomize=False, max_examples=1000)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "swarmproof"))
+
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture
+def cli(capsys):
+    """``cli(*argv) -> (exit code, stdout, stderr)`` of ``swarmproof`` run in-process."""
+    from swarmproof.cli import main
+
+    def run(*argv):
+        code = main([str(a) for a in argv])
+        out, err = capsys.readouterr()
+        return code, out, err
+    return run
+
+
+# tests/testkit.py: helpers test modules import (``from testkit import Recorder``); importlib
+# import mode does not put the tests folder on the path by itself.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.fixture
+def recorder():
+    """The :class:`testkit.Recorder` test algorithm class."""
+    from testkit import Recorder
+
+    return Recorder

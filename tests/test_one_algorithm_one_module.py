@@ -35,7 +35,7 @@ def _string_literals(path: pathlib.Path):
 
 def test_no_registered_algorithm_name_in_shared_code():
     names = set(algorithm_names())
-    assert {"song2016", "song2014", "example-gather", "example-anonymous-line"} <= names
+    assert {"song2016", "song2014", "example-gather", "example-anonymous-line", "example-grid-goals"} <= names
     hits = [f"{f.relative_to(ROOT)}:{line}: {value!r}"
             for pkg in SHARED for f in sorted((ROOT / pkg).rglob("*.py"))
             for line, value in _string_literals(f) if value in names]
@@ -60,7 +60,7 @@ def test_every_algorithm_declares_what_the_checkers_read(name):
 
 def test_verify_plans_order_and_content():
     plans = verify_plans()
-    assert [n for n, _ in plans] == ["song2016", "song2014", "example-anonymous-line"]
+    assert [n for n, _ in plans] == ["song2016", "song2014", "example-anonymous-line", "example-grid-goals"]
     for _, plan in plans[:2]:
         assert plan.targets == ("square", "hexagon", "octagon-square") and plan.robots == 10
         assert plan.seeds == (0, 1, 2)

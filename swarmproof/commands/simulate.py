@@ -200,8 +200,9 @@ def plot_run(trace, lattice, roles, path, phi) -> str:
         color = ROLE_COLORS[ci % len(ROLE_COLORS)] if ci is not None else "#999999"
         x, y, th = final[k]
         ax.scatter([x], [y], s=40, color=color, edgecolors="black", linewidths=0.5, zorder=3)
-        ax.arrow(x, y, 0.15 * phi * np.cos(th), 0.15 * phi * np.sin(th), width=0.005 * phi,
-                 color="black", zorder=4, length_includes_head=True)
+        if (trace.meta.get("model") or {}).get("motion") != "grid":   # grid robots have no heading
+            ax.arrow(x, y, 0.15 * phi * np.cos(th), 0.15 * phi * np.sin(th), width=0.005 * phi,
+                     color="black", zorder=4, length_includes_head=True)
         ax.annotate(str(ids[k]), (x, y), xytext=(3, 3), textcoords="offset points", fontsize=7)
     goals = getattr(lattice, "positions", None)
     if callable(goals):

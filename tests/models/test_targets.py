@@ -10,7 +10,6 @@ import shutil
 import numpy as np
 import pytest
 
-from swarmproof.cli import main
 from swarmproof.models import library
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import InputFileError, UsageError
@@ -144,34 +143,28 @@ def test_counterexample_files_without_a_target_load_as_before_and_with_one_round
         Counterexample.from_dict(doc, file="f.json")
 
 
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_simulate_json_adds_target_satisfied_and_metrics_keeping_the_lattice_fields(capsys):
-    code, out, _ = run(capsys, "simulate", "example-gather", "--lattice", "square", "--robots", "4",
+def test_simulate_json_adds_target_satisfied_and_metrics_keeping_the_lattice_fields(cli):
+    code, out, _ = cli("simulate", "example-gather", "--lattice", "square", "--robots", "4",
                        "--seed", "0", "--json")
     doc = json.loads(out)
     assert doc["lattice"] == "square" and doc["target"] == {"kind": "lattice", "name": "square"}
     assert doc["satisfied"] == doc["satisfies_lattice"]
     assert doc["metrics"] == {"fulfillment_ratio": doc["fulfillment_ratio"],
                               "non_fulfillment_ratio": doc["non_fulfillment_ratio"]}
-    code2, out2, _ = run(capsys, "simulate", "example-gather", "--target", "lattice:square", "--robots", "4",
+    code2, out2, _ = cli("simulate", "example-gather", "--target", "lattice:square", "--robots", "4",
                          "--seed", "0", "--json")
     assert (code2, out2) == (code, out)
 
 
-def test_simulate_on_a_shape_has_null_lattice_fields_and_the_shapes_metrics(capsys):
-    code, out, _ = run(capsys, "simulate", "example-gather", "--shape", "square-9", "--range", "1.2",
+def test_simulate_on_a_shape_has_null_lattice_fields_and_the_shapes_metrics(cli):
+    code, out, _ = cli("simulate", "example-gather", "--shape", "square-9", "--range", "1.2",
                        "--robots", "9", "--seed", "1", "--json")
     doc = json.loads(out)
     assert doc["lattice"] is None and doc["satisfies_lattice"] is None and doc["fulfillment_ratio"] is None
     assert doc["target"] == {"kind": "shape", "name": "square-9"}
     assert doc["satisfied"] is False and code == 1      # gathering is not the 3x3 shape
     assert doc["metrics"]["cells"] == 9 and set(doc["metrics"]) == {"cells", "occupied", "off_shape"}
-    code, out, _ = run(capsys, "simulate", "example-gather", "--shape", "square-9", "--range", "1.2",
+    code, out, _ = cli("simulate", "example-gather", "--shape", "square-9", "--range", "1.2",
                        "--robots", "9", "--seed", "1")
     assert "  satisfies shape: violated - " in out and "  cells: 9" in out
 
@@ -180,19 +173,18 @@ def test_simulate_on_a_shape_has_null_lattice_fields_and_the_shapes_metrics(caps
     (["--target", "nope"], r"nope: no such file and no bundled target of that name"),
     (["--shape", "square"], r"no bundled shape target of that name"),
     (["--pattern", "x"], r"target kind='pattern' is not known"),
-    (["--shape", "square-9"], r"shape 'square-9' has no default range; fix: pass --range PHI"),
 ])
-def test_simulate_bad_targets_exit_2_naming_what(capsys, argv, match):
-    code, out, err = run(capsys, "simulate", "example-gather", *argv, "--robots", "3", "--seed", "0")
+def test_simulate_bad_targets_exit_2_naming_what(cli, argv, match):
+    code, out, err = cli("simulate", "example-gather", *argv, "--robots", "3", "--seed", "0")
     assert code == 2 and out == ""
     import re
     assert re.search(match, err), err
 
 
-def test_explore_on_a_users_lattice_file_writes_a_counterexample_that_replays_without_it(capsys, tmp_path):
+def test_explore_on_a_users_lattice_file_writes_a_counterexample_that_replays_without_it(cli, tmp_path):
     path = tmp_path / "my-ring.yaml"
     shutil.copy(library._folder() / "hexagon-ring.yaml", path)
-    code, out, _ = run(capsys, "explore", "song2014", "--lattice", str(path), "--property", "tree_links",
+    code, out, _ = cli("explore", "song2014", "--lattice", str(path), "--property", "tree_links",
                        "--max-examples", "30", "--robots", "3..6", "--seed", "0", "--out", str(tmp_path / "cx"),
                        "--json")
     doc = json.loads(out)
@@ -201,5 +193,12 @@ def test_explore_on_a_users_lattice_file_writes_a_counterexample_that_replays_wi
     cx = json.loads(open(cx_path).read())
     assert cx["target"]["kind"] == "lattice" and cx["target"]["document"]["format"] == "lattice-graph/1"
     path.unlink()                                      # the file carries the whole lattice
-    code, out, _ = run(capsys, "replay", cx_path, "--json")
+    code, out, _ = cli("replay", cx_path, "--json")
     assert code == 1 and json.loads(out)["reproduced"] is True
+
+
+def test_simulate_on_a_target_without_a_range_asks_for_one(cli, tmp_path):
+    f = tmp_path / "mine.json"
+    f.write_text(json.dumps(GoalSet.from_bitmap("mine", ["##"]).describe()))
+    code, out, err = cli("simulate", "example-gather", "--shape", str(f), "--robots", "3", "--seed", "0")
+    assert code == 2 and "shape 'mine' has no default range; fix: pass --range PHI" in err

@@ -16,47 +16,14 @@ from swarmproof.reference_impl.protocol import Command, Params, RobotModel
 P = Params(range=1.0, v=0.1, omega=math.pi / 4, dt=1.0)
 
 
-class Recorder:
-    """Controllers that record every observation (in engine order) and broadcast what they saw."""
-
-    name = "recorder"
-    assumptions = ()
-
-    def __init__(self, model, command=None):
-        self.model = model
-        self.command = command
-        self.seen: list = []
-
-    def controller(self, robot_id, params, target, rng):
-        algo = self
-
-        class C:
-            def __init__(self):
-                self.k = 0
-
-            def step(self, obs):
-                algo.seen.append(obs)
-                self.k += 1
-                if algo.command is not None:
-                    return algo.command(obs, rng)
-                msg = ("saw", len(obs.neighbor_poses), obs.step, round(float(rng.uniform()), 6))
-                return Command(message=msg, turn=float(rng.uniform(-1, 1)), forward=float(rng.uniform(0, 0.1)))
-
-            def state(self):
-                return (("k", self.k),)
-
-        return C()
-
-    def finished(self, states):
-        return False
-
-
 def _observations(ids, model, faults=None, steps=6):
+    from testkit import Recorder
+
     poses = [[0, 0, 0.3], [0.6, 0, 1.0], [0.3, 0.5, -2.0], [1.2, 0.2, 0.0]]
     algo = Recorder(model)
     r = simulate(algo, None, InitialConfiguration(ids, poses), P, seed=5, max_steps=steps,
                  stop_when_static=False, faults=faults)
-    return algo.seen, r
+    return [obs for _, obs in algo.seen], r
 
 
 @pytest.mark.parametrize("communication", ["neighbors", "all", "none"])
@@ -87,24 +54,24 @@ def test_anonymous_robots_hear_only_the_robots_in_range():
         assert set(o.messages) == near
 
 
-def test_the_neighbor_rule_is_the_models_strict_or_inclusive():
+def test_the_neighbor_rule_is_the_models_strict_or_inclusive(recorder):
     init = InitialConfiguration([0, 1], [[0, 0, 0], [1.0, 0, 0]])          # exactly phi apart
     got = {}
     for rule in ("strict", "inclusive"):
-        algo = Recorder(RobotModel(neighbor_rule=rule), command=lambda obs, rng: Command(message="x"))
+        algo = recorder(RobotModel(neighbor_rule=rule), command=lambda rid, k, obs, rng: Command(message="x"))
         r = simulate(algo, None, init, P, seed=0, max_steps=2, stop_when_static=False)
-        got[rule] = [o.neighbor_ids for o in algo.seen]
+        got[rule] = [o.neighbor_ids for _, o in algo.seen]
         assert r.trace.meta["model"]["neighbor_rule"] == rule
     assert got == {"strict": [(), (), (), ()], "inclusive": [(1,), (0,), (1,), (0,)]}
     with pytest.raises(UsageError, match=r"RobotModel neighbor_rule='closest' is not one of \['strict', 'inclusive'\]"):
         RobotModel(neighbor_rule="closest")
 
 
-def test_the_connectivity_property_follows_the_models_neighbor_rule():
+def test_the_connectivity_property_follows_the_models_neighbor_rule(recorder):
     from swarmproof.invariants.connectivity import connected_throughout
 
     init = InitialConfiguration([0, 1], [[0, 0, 0], [1.0, 0, 0]])
-    algo = Recorder(RobotModel(neighbor_rule="inclusive"), command=lambda obs, rng: Command())
+    algo = recorder(RobotModel(neighbor_rule="inclusive"), command=lambda rid, k, obs, rng: Command())
     r = simulate(algo, None, init, P, seed=0, max_steps=1, stop_when_static=False)
     assert connected_throughout(r.trace, 1.0).status == "held"
     assert connected_throughout(r.trace, 1.0, inclusive=False).status == "inconclusive"  # vacuous start

@@ -9,7 +9,6 @@ import json
 import numpy as np
 
 from swarmproof.checkers.explore import explore
-from swarmproof.cli import main
 from swarmproof.models.targets import resolve_target
 from swarmproof.models.trace import InitialConfiguration
 from swarmproof.reference_impl.engine import simulate
@@ -18,14 +17,8 @@ from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
 
 
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def test_simulate_forms_the_line_and_reports_the_lines_target(capsys, tmp_path):
-    code, out, _ = run(capsys, "simulate", "example-anonymous-line", "--target", "lines:line", "--robots", "6",
+def test_simulate_forms_the_line_and_reports_the_lines_target(cli, tmp_path):
+    code, out, _ = cli("simulate", "example-anonymous-line", "--target", "lines:line", "--robots", "6",
                        "--seed", "3", "--json", "--plot", str(tmp_path / "line.png"))
     doc = json.loads(out)
     assert code == 0 and doc["status"] == "finished"
@@ -47,7 +40,7 @@ def test_the_run_does_not_depend_on_the_robots_ids():
     assert a.trace.poses.tobytes() == b.trace.poses.tobytes() and a.trace.states == b.trace.states
 
 
-def test_explore_on_the_line_and_replay_a_counterexample(capsys, tmp_path):
+def test_explore_on_the_line_and_replay_a_counterexample(cli, tmp_path):
     rep = explore(AnonymousLine, ["formation", "connectivity"], max_examples=15, robots=(2, 5), seed=0,
                   budget=120)
     assert rep.lattices == ("lines:line",)
@@ -60,9 +53,9 @@ def test_explore_on_the_line_and_replay_a_counterexample(capsys, tmp_path):
     doc = json.loads(open(v.counterexample_path).read())
     assert doc["lattice"] is None and doc["target"] == {"kind": "lines", "name": "line", "shape": "line",
                                                         "interval": 1.0, "range": 1.5}
-    code, out, _ = run(capsys, "replay", v.counterexample_path, "--json")
+    code, out, _ = cli("replay", v.counterexample_path, "--json")
     assert code == 1 and json.loads(out)["reproduced"] is True
-    code, out, _ = run(capsys, "replay", v.counterexample_path)
+    code, out, _ = cli("replay", v.counterexample_path)
     assert "lines line, range 1.5" in out
 
 
@@ -71,7 +64,7 @@ def test_verify_has_its_rows_beside_the_papers(monkeypatch):
     from swarmproof.reference_impl import registry
 
     plans = dict(registry.verify_plans())
-    assert list(plans)[-1] == "example-anonymous-line"
+    assert list(plans)[2:] == ["example-anonymous-line", "example-grid-goals"]
     monkeypatch.setattr(registry, "verify_plans", lambda: [("example-anonymous-line", plans["example-anonymous-line"])])
     rows = section_algorithms()
     got = {r.property: r.verdict.value for r in rows}
