@@ -372,7 +372,7 @@ def judge(prop: str, algorithm, lattice, params, result, options: Mapping[str, A
 
     rule = get_property(prop)
     ctx = PropertyContext(algorithm, lattice, params, result, dict(options or {}))
-    return rule.check(result.trace, ctx)
+    return rule.judge(result.trace, ctx)
 
 
 def closeness(prop: str, result) -> float | None:

@@ -86,7 +86,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   v: float | None = None, omega: float | None = None, dt: float | None = None,
                   extra: Mapping[str, Any] | None = None, min_separation: float | None = None,
                   allow_violations: bool = False,
-                  progress: Callable[[int, int], None] | None = None) -> CheckedRun:
+                  progress: Callable[[int, int], None] | None = None, record_every: int = 1) -> CheckedRun:
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
@@ -140,8 +140,17 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                                                         spacing=float(params.extra.get("grid_spacing", 1.0)))
         else:
             initial = initial_mod.random_connected(robots, seed, range=phi, min_separation=min_separation)
+    observers = ()
+    if record_every != 1:
+        # a sparse trace: connectivity and the tree links are judged by streaming monitors that
+        # the engine feeds every step (DESIGN.md section 5, "Monitors see every step")
+        from swarmproof.invariants.connectivity import ConnectivityMonitor, TreeLinkMonitor
+
+        observers = (ConnectivityMonitor(phi, getattr(algorithm.model, "neighbor_rule", "strict") == "inclusive"),
+                     TreeLinkMonitor(phi, mode=getattr(algorithm, "tree_link_mode", "persistent")))
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
-                      allow_violations=allow_violations, progress=progress)
+                      allow_violations=allow_violations, progress=progress, record_every=record_every,
+                      observers=observers)
     trace = result.trace
     pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
     ids, poses = result.final_ids, result.final_poses
@@ -159,8 +168,11 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     own = getattr(algorithm, "metrics", None)
     if callable(own):
         metrics.update(own(result))
-    conn = connected_throughout(trace, phi)
-    links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
+    if observers:
+        conn, links = result.observed("connectivity"), result.observed("tree_links")
+    else:
+        conn = connected_throughout(trace, phi)
+        links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
     satisfied = sat.held if sat.status != "inconclusive" else None
     doc = {
         "algorithm": algorithm.name,
@@ -183,6 +195,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "min_separation": min_sep(trace),
         "broken_assumptions": list(result.broken_assumptions),
         "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
+        **({"record_every": int(record_every), "recorded_steps": len(trace.times)} if trace.times else {}),
         "target": {"kind": kind, "name": lattice.name},
         "satisfied": satisfied,
         "metrics": metrics,

@@ -79,6 +79,72 @@ def first_disconnection(trace, phi: float, inclusive: bool = False):
     return None
 
 
+def _trace_inclusive(trace, inclusive):
+    if inclusive is None:
+        return (trace.meta.get("model") or {}).get("neighbor_rule") == "inclusive"
+    return bool(inclusive)
+
+
+def _feed(monitor, trace):
+    """Feed every recorded step of ``trace`` to a streaming monitor; returns it."""
+    monitor.start(trace.ids)
+    for t in range(trace.steps + 1):
+        monitor.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
+    return monitor
+
+
+class ConnectivityMonitor:
+    """Streaming form of :func:`connected_throughout`: ``observe`` every step, in order.
+
+    The engine calls it on every step whatever it records (``simulate(observers=...)``),
+    so a split at a step a sparse trace does not keep is still found.  Steps whose poses
+    and presence equal the previous step's are skipped (same graph).
+    """
+
+    name = "connectivity"
+
+    def __init__(self, phi: float, inclusive: bool = False, *, what: str = "steps") -> None:
+        self.phi, self.inclusive, self.what = float(phi), bool(inclusive), what
+        self.ids = None
+        self._prev = None
+        self.start_components = None
+        self.hit = None
+        self.count = 0
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+
+    def observe(self, t, poses, states, present) -> None:
+        self.count += 1
+        if self.hit is not None or (self.start_components is not None and len(self.start_components) > 1):
+            return
+        if self._prev is not None and np.array_equal(poses, self._prev[0]) and np.array_equal(present, self._prev[1]):
+            return
+        self._prev = (np.array(poses, copy=True), np.array(present, copy=True))
+        idx = np.flatnonzero(present)
+        i, j, _ = neighbor_pairs(np.asarray(poses)[idx, :2], self.phi, self.inclusive)
+        ids = self.ids[idx]
+        comps = sorted((sorted(int(ids[k]) for k in c) for c in components(len(idx), i, j)), key=lambda c: c[0])
+        if self.start_components is None:
+            self.start_components = comps
+        elif len(comps) > 1:
+            self.hit = (int(t), comps)
+
+    def result(self) -> InvariantResult:
+        start = self.start_components or []
+        if len(start) > 1:
+            return InvariantResult("connectivity", "inconclusive", LEMMA_11, None,
+                                   f"vacuous: the start is disconnected ({len(start)} components)",
+                                   applicable=False)
+        if self.hit is None:
+            return InvariantResult("connectivity", "held", LEMMA_11, None,
+                                   f"connected at all {self.count} {self.what}")
+        t, comps = self.hit
+        return InvariantResult("connectivity", "violated", LEMMA_11, {"step": t, "components": comps},
+                               f"the communication graph splits after step {t} into {len(comps)} "
+                               f"components: {comps}")
+
+
 def connected_throughout(trace, phi: float, inclusive: bool | None = None) -> InvariantResult:
     """The communication graph is connected at every step when it was at the start (Lemma 11).
 
@@ -87,21 +153,8 @@ def connected_throughout(trace, phi: float, inclusive: bool | None = None) -> In
     ``inclusive`` says so.  A disconnected start makes the claim vacuous:
     ``inconclusive`` (``applicable=False``), never a pass.
     """
-    if inclusive is None:
-        inclusive = (trace.meta.get("model") or {}).get("neighbor_rule") == "inclusive"
-    start = components_at(trace, 0, phi, inclusive)
-    if len(start) > 1:
-        return InvariantResult("connectivity", "inconclusive", LEMMA_11, None,
-                               f"vacuous: the start is disconnected ({len(start)} components)",
-                               applicable=False)
-    hit = first_disconnection(trace, phi, inclusive)
-    if hit is None:
-        return InvariantResult("connectivity", "held", LEMMA_11, None,
-                               f"connected at all {trace.steps + 1} recorded steps")
-    t, comps = hit
-    return InvariantResult("connectivity", "violated", LEMMA_11, {"step": t, "components": comps},
-                           f"the communication graph splits after step {t} into {len(comps)} "
-                           f"components: {comps}")
+    mon = ConnectivityMonitor(phi, _trace_inclusive(trace, inclusive), what="recorded steps")
+    return _feed(mon, trace).result()
 
 
 TREE_LINK_MODES = ("persistent", "decided", "standing")
@@ -129,18 +182,39 @@ def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "pers
     must still be a neighbor pair at ``poses[t+1]``.  Links to a robot that
     was not a neighbor are counted in ``detail["unsensed_parents"]``.
     """
-    if mode not in TREE_LINK_MODES:
-        raise ValueError(f"mode={mode!r} must be one of {TREE_LINK_MODES!r}")
-    slot = {int(i): k for k, i in enumerate(trace.ids.tolist())}
-    checked = 0
-    unsensed = 0
-    any_parent = False
-    longest = 0.0   # the longest checked link after its step, as a fraction of phi
-    for t in range(trace.steps):
-        before, after = trace.states[t], trace.states[t + 1]
-        p0, p1 = trace.poses[t], trace.poses[t + 1]
-        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
-        for k in range(trace.n):
+    return _feed(TreeLinkMonitor(phi, key, mode), trace).result()
+
+
+class TreeLinkMonitor:
+    """Streaming form of :func:`tree_links_survive` (``observe`` every step, in order)."""
+
+    name = "tree_links"
+
+    def __init__(self, phi: float, key: str = "parent", mode: str = "persistent") -> None:
+        if mode not in TREE_LINK_MODES:
+            raise ValueError(f"mode={mode!r} must be one of {TREE_LINK_MODES!r}")
+        self.phi, self.key, self.mode = float(phi), key, mode
+        self.ids = None
+        self.slot: dict = {}
+        self._prev = None
+        self.checked = self.unsensed = 0
+        self.any_parent = False
+        self.longest = 0.0   # the longest checked link after its step, as a fraction of phi
+        self.hit = None
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+        self.slot = {int(i): k for k, i in enumerate(self.ids.tolist())}
+
+    def observe(self, t, poses, states, present) -> None:
+        prev = self._prev
+        self._prev = (int(t), np.array(poses, copy=True), states, np.array(present, copy=True))
+        if prev is None or self.hit is not None:
+            return
+        t0, p0, before, pres0 = prev
+        _, p1, after, pres1 = self._prev
+        key, mode, phi = self.key, self.mode, self.phi
+        for k in range(len(self.ids)):
             pb = state_value(before[k], key)
             pa = state_value(after[k], key)
             if mode == "decided":
@@ -150,41 +224,46 @@ def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "pers
             else:
                 par = pa if pa == pb else None
             if pa is not None or pb is not None:
-                any_parent = True
+                self.any_parent = True
             if par is None:
                 continue
-            q = slot.get(int(par))
+            q = self.slot.get(int(par))
             if q is None or not (pres0[k] and pres0[q] and pres1[k] and pres1[q]):
                 continue
             d0 = float(np.hypot(*(p0[q, :2] - p0[k, :2])))
             if not d0 < phi:
-                unsensed += 1
+                self.unsensed += 1
                 continue
-            checked += 1
+            self.checked += 1
             d1 = float(np.hypot(*(p1[q, :2] - p1[k, :2])))
-            longest = max(longest, d1 / phi)
+            self.longest = max(self.longest, d1 / phi)
             if not d1 < phi:
-                child = int(trace.ids[k])
-                return InvariantResult(
-                    "tree_links", "violated", LEMMA_11,
-                    {"step": t, "child": child, "parent": int(par), "distance_before": d0,
-                     "distance_after": d1, "mode": mode},
-                    f"step {t}: the link child {child} -> parent {int(par)} broke "
-                    f"(distance {d0:.6g} -> {d1:.6g}, range {phi:g}; {mode} links)",
-                    detail={"links_checked": checked, "unsensed_parents": unsensed,
-                            "longest_link_ratio": longest})
-    if not any_parent:
-        # vacuous: nothing to check is never a pass (DESIGN.md section 1, "Verdicts")
-        return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
-                               f"vacuous: no controller state has a {key!r} entry (the algorithm keeps no "
-                               "spanning tree)", applicable=False)
-    if checked == 0:
-        return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
-                               f"vacuous: no tree link was between neighbors at the start of a step ({mode} "
-                               f"links; {unsensed} to robots out of range)", applicable=False,
-                               detail={"links_checked": 0, "unsensed_parents": unsensed,
-                                       "longest_link_ratio": longest})
-    return InvariantResult("tree_links", "held", LEMMA_11, None,
-                           f"{checked} link-steps checked ({mode} links), none broke",
-                           detail={"links_checked": checked, "unsensed_parents": unsensed,
-                                   "longest_link_ratio": longest})
+                self.hit = (t0, int(self.ids[k]), int(par), d0, d1)
+                return
+
+    def result(self) -> InvariantResult:
+        key, mode, phi = self.key, self.mode, self.phi
+        detail = {"links_checked": self.checked, "unsensed_parents": self.unsensed,
+                  "longest_link_ratio": self.longest}
+        if self.hit is not None:
+            t, child, par, d0, d1 = self.hit
+            return InvariantResult(
+                "tree_links", "violated", LEMMA_11,
+                {"step": t, "child": child, "parent": par, "distance_before": d0,
+                 "distance_after": d1, "mode": mode},
+                f"step {t}: the link child {child} -> parent {par} broke "
+                f"(distance {d0:.6g} -> {d1:.6g}, range {phi:g}; {mode} links)",
+                detail=detail)
+        if not self.any_parent:
+            # vacuous: nothing to check is never a pass (DESIGN.md section 1, "Verdicts")
+            return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
+                                   f"vacuous: no controller state has a {key!r} entry (the algorithm keeps no "
+                                   "spanning tree)", applicable=False)
+        if self.checked == 0:
+            return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
+                                   f"vacuous: no tree link was between neighbors at the start of a step ({mode} "
+                                   f"links; {self.unsensed} to robots out of range)", applicable=False,
+                                   detail=detail)
+        return InvariantResult("tree_links", "held", LEMMA_11, None,
+                               f"{self.checked} link-steps checked ({mode} links), none broke",
+                               detail=detail)

@@ -41,7 +41,7 @@ from scipy.spatial import cKDTree
 
 from .result import InvariantResult
 
-__all__ = ["collision", "deadlock", "oscillation", "premises", "segment_min_distances"]
+__all__ = ["collision", "CollisionMonitor", "deadlock", "oscillation", "premises", "segment_min_distances"]
 
 CITE_COLLISION = "issue 6: robots as discs never overlap (straight moves per step, 000 Sec. III / 001 Sec. III-A)"
 CITE_DEADLOCK = "issue 6 / 001 Def. 5, Thm. 13: no static configuration short of the goal"
@@ -125,40 +125,75 @@ def collision(trace, radius: float, *, tol: float = 1e-9) -> InvariantResult:
     >>> collision(Trace(ids=[0, 1], poses=poses, states=[(None, None)] * 2), 0.4).status
     'held'
     """
-    if not (math.isfinite(radius) and radius > 0):
-        raise ValueError(f"radius={radius!r} must be a finite number > 0")
-    P = np.asarray(trace.poses, float)[:, :, :2]
-    T = len(P) - 1
-    ids = np.asarray(trace.ids)
-    thr = 2.0 * radius - tol
-    pairs_checked = 0
-    for t in range(max(T, 1)):
-        t1 = min(t + 1, T)
-        present = trace.present_at(t) & trace.present_at(t1)
-        idx = np.flatnonzero(present)
+    mon = CollisionMonitor(radius, tol)
+    mon.start(trace.ids)
+    for t in range(trace.steps + 1):
+        mon.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
+    return mon.result()
+
+
+class CollisionMonitor:
+    """Streaming form of :func:`collision`: ``observe`` every step, in order (the engine's
+    ``observers``), so an overlap inside a step a sparse trace does not keep is found."""
+
+    name = "collision"
+
+    def __init__(self, radius: float, tol: float = 1e-9) -> None:
+        if not (math.isfinite(radius) and radius > 0):
+            raise ValueError(f"radius={radius!r} must be a finite number > 0")
+        self.radius, self.thr = float(radius), 2.0 * float(radius) - tol
+        self.ids = None
+        self._prev = None
+        self.steps = 0
+        self.pairs_checked = 0
+        self.hit = None
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+
+    def observe(self, t, poses, states, present) -> None:
+        cur = (int(t), np.array(np.asarray(poses, float)[:, :2], copy=True), np.array(present, copy=True))
+        prev, self._prev = self._prev, cur
+        if prev is None or self.hit is not None:
+            return
+        self.steps += 1
+        self._check(prev, cur)
+
+    def _check(self, prev, cur) -> None:
+        t, a_all, pres0 = prev
+        _, b_all, pres1 = cur
+        idx = np.flatnonzero(pres0 & pres1)
         if len(idx) < 2:
-            continue
-        a, b = P[t, idx], P[t1, idx]
+            return
+        a, b = a_all[idx], b_all[idx]
         lengths = np.hypot(*(b - a).T)
         mids = 0.5 * (a + b)
-        pairs = cKDTree(mids).query_pairs(thr + float(lengths.max()), output_type="ndarray")
+        pairs = cKDTree(mids).query_pairs(self.thr + float(lengths.max()), output_type="ndarray")
         if len(pairs) == 0:
-            continue
+            return
         i, j = pairs[:, 0], pairs[:, 1]
         d, s = segment_min_distances(a[i], b[i], a[j], b[j])
-        pairs_checked += len(pairs)
-        bad = np.flatnonzero(d < thr)
+        self.pairs_checked += len(pairs)
+        bad = np.flatnonzero(d < self.thr)
         if len(bad):
             k = bad[np.argmin(d[bad])]
-            ri, rj = sorted((int(ids[idx[i[k]]]), int(ids[idx[j[k]]])))
-            w = {"step": int(t), "robots": [ri, rj], "distance": float(d[k]), "fraction": float(s[k]),
-                 "radius": float(radius)}
+            ri, rj = sorted((int(self.ids[idx[i[k]]]), int(self.ids[idx[j[k]]])))
+            self.hit = {"step": int(t), "robots": [ri, rj], "distance": float(d[k]), "fraction": float(s[k]),
+                        "radius": self.radius}
+
+    def result(self) -> InvariantResult:
+        if self.steps == 0 and self._prev is not None and self.hit is None:
+            self._check(self._prev, self._prev)          # a run of no steps: the start itself
+        radius = self.radius
+        if self.hit is not None:
+            w = self.hit
             return InvariantResult("collision", "violated", CITE_COLLISION, w,
-                                   f"robots {ri} and {rj} overlap in step {t}: distance {d[k]:.4g} < "
-                                   f"2r = {2 * radius:.4g} at {s[k]:.2f} of the step")
-    return InvariantResult("collision", "held", CITE_COLLISION, None,
-                           f"no overlap of discs of radius {radius:g} over {T} steps",
-                           detail={"pairs_checked": pairs_checked})
+                                   f"robots {w['robots'][0]} and {w['robots'][1]} overlap in step {w['step']}: "
+                                   f"distance {w['distance']:.4g} < 2r = {2 * radius:.4g} at {w['fraction']:.2f} "
+                                   "of the step")
+        return InvariantResult("collision", "held", CITE_COLLISION, None,
+                               f"no overlap of discs of radius {radius:g} over {self.steps} steps",
+                               detail={"pairs_checked": self.pairs_checked})
 
 
 def _goal_fn(goal_reached) -> Callable[[int], bool]:

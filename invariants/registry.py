@@ -104,6 +104,12 @@ class Property:
         A monitor that may end a run early once the property is decided
         (the explorer re-runs to the end when the early verdict is not a
         violation).
+    stream : callable ``(algorithm, params, options) -> observer``, optional
+        A streaming monitor the engine feeds every step (``simulate(observers=...)``);
+        on a sparse trace the property is judged by it.
+    every_step : bool
+        The check reads every step of the trace (a safety property over the
+        run); on a sparse trace without a streaming monitor it is inconclusive.
     """
 
     name: str
@@ -114,6 +120,21 @@ class Property:
     cites: str = ""
     closeness: Callable[[InvariantResult], float | None] | None = None
     run_monitor: Callable[[Any, Mapping[str, Any]], Any] | None = None
+    stream: Callable[[Any, Any, Mapping[str, Any]], Any] | None = None
+    every_step: bool = False
+
+    def judge(self, trace, ctx: "PropertyContext") -> InvariantResult:
+        """``check`` on a dense trace; on a sparse one (``trace.times``), the result of the
+        streaming monitor the run carried, else inconclusive when the check needs every step."""
+        if getattr(trace, "times", None) is not None and self.every_step:
+            observed = getattr(ctx.result, "observed", None)
+            r = observed(self.name) if callable(observed) else None
+            if r is not None:
+                return r
+            return InvariantResult(self.name, "inconclusive", self.cites, None,
+                                   f"the trace is sparse (record_every={trace.meta.get('record_every')}) and "
+                                   f"{self.name} needs every step: run it with its streaming monitor or dense")
+        return self.check(trace, ctx)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name or ":" in self.name or self.name != self.name.strip():
@@ -261,6 +282,28 @@ def _tree_links(trace, ctx):
     return tree_links_survive(trace, ctx.phi, mode=getattr(ctx.algorithm, "tree_link_mode", "persistent"))
 
 
+def _inclusive(algorithm) -> bool:
+    return getattr(getattr(algorithm, "model", None), "neighbor_rule", "strict") == "inclusive"
+
+
+def _connectivity_stream(algorithm, params, options):
+    from .connectivity import ConnectivityMonitor
+
+    return ConnectivityMonitor(float(params.range), _inclusive(algorithm))
+
+
+def _tree_links_stream(algorithm, params, options):
+    from .connectivity import TreeLinkMonitor
+
+    return TreeLinkMonitor(float(params.range), mode=getattr(algorithm, "tree_link_mode", "persistent"))
+
+
+def _collision_stream(algorithm, params, options):
+    from .properties import CollisionMonitor
+
+    return CollisionMonitor(float(dict(options or {}).get("radius", DEFAULT_RADIUS)))
+
+
 def _tree_links_closeness(r: InvariantResult):
     value = (r.detail or {}).get("longest_link_ratio")
     return None if value is None else float(value)
@@ -337,12 +380,12 @@ def _premises(trace, ctx):
 
 for _p in (
     Property("connectivity", "safety", _connectivity, ("poses", "presence", "range"),
-             "judged at recorded steps only: between two steps the graph is not sampled",
-             LEMMA_11),
+             "judged at the end of every step: between two step ends the graph is not sampled",
+             LEMMA_11, stream=_connectivity_stream, every_step=True),
     Property("tree_links", "safety", _tree_links, ("states' parent", "poses", "range"),
-             "only robots whose state names a 'parent'; an algorithm without a tree holds vacuously "
-             "(the result says 0 links checked)", LEMMA_11,
-             closeness=_tree_links_closeness),
+             "only robots whose state names a 'parent'; an algorithm without a tree, or a run where no "
+             "link was ever checked, is inconclusive", LEMMA_11,
+             closeness=_tree_links_closeness, stream=_tree_links_stream, every_step=True),
     Property("termination", "liveness", _termination, ("run status", "poses", "algorithm's termination_bound"),
              "without a termination bound a run cut by the step cap is inconclusive, never held",
              THEOREM_13),
@@ -351,17 +394,18 @@ for _p in (
              "001 Thm. 13 / Def. 2"),
     Property("collision", "safety", _collision, ("poses between steps", "radius option"),
              "robots are discs of the radius option; motion within a step is taken as straight",
-             CITE_COLLISION),
+             CITE_COLLISION, stream=_collision_stream, every_step=True),
     Property("deadlock", "liveness", _deadlock, ("poses", "states", "final poses", "target"),
              "a static window shorter than the run; a goal reached is never a deadlock",
-             CITE_DEADLOCK),
+             CITE_DEADLOCK, every_step=True),
     Property("oscillation", "liveness", _oscillation, ("poses", "states", "algorithm's progress_measure"),
              "states compared up to pos_tol; randomized algorithms only by a progress window",
              CITE_OSCILLATION,
-             run_monitor=_oscillation_monitor),
+             run_monitor=_oscillation_monitor, every_step=True),
     Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
-             "only the lemma premises the algorithm declares (premise_monitors)",
-             CITE_PREMISES),
+             "only the lemma premises the algorithm declares (premise_monitors); not streamed yet: "
+             "inconclusive on a sparse trace",
+             CITE_PREMISES, every_step=True),
 ):
     register_property(_p)
 del _p

@@ -48,11 +48,15 @@ THEOREM_13 = "001 Theorem 13 (the lattice forms in finite time), Defs. 5-6"
 
 
 def execution_steps(trace) -> int:
-    """Smallest step after which no recorded pose changes (Def. 6 of 001, on the trace)."""
+    """Smallest step after which no recorded pose changes (Def. 6 of 001, on the trace).
+
+    On a sparse trace (``trace.times``) it is the engine step of the first
+    recorded frame after the last change: exact to the recording interval.
+    """
     p = trace.poses
     for t in range(len(p) - 1, 0, -1):
         if not np.array_equal(p[t], p[t - 1]):
-            return t
+            return trace.time_of(t) if hasattr(trace, "time_of") else t
     return 0
 
 

@@ -253,6 +253,12 @@ class Trace:
     present : numpy.ndarray of bool, shape (T+1, n), or None (all present)
     meta : dict
         JSON-friendly description of the run (algorithm, params, seed, status ...).
+    times : list of int, or None
+        A sparse trace (``simulate(record_every=k)``) keeps some steps only:
+        ``times[i]`` is the engine step recorded at index ``i`` (increasing,
+        from 0, the last step included); None for a dense trace (index = step).
+        Everything indexed by step above is then indexed by recorded step, and
+        ``messages[i-1]`` are the broadcasts of step ``times[i] - 1``.
     """
 
     ids: np.ndarray
@@ -262,6 +268,7 @@ class Trace:
     messages: list | None = None
     present: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
+    times: list | None = None
 
     def __post_init__(self) -> None:
         self.ids = np.asarray(self.ids, dtype=np.int64)
@@ -274,6 +281,21 @@ class Trace:
             self.present = np.asarray(self.present, dtype=bool)
             if self.present.shape != self.poses.shape[:2]:
                 raise UsageError(f"present shape={self.present.shape!r} must be {self.poses.shape[:2]!r}")
+        if self.times is not None:
+            self.times = [int(x) for x in self.times]
+            if (len(self.times) != len(self.poses) or (self.times and self.times[0] != 0)
+                    or any(b <= a for a, b in zip(self.times, self.times[1:]))):
+                raise UsageError(f"times={self.times[:5]!r}... must be increasing step numbers from 0, one per "
+                                 f"recorded step ({len(self.poses)})")
+
+    @property
+    def sparse(self) -> bool:
+        """Whether some engine steps are not recorded (``times`` is given)."""
+        return self.times is not None
+
+    def time_of(self, i: int) -> int:
+        """The engine step recorded at index ``i``."""
+        return i if self.times is None else self.times[i]
 
     # -- views -----------------------------------------------------------
     @property
@@ -313,6 +335,7 @@ class Trace:
             "events": [e.as_dict() for e in self.events],
             "messages": None if self.messages is None else [
                 {str(k): to_jsonable(v) for k, v in m.items()} for m in self.messages],
+            **({} if self.times is None else {"times": list(self.times)}),
         }
 
     def to_json(self) -> str:
@@ -354,7 +377,7 @@ class Trace:
         try:
             return cls(ids=ids, poses=poses, states=states, events=events, messages=messages,
                        present=None if present is None else np.asarray(present, dtype=bool),
-                       meta=dict(d.get("meta") or {}))
+                       meta=dict(d.get("meta") or {}), times=d.get("times"))
         except UsageError as exc:
             raise InputFileError(exc.message, file=file, fix=exc.fix) from None
 

@@ -373,6 +373,9 @@ class SimulationResult:
     seed : int
     static_window : int
     max_steps : int
+    observers : tuple
+        The streaming monitors the run carried (``simulate(observers=...)``), after
+        seeing every step; ``observed(name)`` gives one's result.
     """
 
     status: str
@@ -382,6 +385,14 @@ class SimulationResult:
     seed: int
     static_window: int
     max_steps: int
+    observers: tuple = ()
+
+    def observed(self, name: str):
+        """The result of the observer called ``name`` (its ``name`` attribute), or None."""
+        for ob in self.observers:
+            if getattr(ob, "name", None) == name:
+                return ob.result()
+        return None
 
     @property
     def final_poses(self) -> np.ndarray:
@@ -500,6 +511,13 @@ def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple
     if reorder and len(due) > 1:
         due = [due[i] for i in rng.permutation(len(due)).tolist()]
     return {e[3]: e[4] for e in due}, tuple((e[2], e[4]) for e in due)
+
+
+def _ro(a: np.ndarray) -> np.ndarray:
+    """A read-only view (observers must not change the engine's arrays)."""
+    v = a.view()
+    v.setflags(write=False)
+    return v
 
 
 def _extra_number(params: Params, key: str, default: float, *, positive: bool = True) -> float:
@@ -652,7 +670,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
              faults: FaultModel | None = None,
              progress: Callable[[int, int], None] | None = None,
              record_clamps: bool = True,
-             stop_when: Callable[[int, np.ndarray, tuple, np.ndarray], bool] | None = None) -> SimulationResult:
+             stop_when: Callable[[int, np.ndarray, tuple, np.ndarray], bool] | None = None,
+             record_every: int = 1, observers: Sequence = ()) -> SimulationResult:
     """Run ``algorithm`` from ``initial`` until it finishes, goes static or hits the cap.
 
     Parameters
@@ -687,6 +706,17 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         step t with the poses, controller states and presence mask the trace
         records for t (read-only views); True ends the run there with status
         ``"stopped"`` (the explorer's early stop at a repeated global state).
+    record_every : int
+        1 (default): record every step (dense).  k > 1: a sparse trace that
+        keeps step 0, every k-th step, every step with an event other than a
+        clamp, and the last step (``trace.times`` lists them), so a long run
+        of many robots fits in memory.
+    observers : sequence of streaming monitors
+        Objects with ``start(ids)``, ``observe(t, poses, states, present)``
+        (called at the start and after *every* step, recorded or not, with
+        read-only views) and ``result()``; e.g.
+        :class:`~swarmproof.invariants.connectivity.ConnectivityMonitor`.
+        Properties judged this way see every step whatever is recorded.
 
     Returns
     -------
@@ -808,6 +838,16 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         return tuple(None if c is None or not present[k] else c.state()
                      for k, c in enumerate(controllers))
 
+    check_type("record_every", record_every, (int, np.integer))
+    record_every = int(record_every)
+    if record_every < 1:
+        raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
+    observers = tuple(observers or ())
+    for ob in observers:
+        if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
+            raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
+                             fix="use a streaming monitor such as ConnectivityMonitor")
+    times = [0] if record_every > 1 else None
     pose_hist = [poses.copy()]
     present_hist = [present.copy()] if any_presence_change else None
     states = _states()
@@ -859,9 +899,13 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     if finished:
         status = "finished"
     t = 0
+    for ob in observers:
+        ob.start(ids.copy())
+        ob.observe(0, _ro(poses), states, _ro(present))
     if stop_when is not None and not finished and stop_when(0, poses, states, present):
         status, finished = "stopped", True
     while not finished and t < max_steps:
+        n_events = len(events)
         # 1. faults at the start of the step
         for rid in faults.crashes.get(t, ()):
             for k in range(n_total):
@@ -1143,9 +1187,14 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             poses[mv, 2] = th
             same_poses = np.array_equal(old, poses)
         t += 1
-        pose_hist.append(poses.copy())
-        if present_hist is not None:
-            present_hist.append(present.copy())
+        record = times is None or t % record_every == 0 or any(
+            e.kind != "clamp" for e in events[n_events:])
+        if record:
+            pose_hist.append(poses.copy())
+            if present_hist is not None:
+                present_hist.append(present.copy())
+            if times is not None:
+                times.append(t)
         # Unchanged states are stored as the previous object (a trace of a long
         # run keeps one copy per change, not one per step); equal values, same trace.
         # (With repeat_step only the robots that stepped are asked: repeating leaves
@@ -1159,9 +1208,14 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 merged[k] = st
                 changed = True
         new_states = tuple(merged) if changed else states
-        state_hist.append(new_states)
-        if msg_hist is not None:
-            msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
+        if record:
+            state_hist.append(new_states)
+            if msg_hist is not None:
+                msg_hist.append({ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None})
+        elif msg_hist is not None:
+            last_unrecorded_msgs = {ids_list[k]: new_msgs[k] for k in idx_l if new_msgs[k] is not None}
+        for ob in observers:
+            ob.observe(t, _ro(poses), new_states, _ro(present))
         if async_clocks:
             # broadcasts come and go with the clocks; what a robot would say is its outbox
             quiet_step = not changed and same_poses and outbox == last_outbox
@@ -1187,6 +1241,14 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             break
     if progress is not None:
         progress(t, max_steps)
+    if times is not None and times[-1] != t:      # a sparse trace always ends with the last step
+        times.append(t)
+        pose_hist.append(poses.copy())
+        if present_hist is not None:
+            present_hist.append(present.copy())
+        state_hist.append(states)
+        if msg_hist is not None:
+            msg_hist.append(last_unrecorded_msgs)
 
     meta = {
         "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
@@ -1207,12 +1269,13 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         **({"clocks": {"phase": [float(x) for x in clock_phase], "rate": [float(x) for x in clock_rate],
                        "broadcast_every": bcast_every}} if async_clocks else {}),
         **({"grid_spacing": spacing} if grid else {}),
+        **({"record_every": record_every} if record_every > 1 else {}),
         "model": {"sensing": model.sensing, "communication": model.communication,
                   "motion": model.motion, "clocks": model.clocks,
                   "neighbor_rule": getattr(model, "neighbor_rule", "strict")},
     }
     trace = Trace(ids=ids, poses=np.stack(pose_hist), states=state_hist, events=events,
                   messages=msg_hist,
-                  present=None if present_hist is None else np.stack(present_hist), meta=meta)
+                  present=None if present_hist is None else np.stack(present_hist), meta=meta, times=times)
     return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
-                            seed=seed, static_window=window, max_steps=max_steps)
+                            seed=seed, static_window=window, max_steps=max_steps, observers=observers)

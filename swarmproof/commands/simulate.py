@@ -55,6 +55,9 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
     p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
+    p.add_argument("--record-every", type=int, default=1, metavar="K",
+                   help="keep every K-th step (and every event, and the last) in the trace; connectivity "
+                        "and tree links are still judged on every step by streaming monitors (default 1)")
 
 
 def _parse_extra(items) -> dict:
@@ -105,6 +108,8 @@ def run(args) -> int:
         raise UsageError(f"--range {args.range_!r} must be a finite number > 0")
     if args.max_steps is not None and args.max_steps < 0:
         raise UsageError(f"--max-steps {args.max_steps!r} must be >= 0")
+    if args.record_every < 1:
+        raise UsageError(f"--record-every {args.record_every!r} must be >= 1", fix="1 records every step")
     for name in ("v", "omega", "dt"):
         val = getattr(args, name, None)
         if val is not None and not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
@@ -123,7 +128,7 @@ def run(args) -> int:
         args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
         max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
         extra=_parse_extra(getattr(args, "param", []) or []), min_separation=args.min_separation,
-        allow_violations=args.allow_violations, progress=_progress_printer())
+        allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every)
     doc, code = checked.doc, checked.exit_code
     trace, result, sat, conn, links, term = (checked.result.trace, checked.result, checked.satisfaction,
                                              checked.connectivity, checked.tree_links, checked.termination)

@@ -1,0 +1,115 @@
+"""Sparse recording and streaming monitors (issue 12; DESIGN.md section 5 "Monitors see every
+step"): a sparse trace keeps every k-th step, every event and the last; properties still see
+every step through monitors the engine feeds, so a violation at an unrecorded step is found."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from swarmproof.invariants.connectivity import ConnectivityMonitor, TreeLinkMonitor, connected_throughout
+from swarmproof.invariants.properties import CollisionMonitor
+from swarmproof.invariants.registry import PropertyContext, get_property
+from swarmproof.models.errors import UsageError
+from swarmproof.models.trace import InitialConfiguration, Trace
+from swarmproof.reference_impl.engine import FaultModel, simulate
+from swarmproof.reference_impl.protocol import Command, Params, RobotModel
+
+P = Params(range=1.0, v=1.0, omega=math.pi, dt=1.0)
+HOLO = RobotModel(motion="holonomic")
+
+
+def _excursion(rid, k, obs, rng):
+    """Robot 1 steps 0.6 away from robot 0 in step 7 and back in step 8; nothing else moves."""
+    if rid != 1 or obs.step not in (7, 8):
+        return Command()
+    return Command(turn=0.0 if obs.step == 7 else math.pi, forward=0.6)
+
+
+def _run(recorder, record_every, observers=(), steps=20, faults=None):
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0, 0]])
+    algo = recorder(HOLO, _excursion)
+    return simulate(algo, None, init, P, seed=0, max_steps=steps, stop_when_static=False,
+                    record_every=record_every, observers=observers, faults=faults)
+
+
+def test_a_sparse_trace_keeps_every_kth_step_the_events_and_the_last(recorder):
+    faults = FaultModel(crashes={12: []}, additions={13: [(9, [0.0, 0.9, 0.0])]})
+    r = _run(recorder, 5, steps=21, faults=faults)
+    assert r.trace.times == [0, 5, 10, 14, 15, 20, 21]     # 14: the addition at step 13 is recorded after it
+    assert len(r.trace.poses) == len(r.trace.states) == 7 and r.trace.sparse
+    assert r.trace.meta["record_every"] == 5 and r.steps == 21
+    dense = _run(recorder, 1, steps=21, faults=faults)
+    assert dense.trace.times is None and not dense.trace.sparse
+    for i, t in enumerate(r.trace.times):
+        assert r.trace.poses[i].tobytes() == dense.trace.poses[t].tobytes()
+        assert r.trace.states[i] == dense.trace.states[t]
+    back = Trace.from_json(r.trace.to_json())
+    assert back.times == r.trace.times
+
+
+def test_a_violation_at_an_unrecorded_step_is_found_by_the_streaming_monitor(recorder):
+    mons = (ConnectivityMonitor(1.0), CollisionMonitor(0.3))
+    r = _run(recorder, 5, observers=mons)
+    assert 8 not in r.trace.times
+    # the sparse trace alone looks connected: the split after step 7 is not recorded
+    assert connected_throughout(r.trace, 1.0).held
+    seen = r.observed("connectivity")
+    assert seen.violated and seen.witness == {"step": 8, "components": [[0], [1]]}
+    # the same run recorded densely: the same verdict, from the trace
+    dense = connected_throughout(_run(recorder, 1).trace, 1.0)
+    assert (dense.status, dense.witness) == (seen.status, seen.witness)
+    # robots of radius 0.3 overlap all along (0.5 apart): found at the first step
+    assert r.observed("collision").violated and r.observed("collision").witness["step"] == 0
+
+
+def test_the_registry_judges_a_sparse_trace_by_its_monitor_or_says_inconclusive(recorder):
+    r = _run(recorder, 5, observers=(ConnectivityMonitor(1.0),))
+    ctx = PropertyContext(None, None, P, r, {})
+    assert get_property("connectivity").judge(r.trace, ctx).violated
+    premises = get_property("premises").judge(r.trace, ctx)
+    assert premises.status == "inconclusive" and "the trace is sparse (record_every=5)" in premises.message
+    assert get_property("collision").judge(r.trace, ctx).status == "inconclusive"
+
+
+def test_streaming_and_trace_judgments_agree_on_a_real_run():
+    from swarmproof.invariants.connectivity import tree_links_survive
+    from swarmproof.models.library import load
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.song2014 import Song2014
+
+    start = random_connected(10, 2, range=1.2)
+    p = Params(range=1.2, v=0.05)
+    mons = (ConnectivityMonitor(1.2), TreeLinkMonitor(1.2))
+    sparse = simulate(Song2014(), load("square"), start, p, seed=2, record_every=25, observers=mons)
+    dense = simulate(Song2014(), load("square"), start, p, seed=2)
+    for name, fn in (("connectivity", lambda t: connected_throughout(t, 1.2)),
+                     ("tree_links", lambda t: tree_links_survive(t, 1.2))):
+        a, b = sparse.observed(name), fn(dense.trace)
+        assert (a.status, a.witness) == (b.status, b.witness), name
+    assert sparse.trace.poses[-1].tobytes() == dense.trace.poses[-1].tobytes()
+
+
+def test_simulate_command_line_record_every(cli):
+    import json
+
+    code, out, _ = cli("simulate", "song2016", "--lattice", "square", "--robots", "10", "--seed", "0",
+                       "--record-every", "50", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["record_every"] == 50 and doc["recorded_steps"] < doc["steps"] / 10
+    assert doc["connectivity"]["message"] == f"connected at all {doc['steps'] + 1} steps"
+    code, _, err = cli("simulate", "song2016", "--lattice", "square", "--robots", "3", "--seed", "0",
+                       "--record-every", "0")
+    assert code == 2 and "--record-every 0 must be >= 1" in err
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(record_every=0), r"record_every=0 must be an integer >= 1"),
+    (dict(observers=[object()]), r"has no start\(ids\) and observe"),
+])
+def test_bad_recording_arguments_are_named(recorder, kwargs, match):
+    init = InitialConfiguration([0], [[0, 0, 0]])
+    with pytest.raises(UsageError, match=match):
+        simulate(recorder(HOLO, _excursion), None, init, P, seed=0, max_steps=1, **kwargs)
