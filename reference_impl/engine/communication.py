@@ -1,0 +1,173 @@
+"""Communication models: who hears whom, and how a delivery arrives (issue 12).
+
+``RobotModel.communication``: ``"neighbors"`` (the robots in range, by the model's
+neighbor rule), ``"all"`` (every robot: one shared read-only view per step, O(n) per
+step) or ``"none"``.  Late deliveries (fault models: delay, duplication, reordering)
+wait in the receiver's queue (:func:`_deliver_pending`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping as _MappingABC
+
+import numpy as np
+
+from swarmproof.models.trace import Event
+
+
+class _AllBut(_MappingABC):
+    """Read-only view of one step's broadcasts without the receiver's own (``communication="all"``):
+    built once per step and shared, so delivery costs O(n) per step, not O(n^2)."""
+
+    __slots__ = ("_base", "_own")
+
+    def __init__(self, base: dict, own) -> None:
+        self._base, self._own = base, own
+
+    def __getitem__(self, key):
+        if key == self._own:
+            raise KeyError(key)
+        return self._base[key]
+
+    def __iter__(self):
+        own = self._own
+        return (k for k in self._base if k != own)
+
+    def __len__(self) -> int:
+        return len(self._base) - (self._own in self._base)
+
+    def __contains__(self, key) -> bool:
+        return key != self._own and key in self._base
+
+    def __repr__(self) -> str:
+        return repr(dict(self.items()))
+
+
+def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple[dict, tuple]:
+    """The deliveries due at step ``t`` for receiver slot ``k`` (removed from ``pending``):
+    ``(messages by sender ID, ((sender slot, message), ...) in delivery order)``.
+
+    Due deliveries come in (due step, sending order); ``reorder`` shuffles them
+    with the fault generator.  ``messages`` keeps each sender's last delivery.
+    """
+    box = pending.get(k)
+    if not box:
+        return {}, ()
+    due = [e for e in box if e[0] <= t]
+    if not due:
+        return {}, ()
+    pending[k] = [e for e in box if e[0] > t]
+    due.sort(key=lambda e: (e[0], e[1]))
+    if reorder and len(due) > 1:
+        due = [due[i] for i in rng.permutation(len(due)).tolist()]
+    return {e[3]: e[4] for e in due}, tuple((e[2], e[4]) for e in due)
+
+
+class Delivery:
+    """What each robot hears in a step: the model's audience, then the fault model's loss,
+    delay, duplication and reordering (every draw from the fault generator, in delivery
+    order), then anonymity (no sender IDs).
+
+    Per run: ``Delivery(model, faults, phi, ids_list, rng)``; per step: :meth:`begin`
+    (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`end`
+    (records ``drop`` and ``late_delivery`` events).
+    """
+
+    def __init__(self, model, faults, phi: float, ids_list, rng) -> None:
+        self.comm = model.communication
+        self.anonymous = model.sensing == "anonymous"
+        self.inclusive = getattr(model, "neighbor_rule", "strict") == "inclusive"
+        self.faults, self.phi, self.ids_list, self.rng = faults, float(phi), ids_list, rng
+        self.drops = faults.drops_messages
+        self.late = faults.late_messages
+        self.max_delay = int(faults.message_delay)
+        self.dup_p = float(faults.message_duplication)
+        self.pending: dict = {}   # receiver slot -> [(due step, seq, sender slot, sender id, message)]
+        self.seq = 0
+
+    def forget(self, slot: int) -> None:
+        """A crashed robot loses its queue."""
+        self.pending.pop(slot, None)
+
+    def begin(self, last_msgs: list, idx_l: list) -> None:
+        self.last_msgs = last_msgs
+        ids_list = self.ids_list
+        self.all_senders = [(ids_list[s], s) for s in idx_l] if self.comm == "all" else None
+        self.all_msgs = ({sid: last_msgs[s] for sid, s in self.all_senders if last_msgs[s] is not None}
+                         if self.comm == "all" and not (self.drops or self.late or self.anonymous) else None)
+        # every present robot broadcast last step (the usual case): no None to filter
+        self.silent = self.comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
+        self.dropped: list = []
+        self.late_log: list = []
+
+    def receive(self, t: int, k: int, my_id, nb_ids, nb_slots, nb_rel):
+        """``(messages, delivered)`` for the robot in slot ``k``: its ``Observation.messages``
+        and, when it differs from their items, the inbox (None otherwise)."""
+        last_msgs, faults, rng = self.last_msgs, self.faults, self.rng
+        anonymous, late = self.anonymous, self.late
+        delivered = None
+        if self.all_msgs is not None:
+            heard = None
+            msgs = _AllBut(self.all_msgs, my_id)
+        elif self.comm == "none":
+            heard = ()
+        elif self.comm == "all":
+            heard = [(sid, s) for sid, s in self.all_senders if s != k]
+        elif anonymous:
+            # anonymous robots sense everyone; they hear the ones in range
+            d = np.hypot(nb_rel[:, 0], nb_rel[:, 1])
+            near = (d <= self.phi) if self.inclusive else (d < self.phi)
+            heard = [(self.ids_list[s], s) for s, ok in zip(nb_slots, near.tolist()) if ok]
+        elif not self.drops and not self.silent and not late:
+            heard = None
+            msgs = dict(zip(nb_ids, map(last_msgs.__getitem__, nb_slots)))
+        else:
+            heard = zip(nb_ids, nb_slots)
+        if heard is None:
+            pass
+        elif not self.drops and not late:
+            msgs = {s if anonymous else sid: last_msgs[s] for sid, s in heard if last_msgs[s] is not None}
+        else:
+            msgs = {}
+            for sid, s in heard:
+                msg = last_msgs[s]
+                if msg is None:
+                    continue
+                if faults.drop_message is not None and faults.drop_message(t, sid, my_id, rng):
+                    self.dropped.append((sid, my_id))
+                    continue
+                if faults.message_loss > 0 and rng.random() < faults.message_loss:
+                    self.dropped.append((sid, my_id))
+                    continue
+                if late:
+                    delay = int(rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
+                    copies = 2 if self.dup_p > 0 and rng.random() < self.dup_p else 1
+                    box = self.pending.setdefault(k, [])
+                    for _ in range(copies):
+                        box.append((t + delay, self.seq, s, sid, msg))
+                        self.seq += 1
+                    if delay or copies > 1:
+                        self.late_log.append((sid, my_id, t + delay, copies))
+                else:
+                    msgs[s if anonymous else sid] = msg
+        if late:
+            msgs, delivered = _deliver_pending(self.pending, k, t, faults.message_reorder, rng)
+        if anonymous:
+            # no sender IDs: a message is keyed by the row of neighbor_poses its sender is
+            # sensed at (messages of robots not sensed now are in the inbox only)
+            row = {s: r for r, s in enumerate(nb_slots)}
+            if delivered is None:   # msgs is keyed by sender slot here
+                delivered = tuple((None, m_) for m_ in msgs.values())
+                msgs = {row[s_]: m_ for s_, m_ in msgs.items() if s_ in row}
+            else:
+                msgs = {row[s_]: m_ for s_, m_ in delivered if s_ in row}
+                delivered = tuple((None, m_) for _, m_ in delivered)
+        elif delivered is not None:
+            delivered = tuple((self.ids_list[s_], m_) for s_, m_ in delivered)
+        return msgs, delivered
+
+    def end(self, t: int, events: list) -> None:
+        if self.dropped:
+            events.append(Event(t, "drop", (), (("deliveries", tuple(self.dropped)),)))
+        if self.late_log:
+            events.append(Event(t, "late_delivery", (), (("deliveries", tuple(self.late_log)),)))
