@@ -84,19 +84,25 @@ class Delivery:
         self.dup_p = float(faults.message_duplication)
         self.pending: dict = {}   # receiver slot -> [(due step, seq, sender slot, sender id, message)]
         self.seq = 0
+        #: local robots hearing their neighbors without message faults: the caller may build
+        #: ``dict(zip(nb_ids, map(last_msgs.__getitem__, nb_slots)))`` itself when :attr:`direct`
+        self.plain = (self.comm == "neighbors" and not self.anonymous and not self.drops and not self.late)
+        self.direct = False
 
     def forget(self, slot: int) -> None:
         """A crashed robot loses its queue."""
         self.pending.pop(slot, None)
 
-    def begin(self, last_msgs: list, idx_l: list) -> None:
+    def begin(self, last_msgs: list, idx_l: list, silent: bool) -> None:
+        """A step starts: ``last_msgs`` by slot (None: silent), the present slots, and whether
+        some present robot was silent."""
         self.last_msgs = last_msgs
         ids_list = self.ids_list
         self.all_senders = [(ids_list[s], s) for s in idx_l] if self.comm == "all" else None
         self.all_msgs = ({sid: last_msgs[s] for sid, s in self.all_senders if last_msgs[s] is not None}
                          if self.comm == "all" and not (self.drops or self.late or self.anonymous) else None)
-        # every present robot broadcast last step (the usual case): no None to filter
-        self.silent = self.comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
+        self.silent = silent
+        self.direct = self.plain and not self.silent
         self.dropped: list = []
         self.late_log: list = []
 

@@ -558,7 +558,6 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         act_l = act.tolist()
         idx_l = idx.tolist()
         pres_ids_l = pres_ids.tolist()
-        delivery.begin(last_msgs, idx_l)
         # every present robot broadcast last step (the usual case): no None to filter
         silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
         get_msg = last_msgs.__getitem__
@@ -595,12 +594,18 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             new_msgs = [None] * n_total
             stepped = None
         # the general path: any model, fault hooks (empty when repeat_ok)
+        if not repeat_ok:
+            delivery.begin(last_msgs, idx_l, silent)
+            direct = delivery.direct
         for a in (range(0) if repeat_ok else range(m)):
             if not act_l[a]:
                 continue
             k = idx_l[a]
             my_id = pres_ids_l[a]
-            msgs, delivered = delivery.receive(t, k, my_id, nb_ids[a], nb_slots[a], nb_rel[a])
+            if direct:   # the plain model: every neighbor broadcast, no message faults
+                msgs, delivered = dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))), None
+            else:
+                msgs, delivered = delivery.receive(t, k, my_id, nb_ids[a], nb_slots[a], nb_rel[a])
             own = None
             if global_sensing:
                 own = poses[k].copy()
@@ -623,7 +628,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 outbox[k] = cmd.message
             else:
                 new_msgs[k] = cmd.message
-        delivery.end(t, events)
+        if not repeat_ok:
+            delivery.end(t, events)
         if async_clocks:
             for a, k in enumerate(idx_l):
                 if bcast[a]:
