@@ -83,6 +83,31 @@ def params_of(trace) -> tuple:
                          "pass phi, v and dt explicitly") from None
 
 
+def _steps(trace):
+    """The steps a monitor examines: every step of a trace, or the one step of a
+    :class:`_Window` (the streaming form, :class:`PremisesMonitor`)."""
+    r = getattr(trace, "step_range", None)
+    return range(trace.steps) if r is None else r
+
+
+class _Window:
+    """Two consecutive steps ``t0`` and ``t0 + 1`` seen as a trace indexed by absolute step,
+    so the monitors examine exactly one step and name it by its number."""
+
+    def __init__(self, ids, meta, prev, cur) -> None:
+        (t0, p0, s0, m0), (t1, p1, s1, m1) = prev, cur
+        self.ids, self.meta, self.n = ids, meta, len(ids)
+        self.steps = t0 + 1
+        self.step_range = range(t0, t0 + 1)
+        # the frame kept after step t0 is the engine's step t1 (= t0 + 1)
+        self.poses = {t0: p0, t0 + 1: p1}
+        self.states = {t0: s0, t0 + 1: s1}
+        self._present = {t0: m0, t0 + 1: m1}
+
+    def present_at(self, t):
+        return self._present[t]
+
+
 def _slot(trace) -> dict:
     return {int(i): k for k, i in enumerate(trace.ids.tolist())}
 
@@ -92,7 +117,7 @@ def step_bounded(trace, v: float, dt: float, *, tol: float = 1e-9) -> InvariantR
 
     Lemma: ``bounded_range`` (000/001 Lemma 7, "each moves at most v dt")."""
     lim = v * dt
-    for t in range(trace.steps):
+    for t in _steps(trace):
         both = trace.present_at(t) & trace.present_at(t + 1)
         d = np.hypot(*(trace.poses[t + 1][:, :2] - trace.poses[t][:, :2]).T)
         bad = np.flatnonzero(both & (d > lim * (1 + tol) + tol))
@@ -117,7 +142,7 @@ def _movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, t
     radius = phi - v * dt
     slot = _slot(trace)
     checked = 0
-    for t in range(trace.steps):
+    for t in _steps(trace):
         after = trace.states[t + 1]
         pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
         for k in range(trace.n):
@@ -221,7 +246,7 @@ def relocate_path_in_range(trace, phi: float, *, tol: float = 1e-9) -> Invariant
     within ``phi`` too)."""
     slot = _slot(trace)
     checked = 0
-    for t in range(trace.steps):
+    for t in _steps(trace):
         after = trace.states[t + 1]
         pres1 = trace.present_at(t + 1)
         for k in range(trace.n):
@@ -291,7 +316,7 @@ def children_toward_still_parents(trace, phi: float, v: float, dt: float, *,
     slot = _slot(trace)
     eps = tol * phi
     checked = 0
-    for t in range(trace.steps):
+    for t in _steps(trace):
         before, after = trace.states[t], trace.states[t + 1]
         p0, p1 = trace.poses[t], trace.poses[t + 1]
         pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
@@ -411,3 +436,60 @@ def premise_monitors_of(algorithm) -> tuple:
     """
     names = getattr(algorithm, "premise_monitors", None)
     return _known(names or ())
+
+
+class PremisesMonitor:
+    """Streaming form of the ``premises`` property: the engine feeds it every step
+    (``simulate(observers=...)``) and each monitor examines that one step, so a premise that
+    fails at a step a sparse trace does not keep is found.  Verdicts as
+    :func:`swarmproof.invariants.properties.premises`: the earliest violation over all
+    monitors, inconclusive when a monitor cannot read its state keys or none is declared."""
+
+    name = "premises"
+
+    def __init__(self, monitors, phi: float, v: float, dt: float) -> None:
+        self.monitors = _known(monitors)
+        self.phi, self.v, self.dt = float(phi), float(v), float(dt)
+        self._prev = None
+        self.steps = 0
+        self.final: dict = {}            # monitor -> a violated or inconclusive result (it stops there)
+        self.checked = {m: 0 for m in self.monitors}
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+        self.slot = {int(i): k for k, i in enumerate(self.ids.tolist())}
+
+    def observe(self, t, poses, states, present) -> None:
+        cur = (int(t), np.array(poses, copy=True), states, np.array(present, copy=True))
+        prev, self._prev = self._prev, cur
+        if prev is None:
+            return
+        self.steps += 1
+        window = _Window(self.ids, {}, prev, cur)
+        for name in self.monitors:
+            if name in self.final:
+                continue
+            r = MONITORS[name](window, self.phi, self.v, self.dt)
+            if r.status != "held":
+                self.final[name] = r
+            else:
+                self.checked[name] += int((r.detail or {}).get("checked", 0))
+
+    def results(self) -> list:
+        """``(monitor, InvariantResult)`` over every step seen."""
+        out = []
+        for name in self.monitors:
+            r = self.final.get(name)
+            if r is None:
+                n = self.checked[name]
+                applicable = n > 0 or name == "step_bounded"
+                r = InvariantResult(f"premise:{name}", "held", MONITOR_LEMMAS[name], None,
+                                    f"held at every one of {self.steps} steps ({n} cases examined)",
+                                    applicable=applicable, detail={"checked": n})
+            out.append((name, r))
+        return out
+
+    def result(self) -> InvariantResult:
+        from .properties import combine_premises
+
+        return combine_premises(self.monitors, self.results(), self.steps)

@@ -41,7 +41,7 @@ from scipy.spatial import cKDTree
 
 from .result import InvariantResult
 
-__all__ = ["collision", "CollisionMonitor", "deadlock", "oscillation", "premises", "segment_min_distances"]
+__all__ = ["collision", "CollisionMonitor", "combine_premises", "deadlock", "oscillation", "premises", "segment_min_distances"]
 
 CITE_COLLISION = "issue 6: robots as discs never overlap (straight moves per step, 000 Sec. III / 001 Sec. III-A)"
 CITE_DEADLOCK = "issue 6 / 001 Def. 5, Thm. 13: no static configuration short of the goal"
@@ -501,13 +501,18 @@ def premises(trace, monitors, phi: float, v: float, dt: float) -> InvariantResul
     from .premises import MONITORS
 
     monitors = tuple(monitors)
+    results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors] if trace.steps >= 1 else []
+    return combine_premises(monitors, results, trace.steps)
+
+
+def combine_premises(monitors, results, steps: int) -> InvariantResult:
+    """The ``premises`` verdict from each monitor's result (see :func:`premises`)."""
     if not monitors:
         return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
                                "the algorithm declares no lemma premises to monitor")
-    if trace.steps < 1:
+    if steps < 1:
         return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
                                "the trace has no step to check")
-    results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors]
     detail = {"monitors": {name: {"status": r.status, "applicable": r.applicable, **r.detail}
                            for name, r in results}}
     bad = [(name, r) for name, r in results if r.violated]
@@ -523,4 +528,4 @@ def premises(trace, monitors, phi: float, v: float, dt: float) -> InvariantResul
                                "; ".join(f"{name}: {r.message}" for name, r in unsure), detail=detail)
     parts = [name if r.applicable else f"{name} (nothing to examine)" for name, r in results]
     return InvariantResult("premises", "held", CITE_PREMISES, None,
-                           f"premises held at all {trace.steps} steps: {', '.join(parts)}", detail=detail)
+                           f"premises held at all {steps} steps: {', '.join(parts)}", detail=detail)

@@ -304,6 +304,12 @@ def _collision_stream(algorithm, params, options):
     return CollisionMonitor(float(dict(options or {}).get("radius", DEFAULT_RADIUS)))
 
 
+def _premises_stream(algorithm, params, options):
+    from .premises import PremisesMonitor, premise_monitors_of
+
+    return PremisesMonitor(premise_monitors_of(algorithm), params.range, params.v, params.dt)
+
+
 def _tree_links_closeness(r: InvariantResult):
     value = (r.detail or {}).get("longest_link_ratio")
     return None if value is None else float(value)
@@ -403,9 +409,8 @@ for _p in (
              CITE_OSCILLATION,
              run_monitor=_oscillation_monitor, every_step=True),
     Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
-             "only the lemma premises the algorithm declares (premise_monitors); not streamed yet: "
-             "inconclusive on a sparse trace",
-             CITE_PREMISES, every_step=True),
+             "only the lemma premises the algorithm declares (premise_monitors)",
+             CITE_PREMISES, stream=_premises_stream, every_step=True),
 ):
     register_property(_p)
 del _p

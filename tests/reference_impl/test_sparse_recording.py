@@ -113,3 +113,38 @@ def test_bad_recording_arguments_are_named(recorder, kwargs, match):
     init = InitialConfiguration([0], [[0, 0, 0]])
     with pytest.raises(UsageError, match=match):
         simulate(recorder(HOLO, _excursion), None, init, P, seed=0, max_steps=1, **kwargs)
+
+
+def test_premise_monitors_stream_every_step_and_find_a_failure_a_sparse_trace_skips():
+    """000 Lemma 7's premise fails for song2014 at step 2 of this start (test_premises.py);
+    recorded every 5 steps, only the streaming monitor sees it -- at the same step."""
+    from swarmproof.invariants.premises import PremisesMonitor, check_premises
+    from swarmproof.invariants.properties import premises
+    from swarmproof.models.library import load
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.song2014 import Song2014
+
+    start = random_connected(10, 2, range=1.2)
+    p = Params(range=1.2, v=0.05)
+    names = Song2014.premise_monitors
+    dense = simulate(Song2014(), load("square"), start, p, seed=2)
+    want = premises(dense.trace, names, 1.2, 0.05, 1.0)
+    mon = PremisesMonitor(names, 1.2, 0.05, 1.0)
+    sparse = simulate(Song2014(), load("square"), start, p, seed=2, record_every=5, observers=(mon,))
+    got = sparse.observed("premises")
+    assert want.violated and (got.status, got.witness) == (want.status, want.witness)
+    assert got.witness["step"] not in sparse.trace.times
+    ctx = PropertyContext(Song2014(), load("square"), p, sparse, {})
+    assert get_property("premises").judge(sparse.trace, ctx).witness == want.witness
+    # on a run where every premise holds, the streamed verdict is held too
+    from swarmproof.reference_impl.song2016 import Song2016
+
+    s16 = Song2016(n_robots=8)
+    start = random_connected(8, 0, range=1.2)
+    p16 = Params(range=1.2, v=0.05)
+    mon = PremisesMonitor(Song2016.premise_monitors, 1.2, 0.05, 1.0)
+    r = simulate(s16, load("hexagon"), start, p16, seed=0, record_every=10, observers=(mon,))
+    d = simulate(Song2016(n_robots=8), load("hexagon"), start, p16, seed=0)
+    assert r.observed("premises").status == "held" == premises(d.trace, Song2016.premise_monitors, 1.2, 0.05,
+                                                                1.0).status
+    assert [x.status for x in check_premises(d.trace)] == [x.status for _, x in mon.results()]
