@@ -224,12 +224,27 @@ class AlgorithmSpec:
                     kw["n_robots"] = n_robots
             except (TypeError, ValueError):  # pragma: no cover - builtins without signatures
                 pass
-        algo = self.factory(**kw)
+        try:
+            algo = self.factory(**kw)
+        except TypeError as exc:
+            raise UsageError(f"algorithm={self.ref!r} cannot be built without arguments ({exc})",
+                             fix="give every constructor parameter a default (swarmproof builds one per "
+                                 "scenario), or register a factory function that supplies them") from None
         missing = [a for a in ("model", "assumptions", "controller", "finished") if not hasattr(algo, a)]
         if missing:
             raise UsageError(f"algorithm={self.ref!r} built an object without {missing!r}",
                              fix="follow the protocol of swarmproof.reference_impl.protocol.Algorithm")
         return algo
+
+
+def _cwd_importable() -> None:
+    """Let ``module:qualname`` name a module of the current directory, as pytest's rootdir does
+    (the ``swarmproof`` command's own path does not include it)."""
+    import sys
+
+    cwd = os.getcwd()
+    if cwd not in sys.path and "" not in sys.path:
+        sys.path.append(cwd)
 
 
 def _import_ref(ref: str):
@@ -241,6 +256,7 @@ def _import_ref(ref: str):
     if not modname or not qual or "<locals>" in qual:
         raise UsageError(f"algorithm={ref!r} cannot be imported (not module:qualname of a module-level "
                          "class or function)", fix=fix)
+    _cwd_importable()
     try:
         obj = importlib.import_module(modname)
         for part in qual.split("."):
@@ -249,6 +265,9 @@ def _import_ref(ref: str):
         raise UsageError(f"algorithm={ref!r} cannot be imported ({exc})", fix=fix) from None
     except AttributeError:
         raise UsageError(f"algorithm={ref!r} cannot be imported: {modname} has no {qual!r}", fix=fix) from None
+    except Exception as exc:  # noqa: BLE001 - the user's module failed while importing
+        raise UsageError(f"algorithm={ref!r}: importing {modname} raised {type(exc).__name__}: {exc}",
+                         fix="fix the module so that it imports") from None
     return obj
 
 
@@ -917,6 +936,11 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   stats["conclusive"] += 1
               else:
                   stats["why"] = r.message
+              found = prop
+              if result.crash is not None and prop != "no_crash":
+                  # a crash of the algorithm under test is a finding whatever was asked: no_crash
+                  found = "no_crash"
+                  r = judge("no_crash", algo_run, lattice, p, result, options)
               if r.violated:
                   if stats["first"] is None:
                       stats["first"] = (time.monotonic() - t0, time.process_time() - c0, scn.n, stats["runs"])
@@ -927,7 +951,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                               "extra": {k: v for k, v in dict(p.extra).items()}},
                       lattice=_cx_lattice(scn.lattice, lattice), target=_cx_target(scn.lattice, lattice),
                       robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
-                      seed=scn.seed, property=prop,
+                      seed=scn.seed, property=found,
                       violation={"step": None if step is None else int(step), "message": r.message},
                       schedule=None if fm is None else fm.describe().get("schedule"),
                       faults=None if fm is None else fm.describe(),
@@ -960,16 +984,34 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         if stats["first"] is not None:
             (v.first_failure_seconds, v.first_failure_cpu, v.first_failure_robots,
              v.first_failure_scenarios) = stats["first"]
-        if failures:
-            cx = failures[-1]  # Hypothesis only accepts smaller failing examples: the last is the smallest
-            v.status = "violated"
-            v.counterexample = cx
+        crash_v = None
+        if failures and failures[-1].property != prop:
+            # the algorithm crashed while `prop` was explored: the crash is a no_crash finding
+            # (shrunk, with its counterexample); `prop` was not judged on those runs
+            crash_v = PropertyVerdict(failures[-1].property, "held", scenarios=stats["runs"],
+                                      conclusive=stats["runs"], steps=stats["steps"], capped=stats["capped"],
+                                      budget_hit=stats["hit"], seconds=time.monotonic() - t0)
+            crash_v.counterexample = failures[-1]
+            failures = []
+        for verdict in ([v] if crash_v is None else [crash_v]):
+            if crash_v is None and not failures:
+                break
+            cx = crash_v.counterexample if crash_v is not None else failures[-1]  # the last is the smallest
+            verdict.status = "violated"
+            verdict.counterexample = cx
             where = cx.lattice if cx.target is None else (cx.lattice or f"{cx.target['kind']}:{cx.target['name']}")
-            v.message = f"{len(cx.robots)} robots on {where}: {cx.violation['message']}"
+            verdict.message = f"{len(cx.robots)} robots on {where}: {cx.violation['message']}"
             if out_dir is not None:
                 os.makedirs(out_dir, exist_ok=True)
-                v.counterexample_path = cx.save(os.path.join(os.fspath(out_dir),
-                                                             f"{_file_label(spec)}-{_safe(prop)}-seed{seed}.json"))
+                verdict.counterexample_path = cx.save(os.path.join(
+                    os.fspath(out_dir), f"{_file_label(spec)}-{_safe(cx.property)}-seed{seed}.json"))
+        if crash_v is not None:
+            report.properties.setdefault(crash_v.name, crash_v)
+            v.status = "inconclusive"
+            v.message = (f"the algorithm crashed ({crash_v.counterexample.violation['message']}): "
+                         f"{prop} was not judged on that run; see no_crash")
+        elif v.status == "violated":
+            pass
         elif stats["conclusive"] == 0:
             v.status = "inconclusive"
             v.message = ("no scenario gave a judgment" +

@@ -185,6 +185,10 @@ def _run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
     doc = checked.doc
     out: dict[str, tuple[Verdict, str]] = {}
     status = doc["status"]
+    if status == "crashed":
+        crash = doc["crash"]
+        msg = f"the algorithm raised {crash['error']} in step {crash['step']}: {crash['message']}"
+        return {p: (Verdict.VIOLATED if p == "termination" else Verdict.INCONCLUSIVE, msg) for p in RUN_PROPERTIES}
     if status == "step_cap":
         out["termination"] = (Verdict.INCONCLUSIVE, f"step cap {doc['steps']} reached")
     elif checked.termination is not None and checked.termination.violated:

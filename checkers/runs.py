@@ -110,9 +110,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                                                     satisfies_lattice)
     from swarmproof.reference_impl import initial as initial_mod
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.registry import algorithm_factory, get_algorithm
+    from swarmproof.checkers.explore import resolve_algorithm
 
-    algorithm_factory(algorithm_name)  # unknown names fail first, listing the valid ones
+    spec = resolve_algorithm(algorithm_name)  # unknown names fail first, listing the valid ones
     if seed < 0:
         raise UsageError(f"seed={seed!r} must be >= 0")
     kind = getattr(lattice, "kind", "lattice")
@@ -131,7 +131,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         if robots < 1:
             raise UsageError(f"robots={robots!r} must be >= 1")
         initial = None
-    algorithm = get_algorithm(algorithm_name, n_robots=initial.n if initial is not None else robots)
+    algorithm = spec.build(n_robots=initial.n if initial is not None else robots)
     n = initial.n if initial is not None else robots
     params = build_params(algorithm, phi, n, v=v, omega=omega, dt=dt, extra=extra)
     if initial is None:
@@ -207,7 +207,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
 
         term = static_by_bound(trace, int(bound_fn(params, initial.n)))
         doc["termination"] = term.as_dict()
-    if conn.violated or links.violated or (term is not None and term.violated):
+    if result.crash is not None:
+        doc["crash"] = dict(result.crash)
+    if result.crash is not None or conn.violated or links.violated or (term is not None and term.violated):
         code = EXIT_VIOLATED
     elif result.status == "step_cap":
         code = EXIT_INCONCLUSIVE

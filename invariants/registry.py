@@ -20,7 +20,7 @@ Examples
 >>> get_property("no-such")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises'], or module:name of a property you registered
+swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'no_crash'], or module:name of a property you registered
 """
 
 from __future__ import annotations
@@ -125,7 +125,13 @@ class Property:
 
     def judge(self, trace, ctx: "PropertyContext") -> InvariantResult:
         """``check`` on a dense trace; on a sparse one (``trace.times``), the result of the
-        streaming monitor the run carried, else inconclusive when the check needs every step."""
+        streaming monitor the run carried, else inconclusive when the check needs every step.
+        A run the algorithm crashed is judged by ``no_crash`` only (the others: inconclusive)."""
+        crash = getattr(ctx.result, "crash", None)
+        if crash is not None and self.name != "no_crash":
+            return InvariantResult(self.name, "inconclusive", self.cites, None,
+                                   f"the run ended when the algorithm raised {crash['error']} in step "
+                                   f"{crash['step']} (a no_crash finding)")
         if getattr(trace, "times", None) is not None and self.every_step:
             observed = getattr(ctx.result, "observed", None)
             r = observed(self.name) if callable(observed) else None
@@ -217,6 +223,11 @@ def get_property(name) -> Property:
         return _REGISTRY[name]
     if isinstance(name, str) and ":" in name:
         modname, _, attr = name.partition(":")
+        import os
+        import sys
+
+        if os.getcwd() not in sys.path and "" not in sys.path:   # as pytest's rootdir: modules of the cwd
+            sys.path.append(os.getcwd())
         try:
             mod = importlib.import_module(modname)
         except Exception as exc:  # noqa: BLE001 - a user's module: its error is the message
@@ -384,6 +395,20 @@ def _premises(trace, ctx):
     return premises(trace, premise_monitors_of(ctx.algorithm), ctx.phi, ctx.params.v, ctx.params.dt)
 
 
+def _no_crash(trace, ctx):
+    crash = getattr(ctx.result, "crash", None)
+    if crash is None:
+        return InvariantResult("no_crash", "held", CITE_NO_CRASH, None,
+                               f"the algorithm raised no exception in {ctx.result.steps} steps")
+    who = "the algorithm" if crash["robot"] is None else f"robot {crash['robot']}'s controller"
+    text = f"{crash['error']}: {crash['message']}" if crash["message"] else crash["error"]
+    return InvariantResult("no_crash", "violated", CITE_NO_CRASH,
+                           {k: crash[k] for k in ("step", "robot", "error", "message")},
+                           f"{who} raised {text} in step {crash['step']}")
+
+
+CITE_NO_CRASH = "swarmproof: the algorithm under test raises no exception (a crash is a finding)"
+
 for _p in (
     Property("connectivity", "safety", _connectivity, ("poses", "presence", "range"),
              "judged at the end of every step: between two step ends the graph is not sampled",
@@ -411,6 +436,9 @@ for _p in (
     Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
              "only the lemma premises the algorithm declares (premise_monitors)",
              CITE_PREMISES, stream=_premises_stream, every_step=True),
+    Property("no_crash", "safety", _no_crash, ("exceptions the algorithm's code raised",),
+             "exceptions only: a controller that loops forever is stopped by the time budget, not found",
+             CITE_NO_CRASH),
 ):
     register_property(_p)
 del _p

@@ -22,7 +22,7 @@ import importlib
 import sys
 from typing import Sequence
 
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import ProtocolError, UsageError
 from swarmproof.models.verdict import EXIT_INTERNAL, EXIT_USAGE
 
 #: Subcommand modules, in the order ``--help`` lists them.
@@ -121,6 +121,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"swarmproof {args.command}: error: {exc}", file=sys.stderr)
         if as_json:
             _emit_error(_error_document(args.command, "usage", str(exc), EXIT_USAGE))
+        return EXIT_USAGE
+    except ProtocolError as exc:
+        # the algorithm broke the protocol (a malformed command, an unhashable state): the
+        # user's contract error, not a crash of the algorithm nor swarmproof's bug
+        msg = (f"the algorithm broke the protocol: {exc}; fix: follow swarmproof.reference_impl.protocol "
+               "(a Command from step(), a hashable state(); docs/engine.md)")
+        print(f"swarmproof {args.command}: error: {msg}", file=sys.stderr)
+        if as_json:
+            _emit_error(_error_document(args.command, "usage", msg, EXIT_USAGE))
         return EXIT_USAGE
     except KeyboardInterrupt:
         print(f"swarmproof {args.command}: interrupted", file=sys.stderr)

@@ -82,7 +82,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError, check_type
+from swarmproof.models.errors import AssumptionError, ProtocolError, SwarmproofError, UsageError, check_type
 from swarmproof.models.se2 import wrap_angle
 from swarmproof.models.trace import Event, InitialConfiguration, Trace, to_jsonable
 
@@ -145,7 +145,8 @@ class SimulationResult:
     status : str
         ``"finished"`` (the algorithm's own end condition), ``"static"``
         (quiet for ``static_window`` steps), ``"step_cap"`` (inconclusive) or
-        ``"stopped"`` (a ``stop_when`` monitor ended the run).
+        ``"stopped"`` (a ``stop_when`` monitor ended the run) or ``"crashed"`` (the
+        algorithm under test raised an exception: ``crash``).
     steps : int
         Steps run (T).
     trace : Trace
@@ -157,6 +158,10 @@ class SimulationResult:
     observers : tuple
         The streaming monitors the run carried (``simulate(observers=...)``), after
         seeing every step; ``observed(name)`` gives one's result.
+    crash : dict or None
+        Status ``"crashed"``: the algorithm under test raised an exception --
+        ``{"step", "robot" (None: the algorithm, e.g. finished()), "error", "message",
+        "where"}``; the trace ends at the start of that step.
     """
 
     status: str
@@ -167,6 +172,7 @@ class SimulationResult:
     static_window: int
     max_steps: int
     observers: tuple = ()
+    crash: dict | None = None
 
     def observed(self, name: str):
         """The result of the observer called ``name`` (its ``name`` attribute), or None."""
@@ -250,6 +256,18 @@ class Recording:
                      messages=self.messages,
                      present=None if self.present is None else np.stack(self.present), meta=meta,
                      times=self.times)
+
+
+def _crash_record(exc: BaseException, calling: int, t: int, ids_list, anonymous: bool) -> dict:
+    """What the algorithm under test raised, for the result, the trace and the explorer."""
+    import traceback
+
+    robot = None if calling < 0 else int(ids_list[calling])
+    frames = traceback.extract_tb(exc.__traceback__)
+    last = frames[-1] if frames else None
+    where = f"{last.filename}:{last.lineno} in {last.name}" if last else ""
+    text = str(exc).splitlines()[0][:300] if str(exc) else ""
+    return {"step": int(t), "robot": robot, "error": type(exc).__name__, "message": text, "where": where}
 
 
 def _check_params(params: Params) -> None:
@@ -407,282 +425,325 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         outbox: list = [None] * n_total
         last_outbox: list = [None] * n_total
     fault_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
-    controllers: list = [None] * n_total
-    for k in range(n0):
-        controllers[k] = algorithm.controller(None if anonymous else ids_list[k], params, lattice,
-                                              _robot_rng(seed, k))
-
-    if max_steps is None:
-        f = getattr(algorithm, "default_max_steps", None)
-        max_steps = int(f(params, n0)) if callable(f) else default_max_steps(n0, params)
-    check_type("max_steps", max_steps, (int, np.integer))
-    max_steps = int(max_steps)
-    if max_steps < 0:
-        raise UsageError(f"max_steps={max_steps!r} must be >= 0")
-    if stop_when_static is True:
-        window = default_static_window(n0)
-    elif stop_when_static is False or stop_when_static is None:
-        window = 0
-    else:
-        check_type("stop_when_static", stop_when_static, (int, np.integer))
-        window = int(stop_when_static)
-        if window < 1:
-            raise UsageError(f"stop_when_static={stop_when_static!r} must be True, False or an int >= 1")
-
-    def _states() -> tuple:
-        return tuple(None if c is None or not present[k] else c.state()
-                     for k, c in enumerate(controllers))
-
-    check_type("record_every", record_every, (int, np.integer))
-    record_every = int(record_every)
-    if record_every < 1:
-        raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
-    observers = tuple(observers or ())
-    for ob in observers:
-        if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
-            raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
-                             fix="use a streaming monitor such as ConnectivityMonitor")
-    rec = Recording(record_every, poses, present if any_presence_change else None, record_messages)
-    states = _states()
-    for k, st in enumerate(states):
-        try:
-            hash(st)
-        except TypeError:
-            raise ProtocolError(f"controller of robot {ids_list[k]!r}: state() returned an unhashable "
-                                f"{type(st).__name__} ({st!r:.80}); return tuples of (key, value) "
-                                "pairs, a namedtuple or a frozen dataclass") from None
-    rec.states.append(states)
-    last_msgs: list = [None] * n_total
-    sensed = None  # (idx, position bytes, per-robot neighbor IDs, slots, poses)
-    # Repeating the last command (Controller.repeat_step) when a robot's observation is
-    # last step's except the step number: only in the plain model (every robot acts,
-    # hears its neighbors, senses exactly; no robot joins or crashes).
-    repeaters = [getattr(c, "repeat_step", None) for c in controllers]
-    repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
-                 and not faults.drops_messages and not faults.noisy and faults.schedule is None
-                 and not faults.late_messages and not grid and not async_clocks
-                 and not any_presence_change and all(callable(f) for f in repeaters))
-    last_keys = resensed = None
-    horizons = [getattr(c, "repeat_horizon", None) for c in controllers]
-    hold = [0] * n_total
-    last_cmds: list = [None] * n_total
-    turns_l = [0.0] * n0
-    fwds_l = [0.0] * n0
-    heard_msgs: list = [None] * n_total
-    idx_l_prev: list = []
-
-    phi = float(params.range)
-    global_sensing = model.sensing == "global"
-    comm = model.communication
-    std_xy, std_th = (float(s) for s in faults.noise_std)
-    noisy = faults.noisy
-    inclusive = model.neighbor_rule == "inclusive"
-    delivery = Delivery(model, faults, phi, ids_list, fault_rng)
-    status = "step_cap"
-    quiet = 0
-    finished = bool(algorithm.finished(tuple(s for s, p in zip(states, present) if p)))
-    if finished:
-        status = "finished"
+    calling = None   # the robot slot (-1: the algorithm) whose code runs now; None: the engine's
+    rec = window = None
+    states = None
+    crash = None
     t = 0
-    for ob in observers:
-        ob.start(ids.copy())
-        ob.observe(0, _ro(poses), states, _ro(present))
-    if stop_when is not None and not finished and stop_when(0, poses, states, present):
-        status, finished = "stopped", True
-    while not finished and t < max_steps:
-        n_events = len(events)
-        # 1. faults at the start of the step
-        for rid in faults.crashes.get(t, ()):
-            for k in range(n_total):
-                if present[k] and ids_list[k] == int(rid):
-                    present[k] = False
-                    controllers[k] = None
-                    last_msgs[k] = None
-                    delivery.forget(k)
-                    events.append(Event(t, "crash", (int(rid),)))
-        for slot, p in slot_of_add.get(t, ()):
-            poses[slot] = p
-            poses[slot, 2] = wrap_angle(p[2])
-            mover.add(slot, poses, ids_list[slot], t)
-            present[slot] = True
-            controllers[slot] = algorithm.controller(None if anonymous else ids_list[slot], params,
-                                                     lattice, _robot_rng(seed, slot))
-            events.append(Event(t, "add", (ids_list[slot],)))
-        idx = np.flatnonzero(present)
-        m = len(idx)
-        pres_ids = ids[idx]
-        if faults.schedule is not None:
-            act = np.asarray(faults.schedule(t, pres_ids.copy(), fault_rng), dtype=bool)
-            if act.shape != (m,):
-                raise UsageError(f"faults.schedule returned shape={act.shape!r}, expected ({m},)")
-        else:
-            act = np.ones(m, dtype=bool)
-        if async_clocks:
-            # a robot decides in step t when its local clock passes an integer during the step,
-            # and broadcasts its last decided message when the clock passes a broadcast instant
-            decide, bcast, tau0 = clocks.ticks(t, idx)
-            act &= decide
+    try:
+        controllers: list = [None] * n_total
+        for k in range(n0):
+            calling = k
+            controllers[k] = algorithm.controller(None if anonymous else ids_list[k], params, lattice,
+                                                  _robot_rng(seed, k))
+        calling = None
 
-        # 2. sensing (vectorized).  Sensing is a pure function of the present robots'
-        #    poses, so when none of them changed since the last sensing (bit for bit) the
-        #    last result is reused; noise is drawn afresh every step, so never with noise.
-        pp = poses[idx]
-        pp_bytes = pp.tobytes()
-        if (sensed is not None and not noisy and sensed[1] == pp_bytes
-                and np.array_equal(sensed[0], idx)):
-            nb_ids, nb_slots, nb_rel = sensed[2]
+        if max_steps is None:
+            f = getattr(algorithm, "default_max_steps", None)
+            max_steps = int(f(params, n0)) if callable(f) else default_max_steps(n0, params)
+        check_type("max_steps", max_steps, (int, np.integer))
+        max_steps = int(max_steps)
+        if max_steps < 0:
+            raise UsageError(f"max_steps={max_steps!r} must be >= 0")
+        if stop_when_static is True:
+            window = default_static_window(n0)
+        elif stop_when_static is False or stop_when_static is None:
+            window = 0
         else:
-            nb_ids, nb_slots, nb_rel = sense(pp, idx, ids, pres_ids, phi, inclusive=inclusive, anonymous=anonymous,
-                                             noise=faults if noisy else None, t=t, rng=fault_rng)
-            sensed = None if noisy else (idx, pp_bytes, (nb_ids, nb_slots, nb_rel))
-            if repeat_ok:
-                # which robots sense something else than last step (IDs or pose bits)
-                keys = [(nb_ids[a], nb_slots[a], nb_rel[a].tobytes()) for a in range(m)]
-                if last_keys is not None and len(last_keys) == m:
-                    resensed = [x != y for x, y in zip(keys, last_keys)]
-                else:
-                    resensed = None
-                last_keys = keys
-        # Robots whose whole observation (neighbor IDs, pose bits, message objects)
-        # is last step's may repeat their last command (Controller.repeat_step).
-        same_obs = None
-        if repeat_ok and t > 0 and resensed is not None:
-            new_senders = {s for s in idx_l_prev if last_msgs[s] is not heard_msgs[s]}
-            if new_senders:
-                same_obs = [not r and new_senders.isdisjoint(sl) for r, sl in zip(resensed, nb_slots)]
-            else:
-                same_obs = [not r for r in resensed]
-        resensed = [False] * m if repeat_ok else None
+            check_type("stop_when_static", stop_when_static, (int, np.integer))
+            window = int(stop_when_static)
+            if window < 1:
+                raise UsageError(f"stop_when_static={stop_when_static!r} must be True, False or an int >= 1")
 
-        # 3.-4. messages and decisions (per robot)
-        act_l = act.tolist()
-        idx_l = idx.tolist()
-        pres_ids_l = pres_ids.tolist()
-        # every present robot broadcast last step (the usual case): no None to filter
-        silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
-        get_msg = last_msgs.__getitem__
-        if repeat_ok:
-            # The plain model with repeat_step: a robot whose observation is last step's
-            # and whose hold (repeat_horizon) has not run out keeps its last command
-            # (turns_l, fwds_l and its message stand); one whose observation is the same
-            # is asked repeat_step; every other robot (and one that declines) steps.
-            new_msgs = last_msgs.copy()
-            stepped = []
-            if same_obs is None:
-                todo = range(m)
-            else:
-                todo = [a for a in range(m) if not same_obs[a] or t >= hold[a]]
-            for a in todo:
-                k = idx_l[a]
-                cmd = repeaters[k](t) if same_obs is not None and same_obs[a] else None
-                if cmd is None:
-                    msgs = (dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))) if not silent else
-                            {sid: last_msgs[s] for sid, s in zip(nb_ids[a], nb_slots[a])
-                             if last_msgs[s] is not None})
-                    cmd = controllers[k].step(_new_observation(t, pres_ids_l[a], nb_ids[a], nb_rel[a],
-                                                               msgs, None))
-                    stepped.append(k)
-                if cmd is not last_cmds[k]:
-                    turns_l[a], fwds_l[a] = _command_values(cmd, pres_ids_l[a], t)
-                    new_msgs[k] = cmd.message
-                    last_cmds[k] = cmd
-                hold[a] = t + 1 if horizons[k] is None else horizons[k](t)
-        else:
-            turns_l = [0.0] * m
-            fwds_l = [0.0] * m
-            moves_l = [None] * m
-            new_msgs = [None] * n_total
-            stepped = None
-        # the general path: any model, fault hooks (empty when repeat_ok)
-        if not repeat_ok:
-            delivery.begin(last_msgs, idx_l, silent)
-            direct = delivery.direct
-        for a in (range(0) if repeat_ok else range(m)):
-            if not act_l[a]:
-                continue
-            k = idx_l[a]
-            my_id = pres_ids_l[a]
-            if direct:   # the plain model: every neighbor broadcast, no message faults
-                msgs, delivered = dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))), None
-            else:
-                msgs, delivered = delivery.receive(t, k, my_id, nb_ids[a], nb_slots[a], nb_rel[a])
-            own = None
-            if global_sensing:
-                own = poses[k].copy()
-                own.setflags(write=False)
-            obs = _new_observation(t, None if anonymous else my_id,
-                                   None if anonymous else nb_ids[a],
-                                   nb_rel[a][:, :2] if anonymous else nb_rel[a], msgs, own)
-            if delivered is not None:
-                obs.__dict__["delivered"] = delivered
-            if async_clocks:
-                obs.__dict__["clock"] = float(tau0[a])
-            cmd = controllers[k].step(obs)
-            if grid:
-                moves_l[a] = mover.command(cmd, my_id, t)
-            else:
-                tu, fw = _command_values(cmd, my_id, t)
-                turns_l[a] = tu
-                fwds_l[a] = fw
-            if async_clocks:
-                outbox[k] = cmd.message
-            else:
-                new_msgs[k] = cmd.message
-        if not repeat_ok:
-            delivery.end(t, events)
-        if async_clocks:
-            for a, k in enumerate(idx_l):
-                if bcast[a]:
-                    new_msgs[k] = outbox[k]
+        def _states() -> tuple:
+            return tuple(None if c is None or not present[k] else c.state()
+                         for k, c in enumerate(controllers))
 
-        # 5. motion
-        same_poses = mover.apply(poses, idx, moves_l if grid else (turns_l, fwds_l), pres_ids, t, events,
-                                 record_clamps)
-        t += 1
-        record = rec.keeps(t, events, n_events)
-        if record:
-            rec.frame(t, poses, present)
-        # Unchanged states are stored as the previous object (a trace of a long
-        # run keeps one copy per change, not one per step); equal values, same trace.
-        # (With repeat_step only the robots that stepped are asked: repeating leaves
-        # a state as it was.)
-        changed = False
-        merged = list(states)
-        for k in range(n_total) if stepped is None else stepped:
-            c = controllers[k]
-            st = None if c is None or not present[k] else c.state()
-            if st is not states[k] and not st == states[k]:
-                merged[k] = st
-                changed = True
-        new_states = tuple(merged) if changed else states
-        rec.after_step(record, new_states, new_msgs, idx_l, ids_list)
+        check_type("record_every", record_every, (int, np.integer))
+        record_every = int(record_every)
+        if record_every < 1:
+            raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
+        observers = tuple(observers or ())
         for ob in observers:
-            ob.observe(t, _ro(poses), new_states, _ro(present))
-        if async_clocks:
-            # broadcasts come and go with the clocks; what a robot would say is its outbox
-            quiet_step = not changed and same_poses and outbox == last_outbox
-            last_outbox = list(outbox)
-        else:
-            quiet_step = not changed and same_poses and new_msgs == last_msgs
-        heard_msgs = last_msgs
-        idx_l_prev = idx_l
-        last_msgs = new_msgs
-        states = new_states
-        quiet = quiet + 1 if quiet_step else 0
-        if progress is not None and t % PROGRESS_EVERY == 0:
-            progress(t, max_steps)
-        # (finished depends on the states alone: unchanged states, same answer)
-        if (changed or not repeat_ok) and algorithm.finished(tuple(s for s, p in zip(states, present) if p)):
+            if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
+                raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
+                                 fix="use a streaming monitor such as ConnectivityMonitor")
+        rec = Recording(record_every, poses, present if any_presence_change else None, record_messages)
+        calling = -1
+        states = _states()
+        calling = None
+        for k, st in enumerate(states):
+            try:
+                hash(st)
+            except TypeError:
+                raise ProtocolError(f"controller of robot {ids_list[k]!r}: state() returned an unhashable "
+                                    f"{type(st).__name__} ({st!r:.80}); return tuples of (key, value) "
+                                    "pairs, a namedtuple or a frozen dataclass") from None
+        rec.states.append(states)
+        last_msgs: list = [None] * n_total
+        sensed = None  # (idx, position bytes, per-robot neighbor IDs, slots, poses)
+        # Repeating the last command (Controller.repeat_step) when a robot's observation is
+        # last step's except the step number: only in the plain model (every robot acts,
+        # hears its neighbors, senses exactly; no robot joins or crashes).
+        repeaters = [getattr(c, "repeat_step", None) for c in controllers]
+        repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
+                     and not faults.drops_messages and not faults.noisy and faults.schedule is None
+                     and not faults.late_messages and not grid and not async_clocks
+                     and not any_presence_change and all(callable(f) for f in repeaters))
+        last_keys = resensed = None
+        horizons = [getattr(c, "repeat_horizon", None) for c in controllers]
+        hold = [0] * n_total
+        last_cmds: list = [None] * n_total
+        turns_l = [0.0] * n0
+        fwds_l = [0.0] * n0
+        heard_msgs: list = [None] * n_total
+        idx_l_prev: list = []
+
+        phi = float(params.range)
+        global_sensing = model.sensing == "global"
+        comm = model.communication
+        std_xy, std_th = (float(s) for s in faults.noise_std)
+        noisy = faults.noisy
+        inclusive = model.neighbor_rule == "inclusive"
+        delivery = Delivery(model, faults, phi, ids_list, fault_rng)
+        status = "step_cap"
+        quiet = 0
+        calling = -1
+        finished = bool(algorithm.finished(tuple(s for s, p in zip(states, present) if p)))
+        calling = None
+        if finished:
             status = "finished"
-            break
-        if window and quiet >= window:
-            status = "static"
-            break
-        if stop_when is not None and stop_when(t, poses, states, present):
-            status = "stopped"
-            break
-    if progress is not None:
-        progress(t, max_steps)
+        t = 0
+        for ob in observers:
+            ob.start(ids.copy())
+            ob.observe(0, _ro(poses), states, _ro(present))
+        if stop_when is not None and not finished and stop_when(0, poses, states, present):
+            status, finished = "stopped", True
+        while not finished and t < max_steps:
+            n_events = len(events)
+            # 1. faults at the start of the step
+            for rid in faults.crashes.get(t, ()):
+                for k in range(n_total):
+                    if present[k] and ids_list[k] == int(rid):
+                        present[k] = False
+                        controllers[k] = None
+                        last_msgs[k] = None
+                        delivery.forget(k)
+                        events.append(Event(t, "crash", (int(rid),)))
+            for slot, p in slot_of_add.get(t, ()):
+                poses[slot] = p
+                poses[slot, 2] = wrap_angle(p[2])
+                mover.add(slot, poses, ids_list[slot], t)
+                present[slot] = True
+                calling = slot
+                controllers[slot] = algorithm.controller(None if anonymous else ids_list[slot], params,
+                                                         lattice, _robot_rng(seed, slot))
+                calling = None
+                events.append(Event(t, "add", (ids_list[slot],)))
+            idx = np.flatnonzero(present)
+            m = len(idx)
+            pres_ids = ids[idx]
+            if faults.schedule is not None:
+                act = np.asarray(faults.schedule(t, pres_ids.copy(), fault_rng), dtype=bool)
+                if act.shape != (m,):
+                    raise UsageError(f"faults.schedule returned shape={act.shape!r}, expected ({m},)")
+            else:
+                act = np.ones(m, dtype=bool)
+            if async_clocks:
+                # a robot decides in step t when its local clock passes an integer during the step,
+                # and broadcasts its last decided message when the clock passes a broadcast instant
+                decide, bcast, tau0 = clocks.ticks(t, idx)
+                act &= decide
+
+            # 2. sensing (vectorized).  Sensing is a pure function of the present robots'
+            #    poses, so when none of them changed since the last sensing (bit for bit) the
+            #    last result is reused; noise is drawn afresh every step, so never with noise.
+            pp = poses[idx]
+            pp_bytes = pp.tobytes()
+            if (sensed is not None and not noisy and sensed[1] == pp_bytes
+                    and np.array_equal(sensed[0], idx)):
+                nb_ids, nb_slots, nb_rel = sensed[2]
+            else:
+                nb_ids, nb_slots, nb_rel = sense(pp, idx, ids, pres_ids, phi, inclusive=inclusive, anonymous=anonymous,
+                                                 noise=faults if noisy else None, t=t, rng=fault_rng)
+                sensed = None if noisy else (idx, pp_bytes, (nb_ids, nb_slots, nb_rel))
+                if repeat_ok:
+                    # which robots sense something else than last step (IDs or pose bits)
+                    keys = [(nb_ids[a], nb_slots[a], nb_rel[a].tobytes()) for a in range(m)]
+                    if last_keys is not None and len(last_keys) == m:
+                        resensed = [x != y for x, y in zip(keys, last_keys)]
+                    else:
+                        resensed = None
+                    last_keys = keys
+            # Robots whose whole observation (neighbor IDs, pose bits, message objects)
+            # is last step's may repeat their last command (Controller.repeat_step).
+            same_obs = None
+            if repeat_ok and t > 0 and resensed is not None:
+                new_senders = {s for s in idx_l_prev if last_msgs[s] is not heard_msgs[s]}
+                if new_senders:
+                    same_obs = [not r and new_senders.isdisjoint(sl) for r, sl in zip(resensed, nb_slots)]
+                else:
+                    same_obs = [not r for r in resensed]
+            resensed = [False] * m if repeat_ok else None
+
+            # 3.-4. messages and decisions (per robot)
+            act_l = act.tolist()
+            idx_l = idx.tolist()
+            pres_ids_l = pres_ids.tolist()
+            # every present robot broadcast last step (the usual case): no None to filter
+            silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
+            get_msg = last_msgs.__getitem__
+            if repeat_ok:
+                # The plain model with repeat_step: a robot whose observation is last step's
+                # and whose hold (repeat_horizon) has not run out keeps its last command
+                # (turns_l, fwds_l and its message stand); one whose observation is the same
+                # is asked repeat_step; every other robot (and one that declines) steps.
+                new_msgs = last_msgs.copy()
+                stepped = []
+                if same_obs is None:
+                    todo = range(m)
+                else:
+                    todo = [a for a in range(m) if not same_obs[a] or t >= hold[a]]
+                for a in todo:
+                    k = idx_l[a]
+                    calling = k
+                    cmd = repeaters[k](t) if same_obs is not None and same_obs[a] else None
+                    if cmd is None:
+                        msgs = (dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))) if not silent else
+                                {sid: last_msgs[s] for sid, s in zip(nb_ids[a], nb_slots[a])
+                                 if last_msgs[s] is not None})
+                        calling = k
+                        cmd = controllers[k].step(_new_observation(t, pres_ids_l[a], nb_ids[a], nb_rel[a],
+                                                                   msgs, None))
+                        stepped.append(k)
+                    calling = None
+                    if cmd is not last_cmds[k]:
+                        turns_l[a], fwds_l[a] = _command_values(cmd, pres_ids_l[a], t)
+                        new_msgs[k] = cmd.message
+                        last_cmds[k] = cmd
+                    calling = k
+                    hold[a] = t + 1 if horizons[k] is None else horizons[k](t)
+                    calling = None
+            else:
+                turns_l = [0.0] * m
+                fwds_l = [0.0] * m
+                moves_l = [None] * m
+                new_msgs = [None] * n_total
+                stepped = None
+            # the general path: any model, fault hooks (empty when repeat_ok)
+            if not repeat_ok:
+                delivery.begin(last_msgs, idx_l, silent)
+                direct = delivery.direct
+            for a in (range(0) if repeat_ok else range(m)):
+                if not act_l[a]:
+                    continue
+                k = idx_l[a]
+                my_id = pres_ids_l[a]
+                if direct:   # the plain model: every neighbor broadcast, no message faults
+                    msgs, delivered = dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))), None
+                else:
+                    msgs, delivered = delivery.receive(t, k, my_id, nb_ids[a], nb_slots[a], nb_rel[a])
+                own = None
+                if global_sensing:
+                    own = poses[k].copy()
+                    own.setflags(write=False)
+                obs = _new_observation(t, None if anonymous else my_id,
+                                       None if anonymous else nb_ids[a],
+                                       nb_rel[a][:, :2] if anonymous else nb_rel[a], msgs, own)
+                if delivered is not None:
+                    obs.__dict__["delivered"] = delivered
+                if async_clocks:
+                    obs.__dict__["clock"] = float(tau0[a])
+                calling = k
+                cmd = controllers[k].step(obs)
+                calling = None
+                if grid:
+                    moves_l[a] = mover.command(cmd, my_id, t)
+                else:
+                    tu, fw = _command_values(cmd, my_id, t)
+                    turns_l[a] = tu
+                    fwds_l[a] = fw
+                if async_clocks:
+                    outbox[k] = cmd.message
+                else:
+                    new_msgs[k] = cmd.message
+            if not repeat_ok:
+                delivery.end(t, events)
+            if async_clocks:
+                for a, k in enumerate(idx_l):
+                    if bcast[a]:
+                        new_msgs[k] = outbox[k]
+
+            # 5. motion
+            same_poses = mover.apply(poses, idx, moves_l if grid else (turns_l, fwds_l), pres_ids, t, events,
+                                     record_clamps)
+            t += 1
+            record = rec.keeps(t, events, n_events)
+            if record:
+                rec.frame(t, poses, present)
+            # Unchanged states are stored as the previous object (a trace of a long
+            # run keeps one copy per change, not one per step); equal values, same trace.
+            # (With repeat_step only the robots that stepped are asked: repeating leaves
+            # a state as it was.)
+            changed = False
+            merged = list(states)
+            for k in range(n_total) if stepped is None else stepped:
+                c = controllers[k]
+                calling = k
+                st = None if c is None or not present[k] else c.state()
+                calling = None
+                if st is not states[k] and not st == states[k]:
+                    merged[k] = st
+                    changed = True
+            new_states = tuple(merged) if changed else states
+            rec.after_step(record, new_states, new_msgs, idx_l, ids_list)
+            for ob in observers:
+                ob.observe(t, _ro(poses), new_states, _ro(present))
+            if async_clocks:
+                # broadcasts come and go with the clocks; what a robot would say is its outbox
+                quiet_step = not changed and same_poses and outbox == last_outbox
+                last_outbox = list(outbox)
+            else:
+                quiet_step = not changed and same_poses and new_msgs == last_msgs
+            heard_msgs = last_msgs
+            idx_l_prev = idx_l
+            last_msgs = new_msgs
+            states = new_states
+            quiet = quiet + 1 if quiet_step else 0
+            if progress is not None and t % PROGRESS_EVERY == 0:
+                progress(t, max_steps)
+            # (finished depends on the states alone: unchanged states, same answer)
+            calling = -1
+            done = (changed or not repeat_ok) and algorithm.finished(tuple(s for s, p in zip(states, present) if p))
+            calling = None
+            if done:
+                status = "finished"
+                break
+            if window and quiet >= window:
+                status = "static"
+                break
+            if stop_when is not None and stop_when(t, poses, states, present):
+                status = "stopped"
+                break
+        if progress is not None:
+            progress(t, max_steps)
+    except SwarmproofError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - only what the algorithm under test raised
+        if calling is None:
+            raise                      # the engine's own bug: not the algorithm's
+        crash = _crash_record(exc, calling, t, ids_list, anonymous)
+        status = "crashed"
+        events.append(Event(t, "algorithm_crash", () if crash["robot"] is None else (crash["robot"],),
+                            (("error", crash["error"]), ("message", crash["message"]))))
+        if rec is None:
+            rec = Recording(1, poses, None, False)
+            states = tuple([None] * len(ids_list))
+            rec.states.append(states)
+        if window is None:
+            window = 0
+        if max_steps is None:
+            max_steps = 0
     rec.finish(t, poses, present, states)
 
     meta = {
@@ -704,10 +765,12 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         **clocks.describe(),
         **({"grid_spacing": mover.spacing} if grid else {}),
         **({"record_every": record_every} if record_every > 1 else {}),
+        **({"crash": crash} if crash is not None else {}),
         "model": {"sensing": model.sensing, "communication": model.communication,
                   "motion": model.motion, "clocks": model.clocks,
                   "neighbor_rule": getattr(model, "neighbor_rule", "strict")},
     }
     trace = rec.trace(ids, events, meta)
     return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
-                            seed=seed, static_window=window, max_steps=max_steps, observers=observers)
+                            seed=seed, static_window=window, max_steps=max_steps, observers=observers,
+                            crash=crash)

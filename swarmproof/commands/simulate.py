@@ -29,7 +29,8 @@ DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
 
 
 def add_arguments(p) -> None:
-    p.add_argument("algorithm", metavar="ALGORITHM", help="registry name, e.g. song2016, song2014, example-gather")
+    p.add_argument("algorithm", metavar="ALGORITHM",
+                   help="registry name (e.g. song2016, song2014, example-gather) or module:qualname of your class")
     which = p.add_mutually_exclusive_group(required=True)
     which.add_argument("--target", metavar="[KIND:]NAME|FILE",
                        help="the target: a bundled name (a kind prefix decides when two kinds bundle it, "
@@ -94,9 +95,9 @@ def run(args) -> int:
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl import initial as initial_mod
-    from swarmproof.reference_impl.registry import algorithm_factory
+    from swarmproof.checkers.explore import resolve_algorithm
 
-    algorithm_factory(args.algorithm)  # unknown names fail first, listing the valid ones
+    resolve_algorithm(args.algorithm)  # unknown names fail first, listing the valid ones
     if args.target is not None:
         lattice = resolve_target(args.target)
     else:
@@ -157,13 +158,18 @@ def run(args) -> int:
                      + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"))
         if term is not None:
             lines.append(f"  termination: {term.status} - {term.message}")
+        if result.crash is not None:
+            c = result.crash
+            who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
+            lines.append(f"  crash: {who} raised {c['error']}: {c['message']} in step {c['step']} ({c['where']})")
         if result.broken_assumptions:
             lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
         if args.trace:
             lines.append(f"  trace: {doc['trace']}")
         if args.plot:
             lines.append(f"  plot: {doc['plot']}")
-        lines.append({0: "result: ok", 1: "result: a checked property failed",
+        lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
+                      "result: a checked property failed",
                       3: "result: inconclusive (step cap reached)"}[code])
         human(args, *lines)
     return code
