@@ -700,7 +700,7 @@ def _safe(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", text)
 
 
-def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices):
+def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir=None):
     spec = resolve_algorithm(algorithm)
     from swarmproof.invariants.registry import get_property
 
@@ -725,6 +725,10 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         raise UsageError(f"seed={seed!r} must be an integer >= 0")
     if lattices is None:
         lattices = getattr(spec.factory, "explore_targets", None)   # an algorithm's own default targets
+    if out_dir is not None:
+        from swarmproof.models.fileio import check_output_dir
+
+        check_output_dir(out_dir, "out_dir")
     lats, loaded = _load_targets(lattices)
     return spec, props, float(budget), (lo, hi), lats, loaded
 
@@ -854,7 +858,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     from swarmproof.checkers.runs import build_params
 
     spec, props, budget, rng_robots, lats, loaded = _check_inputs(algorithm, properties, budget, max_examples,
-                                                            robots, seed, lattices)
+                                                            robots, seed, lattices, out_dir)
     params = dict(params or {})
     options = dict(options or {})
     phi_of = {name: float(g.range) for name, g in loaded.items()}

@@ -274,6 +274,9 @@ class Counterexample:
         except OSError as exc:
             raise InputFileError(f"cannot read file={name!r} ({exc.strerror})", file=name,
                                  fix="give the path of a counterexample file") from None
+        except UnicodeDecodeError as exc:
+            raise InputFileError(f"the file is not UTF-8 text (byte {exc.start}: {exc.reason})", file=name,
+                                 fix=f"give a {COUNTEREXAMPLE_FORMAT} JSON file") from None
         try:
             doc = json.loads(text)
         except json.JSONDecodeError as exc:

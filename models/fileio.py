@@ -23,7 +23,7 @@ from typing import Any
 
 from .errors import UsageError
 
-__all__ = ["check_output_path", "atomic_write_bytes", "atomic_write_text", "atomic_write_json", "dumps_json"]
+__all__ = ["check_output_path", "check_output_dir", "atomic_write_bytes", "atomic_write_text", "atomic_write_json", "dumps_json"]
 
 
 def _umask() -> int:
@@ -33,7 +33,7 @@ def _umask() -> int:
     return mask
 
 
-def check_output_path(path: str | os.PathLike, option: str = "path") -> str:
+def check_output_path(path: str | os.PathLike, option: str = "path", *, new_folder: bool = False) -> str:
     """Check, before any work, that ``path`` can be written as a file; return it as a string.
 
     Commands call it on every output option first, so a long run never ends
@@ -55,11 +55,41 @@ def check_output_path(path: str | os.PathLike, option: str = "path") -> str:
     if os.path.isdir(text):
         raise UsageError(f"{option}={text!r} is a folder", fix="give a file name (e.g. inside that folder)")
     folder = os.path.dirname(os.path.abspath(text))
+    if new_folder:   # the writer creates missing folders: check the nearest one that exists
+        while folder and not os.path.exists(folder):
+            folder = os.path.dirname(folder)
+        if not os.path.isdir(folder):
+            raise UsageError(f"{option}={text!r}: {folder!r} is a file, not a folder", fix="choose another path")
     if not os.path.isdir(folder):
         raise UsageError(f"{option}={text!r}: folder {folder!r} does not exist",
                          fix="create the folder first or choose another path")
     if not os.access(folder, os.W_OK):
         raise UsageError(f"{option}={text!r}: folder {folder!r} is not writable", fix="choose a writable folder")
+    return text
+
+
+def check_output_dir(path: str | os.PathLike, option: str = "--out") -> str:
+    """Check, before any work, that ``path`` is a folder or can be created as one.
+
+    >>> import tempfile, os
+    >>> f = tempfile.NamedTemporaryFile(delete=False); f.close()
+    >>> check_output_dir(f.name)
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: --out=... is a file, not a folder; fix: give a folder (it is created when missing)
+    >>> os.unlink(f.name)
+    """
+    text = os.fspath(path)
+    if not text:
+        raise UsageError(f"{option}='' is empty", fix="give a folder")
+    if os.path.exists(text) and not os.path.isdir(text):
+        raise UsageError(f"{option}={text!r} is a file, not a folder", fix="give a folder (it is created when missing)")
+    parent = os.path.dirname(os.path.abspath(text))
+    while parent and not os.path.exists(parent):
+        parent = os.path.dirname(parent)
+    target = text if os.path.isdir(text) else parent
+    if target and not os.access(target, os.W_OK):
+        raise UsageError(f"{option}={text!r}: {target!r} is not writable", fix="choose a writable folder")
     return text
 
 

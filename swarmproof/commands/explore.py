@@ -121,6 +121,10 @@ def run(args) -> int:
         params["extra"] = _parse_extra(args.param)
     if args.max_steps is not None and args.max_steps < 1:
         raise UsageError(f"--max-steps {args.max_steps!r} must be >= 1", fix="e.g. --max-steps 500")
+    if args.out is not None:
+        from swarmproof.models.fileio import check_output_dir
+
+        check_output_dir(args.out, "--out")     # before the search, not after it
     progress = _progress()
     report = explore(args.algorithm, args.properties, budget=args.budget, max_examples=args.max_examples,
                      robots=robots, seed=args.seed, out_dir=args.out, progress=progress,

@@ -61,22 +61,27 @@ def gif_replay(rr, path) -> str:
 
 def run(args) -> int:
     from swarmproof.checkers.replay import replay_file
+    from swarmproof.models.fileio import check_output_path
 
+    if args.plot is not None:
+        check_output_path(args.plot, "--plot")
+    if args.gif is not None:
+        check_output_path(args.gif, "--gif", new_folder=True)     # the GIF writer creates its folder
     rr = replay_file(args.file)
     doc = rr.as_dict()
     doc["file"] = args.file
-    if args.plot:
+    if args.plot is not None:
         doc["plot"] = plot_replay(rr, args.plot)
-    if args.gif:
+    if args.gif is not None:
         doc["gif"] = gif_replay(rr, args.gif)
     if args.json:
         emit_json(doc)
     lines = rr.counterexample.format_steps()
     lines.append(f"replay: {'REPRODUCED' if rr.reproduced else 'not reproduced'} ({rr.verdict.status}): "
                  f"{rr.verdict.message}")
-    if args.plot:
+    if args.plot is not None:
         lines.append(f"plot: {doc['plot']}")
-    if args.gif:
+    if args.gif is not None:
         lines.append(f"gif: {doc['gif']}")
     human(args, *lines)
     return 1 if rr.reproduced else 0

@@ -111,6 +111,11 @@ def run(args) -> int:
         raise UsageError(f"--max-steps {args.max_steps!r} must be >= 0")
     if args.record_every < 1:
         raise UsageError(f"--record-every {args.record_every!r} must be >= 1", fix="1 records every step")
+    from swarmproof.models.fileio import check_output_path
+
+    for option, value in (("--trace", args.trace), ("--plot", args.plot)):
+        if value is not None:            # checked before the run: a finished report is never lost
+            check_output_path(value, option)
     for name in ("v", "omega", "dt"):
         val = getattr(args, name, None)
         if val is not None and not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
@@ -134,9 +139,9 @@ def run(args) -> int:
     trace, result, sat, conn, links, term = (checked.result.trace, checked.result, checked.satisfaction,
                                              checked.connectivity, checked.tree_links, checked.termination)
     algorithm, init, phi, q = checked.algorithm, checked.initial, doc["range"], doc["fulfillment_ratio"]
-    if args.trace:
+    if args.trace is not None:
         doc["trace"] = trace.save(args.trace)
-    if args.plot:
+    if args.plot is not None:
         doc["plot"] = plot_run(trace, lattice, getattr(sat, "roles", None), args.plot, phi)
     if args.json:
         emit_json(doc)
@@ -164,9 +169,9 @@ def run(args) -> int:
             lines.append(f"  crash: {who} raised {c['error']}: {c['message']} in step {c['step']} ({c['where']})")
         if result.broken_assumptions:
             lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
-        if args.trace:
+        if args.trace is not None:
             lines.append(f"  trace: {doc['trace']}")
-        if args.plot:
+        if args.plot is not None:
             lines.append(f"  plot: {doc['plot']}")
         lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
                       "result: a checked property failed",

@@ -71,6 +71,10 @@ def run(args) -> int:
         raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 200")
     if args.seed < 0:
         raise UsageError(f"--seed {args.seed!r} must be >= 0", fix="e.g. --seed 0")
+    if args.out is not None:
+        from swarmproof.models.fileio import check_output_dir
+
+        check_output_dir(args.out, "--out")
     explore_opts = {"max_examples": args.max_examples, "robots": parse_robots(args.robots),
                     "seed": args.seed, "out_dir": args.out}
     progress = _TtyProgress(sys.stderr) if sys.stderr.isatty() else None

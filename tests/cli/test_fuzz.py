@@ -1,0 +1,103 @@
+"""Fuzz the command line (issue 13, "one rule for every command"): random argument vectors and
+random files -- binary, empty, huge numbers, folders, existing files, missing paths -- for every
+subcommand; never a traceback, always a documented exit code, never 4 (swarmproof's own bug).
+
+Every drawn command is bounded (few robots, few steps, few examples, short timeouts) so the
+whole test stays within seconds; the slow suite runs more examples."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+DOCUMENTED = {0, 1, 2, 3}
+SEEN: list = []
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("fuzz")
+    (d / "binary.json").write_bytes(bytes(range(256)) * 4)
+    (d / "empty.yaml").write_text("")
+    (d / "huge.yaml").write_text("format: lattice-graph/1\nrange: 1e308\nroles: [A]\n"
+                                 "edges:\n  - [A, A, [1e308, 0, 0]]\n  - [A, A, [-1e308, 0, 0]]\n")
+    (d / "nan.json").write_text('{"format": "swarmproof-counterexample/1", "version": 1, "params": NaN}')
+    (d / "list.json").write_text("[1, 2, 3]")
+    (d / "existing.txt").write_text("x")
+    (d / "folder").mkdir()
+    return {"binary": str(d / "binary.json"), "empty": str(d / "empty.yaml"), "huge": str(d / "huge.yaml"),
+            "nan": str(d / "nan.json"), "list": str(d / "list.json"), "existing": str(d / "existing.txt"),
+            "folder": str(d / "folder"), "missing": str(d / "no" / "such.json"), "blank": ""}
+
+
+WORDS = st.sampled_from(["square", "hexagon", "song2016", "example-gather", "nope", "lines:line", "shape:square-9",
+                         "mymod:Nope", "a:b:c", "0", "-1", "1e308", "nan", "inf", "3..2", "2..3", "x=1", "=",
+                         "", " ", "\u00e9\u00e8", "--", "-"])
+NUMBERS = st.sampled_from(["0", "1", "2", "-1", "1e308", "-1e308", "nan", "inf", "0.5", "3", "abc", ""])
+
+
+def _argv(draw, files):
+    cmd = draw(st.sampled_from(["check-lattice", "simulate", "explore", "replay", "prove", "verify"]))
+    fileval = st.sampled_from(sorted(files.values()))
+    argv = [cmd]
+    if cmd == "check-lattice":
+        argv.append(draw(st.one_of(fileval, WORDS)))
+        opts = {"--range": NUMBERS, "--pos-tol": NUMBERS, "--ang-tol": NUMBERS, "--plot": fileval}
+    elif cmd == "simulate":
+        argv.append(draw(WORDS))
+        opts = {"--target": st.one_of(WORDS, fileval), "--lattice": st.one_of(WORDS, fileval),
+                "--robots": st.sampled_from(["1", "3", "0", "-2", "x"]), "--seed": NUMBERS,
+                "--range": NUMBERS, "--v": NUMBERS, "--dt": NUMBERS, "--initial": fileval,
+                "--trace": fileval, "--plot": fileval, "--param": WORDS, "--record-every": NUMBERS}
+        argv += ["--max-steps", "40"]
+    elif cmd == "explore":
+        argv.append(draw(WORDS))
+        opts = {"--property": WORDS, "--robots": st.sampled_from(["2..3", "3", "0..1", "x"]),
+                "--seed": NUMBERS, "--out": fileval, "--lattice": st.one_of(WORDS, fileval),
+                "--fault": WORDS, "--v": NUMBERS, "--speeds": WORDS, "--param": WORDS}
+        argv += ["--max-examples", "2", "--budget", "5", "--max-steps", "40"]
+    elif cmd == "replay":
+        argv.append(draw(st.one_of(fileval, WORDS)))
+        opts = {"--plot": fileval, "--gif": fileval}
+    elif cmd == "prove":
+        argv += draw(st.lists(st.sampled_from(["bounded_range", "nclb_link_kept", "nope", ""]), max_size=1))
+        opts = {"--timeout": st.sampled_from(["0.5", "0", "-1", "1e308", "nan", "x"])}
+    else:
+        argv += ["--section", draw(st.sampled_from(["lattices", "nope", ""]))]
+        opts = {"--out": fileval, "--seed": NUMBERS}
+    for opt in draw(st.lists(st.sampled_from(sorted(opts)), max_size=3, unique=True)):
+        argv += [opt, draw(opts[opt])]
+    if draw(st.booleans()):
+        argv.append("--json")
+    return argv
+
+
+@settings(max_examples=150, deadline=None, derandomize=True, database=None,
+          suppress_health_check=list(HealthCheck))
+@given(data=st.data())
+def test_no_traceback_and_a_documented_exit_code(data, files, capsys, monkeypatch, tmp_path_factory):
+    from swarmproof.cli import main
+
+    monkeypatch.chdir(tmp_path_factory.getbasetemp())
+    argv = _argv(data.draw, files)
+    code = main(argv)
+    out, err = capsys.readouterr()
+    SEEN.append((argv[0], code))
+    assert code in DOCUMENTED, (argv, code, err[-500:])
+    assert "Traceback" not in err and "Traceback" not in out, (argv, err[-500:])
+    if "--json" in argv and "--" not in argv and code == 2:
+        import json
+
+        doc = json.loads(out)
+        assert doc["exit_code"] == 2 and doc["error"]["kind"] == "usage"
+
+
+def test_the_fuzzing_reached_every_command_and_more_than_usage_errors():
+    """The fuzz test above ran first (same module): it must not have tested only argparse."""
+    if not SEEN:
+        pytest.skip("run with the fuzz test")
+    assert {c for c, _ in SEEN} == {"check-lattice", "simulate", "explore", "replay", "prove", "verify"}
+    assert {code for _, code in SEEN} - {2}, "every drawn command was a usage error"
