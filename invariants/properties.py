@@ -41,7 +41,7 @@ from scipy.spatial import cKDTree
 
 from .result import InvariantResult
 
-__all__ = ["collision", "CollisionMonitor", "combine_premises", "deadlock", "oscillation", "premises", "segment_min_distances"]
+__all__ = ["collision", "CollisionMonitor", "combine_premises", "deadlock", "DeadlockMonitor", "OscillationMonitor", "oscillation", "premises", "segment_min_distances"]
 
 CITE_COLLISION = "issue 6: robots as discs never overlap (straight moves per step, 000 Sec. III / 001 Sec. III-A)"
 CITE_DEADLOCK = "issue 6 / 001 Def. 5, Thm. 13: no static configuration short of the goal"
@@ -268,6 +268,53 @@ def deadlock(trace, k: int, goal_reached=False) -> InvariantResult:
                            f"no {k} quiet steps short of the goal over {len(quiet)} steps{msg}")
 
 
+class DeadlockMonitor:
+    """Streaming form of :func:`deadlock` (``observe`` every step, in order): it keeps the
+    quiet stretches (no pose and no controller state changed; broadcasts are not seen, as on
+    a trace without recorded messages), and :meth:`result` judges them with the window ``k``
+    and whether the goal was reached, as :func:`deadlock` does."""
+
+    name = "deadlock"
+
+    def __init__(self) -> None:
+        self._prev = None
+        self.steps = 0
+        self.runs: list = []       # (first step, length) of each quiet stretch
+        self._run = 0
+
+    def start(self, ids) -> None:
+        pass
+
+    def observe(self, t, poses, states, present) -> None:
+        cur = (np.array(poses, copy=True), states)
+        if self._prev is not None:
+            self.steps += 1
+            quiet = np.array_equal(cur[0], self._prev[0]) and states == self._prev[1]
+            if quiet:
+                self._run += 1
+                if self._run == 1:
+                    self.runs.append([t - 1, 1])
+                else:
+                    self.runs[-1][1] = self._run
+            else:
+                self._run = 0
+        self._prev = cur
+
+    def result(self, k: int = 1, goal_reached: bool = False) -> InvariantResult:
+        k = int(k)
+        if not goal_reached:
+            for first, length in self.runs:
+                if length >= k:
+                    return InvariantResult("deadlock", "violated", CITE_DEADLOCK, {"step": int(first), "window": k},
+                                           f"nothing moved or changed for {k} steps from step {first} "
+                                           f"and the goal is not reached")
+            if self.steps < k:
+                return InvariantResult("deadlock", "inconclusive", CITE_DEADLOCK, None,
+                                       f"trace of {self.steps} steps is shorter than the window k={k}")
+        return InvariantResult("deadlock", "held", CITE_DEADLOCK, None,
+                               f"no {k} quiet steps short of the goal over {self.steps} steps (broadcasts not recorded)")
+
+
 def _global_state_key(poses, present, states, pos_tol: float):
     """The global state of oscillation's rule 1: poses rounded to ``pos_tol``, presence, controller states."""
     P = np.asarray(poses, float)
@@ -406,11 +453,21 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
                                    f"(poses to {pos_tol:g}, controller states) and the goal is not reached")
         seen.setdefault(key, t)
         prev = key
-    # back and forth, per robot: for every anchor step t1, count the separate returns
-    # within pos_tol of the anchor position, each after leaving it by more than excursion
     W = 1000
     off = max(0, T + 1 - W)
     P = np.asarray(trace.poses, float)[off:, :, :2]
+    return _oscillation_tail(P, off, trace.ids, T, goal, pos_tol=pos_tol, excursion=excursion,
+                             min_returns=min_returns, randomized=randomized, progress=progress, window=window,
+                             progress_eps=progress_eps)
+
+
+def _oscillation_tail(P, off: int, ids, T: int, goal, *, pos_tol, excursion, min_returns, randomized, progress,
+                      window, progress_eps) -> InvariantResult:
+    """Rules 2 and 3 of :func:`oscillation` and its final verdict, on the positions ``P`` of
+    the last (up to 1,000) steps, the first of them step ``off``; shared with the streaming
+    :class:`OscillationMonitor`."""
+    # back and forth, per robot: for every anchor step t1, count the separate returns
+    # within pos_tol of the anchor position, each after leaving it by more than excursion
     m = len(P)
     cols = np.arange(m)
     later = cols[None, :] >= cols[:, None]
@@ -427,7 +484,7 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
         if counts[best] >= min_returns:
             t2 = int(np.flatnonzero(ret[best])[min_returns - 1]) + off
             if not goal(t2):
-                rid = int(trace.ids[r])
+                rid = int(ids[r])
                 return InvariantResult("oscillation", "violated", CITE_OSCILLATION,
                                        {"kind": "back_and_forth", "robot": rid, "step": t2,
                                         "anchor_step": best + off, "returns": int(counts[best])},
@@ -458,6 +515,76 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
     return InvariantResult("oscillation", "held", CITE_OSCILLATION, None,
                            f"no revisited global state and no robot back and forth {min_returns} times "
                            f"over {T} steps (tolerance {pos_tol:g})")
+
+
+class OscillationMonitor:
+    """Streaming form of :func:`oscillation` (``observe`` every step, in order).
+
+    Rule 1 (a revisited global state) is decided on the fly, keeping the states seen as
+    :func:`oscillation` does; rule 2 needs the last 1,000 steps' positions (a ring buffer);
+    rule 3 the goal measure at every step (``measure``, as
+    :func:`~swarmproof.invariants.registry.progress_values` computes it).  :meth:`result`
+    applies the goal and gives the same verdict and message as on the dense trace."""
+
+    name = "oscillation"
+    W = 1000
+
+    def __init__(self, pos_tol: float = 1e-6, *, randomized: bool = False, measure=None, window=None,
+                 excursion: float | None = None, min_returns: int = 3, progress_eps: float = 1e-9) -> None:
+        from collections import deque
+
+        self.pos_tol, self.randomized, self.measure = float(pos_tol), bool(randomized), measure
+        self.window, self.progress_eps, self.min_returns = window, float(progress_eps), int(min_returns)
+        self.excursion = 100.0 * self.pos_tol if excursion is None else float(excursion)
+        self.seen: dict = {}
+        self.prev = None
+        self.hit = None
+        self.frames = deque(maxlen=self.W)
+        self.progress: list = []
+        self._pkey = None
+        self.T = -1
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+
+    def observe(self, t, poses, states, present) -> None:
+        self.T = int(t)
+        if not self.randomized and self.hit is None:
+            key = _global_state_key(poses, present, states, self.pos_tol)
+            if key in self.seen and key != self.prev:
+                self.hit = (int(t), int(self.seen[key]))
+            self.seen.setdefault(key, int(t))
+            self.prev = key
+        self.frames.append(np.array(np.asarray(poses, float)[:, :2], copy=True))
+        if self.measure is not None:
+            pkey = (np.asarray(poses).tobytes(), np.asarray(present).tobytes(), states)
+            if pkey != self._pkey:
+                pres = np.asarray(present, bool)
+                self._value = float(self.measure(self.ids[pres], np.asarray(poses)[pres],
+                                                 tuple(s_ for s_, p_ in zip(states, pres) if p_)))
+                self._pkey = pkey
+            self.progress.append(self._value)
+
+    def result(self, goal_reached: bool = False) -> InvariantResult:
+        T, g = self.T, bool(goal_reached)
+
+        def goal(t):
+            return g and t == T
+        if self.hit is not None and not goal(self.hit[0]):
+            t, t1 = self.hit
+            return InvariantResult("oscillation", "violated", CITE_OSCILLATION,
+                                   {"kind": "cycle", "step": int(t), "revisits": int(t1)},
+                                   f"the global state at step {t} repeats the one at step {t1} "
+                                   f"(poses to {self.pos_tol:g}, controller states) and the goal is not reached")
+        P = np.stack(list(self.frames)) if self.frames else np.zeros((0, len(self.ids), 2))
+        progress = None
+        window = self.window
+        if self.measure is not None:
+            window = int(window)
+            progress = np.asarray(self.progress, float)
+        return _oscillation_tail(P, T + 1 - len(P), self.ids, T, goal, pos_tol=self.pos_tol,
+                                 excursion=self.excursion, min_returns=self.min_returns, randomized=self.randomized,
+                                 progress=progress, window=window, progress_eps=self.progress_eps)
 
 
 CITE_PREMISES = "issue 5 / docs/proofs.md: the premises of the proved lemmas hold at every step"

@@ -133,10 +133,10 @@ class Property:
                                    f"the run ended when the algorithm raised {crash['error']} in step "
                                    f"{crash['step']} (a no_crash finding)")
         if getattr(trace, "times", None) is not None and self.every_step:
-            observed = getattr(ctx.result, "observed", None)
-            r = observed(self.name) if callable(observed) else None
-            if r is not None:
-                return r
+            for ob in getattr(ctx.result, "observers", ()) or ():
+                if getattr(ob, "name", None) == self.name:
+                    judge = getattr(ob, "judge", None)
+                    return judge(ctx) if callable(judge) else ob.result()
             return InvariantResult(self.name, "inconclusive", self.cites, None,
                                    f"the trace is sparse (record_every={trace.meta.get('record_every')}) and "
                                    f"{self.name} needs every step: run it with its streaming monitor or dense")
@@ -321,6 +321,16 @@ def _premises_stream(algorithm, params, options):
     return PremisesMonitor(premise_monitors_of(algorithm), params.range, params.v, params.dt)
 
 
+def _deadlock_stream(algorithm, params, options):
+    from .properties import DeadlockMonitor
+
+    mon = DeadlockMonitor()
+    # judged at the end, as _deadlock: the window and the goal are known only then
+    mon.judge = lambda ctx: mon.result(int(ctx.options.get("deadlock_k", ctx.result.static_window)),
+                                       _satisfaction(ctx).held)
+    return mon
+
+
 def _tree_links_closeness(r: InvariantResult):
     value = (r.detail or {}).get("longest_link_ratio")
     return None if value is None else float(value)
@@ -379,6 +389,22 @@ def _oscillation(trace, ctx):
                        progress_eps=float(options.get("progress_eps", 1e-9)))
 
 
+def _oscillation_stream(algorithm, params, options):
+    from .properties import OscillationMonitor
+
+    options = dict(options or {})
+    randomized = bool(getattr(algorithm, "randomized", False))
+    window = options.get("progress_window")
+    measure = getattr(algorithm, "progress_measure", None)
+    use = callable(measure) and (randomized or window is not None)
+    mon = OscillationMonitor(float(options.get("pos_tol", DEFAULT_POS_TOL)), randomized=randomized,
+                             measure=measure if use else None,
+                             window=int(DEFAULT_PROGRESS_WINDOW if window is None else window) if use else None,
+                             progress_eps=float(options.get("progress_eps", 1e-9)))
+    mon.judge = lambda ctx: mon.result(_satisfaction(ctx).held)
+    return mon
+
+
 def _oscillation_monitor(factory, options):
     """Deterministic algorithms: end the run at the first repeated global state (rule 1)."""
     if getattr(factory, "randomized", False):
@@ -428,11 +454,11 @@ for _p in (
              CITE_COLLISION, stream=_collision_stream, every_step=True),
     Property("deadlock", "liveness", _deadlock, ("poses", "states", "final poses", "target"),
              "a static window shorter than the run; a goal reached is never a deadlock",
-             CITE_DEADLOCK, every_step=True),
+             CITE_DEADLOCK, stream=_deadlock_stream, every_step=True),
     Property("oscillation", "liveness", _oscillation, ("poses", "states", "algorithm's progress_measure"),
              "states compared up to pos_tol; randomized algorithms only by a progress window",
              CITE_OSCILLATION,
-             run_monitor=_oscillation_monitor, every_step=True),
+             run_monitor=_oscillation_monitor, stream=_oscillation_stream, every_step=True),
     Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
              "only the lemma premises the algorithm declares (premise_monitors)",
              CITE_PREMISES, stream=_premises_stream, every_step=True),

@@ -148,3 +148,139 @@ def test_premise_monitors_stream_every_step_and_find_a_failure_a_sparse_trace_sk
     assert r.observed("premises").status == "held" == premises(d.trace, Song2016.premise_monitors, 1.2, 0.05,
                                                                 1.0).status
     assert [x.status for x in check_premises(d.trace)] == [x.status for _, x in mon.results()]
+
+
+def test_deadlock_is_judged_by_its_streaming_monitor_like_the_dense_trace():
+    from swarmproof.invariants.properties import DeadlockMonitor, deadlock
+
+    class Quiet:
+        """Robot 1 steps away in step 7 and back in step 8; states never change: quiet after."""
+        name, model, assumptions = "quiet", HOLO, ()
+
+        def controller(self, rid, params, target, rng):
+            class C:
+                def step(self, obs):
+                    return _excursion(rid, 0, obs, rng)
+
+                def state(self):
+                    return ()
+            return C()
+
+        def finished(self, states):
+            return False
+
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0, 0]])
+    dense = simulate(Quiet(), None, init, P, seed=0, max_steps=25, stop_when_static=False)
+    for k, goal in ((5, False), (30, False), (5, True), (7, False)):
+        mon = DeadlockMonitor()
+        simulate(Quiet(), None, init, P, seed=0, max_steps=25, stop_when_static=False, record_every=5,
+                 observers=(mon,))
+        want = deadlock(dense.trace, k, goal_reached=goal)
+        got = mon.result(k, goal)
+        assert (got.status, got.witness) == (want.status, want.witness), (k, goal)
+    assert mon.result(5).witness == {"step": 0, "window": 5}     # steps 0-6 are quiet already
+
+
+class _Toggle:
+    """Robot 0 steps +0.1 and back, over and over (state toggles): a cycle, and back and forth."""
+
+    name, model, assumptions = "toggle", HOLO, ()
+
+    def __init__(self, randomized=False, measure=None):
+        self.randomized = randomized
+        if measure is not None:
+            self.progress_measure = measure
+
+    def controller(self, rid, params, target, rng):
+        class C:
+            def __init__(self):
+                self.out = False
+
+            def step(self, obs):
+                if rid != 0:
+                    return Command()
+                self.out = not self.out
+                return Command(turn=0.0 if self.out else math.pi, forward=0.1)
+
+            def state(self):
+                return (("out", self.out),)
+        return C()
+
+    def finished(self, states):
+        return False
+
+
+@pytest.mark.parametrize("randomized, measure, window, kind", [
+    (False, None, None, "cycle"),
+    (True, None, None, "back_and_forth"),
+    (True, lambda ids, poses, states: 0.0, 6, "back_and_forth"),
+])
+def test_oscillation_is_judged_by_its_streaming_monitor_like_the_dense_trace(randomized, measure, window, kind):
+    from swarmproof.invariants.properties import OscillationMonitor, oscillation
+    from swarmproof.invariants.registry import progress_values
+
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0.3, 0]])
+    algo = _Toggle(randomized, measure)
+    dense = simulate(algo, None, init, P, seed=0, max_steps=30, stop_when_static=False)
+    progress = None if measure is None else progress_values(dense.trace, measure)
+    for goal in (False, True):
+        want = oscillation(dense.trace, goal_reached=lambda t, g=goal: g and t == 30, randomized=randomized,
+                           progress=progress, window=window)
+        mon = OscillationMonitor(randomized=randomized, measure=measure, window=window)
+        simulate(_Toggle(randomized, measure), None, init, P, seed=0, max_steps=30, stop_when_static=False,
+                 record_every=7, observers=(mon,))
+        got = mon.result(goal)
+        assert (got.status, got.witness, got.message) == (want.status, want.witness, want.message)
+    assert got.status == "violated" and got.witness["kind"] == kind
+
+
+def test_a_stall_is_found_by_the_streamed_progress_measure():
+    from swarmproof.invariants.properties import OscillationMonitor, oscillation
+    from swarmproof.invariants.registry import progress_values
+
+    class Still(_Toggle):
+        def controller(self, rid, params, target, rng):
+            class C:
+                def step(self, obs):
+                    return Command()
+
+                def state(self):
+                    return ()
+            return C()
+    measure = lambda ids, poses, states: 0.0  # noqa: E731
+    init = InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0.3, 0]])
+    dense = simulate(Still(True, measure), None, init, P, seed=0, max_steps=12, stop_when_static=False)
+    want = oscillation(dense.trace, randomized=True, progress=progress_values(dense.trace, measure), window=5)
+    mon = OscillationMonitor(randomized=True, measure=measure, window=5)
+    simulate(Still(True, measure), None, init, P, seed=0, max_steps=12, stop_when_static=False, record_every=4,
+             observers=(mon,))
+    got = mon.result(False)
+    assert got.witness == want.witness == {"kind": "no_progress", "step": 5, "since": 0, "window": 5, "best": 0.0}
+
+
+@pytest.mark.parametrize("algorithm_name, target, seed", [("song2014", "square", 2), ("song2016", "hexagon", 0),
+                                                          ("example-gather", "square", 1)])
+def test_every_property_judges_a_sparse_run_as_the_dense_one(algorithm_name, target, seed):
+    """Sparse recording changes only what is stored (DESIGN.md section 5): each registered
+    property with a streaming monitor gives the dense run's status and witness."""
+    from swarmproof.checkers.runs import build_params
+    from swarmproof.invariants.registry import properties
+    from swarmproof.models.library import load
+    from swarmproof.reference_impl.initial import random_connected
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    lattice = load(target)
+    start = random_connected(8, seed, range=lattice.range)
+    algo = get_algorithm(algorithm_name, n_robots=8)
+    p = build_params(algo, lattice.range, 8)
+    streamed = [prop for prop in properties() if prop.stream is not None]
+    assert {"connectivity", "tree_links", "collision", "deadlock", "oscillation", "premises"} <= {
+        prop.name for prop in streamed}
+    observers = tuple(prop.stream(algo, p, {}) for prop in streamed)
+    sparse = simulate(algo, lattice, start, p, seed=seed, record_every=37, observers=observers)
+    dense = simulate(get_algorithm(algorithm_name, n_robots=8), lattice, start, p, seed=seed)
+    assert sparse.trace.sparse and sparse.steps == dense.steps
+    for prop in streamed:
+        a = prop.judge(sparse.trace, PropertyContext(algo, lattice, p, sparse, {}))
+        b = prop.judge(dense.trace, PropertyContext(algo, lattice, p, dense, {}))
+        assert (a.status, a.witness) == (b.status, b.witness), prop.name
