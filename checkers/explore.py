@@ -711,7 +711,9 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         raise UsageError(f"properties={props!r} names a property twice", fix="give each property once")
     if not props:
         raise UsageError("properties=[] is empty", fix=f"give one or more of {list(explore_properties())!r}")
-    if isinstance(budget, bool) or not (isinstance(budget, (int, float)) and math.isfinite(budget) and budget > 0):
+    if budget is None:
+        budget = math.inf   # no wall-clock limit: max_examples alone bounds the search (machine-independent)
+    elif isinstance(budget, bool) or not (isinstance(budget, (int, float)) and math.isfinite(budget) and budget > 0):
         raise UsageError(f"budget={budget!r} must be a finite number of seconds > 0")
     if isinstance(max_examples, bool) or not isinstance(max_examples, int) or max_examples < 1:
         raise UsageError(f"max_examples={max_examples!r} must be an integer >= 1")
@@ -1021,6 +1023,12 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             v.message = ("no scenario gave a judgment" +
                          (" (budget spent)" if stats["hit"] else f" ({stats['capped']} runs hit the step cap)") +
                          (f"; last: {stats['why']}" if stats.get("why") else ""))
+        elif stats["hit"]:
+            # the clock, not max_examples, ended the search: what was not explored is not a pass
+            v.status = "inconclusive"
+            v.message = (f"stopped by the budget after {stats['runs']} of {max_examples} scenarios: held on "
+                         f"those ({stats['steps']} steps), inconclusive for the rest (raise --budget, or "
+                         f"bound the search by --max-examples alone with --budget none)")
         else:
             v.message = (f"held over {stats['conclusive']} judged scenarios and {stats['steps']} steps "
                          f"(explored, not proved)")

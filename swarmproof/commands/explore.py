@@ -15,6 +15,7 @@ was violated; 2 usage error; 3 a property is inconclusive (budget spent, runs ca
 
 from __future__ import annotations
 
+import math
 import re
 import sys
 
@@ -35,8 +36,9 @@ def add_arguments(p) -> None:
     p.add_argument("--target", "--lattice", action="append", dest="targets", metavar="[KIND:]NAME|FILE",
                    help="draw scenarios on this target, repeatable: a bundled lattice name or a lattice-graph/1 "
                         "file of your own (default: the bundled periodic lattices)")
-    p.add_argument("--budget", type=float, default=60.0, metavar="SECONDS",
-                   help="wall-clock budget for the whole exploration (default 60)")
+    p.add_argument("--budget", type=_budget, default=60.0, metavar="SECONDS|none",
+                   help="wall-clock budget for the whole exploration (default 60); 'none': no time limit, "
+                        "--max-examples alone bounds the search (the same verdicts on any machine, for CI gates)")
     p.add_argument("--max-examples", type=int, default=100, metavar="N",
                    help="Hypothesis examples per property (default 100)")
     p.add_argument("--robots", default="3..8", metavar="MIN..MAX", help="number of robots (default 3..8)")
@@ -59,6 +61,13 @@ def add_arguments(p) -> None:
     p.add_argument("--max-steps", type=int, metavar="K", help="step cap per run (default: the algorithm's)")
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
+
+
+def _budget(text: str):
+    """``--budget``: seconds, or ``none`` for no wall-clock limit."""
+    if text.strip().lower() == "none":
+        return None
+    return float(text)
 
 
 def parse_robots(text: str) -> tuple[int, int]:
@@ -110,8 +119,9 @@ def run(args) -> int:
     from swarmproof.checkers.explore import explore
 
     robots = parse_robots(args.robots)
-    if not args.budget > 0:
-        raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0", fix="e.g. --budget 60")
+    if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
+        raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0, or none",
+                         fix="e.g. --budget 60, or --budget none to bound the search by --max-examples alone")
     if args.max_examples < 1:
         raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 100")
     from swarmproof.commands.simulate import _parse_extra

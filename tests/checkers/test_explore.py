@@ -210,8 +210,20 @@ def test_exploration_stops_when_its_budget_is_spent():
     r = explore("song2014", ["formation"], budget=1.0, max_examples=10**6, robots=(3, 4), seed=0)
     elapsed = time.monotonic() - t0
     v = r.properties["formation"]
-    assert v.budget_hit and v.status == "held" and 1 <= v.scenarios < 10**6
+    assert v.budget_hit and v.status == "inconclusive" and 1 <= v.scenarios < 10**6 and r.exit_code == 3
+    assert v.message.startswith(f"stopped by the budget after {v.scenarios} of 1000000 scenarios: held on those")
+    assert v.message.endswith("inconclusive for the rest (raise --budget, or bound the search by "
+                              "--max-examples alone with --budget none)")
     assert elapsed < 15, elapsed
+
+
+def test_no_time_budget_bounds_the_search_by_examples_alone(cli):
+    import json
+
+    code, out, _ = cli("explore", "song2014", "--property", "formation", "--max-examples", "3", "--robots", "3..4",
+                       "--budget", "none", "--json")
+    v = json.loads(out)["properties"]["formation"]
+    assert code == 0 and v["status"] == "held" and v["scenarios"] == 3 and not v["budget_hit"]
 
 
 def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path):

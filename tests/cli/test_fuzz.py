@@ -36,7 +36,7 @@ def files(tmp_path_factory):
 WORDS = st.sampled_from(["square", "hexagon", "song2016", "example-gather", "nope", "lines:line", "shape:square-9",
                          "mymod:Nope", "a:b:c", "0", "-1", "1e308", "nan", "inf", "3..2", "2..3", "x=1", "=",
                          "", " ", "\u00e9\u00e8", "--", "-"])
-NUMBERS = st.sampled_from(["0", "1", "2", "-1", "1e308", "-1e308", "nan", "inf", "0.5", "3", "abc", ""])
+NUMBERS = st.sampled_from(["0", "1", "2", "-1", "1e308", "-1e308", "nan", "inf", "0.5", "3", "abc", "", "none"])
 
 
 def _argv(draw, files):
@@ -57,8 +57,9 @@ def _argv(draw, files):
         argv.append(draw(WORDS))
         opts = {"--property": WORDS, "--robots": st.sampled_from(["2..3", "3", "0..1", "x"]),
                 "--seed": NUMBERS, "--out": fileval, "--lattice": st.one_of(WORDS, fileval),
-                "--fault": WORDS, "--v": NUMBERS, "--speeds": WORDS, "--param": WORDS}
-        argv += ["--max-examples", "2", "--budget", "5", "--max-steps", "40"]
+                "--fault": WORDS, "--v": NUMBERS, "--speeds": WORDS, "--param": WORDS,
+                "--budget": st.sampled_from(["5", "none", "0", "-1", "nan", "inf", "x"])}
+        argv += ["--max-examples", "2", "--max-steps", "40"]
     elif cmd == "replay":
         argv.append(draw(st.one_of(fileval, WORDS)))
         opts = {"--plot": fileval, "--gif": fileval}
