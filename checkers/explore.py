@@ -142,6 +142,8 @@ class ExploreReport:
     premise_lemmas: list = field(default_factory=list)
     #: The speeds scenarios drew ``v`` from (``explore(speeds=...)``), None: fixed parameters.
     speeds: tuple | None = None
+    #: Warnings (a user's lattice that fails check-lattice at its range), in order.
+    warnings: list = field(default_factory=list)
 
     @property
     def exit_code(self) -> int:
@@ -183,6 +185,7 @@ class ExploreReport:
                 "algorithm_ref": self.algorithm_ref or self.algorithm,
                 "premise_lemmas": list(self.premise_lemmas),
                 "speeds": None if self.speeds is None else list(self.speeds),
+                **({"warnings": list(self.warnings)} if self.warnings else {}),
                 "exit_code": self.exit_code}
 
 
@@ -674,6 +677,17 @@ def _without_local_constants():
         providers.CONSTANTS_CACHE = original_cache
 
 
+def _warn_user_lattice(target, strict: bool, warnings: list) -> None:
+    from swarmproof.checkers.lattice_check import user_lattice_warning
+
+    msg = user_lattice_warning(target)
+    if msg is None:
+        return
+    if strict:
+        raise UsageError(msg, fix="fix the lattice file, or drop --strict to explore it anyway")
+    warnings.append(msg)
+
+
 def _cx_target(label: str, target) -> dict | None:
     """What a counterexample file records of a target beyond its label: nothing for a bundled
     lattice (files as before), else the target's description (a user's lattice with its whole
@@ -700,7 +714,7 @@ def _safe(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", text)
 
 
-def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir=None):
+def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir=None, strict=False):
     spec = resolve_algorithm(algorithm)
     from swarmproof.invariants.registry import get_property
 
@@ -731,16 +745,17 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         from swarmproof.models.fileio import check_output_dir
 
         check_output_dir(out_dir, "out_dir")
-    lats, loaded = _load_targets(lattices)
-    return spec, props, float(budget), (lo, hi), lats, loaded
+    lats, loaded, warnings = _load_targets(lattices, strict)
+    return spec, props, float(budget), (lo, hi), lats, loaded, warnings
 
 
-def _load_targets(lattices):
+def _load_targets(lattices, strict: bool = False):
     """Labels and targets the scenarios draw from: bundled periodic lattices by default; else
     each item a bundled name, ``KIND:NAME``, a file (a user's lattice) or a target object."""
     from swarmproof.models import library
     from swarmproof.models.targets import resolve_target, target_kinds
 
+    warnings: list = []
     items = tuple(PERIODIC_LATTICES if lattices is None else lattices)
     if not items:
         raise UsageError("lattices=() is empty", fix=f"give one or more of {list(PERIODIC_LATTICES)!r}")
@@ -762,11 +777,12 @@ def _load_targets(lattices):
                              fix=f"give bundled names such as {list(PERIODIC_LATTICES)[:3]!r} or lattice files")
         if label in loaded:
             raise UsageError(f"lattices item={label!r} is given twice", fix="give each target once")
+        _warn_user_lattice(target, strict, warnings)
         if getattr(target, "range", None) is None:
             raise UsageError(f"{getattr(target, 'kind', 'lattice')} {label!r} has no default range",
                              fix="give a lattice file with a range")
         loaded[label] = target
-    return tuple(loaded), loaded
+    return tuple(loaded), loaded, warnings
 
 
 def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float = 60.0,
@@ -776,7 +792,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             allow_violations: bool = False, max_steps: int | None = None,
             options: Mapping[str, Any] | None = None, draw_faults: Sequence[str] = (),
             database_dir: str | os.PathLike | None = None,
-            speeds: Sequence[float] | None = None) -> ExploreReport:
+            speeds: Sequence[float] | None = None, strict: bool = False) -> ExploreReport:
     """Hunt counterexamples to ``properties`` of ``algorithm``.
 
     Parameters
@@ -859,8 +875,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
 
     from swarmproof.checkers.runs import build_params
 
-    spec, props, budget, rng_robots, lats, loaded = _check_inputs(algorithm, properties, budget, max_examples,
-                                                            robots, seed, lattices, out_dir)
+    spec, props, budget, rng_robots, lats, loaded, warnings = _check_inputs(
+        algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir, strict)
     params = dict(params or {})
     options = dict(options or {})
     phi_of = {name: float(g.range) for name, g in loaded.items()}
@@ -902,6 +918,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     report = ExploreReport(spec.label, seed, max_examples, rng_robots, lats, kept, broken,
                            claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref,
                            premise_lemmas=lemmas, speeds=speeds)
+    report.warnings = list(warnings)
     share = budget / len(props)
     grid_spacing = None
     if getattr(getattr(spec.factory, "model", None), "motion", None) == "grid":

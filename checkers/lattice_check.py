@@ -1320,3 +1320,23 @@ def matplotlib_circle(r: float):
     from matplotlib.patches import Circle
 
     return Circle((0, 0), r, fill=False, ls=":", color="0.4", label="range")
+
+
+def user_lattice_warning(target, range: float | None = None) -> str | None:
+    """A warning when a user's lattice (not a bundled one) is not a valid, self-consistent
+    lattice graph at the range in use (``check-lattice``); None when it is, or when the target
+    is not a user's lattice.  ``explore`` and ``simulate`` print it (``--strict``: refuse)."""
+    if getattr(target, "kind", "lattice") != "lattice" or str(getattr(target, "source", "")).startswith("library:"):
+        return None
+    phi = range if range is not None else getattr(target, "range", None)
+    try:
+        rep = check_lattice(target, phi)
+    except Exception as exc:  # noqa: BLE001 - the warning must not stop the run it warns about
+        return f"lattice {target.name!r} could not be checked at range {phi!r} ({type(exc).__name__}: {exc})"
+    if rep.verdict.value == "held":
+        return None
+    what = rep.defects[0].kind if rep.defects else rep.verdict.value
+    src = getattr(target, "source", None) or "FILE"
+    return (f"lattice {target.name!r} ({src}) is {rep.verdict.value} by check-lattice at range {phi:g}: "
+            f"{what}; run `swarmproof check-lattice {src} --range {phi:g}` to see why (runs toward it "
+            "may not mean what you expect)")

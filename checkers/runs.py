@@ -86,7 +86,8 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   v: float | None = None, omega: float | None = None, dt: float | None = None,
                   extra: Mapping[str, Any] | None = None, min_separation: float | None = None,
                   allow_violations: bool = False,
-                  progress: Callable[[int, int], None] | None = None, record_every: int = 1) -> CheckedRun:
+                  progress: Callable[[int, int], None] | None = None, record_every: int = 1,
+                  strict: bool = False) -> CheckedRun:
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
@@ -116,12 +117,20 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     if seed < 0:
         raise UsageError(f"seed={seed!r} must be >= 0")
     kind = getattr(lattice, "kind", "lattice")
+    warnings = []
     if phi is None:
         phi = getattr(lattice, "range", None)
     if phi is None:
         raise UsageError(f"{kind} {lattice.name!r} has no default range", fix="pass --range PHI")
     if not (math.isfinite(phi) and phi > 0):
         raise UsageError(f"range={phi!r} must be a finite number > 0")
+    from swarmproof.checkers.lattice_check import user_lattice_warning
+
+    w = user_lattice_warning(lattice, phi)
+    if w is not None:
+        if strict:
+            raise UsageError(w, fix="fix the lattice file, or drop --strict to run toward it anyway")
+        warnings.append(w)
     if max_steps is not None and max_steps < 0:
         raise UsageError(f"max_steps={max_steps!r} must be >= 0")
     if initial is None:
@@ -196,6 +205,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "broken_assumptions": list(result.broken_assumptions),
         "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
         **({"record_every": int(record_every), "recorded_steps": len(trace.times)} if trace.times else {}),
+        **({"warnings": warnings} if warnings else {}),
         "target": {"kind": kind, "name": lattice.name},
         "satisfied": satisfied,
         "metrics": metrics,

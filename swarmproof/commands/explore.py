@@ -36,6 +36,9 @@ def add_arguments(p) -> None:
     p.add_argument("--target", "--lattice", action="append", dest="targets", metavar="[KIND:]NAME|FILE",
                    help="draw scenarios on this target, repeatable: a bundled lattice name or a lattice-graph/1 "
                         "file of your own (default: the bundled periodic lattices)")
+    p.add_argument("--strict", action="store_true",
+                   help="refuse a lattice file of yours that check-lattice does not pass at its range "
+                        "(default: explore it with a warning)")
     p.add_argument("--budget", type=_budget, default=60.0, metavar="SECONDS|none",
                    help="wall-clock budget for the whole exploration (default 60); 'none': no time limit, "
                         "--max-examples alone bounds the search (the same verdicts on any machine, for CI gates)")
@@ -140,10 +143,12 @@ def run(args) -> int:
                      robots=robots, seed=args.seed, out_dir=args.out, progress=progress,
                      database_dir=args.database, draw_faults=tuple(args.faults), params=params,
                      allow_violations=args.allow_violations, max_steps=args.max_steps,
-                     speeds=parse_speeds(args.speeds), lattices=args.targets)
+                     speeds=parse_speeds(args.speeds), lattices=args.targets, strict=args.strict)
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()
+    for w in report.warnings:
+        sys.stderr.write(f"swarmproof explore: warning: {w}\n")
     if args.json:
         emit_json(doc)
     lines = [f"explore {report.algorithm}: seed {report.seed}, robots {robots[0]}..{robots[1]}, "

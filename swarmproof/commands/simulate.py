@@ -53,6 +53,8 @@ def add_arguments(p) -> None:
                    help="minimum separation of the random start (default range/4)")
     p.add_argument("--allow-violations", action="store_true",
                    help="run even when a paper assumption is broken (reported)")
+    p.add_argument("--strict", action="store_true",
+                   help="refuse a lattice file of yours that check-lattice does not pass at the range in use")
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
     p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
@@ -134,8 +136,11 @@ def run(args) -> int:
         args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
         max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
         extra=_parse_extra(getattr(args, "param", []) or []), min_separation=args.min_separation,
-        allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every)
+        allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
+        strict=args.strict)
     doc, code = checked.doc, checked.exit_code
+    for w in doc.get("warnings", ()):
+        sys.stderr.write(f"swarmproof simulate: warning: {w}\n")
     trace, result, sat, conn, links, term = (checked.result.trace, checked.result, checked.satisfaction,
                                              checked.connectivity, checked.tree_links, checked.termination)
     algorithm, init, phi, q = checked.algorithm, checked.initial, doc["range"], doc["fulfillment_ratio"]
