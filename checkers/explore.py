@@ -162,6 +162,7 @@ class ExploreReport:
         The message carries each violated property's counterexample as
         readable steps, or why a property is inconclusive.
         """
+        __tracebackhide__ = True   # pytest shows the counterexample, not swarmproof's source
         bad = [(k, v) for k, v in self.properties.items() if v.status != "held"]
         if bad:
             lines = [f"{self.algorithm}: {len(bad)} of {len(self.properties)} properties did not hold "
@@ -1050,4 +1051,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             v.message = (f"held over {stats['conclusive']} judged scenarios and {stats['steps']} steps "
                          f"(explored, not proved)")
         report.properties[prop] = v
+    from swarmproof.listeners import REPORT_LISTENERS
+
+    for listener in list(REPORT_LISTENERS):      # e.g. the pytest plugin's property table
+        listener(report)
     return report

@@ -13,5 +13,18 @@ from swarmproof.models.verdict import Verdict
 
 __all__ = [
     "__version__", "SE2", "Edge", "LatticeGraph", "Verdict",
-    "SwarmproofError", "UsageError", "InputFileError", "AssumptionError",
+    "SwarmproofError", "UsageError", "InputFileError", "AssumptionError", "replay_file",
 ]
+
+
+def replay_file(path):
+    """Re-run a counterexample file (``swarmproof replay FILE``) and return the
+    :class:`~swarmproof.checkers.replay.ReplayResult`: ``.reproduced`` is True while the
+    violation still happens.  A kept counterexample is a regression test::
+
+        def test_the_split_stays_fixed():
+            assert not swarmproof.replay_file("cx/mine-connectivity-seed0.json").reproduced
+    """
+    from swarmproof.checkers.replay import replay_file as _replay_file
+
+    return _replay_file(path)

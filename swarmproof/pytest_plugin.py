@@ -10,15 +10,20 @@ Loaded automatically once swarmproof is installed.  It offers
           swarmproof_explore(MyAlgorithm, properties=["connectivity"], max_examples=20).assert_held()
 
   The budget comes from the ``swarmproof_budget`` marker (default 60 s) unless
-  passed; ``out_dir`` defaults to a per-test temporary folder, so a failure
-  message names a counterexample file to ``swarmproof replay``;
+  passed; ``out_dir`` defaults to a per-test temporary folder, or to
+  ``DIR/<test>/`` with ``--swarmproof-out DIR`` (ini: ``swarmproof_out``) for
+  CI to keep, so a failure message names a counterexample file to ``swarmproof
+  replay`` -- and a kept file is a regression test: ``swarmproof.replay_file(path)``
+  re-runs it (``.reproduced``).  A failure shows the counterexample's steps and
+  the replay command, not swarmproof's source;
 * the marker ``@pytest.mark.swarmproof_budget(SECONDS)``;
 * at the end of the session, the property table ("proof-of-property run"):
-  every algorithm and property explored in the session with its verdict
+  every algorithm and property explored in the session -- through the fixture
+  or by calling :func:`~swarmproof.checkers.explore.explore` directly -- with its verdict
   (held = explored, never proved) and whether it is claimed, then the lemmas
   of the z3 proof suite with their verdicts (proved = for every input of the
-  normalised statement, docs/proofs.md) and the explored algorithms whose
-  premise monitors rest on each.  The proof suite runs only when the
+  normalised statement, docs/proofs.md) that the explored algorithms' premise
+  monitors rest on (none when no explored algorithm declares premises).  The proof suite runs only when the
   fixture was used (about 1 s); ``--swarmproof-no-lemmas`` skips it.
 
 Everything heavy is imported lazily: the plugin costs nothing in test
@@ -30,19 +35,60 @@ from __future__ import annotations
 import pytest
 
 _REPORTS_KEY = pytest.StashKey[list]()
+_LISTENER_KEY = pytest.StashKey[object]()
 
 TABLE_TITLE = "swarmproof property table (explored, not proved; lemmas proved by z3)"
 
 
 def pytest_addoption(parser) -> None:
-    parser.getgroup("swarmproof").addoption(
-        "--swarmproof-no-lemmas", action="store_true", default=False,
-        help="do not run the z3 proof suite for the end-of-session property table")
+    group = parser.getgroup("swarmproof")
+    group.addoption("--swarmproof-no-lemmas", action="store_true", default=False,
+                    help="do not run the z3 proof suite for the end-of-session property table")
+    group.addoption("--swarmproof-out", metavar="DIR", default=None,
+                    help="write the counterexamples of swarmproof_explore into DIR/<test name>/ "
+                         "(for CI to keep as artifacts; default: a per-test temporary folder)")
+    parser.addini("swarmproof_out", "folder for swarmproof_explore's counterexamples (as --swarmproof-out)",
+                  default=None)
+
+
+def _current_test() -> str:
+    import os
+
+    return os.environ.get("PYTEST_CURRENT_TEST", "").rsplit(" (", 1)[0] or "(outside a test)"
 
 
 def pytest_configure(config) -> None:
     config.addinivalue_line("markers", "swarmproof_budget(seconds): wall-clock budget of swarmproof_explore")
     config.stash[_REPORTS_KEY] = []
+    reports = config.stash[_REPORTS_KEY]
+
+    def listener(report, reports=reports):
+        # every exploration of the session -- the fixture's and direct explore() calls alike
+        reports.append((_current_test(), report))
+    config.stash[_LISTENER_KEY] = listener
+    from swarmproof.listeners import REPORT_LISTENERS   # imports nothing: the plugin stays light
+
+    REPORT_LISTENERS.append(listener)
+
+
+def pytest_unconfigure(config) -> None:
+    listener = config.stash.get(_LISTENER_KEY, None)
+    if listener is None:
+        return
+    from swarmproof.listeners import REPORT_LISTENERS
+
+    if listener in REPORT_LISTENERS:
+        REPORT_LISTENERS.remove(listener)
+
+
+def _out_dir(request, tmp_path):
+    import re
+    from pathlib import Path
+
+    root = request.config.getoption("swarmproof_out") or request.config.getini("swarmproof_out")
+    if not root:
+        return tmp_path / "counterexamples"
+    return Path(str(root)) / re.sub(r"[^A-Za-z0-9_.-]+", "_", request.node.nodeid)
 
 
 @pytest.fixture
@@ -54,11 +100,10 @@ def swarmproof_explore(request, tmp_path):
     default_budget = float(marker.args[0]) if marker is not None and marker.args else 60.0
 
     def run(algorithm, properties=None, **kwargs):
+        __tracebackhide__ = True
         kwargs.setdefault("budget", default_budget)
-        kwargs.setdefault("out_dir", tmp_path / "counterexamples")
-        report = explore(algorithm, properties, **kwargs)
-        request.config.stash[_REPORTS_KEY].append((request.node.nodeid, report))
-        return report
+        kwargs.setdefault("out_dir", _out_dir(request, tmp_path))
+        return explore(algorithm, properties, **kwargs)
 
     return run
 
@@ -86,9 +131,13 @@ def property_table(reports, lemmas=None, lemma_note: str = "") -> list[str]:
     if lemmas is None:
         lines.append(f"lemmas: {lemma_note}")
         return lines
+    used = [r for r in lemmas if users.get(r.id)]
+    if not used:
+        lines.append("lemmas: none -- no explored algorithm declares lemma premises (premise_monitors)")
+        return lines
     lines.append(f"{'lemma':<34} {'verdict':<15} used by (premise monitors)")
-    for r in lemmas:
-        lines.append(f"{r.id:<34} {r.status:<15} {', '.join(users.get(r.id, ())) or '-'}")
+    for r in used:
+        lines.append(f"{r.id:<34} {r.status:<15} {', '.join(users[r.id])}")
     return lines
 
 

@@ -56,11 +56,52 @@ def test_property_table_lines_with_lemmas():
         "song2014         premises      violated      no               5      700  t.py::b",
         "lemma                              verdict         used by (premise monitors)",
         "bounded_range                      proved          song2016, song2014",
-        "scale_invariance                   proved          -",
         "nclb_link_kept                     inconclusive    song2016",
-    ]
+    ]                                                  # scale_invariance: no explored algorithm rests on it
     assert property_table(reports[:1], None, "not run (--swarmproof-no-lemmas)")[-1] == \
         "lemmas: not run (--swarmproof-no-lemmas)"
+    none = [("t.py::c", _report("mine", [], connectivity="held"))]
+    assert property_table(none, [R("bounded_range", "proved")])[-1] == \
+        "lemmas: none -- no explored algorithm declares lemma premises (premise_monitors)"
+
+
+USER_TESTS_SMALL = textwrap.dedent('''
+    import swarmproof
+    from swarmproof.checkers.explore import explore
+
+
+    def test_direct_call_is_in_the_table():
+        explore("example-gather", ["connectivity"], max_examples=2, robots=(3, 3), budget=30)
+
+
+    def test_fixture_keeps_counterexamples_for_ci(swarmproof_explore):
+        swarmproof_explore("song2014", ["premises"], max_examples=30, robots=(3, 4), lattices=["square"],
+                           budget=60).assert_held()
+
+
+    def test_a_kept_counterexample_is_a_regression_test():
+        import glob
+
+        path, = glob.glob("kept/**/*.json", recursive=True)
+        assert swarmproof.replay_file(path).reproduced
+''')
+
+
+def test_plugin_rows_for_direct_calls_swarmproof_out_and_no_source_in_the_failure(tmp_path):
+    (tmp_path / "test_user.py").write_text(USER_TESTS_SMALL)
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--swarmproof-no-lemmas",
+                           "--swarmproof-out", "kept", str(tmp_path / "test_user.py")],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    out = proc.stdout
+    assert "1 failed, 2 passed" in out, out[-3000:]
+    table = out.split(TABLE_TITLE)[1]
+    assert "example-gather   connectivity" in table and "test_direct_call_is_in_the_table" in table
+    assert "song2014         premises      violated" in table
+    kept = list((tmp_path / "kept").rglob("*.json"))
+    assert len(kept) == 1 and "test_fixture_keeps_counterexamples_for_ci" in str(kept[0])
+    failure = out.split("= FAILURES =")[1].split(TABLE_TITLE)[0]
+    assert "counterexample: song2014 violates premises" in failure and "replay: swarmproof replay kept/" in failure
+    assert "checkers/explore.py" not in failure          # the user sees the counterexample, not swarmproof's source
 
 
 @pytest.mark.slow
