@@ -438,7 +438,7 @@ _LEMMA_LIST = [
         id="translation_invariance",
         statement="Distances do not change when every point is shifted by the same vector: "
                   "||(a - c) - (b - c)|| = ||a - b||.",
-        cites=("normalisation lemma (DESIGN.md section 4)",),
+        cites=("normalisation lemma (docs/proofs.md)",),
         normalisations=(),
         build=translation_invariance,
         control=lambda: translation_invariance(shift_both=False),
@@ -448,7 +448,7 @@ _LEMMA_LIST = [
         id="rotation_invariance",
         statement="Distances do not change under a rotation R (c^2 + n^2 = 1): "
                   "||R a - R b|| = ||a - b||.",
-        cites=("normalisation lemma (DESIGN.md section 4)",),
+        cites=("normalisation lemma (docs/proofs.md)",),
         normalisations=(),
         build=rotation_invariance,
         control=lambda: rotation_invariance(unit=False),
@@ -459,7 +459,7 @@ _LEMMA_LIST = [
         statement="For k > 0, ||a - b|| <= r iff ||k a - k b|| <= k r (also with <), and "
                   "scaling maps segment points to segment points; so phi can be set to 1 "
                   "and v*dt replaced by s = v*dt/phi.",
-        cites=("normalisation lemma (DESIGN.md section 4)",),
+        cites=("normalisation lemma (docs/proofs.md)",),
         normalisations=(),
         build=scale_invariance,
         control=lambda: scale_invariance(scale_radius=False),

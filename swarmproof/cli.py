@@ -22,6 +22,7 @@ import importlib
 import sys
 from typing import Sequence
 
+from swarmproof.models.citations import readable
 from swarmproof.models.errors import ProtocolError, UsageError
 from swarmproof.models.verdict import EXIT_INTERNAL, EXIT_USAGE
 
@@ -118,7 +119,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args._run(args))
     except UsageError as exc:
-        print(f"swarmproof {args.command}: error: {exc}", file=sys.stderr)
+        print(f"swarmproof {args.command}: error: {readable(str(exc))}", file=sys.stderr)
         if as_json:
             _emit_error(_error_document(args.command, "usage", str(exc), EXIT_USAGE))
         return EXIT_USAGE

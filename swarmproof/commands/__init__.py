@@ -34,6 +34,8 @@ def json_emitted() -> bool:
 
 def human(args, *lines: str) -> None:
     """Print human-readable lines: stdout normally, stderr when ``--json`` is on."""
+    from swarmproof.models.citations import readable
+
     stream = sys.stderr if getattr(args, "json", False) else sys.stdout
     for line in lines:
-        print(line, file=stream)
+        print(readable(line), file=stream)   # "Song & O'Kane 2016, Lemma 11", not the seed key
