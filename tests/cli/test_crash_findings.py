@@ -89,3 +89,30 @@ def test_an_engine_bug_is_not_blamed_on_the_algorithm(monkeypatch):
     with pytest.raises(RuntimeError, match="engine bug"):
         simulate(GatherToLowestId(), None, InitialConfiguration([0, 1], [[0, 0, 0], [0.5, 0, 0]]),
                  Params(range=1.0), seed=0, max_steps=3)
+
+
+def test_tree_links_of_an_algorithm_without_a_tree_is_inconclusive_not_held(cli, here):
+    """Issue 13 item 7: `explore mymod:CentroidGather --property tree_links` said held, exit 0."""
+    code, out, _ = cli("explore", "mymod:CentroidGather", "--property", "tree_links", "--max-examples", "5",
+                       "--json")
+    v = json.loads(out)["properties"]["tree_links"]
+    assert code == 3 and v["status"] == "inconclusive" and "keeps no spanning tree" in v["message"]
+    code, out, _ = cli("simulate", "mymod:CentroidGather", "--lattice", "square", "--robots", "4", "--seed", "0",
+                       "--json")
+    assert json.loads(out)["tree_links"]["status"] == "inconclusive"
+
+
+def test_replay_refuses_params_extra_that_simulate_refuses(cli, tmp_path):
+    """Issue 13 item 13: the same unknown params.extra key is exit 2 in simulate and in replay."""
+    from swarmproof.models.counterexample import Counterexample
+
+    code, _, err = cli("simulate", "song2016", "--lattice", "square", "--robots", "3", "--seed", "0",
+                       "--param", "foo=1")
+    assert code == 2 and "params.extra has unknown key(s) ['foo'] for song2016" in err
+    cx = Counterexample(algorithm="song2016", params={"range": 1.2, "v": 0.05, "omega": 0.785, "dt": 1.0,
+                                                      "extra": {"foo": 1}},
+                        lattice="square", robots=[(0, (0.0, 0.0, 0.0)), (1, (1.0, 0.0, 0.0))], seed=0,
+                        property="connectivity", violation={"step": 1, "message": "x"})
+    path = cx.save(tmp_path / "cx.json")
+    code, _, err = cli("replay", path)
+    assert code == 2 and "params.extra has unknown key(s) ['foo'] for song2016" in err and "field 'params'" in err

@@ -72,3 +72,19 @@ class NeedsArg(_Base):
 
     def controller(self, rid, params, target, rng):
         return None
+
+
+class CentroidGather(_Base):
+    """Every robot steers to the centroid of what it senses; no spanning tree, no 'parent'."""
+
+    name = "centroid-gather"
+
+    def controller(self, rid, params, target, rng):
+        class C(_C):
+            def step(self, obs):
+                self.k += 1
+                if len(obs.neighbor_poses) == 0:
+                    return Command()
+                x, y = obs.neighbor_poses[:, :2].mean(axis=0)
+                return steer_toward((float(x) / 2, float(y) / 2), self.params)
+        return C(rid, params)
