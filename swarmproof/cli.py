@@ -54,6 +54,9 @@ class _Parser(argparse.ArgumentParser):
                                       EXIT_USAGE))
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message}; fix: see `{self.prog} --help`\n")
 
+    def format_help(self) -> str:
+        return readable(super().format_help())   # --help cites papers by name too
+
 
 def build_parser() -> argparse.ArgumentParser:
     from swarmproof import __version__
