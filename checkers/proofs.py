@@ -13,7 +13,14 @@ Validity is shown by asserting the negation of the conclusion and getting
 3. a negative control, the same lemma with one premise weakened, must be
    refuted with a concrete counterexample; a control that also "proves"
    suggests an encoding that cannot fail, and the lemma is then reported
-   ``inconclusive`` ("negative control not refuted").
+   ``inconclusive`` ("negative control not refuted");
+4. vacuity controls (:func:`vacuity_controls`): each premise dropped in turn
+   must give a counterexample for at least one of them, and the conclusion
+   must not survive dropping them all (else: tautological, ``inconclusive``).
+
+Each lemma has a ``kind``: ``"paper lemma"`` when it encodes a paper's
+numbered result with its premises, else ``"auxiliary"``; ``not_proved``
+lists what it does not cover that a reader could take it to.
 
 Normalisation (DESIGN.md section 4, measured): every geometric lemma is
 stated with the centre of the disc it reasons about at the origin
@@ -65,6 +72,8 @@ __all__ = [
     "tree_cases",
     "TREE_SOLVER_PARAMS",
     "kernel_oracle_check",
+    "vacuity_controls",
+    "premise_names",
 ]
 
 DEFAULT_TIMEOUT_S = 10.0
@@ -108,6 +117,11 @@ class Lemma:
     control: Callable[[], Encoding]
     control_note: str
     solver_params: tuple = ()  # extra (name, value) pairs for every solver
+    #: "paper lemma" (a paper's numbered result, its statement and premises) or "auxiliary"
+    #: (a fact swarmproof proves on the way: a normalisation, one case, one moment, a variant)
+    kind: str = "auxiliary"
+    #: what the lemma does *not* cover that a reader could take it to (issue 19)
+    not_proved: tuple = ()
 
 
 @dataclass
@@ -124,16 +138,22 @@ class LemmaResult:
     counterexample: dict | None = None
     reason: str = ""
     normalisations: list = field(default_factory=list)
+    kind: str = "auxiliary"
+    vacuity: dict = field(default_factory=dict)
+    not_proved: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         return {
             "id": self.id,
+            "kind": self.kind,
             "statement": self.statement,
             "cites": list(self.cites),
+            "not_proved": list(self.not_proved),
             "status": self.status,
             "seconds": round(self.seconds, 4),
             "premises_satisfiable": self.premises_satisfiable,
             "negative_control": dict(self.negative_control),
+            "vacuity": dict(self.vacuity),
             "counterexample": self.counterexample,
             "reason": self.reason,
             "normalisations": list(self.normalisations),
@@ -283,23 +303,20 @@ def nclb_link_kept(radius: str = "phi_minus_vdt") -> Encoding:
 
 
 def tree_link_kept() -> Encoding:
-    """001 Lemma 11, one link of the spanning tree, by cases; normalised: ``p_c(t) = 0``.
-
-    Every link ``(p, c)`` of the tree is in one of these cases under the
-    motion strategy of 001 Sec. V-C:
+    """One link of the spanning tree in the cases of 001 Sec. V-C's motion strategy that
+    :func:`swarmproof.invariants.premises.tree_links_in_proved_cases` checks at run time;
+    normalised: ``p_c(t) = 0``.
 
     * ``nclb``: the parent moves inside the child's bounded range, the child
       moves at most ``s`` (the premises of ``nclb_link_kept``);
-    * ``child_toward_still_parent``: the parent does not move, the child moves
-      at most ``s`` straight toward it: ``p_c(t+dt) = l p_p(t)``, ``0 <= l <= 1``
-      (case 3 of Sec. V-C, and "children ... will only move toward the robot"
-      when a safe region is empty);
-    * ``parent_toward_still_child``: the child does not move, the parent moves
-      at most ``s`` straight toward it: ``p_p(t+dt) = (1 - l) p_p(t)``;
-    * ``both_still``.
+    * ``child_not_farther_from_still_parent``: the parent does not move and the child
+      ends no farther from it than it started (case 3 of Sec. V-C, and "children ...
+      will only move toward the robot" when a safe region is empty).
 
-    In every case the link is kept: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``."""
-    s, lam = z3.Reals("s l")
+    In each case the link is kept: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``.  Not covered
+    (``Lemma.not_proved``): links a child chose in the step, the relocate robot heading for
+    its vacancy, the relocate robot's nearest-safe-point move toward a non-root parent."""
+    s = z3.Real("s")
     pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
     common = [_step_range(s), ("link_at_t", dist2(pp0) <= 1)]
     cases = [
@@ -308,21 +325,13 @@ def tree_link_kept() -> Encoding:
             ("parent_in_child_bounded_range", dist2(pp1) <= (1 - s) * (1 - s)),
             ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
         ]),
-        ("child_toward_still_parent", [
+        ("child_not_farther_from_still_parent", [
             ("parent_still", _eq(pp1, pp0)),
-            ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
-            ("child_on_segment_to_parent", z3.And(lam >= 0, lam <= 1, _eq(pc1, _scale(lam, pp0)))),
+            ("child_not_farther", dist2(pc1, pp0) <= dist2(pp0)),
         ]),
-        ("parent_toward_still_child", [
-            ("child_still", _eq(pc1, _ORIGIN)),
-            ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
-            ("parent_on_segment_to_child",
-             z3.And(lam >= 0, lam <= 1, _eq(pp1, _scale(1 - lam, pp0)))),
-        ]),
-        ("both_still", [("parent_still", _eq(pp1, pp0)), ("child_still", _eq(pc1, _ORIGIN))]),
     ]
     return Encoding(premises=common, conclusion=dist2(pp1, pc1) <= 1,
-                    variables=_vars(s, lam, pp0, pp1, pc1), cases=cases)
+                    variables=_vars(s, pp0, pp1, pc1), cases=cases)
 
 
 def tree_link_kept_control() -> Encoding:
@@ -360,28 +369,26 @@ def safe_region_nonempty(children: int = 3, ds_bound: str = "phi_minus_vdt") -> 
     return Encoding(premises=prem, conclusion=concl, variables=_vars(s, ds, *cs))
 
 
-def intermediate_goal_in_region(parent_radius: str = "phi_minus_vdt") -> Encoding:
-    """000 Sec. IV-C, Fig. 6: a goal ``g`` in ``P_i & P_p`` (discs of radius ``v dt``
-    around ``p_i(t)`` and ``phi - v dt`` around ``p_p(t)``), reached at ``t+dt``,
-    meets the premises of ``bounded_range``; and the intersection is not empty
-    when the robots are neighbours (witness ``(1 - s) p_i(t)``).  Normalised:
-    ``p_p(t) = 0``.  The control uses ``P_p`` of radius ``phi``."""
+def intermediate_goal_in_region(neighbour_radius2: int = 1) -> Encoding:
+    """000 Sec. IV-C, Fig. 6: ``P_i & P_p`` (discs of radius ``v dt`` around ``p_i(t)`` and
+    ``phi - v dt`` around ``p_p(t)``) is not empty when the robots are neighbours: the point
+    ``(1 - s) p_i(t)`` lies in both.  Normalised: ``p_p(t) = 0``.
+
+    (That a goal chosen in ``P_i & P_p`` and reached at ``t+dt`` meets the premises of
+    ``bounded_range`` is the definition of the two discs, not a fact for z3: the two
+    conclusion parts that said so repeated the premises and were removed, issue 19.)
+    The control lets the robots be up to ``2 phi`` apart."""
     s = z3.Real("s")
-    pi0, g = _pt("p_i_0"), _pt("g")
-    rp2 = (1 - s) * (1 - s) if parent_radius == "phi_minus_vdt" else z3.RealVal(1)
+    pi0 = _pt("p_i_0")
     w = _scale(1 - s, pi0)
     prem = [
         _step_range(s),
-        ("neighbours_at_t", dist2(pi0) <= 1),
-        ("goal_in_P_i", dist2(g, pi0) <= s * s),
-        ("goal_in_P_p", dist2(g) <= rp2),
+        ("neighbours_at_t", dist2(pi0) <= neighbour_radius2),
     ]
-    concl = z3.And(
-        dist2(g, pi0) <= s * s,                   # p_i(t+dt) = g: moves at most v dt
-        dist2(g) <= (1 - s) * (1 - s),            # ... into the parent's bounded range
-        dist2(w, pi0) <= s * s, dist2(w) <= (1 - s) * (1 - s),  # P_i & P_p not empty
-    )
-    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, pi0, g))
+    parts = [("witness_in_P_i", dist2(w, pi0) <= s * s),
+             ("witness_in_P_p", dist2(w) <= (1 - s) * (1 - s))]
+    return Encoding(premises=prem, conclusion=z3.And([t for _, t in parts]), variables=_vars(s, pi0),
+                    parts=parts)
 
 
 # -------------------------------------------- findings and hard lemmas
@@ -476,6 +483,7 @@ _LEMMA_LIST = [
         build=bounded_range,
         control=lambda: bounded_range(range_radius_factor="phi"),
         control_note="bounded range of radius phi instead of phi - v dt",
+        kind="paper lemma",
     ),
     Lemma(
         id="bounded_range_strict",
@@ -503,16 +511,29 @@ _LEMMA_LIST = [
     ),
     Lemma(
         id="spanning_tree_kept",
-        statement="Per link of the spanning tree, in each case of the motion strategy (NCLB; "
-                  "parent still and child straight toward it; child still and parent straight "
-                  "toward it; both still) the link is kept: ||p_p(t+dt) - p_c(t+dt)|| <= phi. "
-                  "Composed over the n-1 links: the tree is a spanning subgraph of the "
-                  "communication graph at t+dt, which is therefore connected.",
-        cites=("001_7a4e517b856331bc.txt Lemma 11, Sec. V-C",),
-        normalisations=(_t("p_c(t)"), _S_NORM, "composition over tree links (docs/proofs.md)"),
+        statement="One link of the spanning tree, in the two cases of the motion strategy the "
+                  "run-time monitor tree_link_cases checks (the parent moves inside the child's "
+                  "bounded range and the child moves at most v dt; the parent stays still and the "
+                  "child ends no farther from it): the link is kept, ||p_p(t+dt) - p_c(t+dt)|| <= phi. "
+                  "One link only, not Lemma 11: the composition over the tree's links is argued on "
+                  "paper (docs/proofs.md), and the cases listed as not proved are not covered.",
+        cites=("001_7a4e517b856331bc.txt Lemma 11's proof, Sec. V-C (one link; Lemma 11 itself is not proved)",),
+        normalisations=(_t("p_c(t)"), _S_NORM),
         build=tree_link_kept,
         control=tree_link_kept_control,
         control_note="nclb case with the parent anywhere within phi of the child",
+        not_proved=(
+            "links a child chose in the step: the parent moves without counting it among its "
+            "children (messages take one step), so no NCLB premise holds for them -- swarmproof "
+            "finds them breaking (song2016, square n=20 seed 1, step 344)",
+            "the relocate robot heading for its vacancy while its parent is the root: its link "
+            "is checked at run time only (monitor tree_link_cases, case relocate_in_root_range_monitored)",
+            "the relocate robot moving toward a parent that is not the root by the nearest safe "
+            "point (Fig. 11's intermediate goal): it can move away from that parent, and a "
+            "crafted state breaks the link",
+            "the composition of the per-link cases into Lemma 11 (the tree at t+dt spans the "
+            "communication graph): argued on paper in docs/proofs.md, not by z3",
+        ),
     ),
     Lemma(
         id="relocate_stays_in_range",
@@ -523,6 +544,9 @@ _LEMMA_LIST = [
         build=relocate_stays_in_range,
         control=lambda: relocate_stays_in_range(endpoint_radius2=4),
         control_note="the segment's end may be 2 phi away",
+        not_proved=("that the relocate robot's step ends within phi of the root: the run-time "
+                    "monitor checks that end directly (a disc is convex; this lemma only extends "
+                    "the two ends to the path between them)",),
     ),
     Lemma(
         id="safe_region_nonempty",
@@ -534,17 +558,21 @@ _LEMMA_LIST = [
         build=safe_region_nonempty,
         control=lambda: safe_region_nonempty(ds_bound="phi"),
         control_note="d_s < phi instead of d_s < phi - v dt",
+        not_proved=("that the children do come within d_s (Sec. V-C's 'the safe region will "
+                    "eventually be non-empty' is a liveness claim; this is one moment of it)",),
     ),
     Lemma(
         id="intermediate_goal_in_region",
-        statement="A goal chosen in P_i & P_p (discs of radius v dt around p_i(t) and phi - v dt "
-                  "around p_p(t)) and reached at t+dt meets the premises of bounded_range, and "
-                  "P_i & P_p is not empty when the robots are neighbours.",
+        statement="P_i & P_p (discs of radius v dt around p_i(t) and phi - v dt around p_p(t)) is "
+                  "not empty when the robots are neighbours: (1 - s) p_i(t) lies in both. (A goal "
+                  "chosen there and reached at t+dt meets bounded_range's premises by definition.)",
         cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C steps 1-3, Fig. 6, Lemma 7",),
         normalisations=(_t("p_p(t)"), _S_NORM),
         build=intermediate_goal_in_region,
-        control=lambda: intermediate_goal_in_region(parent_radius="phi"),
-        control_note="P_p of radius phi instead of phi - v dt",
+        control=lambda: intermediate_goal_in_region(neighbour_radius2=4),
+        control_note="the robots up to 2 phi apart instead of phi",
+        not_proved=("that the robot reaches its goal within the step: it may not "
+                    "(intermediate_goal_partial_progress, a counterexample)",),
     ),
 ]
 
@@ -571,8 +599,8 @@ EXTRA_LEMMAS: dict = {
         cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C, Lemma 7",),
         normalisations=(_t("p_p(t)"), _S_NORM),
         build=intermediate_goal_partial_progress,
-        control=lambda: intermediate_goal_in_region(parent_radius="phi"),
-        control_note="P_p of radius phi",
+        control=lambda: intermediate_goal_in_region(neighbour_radius2=4),
+        control_note="the robots up to 2 phi apart",
     ),
     "nclb_three_children_direct": Lemma(
         id="nclb_three_children_direct",
@@ -725,6 +753,62 @@ def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
     return _outcome("proved", True)
 
 
+def _without(enc: Encoding, names) -> Encoding:
+    """``enc`` with the premises called ``names`` removed (from the common list and every case)."""
+    def keep(lst):
+        return [(n, t) for n, t in lst if n not in names]
+
+    return Encoding(premises=keep(enc.premises), conclusion=enc.conclusion, variables=enc.variables,
+                    cases=[(c, keep(extra)) for c, extra in enc.cases], parts=enc.parts)
+
+
+def premise_names(enc: Encoding) -> list:
+    """Every named premise of ``enc`` (common ones, then each case's), each once, in order."""
+    out: list = []
+    for name, _ in list(enc.premises) + [p for _, extra in enc.cases for p in extra]:
+        if name not in out:
+            out.append(name)
+    return out
+
+
+def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> dict:
+    """Drop each premise of ``lemma`` in turn, then all of them, and solve again (issue 19).
+
+    A premise the conclusion needs gives a counterexample when dropped; a lemma whose
+    conclusion survives dropping every premise is *tautological* (it says nothing about the
+    premises it lists).  ``verdict``: ``"ok"`` (some premise is needed and the lemma is not
+    tautological), ``"tautological"``, ``"no_single_premise_needed"`` (every single drop still
+    proves: the premises are redundant), ``"identity"`` (no premises at all: a normalisation
+    identity, nothing to drop) or ``"inconclusive"`` (a solver timeout or ``unknown`` left it
+    open).  ``dropped`` maps each premise to the status with it removed.  The whole check
+    shares one budget of ``timeout_s`` seconds.
+
+    >>> v = vacuity_controls(LEMMAS["relocate_stays_in_range"])
+    >>> v["verdict"], v["dropped"]["on_segment"], v["all_dropped"]
+    ('ok', 'counterexample', 'counterexample')
+    """
+    _configure()
+    enc = lemma.build()
+    names = premise_names(enc)
+    if not names:
+        return {"verdict": "identity", "dropped": {}, "all_dropped": None,
+                "note": "no premises: an identity, nothing to drop"}
+    deadline = time.perf_counter() + timeout_s
+    params = tuple(lemma.solver_params)
+    dropped = {n: _solve_encoding(_without(enc, {n}), deadline, params)["status"] for n in names}
+    every = _solve_encoding(_without(enc, set(names)), deadline, params)["status"]
+    needed = sorted(n for n, st in dropped.items() if st == "counterexample")
+    if every == "proved":
+        verdict, note = "tautological", "the conclusion holds with every premise dropped"
+    elif needed:
+        verdict, note = "ok", "needed: " + ", ".join(needed)
+    elif "inconclusive" in dropped.values() or every == "inconclusive":
+        verdict, note = "inconclusive", "a solver timeout or unknown left a drop undecided"
+    else:
+        verdict, note = "no_single_premise_needed", "each premise alone can be dropped and the lemma still holds"
+    return {"verdict": verdict, "dropped": dropped, "all_dropped": every, "note": note}
+
+
 def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
     """Prove one lemma and refute its negative control (module docstring, steps 1-3).
 
@@ -767,11 +851,18 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
         status = "inconclusive"
         reason = (f"negative control not refuted ({control['reason']}): "
                   "the encoding may be unable to fail")
+    vac = vacuity_controls(lemma, timeout_s) if status == "proved" else {
+        "verdict": "not_run", "dropped": {}, "all_dropped": None, "note": f"the lemma is {status}"}
+    if status == "proved" and vac["verdict"] not in ("ok", "identity"):
+        status = "inconclusive"
+        reason = f"vacuity control {vac['verdict']}: {vac['note']}"
+    seconds = time.perf_counter() - t0
     return LemmaResult(
         id=lemma.id, statement=lemma.statement, cites=list(lemma.cites), status=status,
         seconds=seconds, premises_satisfiable=main["premises_satisfiable"],
         negative_control=control, counterexample=main["counterexample"], reason=reason,
-        normalisations=list(lemma.normalisations))
+        normalisations=list(lemma.normalisations), kind=lemma.kind, vacuity=vac,
+        not_proved=list(lemma.not_proved))
 
 
 def run_suite(ids: Iterable[str] | None = None,

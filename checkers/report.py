@@ -205,8 +205,46 @@ def _run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
     return out
 
 
-def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
-    """Each reference implementation on each lattice: its claims, run by run (001, 000)."""
+def simulate_command(algorithm: str, target: str, robots: int, seed: int) -> str:
+    """The ``swarmproof simulate`` command line that repeats one run of an ``algorithms`` row.
+
+    >>> simulate_command("song2016-literal", "hexagon", 40, 2)
+    'swarmproof simulate song2016-literal --target hexagon --robots 40 --seed 2'
+    """
+    return f"swarmproof simulate {algorithm} --target {target} --robots {robots} --seed {seed}"
+
+
+def run_counterexample(checked, prop: str, message: str, step):
+    """A ``swarmproof-counterexample/1`` of one seeded run whose ``prop`` was violated, for
+    ``swarmproof replay`` (the same algorithm, start, seed and parameters; the property is
+    judged by the registry, as the run was)."""
+    from swarmproof.models.counterexample import Counterexample
+
+    p = checked.params
+    params = {"range": float(p.range), "v": float(p.v), "omega": float(p.omega), "dt": float(p.dt)}
+    if p.extra:
+        params["extra"] = dict(p.extra)
+    init = checked.initial
+    target = checked.lattice
+    is_lattice = getattr(target, "kind", "lattice") == "lattice"
+    return Counterexample(
+        algorithm=checked.algorithm.name, params=params,
+        lattice=target.name if is_lattice else None,
+        robots=[(int(i), tuple(float(x) for x in pose)) for i, pose in zip(init.ids.tolist(), init.poses)],
+        seed=int(checked.doc["seed"]), property=prop,
+        violation={"step": step, "message": message},
+        broken_assumptions=list(checked.doc.get("broken_assumptions", [])),
+        target=None if is_lattice else target.describe())
+
+
+def section_algorithms(*, progress: Progress | None = None, out_dir: str | None = None) -> list[Row]:
+    """Each reference implementation on each lattice: its claims, run by run (001, 000).
+
+    A violated row names the ``swarmproof simulate`` command that repeats its first
+    violated run (``reproduce`` in JSON); with ``out_dir`` that run is also written as a
+    counterexample file for ``swarmproof replay`` (``counterexample`` in JSON)."""
+    import os
+
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl.registry import claims_of, verify_plans
@@ -214,15 +252,18 @@ def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
     rows = []
     for algo, plan in verify_plans():
         claims = claims_of(algo)
-        for lname in plan.targets:
+        for lname, robots, seeds in plan.runs():
             lattice = resolve_target(lname)
             per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in RUN_PROPERTIES}
-            for seed in plan.seeds:
+            first_bad: dict[str, Any] = {}
+            for seed in seeds:
                 if progress:
-                    progress(f"{algo} {lname} seed {seed}")
-                checked = run_and_check(algo, lattice, seed=seed, robots=plan.robots)
+                    progress(f"{algo} {lname} n={robots} seed {seed}")
+                checked = run_and_check(algo, lattice, seed=seed, robots=robots)
                 for prop, (verdict, msg) in _run_property_verdicts(checked).items():
                     per_prop[prop].append((seed, verdict, msg))
+                    if verdict is Verdict.VIOLATED and prop not in first_bad:
+                        first_bad[prop] = (seed, checked, msg)
             for prop in per_prop:
                 results = per_prop[prop]
                 verdict = Verdict.combine(v for _, v, _ in results)
@@ -231,10 +272,30 @@ def section_algorithms(*, progress: Progress | None = None) -> list[Row]:
                 worst = next(((s, m) for s, v, m in results if v is verdict and not v.passed), None)
                 if worst is not None:
                     detail += f"; seed {worst[0]}: {worst[1]}"
-                rows.append(Row("algorithms", f"{algo} {lname} n={plan.robots}", prop, verdict,
-                                detail, {"algorithm": algo, "lattice": lname, "robots": plan.robots,
-                                         "seeds": list(plan.seeds)}, claim=claims.get(prop)))
+                data = {"algorithm": algo, "lattice": lname, "robots": robots, "seeds": list(seeds)}
+                if verdict is Verdict.VIOLATED and prop in first_bad:
+                    seed, checked, msg = first_bad[prop]
+                    data["reproduce"] = simulate_command(algo, lname, robots, seed)
+                    if out_dir is not None:
+                        res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
+                        step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
+                        cx = run_counterexample(checked, prop, msg, step)
+                        os.makedirs(out_dir, exist_ok=True)
+                        data["counterexample"] = cx.save(os.path.join(
+                            os.fspath(out_dir), f"{_safe_name(algo)}-{_safe_name(lname)}-n{robots}-{prop}-seed{seed}.json"))
+                        detail += f"; replay: swarmproof replay {data['counterexample']}"
+                    else:
+                        detail += f"; repeat: {data['reproduce']}"
+                rows.append(Row("algorithms", f"{algo} {lname} n={robots}", prop, verdict,
+                                detail, data, claim=claims.get(prop)))
     return rows
+
+
+def _safe_name(text: str) -> str:
+    """A file-name-safe form of a name (``lines:line`` -> ``lines-line``)."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_.-]+", "-", text)
 
 
 # -- lemmas --------------------------------------------------------------------
@@ -267,7 +328,7 @@ def lemma_rows(results) -> list[Row]:
     >>> row.verdict
     <Verdict.PROVED: 'proved'>
     >>> print(row.detail)
-    premises satisfiable, negative control refuted (weakened: the segment's end may be 2 phi away)
+    auxiliary; premises satisfiable, negative control refuted (weakened: the segment's end may be 2 phi away), vacuity controls ok (needed: end_within_range, on_segment, start_within_range); not proved: that the relocate robot's step ends within phi of the root: the run-time monitor checks that end directly (a disc is convex; this lemma only extends the two ends to the path between them)
     """
     rows = []
     for r in results:
@@ -279,7 +340,12 @@ def lemma_rows(results) -> list[Row]:
                    else f"negative control not refuted ({ctrl.get('status')})")
         if ctrl.get("weakened"):
             control += f" (weakened: {ctrl['weakened']})"
-        detail = f"{premises}, {control}"
+        vac = r.vacuity or {}
+        detail = f"{r.kind}; {premises}, {control}"
+        if vac.get("verdict") not in (None, "not_run"):
+            detail += f", vacuity controls {vac['verdict']} ({vac.get('note', '')})"
+        if r.not_proved:
+            detail += "; not proved: " + "; ".join(r.not_proved)
         if r.status == "counterexample":
             nums = ", ".join(f"{k}={_num(v)}" for k, v in (r.counterexample or {}).items())
             detail = f"counterexample {nums}; {detail}"

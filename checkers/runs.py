@@ -41,7 +41,8 @@ class CheckedRun:
     lattice, algorithm, params, initial
         What was run (``lattice`` is the target, whatever its kind).
     satisfaction, connectivity, tree_links, termination
-        The invariant results (termination is None when the algorithm offers no bound);
+        The invariant results (termination is None when the algorithm offers neither a
+        ``termination_bound`` nor an ``own_end``);
         ``satisfaction`` is a lattice's
         :class:`~swarmproof.models.satisfaction.SatisfactionResult` or another target's
         :class:`~swarmproof.models.targets.TargetCheck`.
@@ -104,7 +105,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         or parameters outside the paper's assumptions (``AssumptionError``)
         unless ``allow_violations``.
     """
-    from swarmproof.invariants.connectivity import connected_throughout, tree_links_survive
+    from swarmproof.invariants.connectivity import connected_throughout, tree_link_mode_of, tree_links_survive
     from swarmproof.invariants.metrics import (execution_steps, fulfillment_ratio, min_separation as
                                                min_sep, non_fulfillment_ratio, total_distance)
     from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
@@ -156,7 +157,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         from swarmproof.invariants.connectivity import ConnectivityMonitor, TreeLinkMonitor
 
         observers = (ConnectivityMonitor(phi, getattr(algorithm.model, "neighbor_rule", "strict") == "inclusive"),
-                     TreeLinkMonitor(phi, mode=getattr(algorithm, "tree_link_mode", "persistent")))
+                     TreeLinkMonitor(phi, mode=tree_link_mode_of(algorithm)))
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, progress=progress, record_every=record_every,
                       observers=observers)
@@ -181,7 +182,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         conn, links = result.observed("connectivity"), result.observed("tree_links")
     else:
         conn = connected_throughout(trace, phi)
-        links = tree_links_survive(trace, phi, mode=getattr(algorithm, "tree_link_mode", "persistent"))
+        links = tree_links_survive(trace, phi, mode=tree_link_mode_of(algorithm))
     satisfied = sat.held if sat.status != "inconclusive" else None
     doc = {
         "algorithm": algorithm.name,
@@ -210,12 +211,11 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "satisfied": satisfied,
         "metrics": metrics,
     }
-    bound_fn = getattr(algorithm, "termination_bound", None)
     term = None
-    if callable(bound_fn):
-        from swarmproof.invariants.termination import static_by_bound
+    if callable(getattr(algorithm, "termination_bound", None)) or getattr(algorithm, "own_end", None):
+        from swarmproof.invariants.termination import judge_termination
 
-        term = static_by_bound(trace, int(bound_fn(params, initial.n)))
+        term = judge_termination(trace, algorithm, params, result.status, max_steps=result.max_steps)
         doc["termination"] = term.as_dict()
     if result.crash is not None:
         doc["crash"] = dict(result.crash)

@@ -44,7 +44,8 @@ from swarmproof.models.sensing import components, neighbor_pairs
 
 from .result import InvariantResult, state_value
 
-__all__ = ["first_disconnection", "connected_throughout", "tree_links_survive", "components_at"]
+__all__ = ["first_disconnection", "connected_throughout", "tree_links_survive", "components_at",
+           "TREE_LINK_MODES", "DEFAULT_TREE_LINK_MODE", "tree_link_mode_of"]
 
 LEMMA_11 = "001 Lemma 11 (connectivity is preserved)"
 
@@ -157,26 +158,46 @@ def connected_throughout(trace, phi: float, inclusive: bool | None = None) -> In
     return _feed(mon, trace).result()
 
 
-TREE_LINK_MODES = ("persistent", "decided", "standing")
+TREE_LINK_MODES = ("decided", "standing", "persistent")
+
+#: Every link of the tree each step decided, newly chosen ones included (issue 19):
+#: the tree 001 Lemma 11's proof is about is the one the algorithm employs at time t.
+DEFAULT_TREE_LINK_MODE = "decided"
 
 
-def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = "persistent") -> InvariantResult:
+def tree_link_mode_of(algorithm, options=None) -> str:
+    """The reading of "the links of step t" for ``algorithm``: the property option
+    ``tree_link_mode`` (explore/verify ``--option``), else the class attribute
+    ``tree_link_mode``, else :data:`DEFAULT_TREE_LINK_MODE`.
+
+    >>> tree_link_mode_of(object()), tree_link_mode_of(object(), {"tree_link_mode": "persistent"})
+    ('decided', 'persistent')
+    """
+    mode = (options or {}).get("tree_link_mode") or getattr(algorithm, "tree_link_mode", None)
+    return DEFAULT_TREE_LINK_MODE if mode is None else mode
+
+
+def tree_links_survive(trace, phi: float, key: str = "parent", mode: str = DEFAULT_TREE_LINK_MODE) -> InvariantResult:
     """The spanning-tree links of each step survive the step's motion.
 
     Which links are "the links of step t" depends on when an algorithm's
     robots learn about them (the trace records ``states[t]`` before step t
     and ``states[t+1]`` after it decided):
 
-    * ``"decided"``: the parent a robot chose in step t (``states[t+1]``).
-      A child that moves by 001 Lemma 7 toward its new parent's last pose
-      (song2014) keeps these.
+    * ``"decided"`` (default): the parent every robot holds after step t
+      decided (``states[t+1]``), links chosen in that very step included --
+      the tree the algorithm employs at time t, which 001 Lemma 11's proof
+      says survives the step.  A child that chose a parent in step t cannot
+      be among that parent's children yet when messages take one step
+      (song2016): NCLB does not protect such a link, and a break of one is
+      reported with ``newly_chosen: true`` (a gap in 001's proof, which
+      ignores the one-step lag; docs/song2016.md).
     * ``"standing"``: the parent a robot had before step t (``states[t]``):
       the parent has heard of its child by then (messages take one step), so
-      NCLB (001 Sec. V-C, Def. 8) can protect the link in step t (song2016).
-    * ``"persistent"`` (default): links in both, the ones both readings
-      protect.  A robot that switches parent for a single step (song2016
-      does, while it hears a relocating robot that does not yet know it)
-      is not a counterexample under this reading.
+      NCLB (001 Sec. V-C, Def. 8) can protect the link in step t.
+    * ``"persistent"``: links in both.  Blind spot: a link that breaks in the
+      step in which the child first names that parent is not seen (the
+      default until issue 19; it hid song2016's newly-chosen-link breaks).
 
     A link is checked when the two robots were neighbors at ``poses[t]``; it
     must still be a neighbor pair at ``poses[t+1]``.  Links to a robot that
@@ -190,9 +211,12 @@ class TreeLinkMonitor:
 
     name = "tree_links"
 
-    def __init__(self, phi: float, key: str = "parent", mode: str = "persistent") -> None:
+    def __init__(self, phi: float, key: str = "parent", mode: str = DEFAULT_TREE_LINK_MODE) -> None:
         if mode not in TREE_LINK_MODES:
-            raise ValueError(f"mode={mode!r} must be one of {TREE_LINK_MODES!r}")
+            from swarmproof.models.errors import UsageError
+
+            raise UsageError(f"tree_link_mode={mode!r} is not a reading of the tree links",
+                             fix=f"use one of {TREE_LINK_MODES!r}")
         self.phi, self.key, self.mode = float(phi), key, mode
         self.ids = None
         self.slot: dict = {}
@@ -238,7 +262,7 @@ class TreeLinkMonitor:
             d1 = float(np.hypot(*(p1[q, :2] - p1[k, :2])))
             self.longest = max(self.longest, d1 / phi)
             if not d1 < phi:
-                self.hit = (t0, int(self.ids[k]), int(par), d0, d1)
+                self.hit = (t0, int(self.ids[k]), int(par), d0, d1, pa != pb and par == pa)
                 return
 
     def result(self) -> InvariantResult:
@@ -246,13 +270,16 @@ class TreeLinkMonitor:
         detail = {"links_checked": self.checked, "unsensed_parents": self.unsensed,
                   "longest_link_ratio": self.longest}
         if self.hit is not None:
-            t, child, par, d0, d1 = self.hit
+            t, child, par, d0, d1, new = self.hit
+            why = (f"; {child} chose {par} as its parent in this very step, so {par} could not yet "
+                   "count it among its children (messages take one step): a link 001's proof of "
+                   "Lemma 11 does not consider" if new else "")
             return InvariantResult(
                 "tree_links", "violated", LEMMA_11,
                 {"step": t, "child": child, "parent": par, "distance_before": d0,
-                 "distance_after": d1, "mode": mode},
+                 "distance_after": d1, "mode": mode, "newly_chosen": bool(new)},
                 f"step {t}: the link child {child} -> parent {par} broke "
-                f"(distance {d0:.6g} -> {d1:.6g}, range {phi:g}; {mode} links)",
+                f"(distance {d0:.6g} -> {d1:.6g}, range {phi:g}; {mode} links){why}",
                 detail=detail)
         if not self.any_parent:
             # vacuous: nothing to check is never a pass (DESIGN.md section 1, "Verdicts")

@@ -68,7 +68,7 @@ from .result import InvariantResult, state_value
 
 __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range",
            "descendants_in_parent_bounded_ranges", "check_premises", "params_of", "MONITORS",
-           "MONITOR_LEMMAS", "premise_monitors_of"]
+           "MONITOR_LEMMAS", "premise_monitors_of", "tree_links_in_proved_cases", "TREE_LINK_CASES", "TreeLinkCases"]
 
 _MISSING = object()
 
@@ -108,6 +108,18 @@ class _Window:
         return self._present[t]
 
 
+def _present_robot_steps(trace):
+    """``(t, k, before, after, p0, p1, pres0, pres1)`` for every examined step ``t`` and every
+    robot slot ``k`` present at both of its ends (states and poses before and after the step)."""
+    for t in _steps(trace):
+        before, after = trace.states[t], trace.states[t + 1]
+        p0, p1 = trace.poses[t], trace.poses[t + 1]
+        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
+        for k in range(trace.n):
+            if pres0[k] and pres1[k]:
+                yield t, k, before, after, p0, p1, pres0, pres1
+
+
 def _slot(trace) -> dict:
     return {int(i): k for k, i in enumerate(trace.ids.tolist())}
 
@@ -132,9 +144,11 @@ def step_bounded(trace, v: float, dt: float, *, tol: float = 1e-9) -> InvariantR
                            None, f"every robot moved at most v*dt in all {trace.steps} steps")
 
 
-def _movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, tol: float):
-    """Shared loop: a robot that moves in step ``t`` must end within ``phi - v*dt`` of the
-    step-``t`` position of every robot ``related(state_after)`` names.
+def _movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, tol: float,
+                              movers_only: bool = True):
+    """Shared loop: a robot that moves in step ``t`` (any robot, unless ``movers_only``) must
+    end within ``phi - v*dt`` of the step-``t`` position of every robot ``related(state_after)``
+    names.
 
     Returns ``("missing", k, None)`` when a moving robot's state lacks the key,
     ``("violated", (t, k, j, d), checked)`` for the first robot outside, else
@@ -152,12 +166,15 @@ def _movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, t
             if others is _MISSING:
                 return "missing", k, None
             p1 = trace.poses[t + 1][k, :2]
-            if np.array_equal(p1, trace.poses[t][k, :2]):
+            still = np.array_equal(p1, trace.poses[t][k, :2])
+            if movers_only and still:
                 continue  # did not move: nothing to check (the link case "still")
             for c in others or ():
                 j = slot.get(int(c))
                 if j is None or not pres0[j]:
                     continue
+                if still and pres1[j] and np.array_equal(trace.poses[t + 1][j, :2], trace.poses[t][j, :2]):
+                    continue  # neither moved: the link is as it was (the case "both still")
                 checked += 1
                 d = float(np.hypot(*(p1 - trace.poses[t][j, :2])))
                 if d > radius + tol * phi:
@@ -192,14 +209,17 @@ def parents_in_bounded_ranges(trace, phi: float, v: float, dt: float, *,
 
 def descendants_in_parent_bounded_ranges(trace, phi: float, v: float, dt: float, *,
                                          tol: float = 1e-9) -> InvariantResult:
-    """Every robot that moves in step ``t`` ends within ``phi - v*dt`` of the
-    position at ``t`` of the parent it chose in step ``t`` (000 Lemma 7, Eqs. 5-7:
+    """Every robot ends step ``t`` within ``phi - v*dt`` of the position at ``t`` of the
+    parent it chose in step ``t``, unless neither moved (000 Lemma 7, Eqs. 5-7:
     the descendant's goal lies in the disc ``P_p`` of radius ``phi - v*dt``
     around its parent, Sec. IV-C step 3).
 
     The parent is read from the state key ``"parent"`` recorded after the step
     decided (song2014's documented state, docs/song2014.md).  Lemma:
-    ``bounded_range`` (its premise ``child_in_parent_bounded_range``).
+    ``bounded_range`` (its premise ``child_in_parent_bounded_range``).  A robot that
+    does not move is examined too when its parent moves (issue 19): a child that only
+    turns in place while its parent drives away breaks the premise as surely as one that
+    drives; when neither moves, the link is as it was.
 
     Examples
     --------
@@ -215,7 +235,8 @@ def descendants_in_parent_bounded_ranges(trace, phi: float, v: float, dt: float,
     radius = phi - v * dt
     cites = "bounded_range (000 Lemma 7, Sec. IV-C)"
     status, hit, checked = _movers_in_bounded_ranges(
-        trace, phi, v, dt, lambda st: _parent_list(state_value(st, "parent", _MISSING)), tol)
+        trace, phi, v, dt, lambda st: _parent_list(state_value(st, "parent", _MISSING)), tol,
+        movers_only=False)
     if status == "missing":
         return InvariantResult("premise:parent_bounded_range", "inconclusive", cites, None,
                                f"robot {int(trace.ids[hit])} has no 'parent' in its state")
@@ -228,7 +249,7 @@ def descendants_in_parent_bounded_ranges(trace, phi: float, v: float, dt: float,
             f"robot {int(trace.ids[k])} ended step {t} {d:.6g} from the old position of "
             f"its parent {int(trace.ids[j])}, outside the parent's disc phi - v*dt = {radius:.6g}")
     return InvariantResult("premise:parent_bounded_range", "held", cites, None,
-                           f"{checked} moving-child/parent pairs inside the parent's disc phi - v*dt",
+                           f"{checked} child/parent pairs inside the parent's disc phi - v*dt",
                            applicable=checked > 0, detail={"checked": checked})
 
 
@@ -316,40 +337,197 @@ def children_toward_still_parents(trace, phi: float, v: float, dt: float, *,
     slot = _slot(trace)
     eps = tol * phi
     checked = 0
-    for t in _steps(trace):
-        before, after = trace.states[t], trace.states[t + 1]
-        p0, p1 = trace.poses[t], trace.poses[t + 1]
-        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
-        for k in range(trace.n):
-            if not (pres0[k] and pres1[k]):
-                continue
-            par = state_value(before[k], "parent", _MISSING)
+    for t, k, before, after, p0, p1, pres0, pres1 in _present_robot_steps(trace):
+        par = state_value(before[k], "parent", _MISSING)
+        if par is _MISSING:
+            return InvariantResult("premise:child_toward_parent", "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[k])} has no 'parent' in its state")
+        if par is None or state_value(after[k], "parent", None) != par:
+            continue
+        if state_value(before[k], "relocate", False) or state_value(after[k], "relocate", False):
+            continue
+        q = slot.get(int(par))
+        if q is None or not (pres0[q] and pres1[q]):
+            continue
+        if math.hypot(*(p1[q, :2] - p0[q, :2])) > eps or math.hypot(*(p1[k, :2] - p0[k, :2])) <= eps:
+            continue
+        checked += 1
+        d0 = math.hypot(*(p0[k, :2] - p0[q, :2]))
+        d1 = math.hypot(*(p1[k, :2] - p0[q, :2]))
+        if d1 > d0 + eps:
+            child = int(trace.ids[k])
+            return InvariantResult(
+                "premise:child_toward_parent", "violated", cites,
+                {"step": t, "child": child, "parent": int(par), "before": round(d0, 12),
+                 "after": round(d1, 12), "lemma": "spanning_tree_kept"},
+                f"robot {child} moved away from its still parent {int(par)} in step {t}: "
+                f"{d0:.6g} -> {d1:.6g}")
+    return InvariantResult("premise:child_toward_parent", "held", cites, None,
+                           f"{checked} child moves toward a still parent, none away",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+#: The cases of ``spanning_tree_kept`` a link can be in (:func:`tree_links_in_proved_cases`);
+#: the last is checked at run time only: no lemma with premises covers it (docs/proofs.md).
+TREE_LINK_CASES = ("nclb", "child_not_farther_from_still_parent", "relocate_in_root_range_monitored")
+
+
+def tree_links_in_proved_cases(trace, phi: float, v: float, dt: float, *,
+                               tol: float = 1e-9) -> InvariantResult:
+    """Every link of the tree a step decided falls in a case whose link-keeping is proved.
+
+    For every robot ``c`` and the parent ``p`` it holds after step ``t`` (state key
+    ``"parent"`` recorded after the step decided -- newly chosen parents included, the
+    relocate robot included), when the two were neighbors at ``t``:
+
+    * ``p`` moved in the step: case ``nclb`` (``nclb_link_kept``) -- ``c`` is among the
+      children ``p`` decided the step with (state key ``"children"``) and ``p`` ended
+      within ``phi - v*dt`` of ``c``'s position at ``t`` (Def. 8);
+    * ``p`` stayed still: case ``child_not_farther_from_still_parent`` -- ``c`` does not
+      end farther from ``p`` than it started (Sec. V-C: "children ... only move toward");
+    * otherwise, for the relocate robot whose parent is the root (Sec. V-C case 2, toward
+      the vacancy): ``relocate_in_root_range_monitored`` -- the end of its step strictly
+      within ``phi`` of the still root.  This case is *not proved* (001 gives no argument
+      for it; the conclusion is checked directly) and is counted apart.
+
+    A link in none of these is *uncovered*: a link the proof of Lemma 11 does not cover,
+    whether or not it broke.  The verdict is ``violated`` when any link is uncovered; the
+    witness is the first uncovered link that broke (left the range) if one did, else the
+    first uncovered one, and ``detail`` lists up to :data:`UNCOVERED_KEPT` of them
+    (``[step, child, parent, broke, why]``; ``why`` is ``newly_chosen``, ``not_a_child``,
+    ``outside_bounded_range``, ``moved_away_from_still_parent`` or
+    ``relocate_away_from_non_root_parent``) with their count, so a tree-link break can be matched
+    with the uncovered link behind it.  Lemma: ``spanning_tree_kept``.  Added by issue 19:
+    the monitors before it missed links a child chose in the step (the parent cannot know
+    of them: messages take one step) and the relocate robot's moves toward a non-root parent.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.array([[[0, 0, 0], [1.1, 0, 0]], [[-0.05, 0, 0], [1.1, 0, 0]]], dtype=float)
+    >>> before = ((("parent", None), ("children", ())), (("parent", None), ("children", ())))
+    >>> after = ((("parent", None), ("children", ())), (("parent", 1), ("children", ())))
+    >>> r = tree_links_in_proved_cases(Trace(ids=[1, 2], poses=poses, states=[before, after]), 1.2, 0.05, 1.0)
+    >>> r.status, r.witness["child"], r.witness["parent"], r.witness["newly_chosen"]
+    ('violated', 2, 1, True)
+    """
+    acc = TreeLinkCases(phi, v, dt, tol=tol)
+    acc.scan(trace)
+    return acc.result()
+
+
+#: How many uncovered links :class:`TreeLinkCases` lists (all are counted).
+UNCOVERED_KEPT = 200
+
+
+class TreeLinkCases:
+    """The accumulating form of :func:`tree_links_in_proved_cases`: :meth:`scan` a whole trace
+    or, step by step, the one-step windows of :class:`PremisesMonitor`; :meth:`result` judges
+    everything scanned (it does not stop at the first uncovered link)."""
+
+    cites = "spanning_tree_kept (001 Lemma 11's proof, Sec. V-C, Def. 8)"
+
+    def __init__(self, phi: float, v: float, dt: float, *, tol: float = 1e-9) -> None:
+        self.phi, self.radius, self.eps, self.tol = phi, phi - v * dt, tol * phi, tol
+        self.counts = {c: 0 for c in TREE_LINK_CASES}
+        self.uncovered: list = []      # [step, child, parent, broke], the first UNCOVERED_KEPT
+        self.n_uncovered = 0
+        self.first = None              # (witness, why) of the first uncovered link
+        self.first_broken = None       # ... of the first that broke
+        self.missing = None            # the message of a state without the keys
+
+    def scan(self, trace) -> None:
+        if self.missing is not None:
+            return
+        phi, eps, radius = self.phi, self.eps, self.radius
+        slot = _slot(trace)
+        for t, k, before, after, p0, p1, pres0, pres1 in _present_robot_steps(trace):
+            par = state_value(after[k], "parent", _MISSING)
             if par is _MISSING:
-                return InvariantResult("premise:child_toward_parent", "inconclusive", cites, None,
-                                       f"robot {int(trace.ids[k])} has no 'parent' in its state")
-            if par is None or state_value(after[k], "parent", None) != par:
-                continue
-            if state_value(before[k], "relocate", False) or state_value(after[k], "relocate", False):
+                self.missing = f"robot {int(trace.ids[k])} has no 'parent' in its state"
+                return
+            if par is None:
                 continue
             q = slot.get(int(par))
             if q is None or not (pres0[q] and pres1[q]):
                 continue
-            if math.hypot(*(p1[q, :2] - p0[q, :2])) > eps or math.hypot(*(p1[k, :2] - p0[k, :2])) <= eps:
-                continue
-            checked += 1
             d0 = math.hypot(*(p0[k, :2] - p0[q, :2]))
-            d1 = math.hypot(*(p1[k, :2] - p0[q, :2]))
-            if d1 > d0 + eps:
-                child = int(trace.ids[k])
-                return InvariantResult(
-                    "premise:child_toward_parent", "violated", cites,
-                    {"step": t, "child": child, "parent": int(par), "before": round(d0, 12),
-                     "after": round(d1, 12), "lemma": "spanning_tree_kept"},
-                    f"robot {child} moved away from its still parent {int(par)} in step {t}: "
-                    f"{d0:.6g} -> {d1:.6g}")
-    return InvariantResult("premise:child_toward_parent", "held", cites, None,
-                           f"{checked} child moves toward a still parent, none away",
-                           applicable=checked > 0, detail={"checked": checked})
+            if not d0 < phi:
+                continue  # not a link of the communication graph at t (tree_links counts it apart)
+            child, parent = int(trace.ids[k]), int(par)
+            newly = state_value(before[k], "parent", None) != par
+            parent_moved = math.hypot(*(p1[q, :2] - p0[q, :2])) > eps
+            relocate = bool(state_value(after[k], "relocate", False))
+            to_root = par == state_value(after[k], "root_id", None)
+            why = kind = None
+            if parent_moved:
+                kids = state_value(after[q], "children", _MISSING)
+                if kids is _MISSING:
+                    self.missing = f"robot {parent} has no 'children' in its state"
+                    return
+                reach = math.hypot(*(p1[q, :2] - p0[k, :2]))
+                if child not in tuple(kids or ()):
+                    kind = "newly_chosen" if newly else "not_a_child"
+                    why = (f"the parent {parent} moved without {child} among the children it decided "
+                           "the step with" + (f" ({child} chose it in this very step; messages take one "
+                                              "step)" if newly else ""))
+                elif reach > radius + eps:
+                    kind = "outside_bounded_range"
+                    why = (f"the parent {parent} ended {reach:.6g} from {child}'s old position, outside "
+                           f"its bounded range phi - v*dt = {radius:.6g}")
+                else:
+                    self.counts["nclb"] += 1
+            else:
+                d1 = math.hypot(*(p1[k, :2] - p0[q, :2]))
+                if d1 <= d0 + eps:
+                    self.counts["child_not_farther_from_still_parent"] += 1
+                elif relocate and to_root and d1 < phi * (1 + self.tol):
+                    self.counts["relocate_in_root_range_monitored"] += 1
+                else:
+                    who = "the relocate robot" if relocate else "robot"
+                    kind = ("relocate_away_from_non_root_parent" if relocate and not to_root
+                            else "moved_away_from_still_parent")
+                    why = (f"{who} {child} moved away from its still parent {parent} ({d0:.6g} -> {d1:.6g})"
+                           + (", which is not the root" if relocate and not to_root else ""))
+            if why is None:
+                continue
+            d_after = math.hypot(*(p1[k, :2] - p1[q, :2]))
+            broke = not d_after < phi
+            witness = {"step": t, "child": child, "parent": parent, "newly_chosen": bool(newly),
+                       "parent_moved": bool(parent_moved), "distance_before": round(d0, 12),
+                       "distance_after": round(d_after, 12), "broke": broke, "why": kind,
+                       "lemma": "spanning_tree_kept"}
+            self.n_uncovered += 1
+            if len(self.uncovered) < UNCOVERED_KEPT:
+                self.uncovered.append([t, child, parent, broke, kind])
+            if self.first is None:
+                self.first = (witness, why)
+            if broke and self.first_broken is None:
+                self.first_broken = (witness, why)
+
+    def result(self) -> InvariantResult:
+        name, cites = "premise:tree_link_cases", self.cites
+        if self.missing is not None:
+            return InvariantResult(name, "inconclusive", cites, None, self.missing)
+        checked = sum(self.counts.values())
+        detail = {"checked": checked, "cases": dict(self.counts), "uncovered": self.n_uncovered,
+                  "uncovered_links": [list(u) for u in self.uncovered]}
+        if self.first is not None:
+            witness, why = self.first_broken or self.first
+            t, c, p = witness["step"], witness["child"], witness["parent"]
+            broke = (f"; it broke (distance {witness['distance_before']:.6g} -> {witness['distance_after']:.6g})"
+                     if witness["broke"] else "")
+            n_broke = sum(1 for u in self.uncovered if u[3])
+            return InvariantResult(
+                name, "violated", cites, witness,
+                f"step {t}: the link child {c} -> parent {p} is in no proved case of Lemma 11's proof: "
+                f"{why}{broke} ({self.n_uncovered} uncovered link-steps, {n_broke} of the listed ones broke)",
+                detail=detail)
+        return InvariantResult(name, "held", cites, None,
+                               f"{checked} tree links in proved cases ({self.counts['relocate_in_root_range_monitored']} "
+                               "relocate-robot links to the root checked directly, a case no lemma covers)",
+                               applicable=checked > 0, detail=detail)
 
 
 def check_premises(trace, phi: float | None = None, v: float | None = None,
@@ -418,12 +596,13 @@ MONITORS = {
     "relocate": lambda trace, phi, v, dt: relocate_path_in_range(trace, phi),
     "parent_bounded_range": lambda trace, phi, v, dt: descendants_in_parent_bounded_ranges(trace, phi, v, dt),
     "child_toward_parent": lambda trace, phi, v, dt: children_toward_still_parents(trace, phi, v, dt),
+    "tree_link_cases": lambda trace, phi, v, dt: tree_links_in_proved_cases(trace, phi, v, dt),
 }
 
 #: The proof-suite lemma (``swarmproof prove`` id) whose premise each monitor checks.
 MONITOR_LEMMAS = {"step_bounded": "bounded_range", "nclb": "nclb_link_kept",
                   "relocate": "relocate_stays_in_range", "parent_bounded_range": "bounded_range",
-                  "child_toward_parent": "spanning_tree_kept"}
+                  "child_toward_parent": "spanning_tree_kept", "tree_link_cases": "spanning_tree_kept"}
 
 def premise_monitors_of(algorithm) -> tuple:
     """The monitor names that apply to ``algorithm``: its class's ``premise_monitors``
@@ -454,6 +633,9 @@ class PremisesMonitor:
         self.steps = 0
         self.final: dict = {}            # monitor -> a violated or inconclusive result (it stops there)
         self.checked = {m: 0 for m in self.monitors}
+        # monitors that judge every step they see, not only up to their first finding
+        self.accumulating = {m: TreeLinkCases(self.phi, self.v, self.dt) for m in self.monitors
+                             if m == "tree_link_cases"}
 
     def start(self, ids) -> None:
         self.ids = np.asarray(ids)
@@ -467,6 +649,9 @@ class PremisesMonitor:
         self.steps += 1
         window = _Window(self.ids, {}, prev, cur)
         for name in self.monitors:
+            if name in self.accumulating:
+                self.accumulating[name].scan(window)
+                continue
             if name in self.final:
                 continue
             r = MONITORS[name](window, self.phi, self.v, self.dt)
@@ -479,7 +664,7 @@ class PremisesMonitor:
         """``(monitor, InvariantResult)`` over every step seen."""
         out = []
         for name in self.monitors:
-            r = self.final.get(name)
+            r = self.accumulating[name].result() if name in self.accumulating else self.final.get(name)
             if r is None:
                 n = self.checked[name]
                 applicable = n > 0 or name == "step_bounded"

@@ -288,9 +288,9 @@ def _connectivity(trace, ctx):
 
 
 def _tree_links(trace, ctx):
-    from .connectivity import tree_links_survive
+    from .connectivity import tree_link_mode_of, tree_links_survive
 
-    return tree_links_survive(trace, ctx.phi, mode=getattr(ctx.algorithm, "tree_link_mode", "persistent"))
+    return tree_links_survive(trace, ctx.phi, mode=tree_link_mode_of(ctx.algorithm, ctx.options))
 
 
 def _inclusive(algorithm) -> bool:
@@ -304,9 +304,9 @@ def _connectivity_stream(algorithm, params, options):
 
 
 def _tree_links_stream(algorithm, params, options):
-    from .connectivity import TreeLinkMonitor
+    from .connectivity import TreeLinkMonitor, tree_link_mode_of
 
-    return TreeLinkMonitor(float(params.range), mode=getattr(algorithm, "tree_link_mode", "persistent"))
+    return TreeLinkMonitor(float(params.range), mode=tree_link_mode_of(algorithm, options))
 
 
 def _collision_stream(algorithm, params, options):
@@ -337,17 +337,9 @@ def _tree_links_closeness(r: InvariantResult):
 
 
 def _termination(trace, ctx):
-    result = ctx.result
-    bound_fn = getattr(ctx.algorithm, "termination_bound", None)
-    if callable(bound_fn):
-        from .termination import static_by_bound
+    from .termination import judge_termination
 
-        return static_by_bound(trace, int(bound_fn(ctx.params, trace.n)))
-    if result.status == "step_cap":
-        return InvariantResult("termination", "inconclusive", "001 Def. 5", None,
-                               f"step cap {result.max_steps} reached; no termination bound to judge by")
-    return InvariantResult("termination", "held", "001 Def. 5", None,
-                           f"the run ended ({result.status}) after {result.steps} steps")
+    return judge_termination(trace, ctx.algorithm, ctx.params, ctx.result.status, max_steps=ctx.result.max_steps)
 
 
 def _formation(trace, ctx):

@@ -42,7 +42,7 @@ import numpy as np
 
 from .result import InvariantResult
 
-__all__ = ["execution_steps", "static_by_bound", "theorem13_bound_steps"]
+__all__ = ["execution_steps", "static_by_bound", "theorem13_bound_steps", "judge_termination"]
 
 THEOREM_13 = "001 Theorem 13 (the lattice forms in finite time), Defs. 5-6"
 
@@ -106,3 +106,42 @@ def static_by_bound(trace, bound: int, *, cites: str = THEOREM_13) -> InvariantR
     return InvariantResult("termination", "inconclusive", cites, None,
                            f"the run stopped at step {T} (status {status!r}) before the bound {bound}",
                            detail={"execution_steps": t_exec})
+
+
+def judge_termination(trace, algorithm, params, status: str, *, max_steps: int | None = None) -> InvariantResult:
+    """The termination verdict of one run of ``algorithm`` (simulate, verify, explore, replay).
+
+    * An algorithm that declares its own end (class attribute ``own_end``, a sentence
+      citing it -- song2016: "no unstable robot remains") and whose run went static
+      short of it is *deadlocked*: nothing will ever change again, so the algorithm
+      never ends -- ``violated`` (001 Theorem 13 claims the lattice forms in finite
+      time; the proof ends "until no more unstable robots remain").
+    * Else, with a ``termination_bound(params, n)``: :func:`static_by_bound`.
+    * Else: a run cut by the step cap is ``inconclusive``, any other end ``held``
+      (001 Def. 5: every robot static).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> t = Trace(ids=[0], poses=np.zeros((4, 1, 3)), states=[(None,)] * 4, meta={"status": "static"})
+    >>> judge_termination(t, type("A", (), {"own_end": "all done (paper Sec. 1)"})(), None, "static").status
+    'violated'
+    >>> judge_termination(t, object(), None, "static").status
+    'held'
+    """
+    own_end = getattr(algorithm, "own_end", None)
+    if own_end and status == "static":
+        t_exec = execution_steps(trace)
+        return InvariantResult(
+            "termination", "violated", THEOREM_13, {"step": t_exec, "deadlock": True},
+            f"deadlock: nothing moved or changed from step {t_exec} on, but the algorithm's own end "
+            f"({own_end}) never came: it would wait forever")
+    bound_fn = getattr(algorithm, "termination_bound", None)
+    if callable(bound_fn):
+        return static_by_bound(trace, int(bound_fn(params, trace.n)))
+    if status == "step_cap":
+        return InvariantResult("termination", "inconclusive", "001 Def. 5", None,
+                               f"step cap {max_steps} reached; no termination bound to judge by")
+    return InvariantResult("termination", "held", "001 Def. 5", None,
+                           f"the run ended ({status}) after {trace.steps} steps")

@@ -294,9 +294,14 @@ class VerifyPlan:
         Whether it gets ``exploration`` rows (every registered property).
     rank : int
         Order of the algorithms in the report (lower first; ties by name).
+    more : tuple of (target, robots, seeds)
+        Further ``algorithms`` rows at other sizes: a finding that only shows there
+        (song2016: the one-step-lag tree-link break of square n = 20, seed 1).
 
     >>> VerifyPlan(("square",)).robots
     10
+    >>> VerifyPlan(("square",), more=(("hexagon", 40, (2,)),)).runs()
+    (('square', 10, (0, 1, 2)), ('hexagon', 40, (2,)))
     """
 
     targets: tuple = ()
@@ -304,6 +309,12 @@ class VerifyPlan:
     seeds: tuple = (0, 1, 2)
     explore: bool = True
     rank: int = 100
+    more: tuple = ()
+
+    def runs(self) -> tuple:
+        """``(target, robots, seeds)`` of every ``algorithms`` row group, in report order."""
+        return tuple((t, self.robots, tuple(self.seeds)) for t in self.targets) + tuple(
+            (t, int(n), tuple(seeds)) for t, n, seeds in self.more)
 
 
 def steer_toward(target_xy, params: Params, heading: float | None = None,

@@ -76,7 +76,7 @@ from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point
 __all__ = [
     "Vacancy", "Song2016Message", "Song2016Config", "Song2016", "Song2016Controller",
     "vacancies", "vacancy_in_observer_frame", "compute_message", "get_parent_msg",
-    "sequential_fill", "RUMOR_FILTERS", "PARENT_RULES",
+    "sequential_fill", "RUMOR_FILTERS", "PARENT_RULES", "Song2016Literal",
 ]
 
 #: The two readings of the rumor rule (docs/decisions.md, "## song2016"):
@@ -1101,17 +1101,28 @@ class Song2016:
         "tree_links": "001 Lemma 11, Sec. V-C (NCLB keeps every spanning-tree link)",
     }
     #: The lemma premises 001's proof uses (docs/proofs.md): Lemma 7's step bound, NCLB of
-    #: Sec. V-C, the relocate case of Lemma 11, a child moving toward a still parent.
-    premise_monitors = ("step_bounded", "nclb", "relocate", "child_toward_parent")
-    #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
-    verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=0)
+    #: Sec. V-C, the relocate case of Lemma 11, a child moving toward a still parent, and every
+    #: link of the decided tree in a proved case (issue 19).
+    premise_monitors = ("step_bounded", "nclb", "relocate", "child_toward_parent", "tree_link_cases")
+    #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts; and
+    #: square n = 20 from seed 1, where a link chosen in the step breaks (Lemma 11's one-step lag).
+    verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=0,
+                        more=(("square", 20, (1,)),))
+    #: The algorithm's own end (Sec. V-C, last paragraph: "the algorithm terminates upon
+    #: discovering that no unstable robots remain"); a run that goes static short of it is a
+    #: deadlock, and termination is judged violated (:func:`~swarmproof.invariants.termination.judge_termination`).
+    own_end = "no unstable robot remains, 001 Sec. V-C"
+    #: The statement of the parent rule this class follows by default (:data:`PARENT_RULES`).
+    default_parent_rule = "relocate_route"
 
     def __init__(self, n_robots: int | None = None, *, communication_timeout: int | None = None,
                  movement_timeout: int | None = None, d_s: float | None = None,
                  arrival_epsilon: float = 1e-6, heading_epsilon: float = 1e-6,
                  vacancy_tolerance: float | None = None, rumor_filter: str = "field",
-                 parent_rule: str = "relocate_route", memoize: bool = True) -> None:
+                 parent_rule: str | None = None, memoize: bool = True) -> None:
         self.memoize = bool(memoize)
+        if parent_rule is None:
+            parent_rule = self.default_parent_rule
         if n_robots is not None:
             n_robots = _check_count("n_robots", n_robots)
         self.n_robots = n_robots
@@ -1125,7 +1136,7 @@ class Song2016:
 
     def __repr__(self) -> str:
         given = {k: v for k, v in self._defaults.items() if v is not None}
-        return f"Song2016(n_robots={self.n_robots!r}, {given!r})"
+        return f"{type(self).__name__}(n_robots={self.n_robots!r}, {given!r})"
 
     # -- configuration ---------------------------------------------------
     def _value(self, params: Params, key: str):
@@ -1280,3 +1291,25 @@ class Song2016:
             elif not dict(s)["stable"]:
                 return False
         return True
+
+
+class Song2016Literal(Song2016):
+    """Song & O'Kane 2016 with the parent rule of Sec. V-B read literally for every robot,
+    the relocate robot included (``parent_rule="stable_first"``): "chooses for its parent
+    [...] the stable neighbor that is the fewest hops from the root".
+
+    Everything else is :class:`Song2016`.  It is the other reading of the paper's two
+    statements of the rule (docs/decisions.md, "Relocate robot's parent"), reported beside
+    the default: on the acceptance starts it deadlocks on 28 of 240 (hexagon n = 40 on 16
+    of 20; docs/song2016.md), the relocate robot parked on a stable parent that is no closer
+    to the root -- Theorem 13 does not hold for this reading.  ``swarmproof verify`` runs
+    it where the deadlock appears.
+
+    >>> Song2016Literal(n_robots=4).config(Params(range=1.2, v=0.05), 0.5).parent_rule
+    'stable_first'
+    """
+
+    name = "song2016-literal"
+    default_parent_rule = "stable_first"
+    #: verify: hexagon n = 40 from seed 2, one of the 16 starts of 20 that deadlock there.
+    verify = VerifyPlan(targets=("hexagon",), robots=40, seeds=(2,), explore=False, rank=0, more=())

@@ -68,9 +68,10 @@ def status_exit_code(statuses) -> int:
 def format_human(results) -> list:
     """The human report: a table id / status / seconds / cites, a summary line,
     then each counterexample as numbers and each inconclusive reason."""
-    lines = [f"{'lemma':<36} {'status':<15} {'seconds':>8}  cites"]
+    lines = [f"{'lemma':<36} {'status':<15} {'kind':<12} {'vacuity':<14} {'seconds':>8}  cites"]
     for r in results:
-        lines.append(f"{r.id:<36} {r.status:<15} {r.seconds:>8.3f}  {'; '.join(r.cites)}")
+        vac = (r.vacuity or {}).get("verdict", "")
+        lines.append(f"{r.id:<36} {r.status:<15} {r.kind:<12} {vac:<14} {r.seconds:>8.3f}  {'; '.join(r.cites)}")
     counts = {k: sum(r.status == k for r in results)
               for k in ("proved", "counterexample", "inconclusive")}
     lines.append(f"{len(results)} lemmas: {counts['proved']} proved, "
@@ -81,6 +82,9 @@ def format_human(results) -> list:
             lines.extend(f"  {k} = {v!r}" for k, v in r.counterexample.items())
         elif r.status == "inconclusive":
             lines.append(f"inconclusive {r.id}: {r.reason}")
+    for r in results:
+        for gap in r.not_proved:
+            lines.append(f"not proved by {r.id}: {gap}")
     return lines
 
 

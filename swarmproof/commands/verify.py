@@ -35,9 +35,9 @@ def add_arguments(p) -> None:
     p.add_argument("--section", action="append", choices=list(report.SECTIONS), metavar="NAME",
                    help=f"run only this section (repeatable): {', '.join(report.SECTIONS)}")
     p.add_argument("--out", metavar="DIR",
-                   help="write the exploration counterexamples as swarmproof-counterexample/1 files "
-                        "into DIR (default: none written; each violated row names the command that "
-                        "repeats it)")
+                   help="write the counterexamples of violated exploration and algorithm rows as "
+                        "swarmproof-counterexample/1 files into DIR (default: none written; each violated "
+                        "row names the command that repeats it)")
     p.add_argument("--max-examples", type=int, default=report.VERIFY_EXPLORE_MAX_EXAMPLES, metavar="N",
                    help="exploration: Hypothesis examples per algorithm and property "
                         f"(default {report.VERIFY_EXPLORE_MAX_EXAMPLES})")
@@ -79,7 +79,8 @@ def run(args) -> int:
                     "seed": args.seed, "out_dir": args.out}
     progress = _TtyProgress(sys.stderr) if sys.stderr.isatty() else None
     try:
-        report = run_report(args.section, progress=progress, options={"exploration": explore_opts})
+        report = run_report(args.section, progress=progress,
+                            options={"exploration": explore_opts, "algorithms": {"out_dir": args.out}})
     finally:
         if progress is not None:
             progress.clear()

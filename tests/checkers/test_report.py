@@ -44,14 +44,17 @@ def test_lemma_rows_each_status_maps_to_its_verdict():
     lines = Report(rows[:2]).format_table().splitlines()
     assert lines[1:] == [
         "subject                      property  verdict       detail",
-        "relocate_stays_in_range      z3 proof  proved        premises satisfiable, negative control "
-        "refuted (weakened: the segment's end may be 2 phi away)",
+        "relocate_stays_in_range      z3 proof  proved        auxiliary; premises satisfiable, negative control "
+        "refuted (weakened: the segment's end may be 2 phi away), vacuity controls ok (needed: end_within_range, "
+        "on_segment, start_within_range); not proved: that the relocate robot's step ends within phi of the "
+        "root: the run-time monitor checks that end directly (a disc is convex; this lemma only extends the "
+        "two ends to the path between them)",
         "bounded_range_strict_closed  z3 proof  violated      counterexample s=0.5, p_i_0_x=0, p_i_0_y=0, "
-        "p_i_1_x=0, p_i_1_y=-0.5, p_p_1_x=0, p_p_1_y=0.5; premises satisfiable, negative control "
+        "p_i_1_x=0, p_i_1_y=-0.5, p_p_1_x=0, p_p_1_y=0.5; auxiliary; premises satisfiable, negative control "
         "refuted (weakened: bounded range of radius phi)",
         "",
         "verify: VIOLATED (1 proved, 0 held, 1 violated, 0 inconclusive)"]
-    assert rows[2].detail == ("premises unsatisfiable: the lemma would hold vacuously; premises "
+    assert rows[2].detail == ("premises unsatisfiable: the lemma would hold vacuously; auxiliary; premises "
                               "unsatisfiable (vacuous), negative control refuted (weakened: test)")
     assert Report(rows[:1]).exit_code == 0
     assert Report(rows[:2]).exit_code == 1
@@ -63,10 +66,11 @@ def test_lemma_section_json_fields_and_no_seconds():
     doc = rows[0].to_json()
     assert set(doc) == {"section", "subject", "property", "verdict", "detail", "claim", "statement",
                         "cites", "status", "premises_satisfiable", "negative_control", "counterexample",
-                        "reason", "normalisations"}
+                        "reason", "normalisations", "kind", "vacuity", "not_proved"}
     assert (doc["verdict"], doc["status"], doc["premises_satisfiable"]) == ("proved", "proved", True)
     assert doc["negative_control"]["status"] == "counterexample"
     assert doc["claim"] == "; ".join(LEMMAS["relocate_stays_in_range"].cites)
+    assert doc["kind"] == "auxiliary" and doc["vacuity"]["verdict"] == "ok"
 
 
 def test_lemma_section_default_is_the_whole_suite_in_order(monkeypatch):
@@ -98,7 +102,7 @@ def test_exploration_rows_held_claimed_violated_and_finding():
         "overlap in step 23: distance 0.1936 < 2r = 0.2 at 1.00 of the step; the file: swarmproof verify "
         "--out DIR",
         "song2014 n=4..6  tree_links    violated      4 robots on square: step 3: the link "
-        "child 1 -> parent 0 broke (distance 1.2 -> 1.20961, range 1.2; persistent links); the file: "
+        "child 0 -> parent 2 broke (distance 1.18335 -> 1.21626, range 1.2; decided links); the file: "
         "swarmproof verify --out DIR",
         "",
         "* not claimed by the paper: a finding about the algorithm, not counted in the verdict",
@@ -112,8 +116,8 @@ def test_exploration_rows_held_claimed_violated_and_finding():
     assert doc["reproduce"] == ("swarmproof explore song2014 --property tree_links --max-examples 20 "
                                 "--robots 4..6 --seed 0 --budget 180 --out DIR")
     assert (doc["status"], doc["counterexample"], doc["counterexample_robots"]) == ("violated", None, 4)
-    assert doc["violation"] == {"step": 3, "message": "step 3: the link child 1 -> parent 0 broke (distance "
-                                                      "1.2 -> 1.20961, range 1.2; persistent links)"}
+    assert doc["violation"] == {"step": 3, "message": "step 3: the link child 0 -> parent 2 broke (distance "
+                                                      "1.18335 -> 1.21626, range 1.2; decided links)"}
     assert {"algorithm", "robots", "seed", "max_examples", "budget", "explored", "scenarios", "conclusive",
             "steps", "capped", "budget_hit", "kept_assumptions", "broken_assumptions"} <= set(doc)
     assert doc["broken_assumptions"] == [] and doc["budget_hit"] is False

@@ -40,12 +40,14 @@ def test_human_table_exact_lines(capsys):
     code, out, _ = run(capsys, "bounded_range", "relocate_stays_in_range")
     lines = out.splitlines()
     assert code == 0
-    assert lines[0] == "lemma                                status           seconds  cites"
+    assert lines[0] == "lemma                                status          kind         vacuity         seconds  cites"
     row = re.sub(r" +\d+\.\d{3}  ", "  <s>  ", lines[1])
-    assert row == ("bounded_range                        proved  <s>  "
+    assert row == ("bounded_range                        proved          paper lemma  ok  <s>  "
                    "Song & O'Kane 2014, Lemma 7, Eqs. 5-7; Song & O'Kane 2016, Lemma 7")   # readable, no seed file
+    assert lines[2].startswith("relocate_stays_in_range              proved          auxiliary    ok ")
     assert lines[3] == "2 lemmas: 2 proved, 0 counterexample, 0 inconclusive"
-    assert len(lines) == 4
+    assert lines[4].startswith("not proved by relocate_stays_in_range: that the relocate robot's step ends")
+    assert len(lines) == 5
 
 
 def test_wrong_lemma_prints_counterexample_as_numbers_exit_1(capsys):

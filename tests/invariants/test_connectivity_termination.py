@@ -83,9 +83,25 @@ def test_tree_link_modes_differ_on_a_one_step_parent_switch():
     assert tree_links_survive(t, 1.0, mode="standing").violated        # 12 -> 11 broke
     assert tree_links_survive(t, 1.0, mode="decided").held             # 12 -> 10 was never in range
     assert tree_links_survive(t, 1.0, mode="decided").detail["unsensed_parents"] == 1
-    assert tree_links_survive(t, 1.0).held                             # persistent: only 11 -> 10
+    assert tree_links_survive(t, 1.0, mode="persistent").held          # persistent: only 11 -> 10
     with pytest.raises(ValueError, match="mode='sometimes'"):
         tree_links_survive(t, 1.0, mode="sometimes")
+
+
+def test_a_newly_chosen_link_that_breaks_is_found_by_default_and_hidden_by_persistent():
+    """Issue 19: 12 chooses 11 in step 0 and 11 moves away in the same step (it could not
+    know of 12 yet).  The default reading (every link of the tree the step decided) reports
+    it as newly chosen; the persistent reading does not see it (its stated blind spot)."""
+    poses = np.array([[[0, 0, 0], [0.5, 0, 0], [1.4, 0, 0]],
+                      [[0, 0, 0], [0.4, 0, 0], [1.45, 0, 0]]], dtype=float)
+    before = ((("parent", None),), (("parent", 10),), (("parent", 10),))
+    after = ((("parent", None),), (("parent", 10),), (("parent", 11),))
+    t = Trace(ids=[10, 11, 12], poses=poses, states=[before, after])
+    r = tree_links_survive(t, 1.0)
+    assert r.violated and r.witness["newly_chosen"] is True
+    assert (r.witness["step"], r.witness["child"], r.witness["parent"], r.witness["mode"]) == (0, 12, 11, "decided")
+    assert "messages take one step" in r.message and "Lemma 11" in r.message
+    assert tree_links_survive(t, 1.0, mode="persistent").held
 
 
 def test_tree_links_without_a_tree_or_without_a_checked_link_are_inconclusive():

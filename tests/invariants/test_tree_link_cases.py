@@ -1,0 +1,114 @@
+"""Issue 19: the premise monitors cover every link of the tree Lemma 11 is about.
+
+* a link a child chose in the very step its parent moved (messages take one step, so the
+  parent cannot know of it) is in no proved case: song2016 on square, n = 20, seed 1 breaks
+  one at step 344 (robot 2 -> 16), and ``tree_link_cases`` names the same step and robots;
+* the relocate robot heading for a non-root parent by the nearest safe point (001 Sec. V-C
+  case 2 with Fig. 11's intermediate goal, docs/decisions.md) can move away from it: a
+  crafted state fed to the real controller is flagged;
+* song2014's Lemma 7 premise is checked for children that do not drive (turn in place).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from swarmproof.invariants.premises import (PremisesMonitor, check_premises,
+                                            descendants_in_parent_bounded_ranges,
+                                            tree_links_in_proved_cases)
+from swarmproof.models.library import load
+from swarmproof.models.trace import Trace
+from swarmproof.reference_impl.protocol import Observation, Params
+from swarmproof.reference_impl.song2016 import Song2016, Song2016Message, Vacancy
+
+PHI, V = 1.2, 0.05
+
+
+def test_the_newly_chosen_link_of_square_n20_seed1_breaks_and_the_monitor_names_it():
+    from swarmproof.checkers.runs import run_and_check
+
+    c = run_and_check("song2016", load("square"), seed=1, robots=20)
+    links = c.tree_links
+    assert links.violated
+    w = links.witness
+    assert (w["step"], w["child"], w["parent"], w["newly_chosen"]) == (344, 2, 16, True)
+    assert w["distance_before"] < PHI <= w["distance_after"]
+    prem = {r.name: r for r in check_premises(c.result.trace)}
+    cases = prem["premise:tree_link_cases"]
+    assert cases.violated
+    assert (cases.witness["step"], cases.witness["child"], cases.witness["parent"]) == (344, 2, 16)
+    assert cases.witness["broke"] and cases.witness["newly_chosen"] and cases.witness["parent_moved"]
+    assert [344, 2, 16, True, "newly_chosen"] in cases.detail["uncovered_links"]
+    # the monitors before issue 19 saw nothing: this is the gap they left
+    for old in ("premise:step_bounded", "premise:nclb", "premise:relocate", "premise:child_toward_parent"):
+        assert prem[old].held, prem[old]
+
+
+def test_streaming_premises_judge_like_the_whole_trace():
+    from swarmproof.checkers.runs import run_and_check
+
+    c = run_and_check("song2016", load("square"), seed=1, robots=20)
+    trace = c.result.trace
+    mon = PremisesMonitor(trace.meta["premise_monitors"], PHI, V, 1.0)
+    mon.start(trace.ids)
+    for t in range(trace.steps + 1):
+        mon.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
+    streamed = dict(mon.results())["tree_link_cases"]
+    whole = tree_links_in_proved_cases(trace, PHI, V, 1.0)
+    assert streamed.as_dict() == whole.as_dict()
+
+
+def _msg(sender, parent, stable, path_root, path_reloc, *, subtree=False, relocate=5):
+    return Song2016Message(sender, 9, 9, relocate, parent, Vacancy(1.0, 0.0, 0.0, "A", 0), subtree, stable,
+                           path_root, path_reloc)
+
+
+def test_the_relocate_robot_moving_away_from_its_non_root_parent_is_flagged():
+    """DESIGN.md section 5: a relocate robot with a stable child 1.18 away on one side and its
+    (non-root) parent 1.18 away on the opposite side, phi = 1.2, v = 0.05: its move is flagged."""
+    lat = load("square")
+    params = Params(range=PHI, v=V)
+    ctrl = Song2016(n_robots=4).controller(5, params, lat, np.random.default_rng(0))
+    # robot 7: stable, not the root (9 is, out of 5's range), on 5's path to the root;
+    # robot 3: stable, a child of 5 (its path from the root runs through 5: 5 ignores it)
+    msgs = {3: _msg(3, 5, True, (9, 7, 5, 3), (5, 3), subtree=True),
+            7: _msg(7, 9, True, (9, 7), (7,), relocate=None)}
+    nb = np.array([[1.18, 0.0, 0.0], [-1.18, 0.0, 0.0]])
+    before = None
+    for t in range(40):
+        obs = Observation(step=t, robot_id=5, neighbor_ids=(3, 7), neighbor_poses=nb, messages=msgs)
+        prev = ctrl.state()
+        cmd = ctrl.step(obs)
+        if cmd.forward > 0:
+            before = prev
+            break
+    assert before is not None, "the crafted relocate robot never moved"
+    after = dict(ctrl.state())
+    assert after["relocate"] and after["parent"] == 7 and after["root_id"] == 9 and after["children"] == (3,)
+    ex, ey = after["target"]
+    end = np.array([ex, ey])
+    assert np.hypot(*(end - nb[1, :2])) > PHI            # it ends out of its parent's range
+    # the trace of that step: 5 moves, 7 (stable, parent 9) and 3 (stable, parent 5) stay
+    st7 = (("parent", 9), ("children", (5,)), ("relocate", False), ("root_id", 9))
+    st3 = (("parent", 5), ("children", ()), ("relocate", False), ("root_id", 9))
+    poses = np.array([[[0, 0, 0], [1.18, 0, 0], [-1.18, 0, 0]],
+                      [[ex, ey, 0], [1.18, 0, 0], [-1.18, 0, 0]]], dtype=float)
+    trace = Trace(ids=[5, 3, 7], poses=poses, states=[(before, st3, st7), (ctrl.state(), st3, st7)],
+                  meta={"params": {"range": PHI, "v": V, "dt": 1.0},
+                        "premise_monitors": list(Song2016.premise_monitors)})
+    r = tree_links_in_proved_cases(trace, PHI, V, 1.0)
+    assert r.violated
+    assert (r.witness["child"], r.witness["parent"], r.witness["broke"]) == (5, 7, True)
+    assert "not the root" in r.message and r.witness["why"] == "relocate_away_from_non_root_parent"
+    # and it is the only monitor that sees it
+    others = [x for x in check_premises(trace) if x.name != "premise:tree_link_cases"]
+    assert all(not x.violated for x in others), others
+
+
+def test_song2014_child_that_only_turns_while_its_parent_drives_away_is_flagged():
+    """Issue 19, item 3: the child does not move (it turns in place) and stands outside its
+    parent's bounded range phi - v dt: Lemma 7's premise fails, and the link can stretch."""
+    poses = np.array([[[0, 0, 0], [1.18, 0, 0]], [[-0.05, 0, 0], [1.18, 0, 1.0]]], dtype=float)
+    st = ((("parent", None),), (("parent", 1),))
+    r = descendants_in_parent_bounded_ranges(Trace(ids=[1, 2], poses=poses, states=[st] * 2), PHI, V, 1.0)
+    assert r.violated and (r.witness["child"], r.witness["parent"]) == (2, 1)
