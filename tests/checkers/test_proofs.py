@@ -267,3 +267,64 @@ def test_geometry_kernel_none_only_for_disjoint_discs():
     # A kernel that wrongly says "empty" for discs that meet is refuted.
     status, reason = proofs.kernel_oracle_check(lambda *a: None, (0, 0), 0.6, (1, 0), 0.5, (2, 2))
     assert status == "refuted" and reason.startswith("kernel returned None but")
+
+
+# ------------------------------------------------ issue 19: kinds, gaps, vacuity controls
+
+def test_tautological_lemma_is_inconclusive_never_proved():
+    """A conclusion that survives dropping every premise says nothing about them: the old
+    intermediate_goal_in_region repeated two of its premises in its conclusion."""
+    x = z3.Real("x")
+    lem = _lemma(lambda: Encoding(premises=[("pos", x > 1)], conclusion=z3.Or(x > 1, x <= 1), variables=[x]))
+    r = prove(lem, timeout_s=5)
+    assert r.status == "inconclusive" and r.vacuity["verdict"] == "tautological"
+    assert r.reason.startswith("vacuity control tautological")
+
+
+def test_a_conclusion_that_repeats_a_premise_has_that_premise_and_no_other_needed():
+    x, y = z3.Reals("x y")
+    lem = _lemma(lambda: Encoding(premises=[("small", x < 1), ("other", y > 0)], conclusion=x < 1,
+                                  variables=[x, y]))
+    v = proofs.vacuity_controls(lem, 5)
+    assert v["verdict"] == "ok" and v["dropped"] == {"small": "counterexample", "other": "proved"}
+
+
+def test_redundant_premises_alone_are_not_needed_and_that_is_not_a_pass():
+    x = z3.Real("x")
+    lem = _lemma(lambda: Encoding(premises=[("a", x > 2), ("b", x > 3)], conclusion=x > 0, variables=[x]))
+    r = prove(lem, timeout_s=5)
+    assert r.vacuity["verdict"] == "no_single_premise_needed" and r.status == "inconclusive"
+
+
+@pytest.mark.parametrize("lemma_id", list(LEMMAS))
+def test_every_suite_lemma_passes_its_vacuity_controls_and_says_its_kind(lemma_id):
+    r = prove(LEMMAS[lemma_id])
+    assert r.status == "proved"
+    assert r.vacuity["verdict"] in ("ok", "identity"), r.vacuity
+    if r.vacuity["verdict"] == "ok":
+        assert "counterexample" in r.vacuity["dropped"].values()
+        assert r.vacuity["all_dropped"] == "counterexample"
+    assert r.kind == ("paper lemma" if lemma_id == "bounded_range" else "auxiliary")
+    d = r.to_dict()
+    assert {"kind", "vacuity", "not_proved"} <= set(d)
+
+
+def test_no_paper_lemma_name_on_a_narrower_statement():
+    """spanning_tree_kept is one link of Lemma 11's proof: it never reads as Lemma 11 itself,
+    and it lists what it does not prove (the newly chosen links, the relocate robot's cases,
+    the composition)."""
+    lem = LEMMAS["spanning_tree_kept"]
+    assert lem.kind == "auxiliary"
+    assert all("Lemma 11 itself is not proved" in c or "Lemma 11" not in c for c in lem.cites)
+    gaps = " ".join(lem.not_proved)
+    for phrase in ("chose in the step", "vacancy", "not the root", "composition"):
+        assert phrase in gaps
+    cases = [name for name, _ in proofs.tree_link_kept().cases]
+    assert cases == ["nclb", "child_not_farther_from_still_parent"]
+
+
+def test_intermediate_goal_in_region_repeats_no_premise():
+    enc = proofs.intermediate_goal_in_region()
+    names = [n for n, _ in enc.premises]
+    assert names == ["step_below_range", "neighbours_at_t"]
+    assert [n for n, _ in enc.parts] == ["witness_in_P_i", "witness_in_P_p"]

@@ -14,7 +14,7 @@ from swarmproof.cli import main
 pytestmark = pytest.mark.proofs
 
 FIELDS = {"id", "statement", "cites", "status", "seconds", "premises_satisfiable",
-          "negative_control"}
+          "negative_control", "kind", "vacuity", "not_proved"}
 
 
 def run(capsys, *argv):

@@ -1,0 +1,50 @@
+"""Issue 19 in ``swarmproof verify``: both readings of song2016's parent rule are judged, the
+literal one where its deadlock appears, and Lemma 11's row shows the one-step-lag break; each
+violated row can be repeated (the simulate command) and replayed (``--out``)."""
+
+from __future__ import annotations
+
+import json
+
+from swarmproof.checkers.replay import replay_file
+from swarmproof.checkers.report import section_algorithms
+from swarmproof.models.verdict import Verdict
+from swarmproof.reference_impl import registry
+
+
+def _only(monkeypatch, name, plan):
+    monkeypatch.setattr(registry, "verify_plans", lambda: [(name, plan)])
+
+
+def test_the_literal_reading_deadlocks_in_verify_and_the_counterexample_replays(monkeypatch, tmp_path):
+    plans = dict(registry.verify_plans())
+    _only(monkeypatch, "song2016-literal", plans["song2016-literal"])
+    rows = {r.property: r for r in section_algorithms(out_dir=str(tmp_path))}
+    term = rows["termination"]
+    assert term.subject == "song2016-literal hexagon n=40" and term.claimed
+    assert term.verdict is Verdict.VIOLATED and "deadlock" in term.detail
+    assert "no unstable robot remains" in term.detail
+    assert rows["formation"].verdict is Verdict.VIOLATED
+    assert rows["connectivity"].verdict is Verdict.HELD
+    data = term.to_json()
+    assert data["reproduce"] == "swarmproof simulate song2016-literal --target hexagon --robots 40 --seed 2"
+    path = data["counterexample"]
+    assert json.loads(open(path, encoding="utf-8").read())["algorithm"] == "song2016-literal"
+    rep = replay_file(path)
+    assert rep.reproduced and rep.verdict.status == "violated"
+    assert rep.verdict.witness["deadlock"] is True
+
+
+def test_song2016_lemma_11_row_shows_the_one_step_lag(monkeypatch):
+    from swarmproof.reference_impl.protocol import VerifyPlan
+
+    base = dict(registry.verify_plans())["song2016"]
+    _only(monkeypatch, "song2016", VerifyPlan(targets=(), more=base.more))
+    rows = {r.property: r for r in section_algorithms()}
+    links = rows["tree_links"]
+    assert links.subject == "song2016 square n=20" and links.claimed
+    assert links.verdict is Verdict.VIOLATED
+    assert "step 344: the link child 2 -> parent 16 broke" in links.detail
+    assert "messages take one step" in links.detail and "Lemma 11" in links.detail
+    assert links.to_json()["reproduce"] == "swarmproof simulate song2016 --target square --robots 20 --seed 1"
+    assert rows["connectivity"].verdict is Verdict.HELD and rows["termination"].verdict is Verdict.HELD
