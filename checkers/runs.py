@@ -88,7 +88,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   extra: Mapping[str, Any] | None = None, min_separation: float | None = None,
                   allow_violations: bool = False,
                   progress: Callable[[int, int], None] | None = None, record_every: int = 1,
-                  strict: bool = False) -> CheckedRun:
+                  strict: bool = False, tree_link_mode: str | None = None) -> CheckedRun:
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
@@ -157,7 +157,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         from swarmproof.invariants.connectivity import ConnectivityMonitor, TreeLinkMonitor
 
         observers = (ConnectivityMonitor(phi, getattr(algorithm.model, "neighbor_rule", "strict") == "inclusive"),
-                     TreeLinkMonitor(phi, mode=tree_link_mode_of(algorithm)))
+                     TreeLinkMonitor(phi, mode=tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode})))
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, progress=progress, record_every=record_every,
                       observers=observers)
@@ -182,7 +182,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         conn, links = result.observed("connectivity"), result.observed("tree_links")
     else:
         conn = connected_throughout(trace, phi)
-        links = tree_links_survive(trace, phi, mode=tree_link_mode_of(algorithm))
+        links = tree_links_survive(trace, phi, mode=tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode}))
     satisfied = sat.held if sat.status != "inconclusive" else None
     doc = {
         "algorithm": algorithm.name,

@@ -62,6 +62,11 @@ def add_arguments(p) -> None:
     p.add_argument("--allow-violations", action="store_true",
                    help="explore even when the parameters break a paper assumption (reported)")
     p.add_argument("--max-steps", type=int, metavar="K", help="step cap per run (default: the algorithm's)")
+    p.add_argument("--tree-link-mode", choices=("decided", "standing", "persistent"), metavar="MODE",
+                   help="which links of the spanning tree must survive each step: decided (default: every link of the "
+                        "tree the step decided, newly chosen ones included), standing (links held before the step) "
+                        "or persistent (links held before and after it: does not see a link that breaks in the "
+                        "step it was chosen)")
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
 
@@ -143,7 +148,8 @@ def run(args) -> int:
                      robots=robots, seed=args.seed, out_dir=args.out, progress=progress,
                      database_dir=args.database, draw_faults=tuple(args.faults), params=params,
                      allow_violations=args.allow_violations, max_steps=args.max_steps,
-                     speeds=parse_speeds(args.speeds), lattices=args.targets, strict=args.strict)
+                     speeds=parse_speeds(args.speeds), lattices=args.targets, strict=args.strict,
+                     options={"tree_link_mode": args.tree_link_mode} if args.tree_link_mode else None)
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()

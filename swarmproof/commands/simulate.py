@@ -58,6 +58,11 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
     p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
+    p.add_argument("--tree-link-mode", choices=("decided", "standing", "persistent"), metavar="MODE",
+                   help="which links of the spanning tree must survive each step: decided (default: every link of the "
+                        "tree the step decided, newly chosen ones included), standing (links held before the step) "
+                        "or persistent (links held before and after it: does not see a link that breaks in the "
+                        "step it was chosen)")
     p.add_argument("--record-every", type=int, default=1, metavar="K",
                    help="keep every K-th step (and every event, and the last) in the trace; connectivity "
                         "and tree links are still judged on every step by streaming monitors (default 1)")
@@ -137,6 +142,7 @@ def run(args) -> int:
         max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
         extra=_parse_extra(getattr(args, "param", []) or []), min_separation=args.min_separation,
         allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
+        tree_link_mode=args.tree_link_mode,
         strict=args.strict)
     doc, code = checked.doc, checked.exit_code
     for w in doc.get("warnings", ()):

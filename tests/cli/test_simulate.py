@@ -116,3 +116,17 @@ def test_termination_bound_is_checked_when_the_algorithm_gives_one(capsys, monke
     code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "3", "--seed", "2",
                        "--json")
     assert json.loads(out)["termination"]["status"] == "held"
+
+
+def test_tree_link_mode_decided_by_default_and_persistent_on_request(capsys):
+    """Issue 19: song2016 square n=20 seed 1 breaks, at step 344, a link robot 2 chose in that
+    step; the default reading finds it (exit 1), the persistent reading is blind to it."""
+    code, out, _ = run(capsys, "song2016", "--lattice", "square", "--robots", "20", "--seed", "1", "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["tree_links"]["status"] == "violated"
+    assert doc["tree_links"]["witness"]["newly_chosen"] is True and doc["tree_links"]["witness"]["step"] == 344
+    code, out, _ = run(capsys, "song2016", "--lattice", "square", "--robots", "20", "--seed", "1", "--json",
+                       "--tree-link-mode", "persistent")
+    doc = json.loads(out)
+    assert code == 0 and doc["tree_links"]["status"] == "held"
+    assert "persistent links" in doc["tree_links"]["message"]
