@@ -708,6 +708,12 @@ def _file_label(spec: AlgorithmSpec) -> str:
     return _safe(spec.label)
 
 
+def cx_params(p) -> dict:
+    """The ``params`` of a counterexample file for the run parameters ``p`` (``Params``)."""
+    return {"range": p.range, "v": p.v, "omega": p.omega, "dt": p.dt,
+            "extra": {k: v for k, v in dict(p.extra).items()}}
+
+
 def _safe(text: str) -> str:
     """``text`` made safe for a file name (a user's ``module:name`` property has a colon)."""
     import re
@@ -971,8 +977,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   step = (r.witness or {}).get("step")
                   failures.append(Counterexample(
                       algorithm=spec.ref,
-                      params={"range": p.range, "v": p.v, "omega": p.omega, "dt": p.dt,
-                              "extra": {k: v for k, v in dict(p.extra).items()}},
+                      params=cx_params(p),
                       lattice=_cx_lattice(scn.lattice, lattice), target=_cx_target(scn.lattice, lattice),
                       robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
                       seed=scn.seed, property=found,

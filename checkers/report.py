@@ -218,17 +218,14 @@ def run_counterexample(checked, prop: str, message: str, step):
     """A ``swarmproof-counterexample/1`` of one seeded run whose ``prop`` was violated, for
     ``swarmproof replay`` (the same algorithm, start, seed and parameters; the property is
     judged by the registry, as the run was)."""
+    from swarmproof.checkers.explore import cx_params
     from swarmproof.models.counterexample import Counterexample
 
-    p = checked.params
-    params = {"range": float(p.range), "v": float(p.v), "omega": float(p.omega), "dt": float(p.dt)}
-    if p.extra:
-        params["extra"] = dict(p.extra)
     init = checked.initial
     target = checked.lattice
     is_lattice = getattr(target, "kind", "lattice") == "lattice"
     return Counterexample(
-        algorithm=checked.algorithm.name, params=params,
+        algorithm=checked.algorithm.name, params=cx_params(checked.params),
         lattice=target.name if is_lattice else None,
         robots=[(int(i), tuple(float(x) for x in pose)) for i, pose in zip(init.ids.tolist(), init.poses)],
         seed=int(checked.doc["seed"]), property=prop,
@@ -245,6 +242,7 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
     counterexample file for ``swarmproof replay`` (``counterexample`` in JSON)."""
     import os
 
+    from swarmproof.checkers.explore import _safe
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl.registry import claims_of, verify_plans
@@ -282,20 +280,13 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                         cx = run_counterexample(checked, prop, msg, step)
                         os.makedirs(out_dir, exist_ok=True)
                         data["counterexample"] = cx.save(os.path.join(
-                            os.fspath(out_dir), f"{_safe_name(algo)}-{_safe_name(lname)}-n{robots}-{prop}-seed{seed}.json"))
+                            os.fspath(out_dir), f"{_safe(algo)}-{_safe(lname)}-n{robots}-{prop}-seed{seed}.json"))
                         detail += f"; replay: swarmproof replay {data['counterexample']}"
                     else:
                         detail += f"; repeat: {data['reproduce']}"
                 rows.append(Row("algorithms", f"{algo} {lname} n={robots}", prop, verdict,
                                 detail, data, claim=claims.get(prop)))
     return rows
-
-
-def _safe_name(text: str) -> str:
-    """A file-name-safe form of a name (``lines:line`` -> ``lines-line``)."""
-    import re
-
-    return re.sub(r"[^A-Za-z0-9_.-]+", "-", text)
 
 
 # -- lemmas --------------------------------------------------------------------

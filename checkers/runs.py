@@ -150,6 +150,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                                                         spacing=float(params.extra.get("grid_spacing", 1.0)))
         else:
             initial = initial_mod.random_connected(robots, seed, range=phi, min_separation=min_separation)
+    link_mode = tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode})
     observers = ()
     if record_every != 1:
         # a sparse trace: connectivity and the tree links are judged by streaming monitors that
@@ -157,7 +158,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         from swarmproof.invariants.connectivity import ConnectivityMonitor, TreeLinkMonitor
 
         observers = (ConnectivityMonitor(phi, getattr(algorithm.model, "neighbor_rule", "strict") == "inclusive"),
-                     TreeLinkMonitor(phi, mode=tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode})))
+                     TreeLinkMonitor(phi, mode=link_mode))
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, progress=progress, record_every=record_every,
                       observers=observers)
@@ -182,7 +183,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         conn, links = result.observed("connectivity"), result.observed("tree_links")
     else:
         conn = connected_throughout(trace, phi)
-        links = tree_links_survive(trace, phi, mode=tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode}))
+        links = tree_links_survive(trace, phi, mode=link_mode)
     satisfied = sat.held if sat.status != "inconclusive" else None
     doc = {
         "algorithm": algorithm.name,

@@ -167,7 +167,7 @@ DEFAULT_TREE_LINK_MODE = "decided"
 
 def tree_link_mode_of(algorithm, options=None) -> str:
     """The reading of "the links of step t" for ``algorithm``: the property option
-    ``tree_link_mode`` (explore/verify ``--option``), else the class attribute
+    ``tree_link_mode`` (``--tree-link-mode`` of simulate and explore), else the class attribute
     ``tree_link_mode``, else :data:`DEFAULT_TREE_LINK_MODE`.
 
     >>> tree_link_mode_of(object()), tree_link_mode_of(object(), {"tree_link_mode": "persistent"})

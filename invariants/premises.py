@@ -156,29 +156,24 @@ def _movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, t
     radius = phi - v * dt
     slot = _slot(trace)
     checked = 0
-    for t in _steps(trace):
-        after = trace.states[t + 1]
-        pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
-        for k in range(trace.n):
-            if not (pres0[k] and pres1[k]):
+    for t, k, _, after, p0, p1, pres0, pres1 in _present_robot_steps(trace):
+        others = related(after[k])
+        if others is _MISSING:
+            return "missing", k, None
+        end = p1[k, :2]
+        still = np.array_equal(end, p0[k, :2])
+        if movers_only and still:
+            continue  # did not move: nothing to check (the link case "still")
+        for c in others or ():
+            j = slot.get(int(c))
+            if j is None or not pres0[j]:
                 continue
-            others = related(after[k])
-            if others is _MISSING:
-                return "missing", k, None
-            p1 = trace.poses[t + 1][k, :2]
-            still = np.array_equal(p1, trace.poses[t][k, :2])
-            if movers_only and still:
-                continue  # did not move: nothing to check (the link case "still")
-            for c in others or ():
-                j = slot.get(int(c))
-                if j is None or not pres0[j]:
-                    continue
-                if still and pres1[j] and np.array_equal(trace.poses[t + 1][j, :2], trace.poses[t][j, :2]):
-                    continue  # neither moved: the link is as it was (the case "both still")
-                checked += 1
-                d = float(np.hypot(*(p1 - trace.poses[t][j, :2])))
-                if d > radius + tol * phi:
-                    return "violated", (t, k, j, d), checked
+            if still and pres1[j] and np.array_equal(p1[j, :2], p0[j, :2]):
+                continue  # neither moved: the link is as it was (the case "both still")
+            checked += 1
+            d = float(np.hypot(*(end - p0[j, :2])))
+            if d > radius + tol * phi:
+                return "violated", (t, k, j, d), checked
     return "held", None, checked
 
 

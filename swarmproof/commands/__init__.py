@@ -39,3 +39,15 @@ def human(args, *lines: str) -> None:
     stream = sys.stderr if getattr(args, "json", False) else sys.stdout
     for line in lines:
         print(readable(line), file=stream)   # "Song & O'Kane 2016, Lemma 11", not the seed key
+
+
+def add_tree_link_mode(p) -> None:
+    """``--tree-link-mode MODE`` (simulate and explore): which links of the spanning tree must
+    survive each step (:data:`swarmproof.invariants.connectivity.TREE_LINK_MODES`)."""
+    from swarmproof.invariants.connectivity import TREE_LINK_MODES
+
+    p.add_argument("--tree-link-mode", choices=TREE_LINK_MODES, metavar="MODE",
+                   help="which links of the spanning tree must survive each step: decided (default: every link of the "
+                        "tree the step decided, newly chosen ones included), standing (links held before the step) "
+                        "or persistent (links held before and after it: does not see a link that breaks in the "
+                        "step it was chosen)")

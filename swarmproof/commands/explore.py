@@ -19,7 +19,7 @@ import math
 import re
 import sys
 
-from swarmproof.commands import emit_json, human
+from swarmproof.commands import add_tree_link_mode, emit_json, human
 from swarmproof.models.errors import UsageError
 
 NAME = "explore"
@@ -62,11 +62,7 @@ def add_arguments(p) -> None:
     p.add_argument("--allow-violations", action="store_true",
                    help="explore even when the parameters break a paper assumption (reported)")
     p.add_argument("--max-steps", type=int, metavar="K", help="step cap per run (default: the algorithm's)")
-    p.add_argument("--tree-link-mode", choices=("decided", "standing", "persistent"), metavar="MODE",
-                   help="which links of the spanning tree must survive each step: decided (default: every link of the "
-                        "tree the step decided, newly chosen ones included), standing (links held before the step) "
-                        "or persistent (links held before and after it: does not see a link that breaks in the "
-                        "step it was chosen)")
+    add_tree_link_mode(p)
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
 

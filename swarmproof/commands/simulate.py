@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import sys
 
-from swarmproof.commands import emit_json, human
+from swarmproof.commands import add_tree_link_mode, emit_json, human
 from swarmproof.models.errors import UsageError
 
 NAME = "simulate"
@@ -58,11 +58,7 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
     p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
-    p.add_argument("--tree-link-mode", choices=("decided", "standing", "persistent"), metavar="MODE",
-                   help="which links of the spanning tree must survive each step: decided (default: every link of the "
-                        "tree the step decided, newly chosen ones included), standing (links held before the step) "
-                        "or persistent (links held before and after it: does not see a link that breaks in the "
-                        "step it was chosen)")
+    add_tree_link_mode(p)
     p.add_argument("--record-every", type=int, default=1, metavar="K",
                    help="keep every K-th step (and every event, and the last) in the trace; connectivity "
                         "and tree links are still judged on every step by streaming monitors (default 1)")
