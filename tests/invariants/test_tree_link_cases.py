@@ -112,3 +112,28 @@ def test_song2014_child_that_only_turns_while_its_parent_drives_away_is_flagged(
     st = ((("parent", None),), (("parent", 1),))
     r = descendants_in_parent_bounded_ranges(Trace(ids=[1, 2], poses=poses, states=[st] * 2), PHI, V, 1.0)
     assert r.violated and (r.witness["child"], r.witness["parent"]) == (2, 1)
+
+
+def test_tree_link_cases_without_the_state_keys_is_inconclusive_never_held():
+    poses = np.zeros((2, 2, 3))
+    poses[:, 1, 0] = 1.0
+    no_parent = Trace(ids=[1, 2], poses=poses, states=[((("role", None),), (("role", None),))] * 2)
+    r = tree_links_in_proved_cases(no_parent, PHI, V, 1.0)
+    assert r.status == "inconclusive" and "no 'parent'" in r.message
+    moved = poses.copy()
+    moved[1, 0, 0] = -0.05                                   # the parent moves: its children are needed
+    st = ((("parent", None),), (("parent", 1),))
+    r = tree_links_in_proved_cases(Trace(ids=[1, 2], poses=moved, states=[st] * 2), PHI, V, 1.0)
+    assert r.status == "inconclusive" and "no 'children'" in r.message
+    nothing = Trace(ids=[1, 2], poses=poses, states=[((("parent", None),), (("parent", None),))] * 2)
+    r = tree_links_in_proved_cases(nothing, PHI, V, 1.0)
+    assert r.held and not r.applicable                      # no link to examine: says so
+
+
+def test_termination_of_a_run_cut_by_the_step_cap_is_inconclusive():
+    from swarmproof.invariants.termination import judge_termination
+
+    t = Trace(ids=[0], poses=np.zeros((4, 1, 3)), states=[(None,)] * 4, meta={"status": "step_cap"})
+    own = type("A", (), {"own_end": "all done"})()
+    r = judge_termination(t, own, None, "step_cap", max_steps=3)
+    assert r.status == "inconclusive" and "step cap 3" in r.message
