@@ -4,7 +4,8 @@ Fields (DESIGN.md section 2): ``algorithm, params, lattice,
 initial{robots[{id, pose[x, y, theta]}]}, schedule, faults, seed, property,
 violation{step, message}, version``, plus ``format`` and a few more fields
 the replay needs (``max_steps``, ``allow_violations``,
-``broken_assumptions``, ``options``).  Angles in ``initial`` are radians
+``broken_assumptions``, ``options``), and ``made_by`` (the swarmproof, Python
+and numpy versions that wrote it; read by nothing).  Angles in ``initial`` are radians
 (``angle_unit: "rad"``) so a replay is bit-exact.
 
 Examples
@@ -166,6 +167,11 @@ class Counterexample:
         }
         if self.target is not None:
             doc["target"] = dict(self.target)
+        # DESIGN.md section 5: counterexample files record what made them (read by nothing;
+        # a replay that no longer reproduces can be traced to a changed library)
+        from swarmproof.models.versions import tool_versions
+
+        doc["made_by"] = tool_versions()
         return doc
 
     def to_json(self) -> str:
