@@ -45,6 +45,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from swarmproof.models.errors import UsageError
 from swarmproof.models.verdict import Verdict
 
 __all__ = ["Row", "Report", "SECTIONS", "run_report", "lemma_rows", "exploration_row",
@@ -67,6 +68,10 @@ class Row:
     #: Where the paper claims this property; None when it does not (the row is
     #: then a finding about the algorithm and does not decide the exit code).
     claim: str | None = "claimed"
+    #: The counterexample of a violated algorithm or exploration row (a
+    #: :class:`~swarmproof.models.counterexample.Counterexample`), for the HTML
+    #: report; not in JSON (the file it was saved to is, as ``counterexample``).
+    artifact: Any = field(default=None, compare=False, repr=False)
 
     @property
     def claimed(self) -> bool:
@@ -82,6 +87,11 @@ class Row:
 class Report:
     rows: list[Row]
     seconds: dict[str, float] = field(default_factory=dict)
+    #: The comparison with a baseline (``verify --baseline``,
+    #: :class:`~swarmproof.checkers.baseline.Comparison`), None without one.
+    comparison: Any = None
+    #: What ``--update-baseline`` wrote (one line), '' otherwise.
+    updated: str = ""
 
     @property
     def verdict(self) -> Verdict:
@@ -90,7 +100,37 @@ class Report:
 
     @property
     def exit_code(self) -> int:
+        """The claims' verdict's code, or the baseline comparison's when there is one."""
+        if self.comparison is not None:
+            return self.comparison.exit_code
         return self.verdict.exit_code
+
+    def outcome(self, row: Row) -> str | None:
+        """How ``row`` compares with the baseline (None without one)."""
+        if self.comparison is None:
+            return None
+        return self.comparison.outcome_of((row.section, row.subject, row.property))
+
+    def assert_no_regression(self) -> "Report":
+        """Raise ``AssertionError`` unless the gate passes (exit code 0): with a baseline, no
+        regression and nothing inconclusive; without one, every claimed row held or proved.
+
+        The message is the summary line, then each failing row with its counterexample as steps
+        and the command that replays or repeats it (a test helper: the pytest plugin's
+        ``swarmproof_verify`` fixture returns reports)."""
+        __tracebackhide__ = True
+        if self.exit_code == 0:
+            return self
+        from swarmproof.checkers.ci_outputs import row_status, row_steps, summary_line
+
+        lines = [summary_line(self)]
+        for r in self.rows:
+            kind, message = row_status(self, r)
+            if kind in ("failure", "error"):
+                lines.append(f"{r.section}: {r.subject} / {r.property}: {r.verdict.value} -- {message}")
+                lines.append(f"  {r.detail}")
+                lines += ["  " + s for s in row_steps(r)]
+        raise AssertionError("\n".join(lines))
 
     def to_json(self, *, timings: bool = False) -> dict[str, Any]:
         doc: dict[str, Any] = {
@@ -98,7 +138,12 @@ class Report:
             "rows": [r.to_json() for r in self.rows],
             "counts": {v.value: sum(r.verdict is v for r in self.rows) for v in Verdict},
             "findings": sum(r.verdict is Verdict.VIOLATED and not r.claimed for r in self.rows),
+            "exit_code": self.exit_code,
         }
+        if self.comparison is not None:
+            doc["baseline"] = self.comparison.to_json()
+            for row_doc, r in zip(doc["rows"], self.rows):
+                row_doc["baseline"] = self.outcome(r)
         if timings:  # wall-clock figures break bit-identical JSON, so only on request
             doc["seconds"] = {k: round(v, 3) for k, v in self.seconds.items()}
         return doc
@@ -118,14 +163,23 @@ class Report:
                 lines.append(f"== {current}" + (f" ({secs:.1f} s)" if secs is not None else ""))
                 lines.append(f"{'subject':<{w_subj}}  {'property':<{w_prop}}  {'verdict':<12}  detail")
             mark = "" if r.claimed else "*"
+            outcome = self.outcome(r)
+            shown = "" if outcome in (None, "same") else f"[{outcome}] "
             lines.append(f"{r.subject:<{w_subj}}  {r.property:<{w_prop}}  "
-                         f"{r.verdict.value + mark:<12}  {r.detail}")
+                         f"{r.verdict.value + mark:<12}  {shown}{r.detail}")
         counts = ", ".join(f"{sum(r.verdict is v for r in self.rows)} {v.value}" for v in Verdict)
         lines.append("")
         if any(not r.claimed for r in self.rows):
             lines.append("* not claimed by the paper: a finding about the algorithm, "
                          "not counted in the verdict")
-        lines.append(f"verify: {self.verdict.value.upper()} ({counts})")
+        if self.comparison is not None:
+            block = self.comparison.lines()
+            if block:
+                lines.extend(block + [""])
+            lines.append(f"claims alone: {self.verdict.value} ({counts})")
+            lines.append(self.comparison.summary_line())
+        else:
+            lines.append(f"verify: {self.verdict.value.upper()} ({counts})")
         return "\n".join(lines)
 
 
@@ -170,9 +224,56 @@ def section_lattices(*, progress: Progress | None = None) -> list[Row]:
 
 def verify_algorithms() -> tuple[str, ...]:
     """The algorithms verify has rows for, in report order."""
-    from swarmproof.reference_impl.registry import verify_plans
+    return tuple(s.label for s in verify_subjects())
 
-    return tuple(name for name, _ in verify_plans())
+
+@dataclass(frozen=True)
+class Subject:
+    """One algorithm ``verify`` has rows for.
+
+    ``label`` names its rows (the registry name, or the class's ``name``);
+    ``ref`` is what commands and counterexample files name (the registry
+    name, or ``module:qualname`` of a user's class); ``plan`` its
+    :class:`~swarmproof.reference_impl.protocol.VerifyPlan`; ``claims`` property -> citation.
+    """
+
+    label: str
+    ref: str
+    plan: Any
+    claims: dict = field(default_factory=dict)
+
+
+def verify_subjects(refs=None) -> list[Subject]:
+    """The algorithms of the ``algorithms`` and ``exploration`` rows.
+
+    Default: every registered algorithm whose class declares a ``verify``
+    plan, in the plans' rank order.  ``refs`` (``verify --algorithm REF``):
+    just those -- registry names or ``module:qualname`` of a user's class --
+    each with its own claims, plan and scenarios; a class without a ``verify``
+    plan gets ``VerifyPlan()`` (exploration rows only: no target to run on).
+
+    Raises
+    ------
+    UsageError
+        An unknown name or unimportable reference, or two references with one label.
+    """
+    from swarmproof.checkers.explore import resolve_algorithm
+    from swarmproof.reference_impl import registry
+    from swarmproof.reference_impl.protocol import VerifyPlan
+
+    if refs is None:
+        return [Subject(name, name, plan, registry.claims_of(name)) for name, plan in registry.verify_plans()]
+    out: list[Subject] = []
+    for ref in refs:
+        spec = resolve_algorithm(ref)
+        plan = getattr(spec.factory, "verify", None)
+        if not isinstance(plan, VerifyPlan):
+            plan = VerifyPlan()
+        if any(s.label == spec.label for s in out):
+            raise UsageError(f"--algorithm {ref!r}: another --algorithm already has the name {spec.label!r}",
+                             fix="give each algorithm once (rows are named by the class's `name`)")
+        out.append(Subject(spec.label, spec.ref, plan, dict(spec.claims)))
+    return out
 
 
 #: The registered properties :func:`~swarmproof.checkers.runs.run_and_check` judges of every
@@ -214,18 +315,24 @@ def simulate_command(algorithm: str, target: str, robots: int, seed: int) -> str
     return f"swarmproof simulate {algorithm} --target {target} --robots {robots} --seed {seed}"
 
 
-def run_counterexample(checked, prop: str, message: str, step):
+def run_counterexample(checked, prop: str, message: str, step, ref: str | None = None):
     """A ``swarmproof-counterexample/1`` of one seeded run whose ``prop`` was violated, for
     ``swarmproof replay`` (the same algorithm, start, seed and parameters; the property is
-    judged by the registry, as the run was)."""
+    judged by the registry, as the run was).  ``ref`` is what the file names as the algorithm
+    (``module:qualname`` of a user's class; default the algorithm's registry name); a leading
+    ``step N:`` of the message is left to the file's ``violation.step``."""
+    import re
+
     from swarmproof.checkers.explore import cx_params
     from swarmproof.models.counterexample import Counterexample
 
     init = checked.initial
     target = checked.lattice
     is_lattice = getattr(target, "kind", "lattice") == "lattice"
+    if step is not None:
+        message = re.sub(rf"^step {int(step)}: ", "", message)
     return Counterexample(
-        algorithm=checked.algorithm.name, params=cx_params(checked.params),
+        algorithm=ref or checked.algorithm.name, params=cx_params(checked.params),
         lattice=target.name if is_lattice else None,
         robots=[(int(i), tuple(float(x) for x in pose)) for i, pose in zip(init.ids.tolist(), init.poses)],
         seed=int(checked.doc["seed"]), property=prop,
@@ -234,31 +341,36 @@ def run_counterexample(checked, prop: str, message: str, step):
         target=None if is_lattice else target.describe())
 
 
-def section_algorithms(*, progress: Progress | None = None, out_dir: str | None = None) -> list[Row]:
+def section_algorithms(*, progress: Progress | None = None, out_dir: str | None = None,
+                       subjects: list[Subject] | None = None, properties=None) -> list[Row]:
     """Each reference implementation on each lattice: its claims, run by run (001, 000).
 
     A violated row names the ``swarmproof simulate`` command that repeats its first
     violated run (``reproduce`` in JSON); with ``out_dir`` that run is also written as a
-    counterexample file for ``swarmproof replay`` (``counterexample`` in JSON)."""
+    counterexample file for ``swarmproof replay`` (``counterexample`` in JSON).
+    ``subjects`` (default :func:`verify_subjects`) and ``properties`` (default
+    :data:`RUN_PROPERTIES`) choose the rows."""
     import os
 
     from swarmproof.checkers.explore import _safe
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.targets import resolve_target
-    from swarmproof.reference_impl.registry import claims_of, verify_plans
 
+    wanted = RUN_PROPERTIES if properties is None else tuple(p for p in RUN_PROPERTIES if p in properties)
     rows = []
-    for algo, plan in verify_plans():
-        claims = claims_of(algo)
-        for lname, robots, seeds in plan.runs():
+    for subj in (verify_subjects() if subjects is None else subjects):
+        algo, claims = subj.label, subj.claims
+        for lname, robots, seeds in subj.plan.runs():
             lattice = resolve_target(lname)
-            per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in RUN_PROPERTIES}
+            per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in wanted}
             first_bad: dict[str, Any] = {}
             for seed in seeds:
                 if progress:
                     progress(f"{algo} {lname} n={robots} seed {seed}")
-                checked = run_and_check(algo, lattice, seed=seed, robots=robots)
+                checked = run_and_check(subj.ref, lattice, seed=seed, robots=robots)
                 for prop, (verdict, msg) in _run_property_verdicts(checked).items():
+                    if prop not in per_prop:
+                        continue
                     per_prop[prop].append((seed, verdict, msg))
                     if verdict is Verdict.VIOLATED and prop not in first_bad:
                         first_bad[prop] = (seed, checked, msg)
@@ -271,13 +383,17 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                 if worst is not None:
                     detail += f"; seed {worst[0]}: {worst[1]}"
                 data = {"algorithm": algo, "lattice": lname, "robots": robots, "seeds": list(seeds)}
+                if subj.ref != algo:
+                    data["ref"] = subj.ref
+                cx = None
                 if verdict is Verdict.VIOLATED and prop in first_bad:
                     seed, checked, msg = first_bad[prop]
-                    data["reproduce"] = simulate_command(algo, lname, robots, seed)
+                    data["reproduce"] = simulate_command(subj.ref, lname, robots, seed)
+                    res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
+                    step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
+                    data["violation"] = {"seed": seed, "step": step, "message": msg}
+                    cx = run_counterexample(checked, prop, msg, step, ref=subj.ref)
                     if out_dir is not None:
-                        res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
-                        step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
-                        cx = run_counterexample(checked, prop, msg, step)
                         os.makedirs(out_dir, exist_ok=True)
                         data["counterexample"] = cx.save(os.path.join(
                             os.fspath(out_dir), f"{_safe(algo)}-{_safe(lname)}-n{robots}-{prop}-seed{seed}.json"))
@@ -285,7 +401,7 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                     else:
                         detail += f"; repeat: {data['reproduce']}"
                 rows.append(Row("algorithms", f"{algo} {lname} n={robots}", prop, verdict,
-                                detail, data, claim=claims.get(prop)))
+                                detail, data, claim=claims.get(prop), artifact=cx))
     return rows
 
 
@@ -369,38 +485,41 @@ def section_lemmas(*, ids=None, timeout_s: float | None = None,
 
 # -- exploration ------------------------------------------------------------------
 
-#: Defaults of the exploration rows.  The time budget per property is generous
-#: (measured: about 5 s CPU for 100 examples of one song2016 property, less for
-#: song2014; docs/performance.md "swarmproof verify"), so the explorer stops at
-#: ``max_examples``, not at the clock, and the JSON is bit-identical; a budget
-#: that is hit makes a held row inconclusive.  ``VERIFY_EXPLORE_SECTION_BUDGET``
-#: caps the whole section so ``make verify`` stays within 10 minutes even on a
-#: loaded machine: a property not reached in time is inconclusive.
+#: Defaults of the exploration rows.  The gate is bounded by example counts
+#: only, never by wall time (DESIGN.md section 5, "Baselines"): a slow CI
+#: runner gives the same verdicts, and the JSON is bit-identical.  A caller
+#: may still give a time ``budget`` per property or a ``section_budget``
+#: (seconds); a budget that is hit makes a held row inconclusive and a
+#: property not reached in time is inconclusive.  ``make verify``'s time is
+#: in docs/performance.md.
 VERIFY_EXPLORE_MAX_EXAMPLES = 300
 VERIFY_EXPLORE_ROBOTS = (3, 8)
 VERIFY_EXPLORE_SEED = 0
-VERIFY_EXPLORE_BUDGET = 180.0
-VERIFY_EXPLORE_SECTION_BUDGET = 450.0
+VERIFY_EXPLORE_BUDGET: float | None = None
+VERIFY_EXPLORE_SECTION_BUDGET: float | None = None
 
 _EXPLORE_STATUS = {"held": Verdict.HELD, "violated": Verdict.VIOLATED,
                    "inconclusive": Verdict.INCONCLUSIVE}
 
 
 def explore_command(algorithm: str, prop: str, *, max_examples: int, robots: tuple[int, int],
-                    seed: int, budget: float, out_dir: str = "DIR") -> str:
+                    seed: int, budget: float | None, out_dir: str = "DIR") -> str:
     """The ``swarmproof explore`` command line that repeats one exploration row.
 
     >>> explore_command("song2014", "tree_links", max_examples=200, robots=(3, 8), seed=0, budget=60)
     'swarmproof explore song2014 --property tree_links --max-examples 200 --robots 3..8 --seed 0 --budget 60 --out DIR'
+    >>> explore_command("song2014", "tree_links", max_examples=300, robots=(3, 8), seed=0, budget=None)
+    'swarmproof explore song2014 --property tree_links --max-examples 300 --robots 3..8 --seed 0 --budget none --out DIR'
     """
+    shown = "none" if budget is None else f"{budget:g}"
     return (f"swarmproof explore {algorithm} --property {prop} --max-examples {max_examples} "
-            f"--robots {robots[0]}..{robots[1]} --seed {seed} --budget {budget:g} --out {out_dir}")
+            f"--robots {robots[0]}..{robots[1]} --seed {seed} --budget {shown} --out {out_dir}")
 
 
 def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | None, *,
-                    max_examples: int, robots: tuple[int, int], seed: int, budget: float,
+                    max_examples: int, robots: tuple[int, int], seed: int, budget: float | None,
                     assumptions: dict | None = None, skipped: str = "",
-                    budget_used: float | None = None) -> Row:
+                    budget_used: float | None = None, ref: str | None = None, artifact: Any = None) -> Row:
     """One ``exploration`` row from the explorer's JSON entry of one property.
 
     ``entry`` is ``ExploreReport.as_dict()["properties"][prop]`` (``status,
@@ -427,11 +546,13 @@ def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | 
     >>> row.verdict, row.detail
     (<Verdict.INCONCLUSIVE: 'inconclusive'>, 'time budget 60 s hit after 57 of 200 scenarios: not a pass (raise the budget or run on a less loaded machine)')
     """
-    cmd = explore_command(algorithm, prop, max_examples=max_examples, robots=robots, seed=seed,
+    cmd = explore_command(ref or algorithm, prop, max_examples=max_examples, robots=robots, seed=seed,
                           budget=budget)
     data: dict[str, Any] = {"algorithm": algorithm, "robots": list(robots), "seed": seed,
                             "max_examples": max_examples, "budget": budget, "explored": entry is not None,
                             "reproduce": cmd}
+    if ref is not None and ref != algorithm:
+        data["ref"] = ref
     if assumptions is not None:
         data.update(assumptions)
     subject = f"{algorithm} n={robots[0]}..{robots[1]}"
@@ -461,42 +582,48 @@ def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | 
             detail += f"; {entry['capped']} runs hit the step cap"
     else:
         detail = entry.get("message") or f"explorer status {status!r}"
-    return Row("exploration", subject, prop, verdict, detail, data, claim=claim)
+    return Row("exploration", subject, prop, verdict, detail, data, claim=claim,
+               artifact=artifact if verdict is Verdict.VIOLATED else None)
 
 
 def section_exploration(*, algorithms=None, properties=None,
                         max_examples: int = VERIFY_EXPLORE_MAX_EXAMPLES,
                         robots: tuple[int, int] = VERIFY_EXPLORE_ROBOTS, seed: int = VERIFY_EXPLORE_SEED,
                         budget: float | None = None, section_budget: float | None = None,
-                        out_dir: str | None = None, progress: Progress | None = None) -> list[Row]:
+                        out_dir: str | None = None, progress: Progress | None = None,
+                        subjects: list[Subject] | None = None) -> list[Row]:
     """The explorer's property matrix: each algorithm by each explorer property (issue 6).
 
     For each algorithm (default: those whose ``verify`` plan asks for
-    exploration, :func:`verify_algorithms`) and each property (default
-    every registered one when this runs, :func:`~swarmproof.checkers.explore.explore_properties`) one :func:`~swarmproof.checkers.explore.explore` run with
-    ``max_examples``, ``robots``, ``seed`` and a time ``budget`` per property
-    (default :data:`VERIFY_EXPLORE_BUDGET`, read when the section runs, as is
-    ``section_budget``).
+    exploration, :func:`verify_subjects`; ``algorithms`` names them, or
+    ``subjects`` gives them) and each property (default every registered one
+    when this runs, :func:`~swarmproof.checkers.explore.explore_properties`) one
+    :func:`~swarmproof.checkers.explore.explore` run with ``max_examples``,
+    ``robots`` and ``seed``.  No wall-clock limit by default
+    (:data:`VERIFY_EXPLORE_BUDGET`, read when the section runs, as is
+    :data:`VERIFY_EXPLORE_SECTION_BUDGET`): a ``budget`` per property or a
+    ``section_budget`` may be given; once ``section_budget`` seconds are
+    spent the remaining properties are not explored and are inconclusive.
     Counterexample files are written into ``out_dir`` only when it is given
     (``swarmproof verify --out DIR``); otherwise each violated row carries the
     ``swarmproof explore`` command that repeats it (``reproduce`` in JSON).
-    Once ``section_budget`` seconds are spent the remaining properties are
-    not explored and are inconclusive.
     """
+    import math
+
     from swarmproof.checkers.explore import explore, explore_properties
-    from swarmproof.reference_impl.registry import claims_of, verify_plans
 
     budget = VERIFY_EXPLORE_BUDGET if budget is None else budget
     section_budget = VERIFY_EXPLORE_SECTION_BUDGET if section_budget is None else section_budget
-    algos = (tuple(name for name, plan in verify_plans() if plan.explore) if algorithms is None
-             else tuple(algorithms))
+    if subjects is None:
+        subjects = [s for s in verify_subjects(None if algorithms is None else tuple(algorithms))
+                    if algorithms is not None or s.plan.explore]
     props = explore_properties() if properties is None else tuple(properties)
-    deadline = time.monotonic() + section_budget
+    deadline = math.inf if section_budget is None else time.monotonic() + section_budget
     rows = []
-    for algo in algos:
-        claims = claims_of(algo)
+    for subj in subjects:
+        algo, claims = subj.label, subj.claims
         for prop in props:
-            kw = dict(max_examples=max_examples, robots=tuple(robots), seed=seed, budget=budget)
+            kw = dict(max_examples=max_examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
             left = deadline - time.monotonic()
             if left <= 0:
                 rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw,
@@ -508,14 +635,15 @@ def section_exploration(*, algorithms=None, properties=None,
                 def show(_p, k, total, algo=algo, prop=prop):
                     progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
                 show(prop, 0, max_examples)
-            used = min(budget, left)
-            rep = explore(algo, [prop], budget=used, max_examples=max_examples,
+            used = None if budget is None and math.isinf(left) else min(math.inf if budget is None else budget, left)
+            rep = explore(subj.ref, [prop], budget=used, max_examples=max_examples,
                           robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
             doc = rep.as_dict()
             assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
                            "broken_assumptions": doc.get("broken_assumptions", [])}
             rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
-                                        assumptions=assumptions, budget_used=used))
+                                        assumptions=assumptions, budget_used=used,
+                                        artifact=getattr(rep.properties.get(prop), "counterexample", None)))
     return rows
 
 

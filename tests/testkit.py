@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import re
+
 
 class Recorder:
     """A test algorithm whose controllers record every observation (``seen``: (robot_id, obs), in
@@ -40,3 +43,24 @@ class Recorder:
 
     def finished(self, states):
         return False
+
+
+# -- the CI gate's mutation test (issue 14) ----------------------------------------------------
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHIPPED = os.path.join(ROOT, "verify-baseline.json")
+MUTANT = "song2016_children_none"
+
+
+def write_mutant(folder) -> str:
+    """A copy of reference_impl/song2016.py in ``folder`` whose robots see no children: the
+    NCLB safe region (Sec. V-C) no longer constrains a moving parent."""
+    src = open(os.path.join(ROOT, "reference_impl", "song2016.py"), encoding="utf-8").read()
+    src = re.sub(r"^(\s*)from \.", r"\1from swarmproof.reference_impl.", src, flags=re.M)
+    line = "children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])"
+    assert src.count(line) == 1, "the mutation point moved: update this test"
+    src = src.replace(line, "children = ()  # mutation: NCLB no longer constrains the parent")
+    path = os.path.join(folder, MUTANT + ".py")
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(src)
+    return path

@@ -4,12 +4,21 @@ Sections (:mod:`swarmproof.checkers.report`): ``lattices`` (the lattice-graph
 checker on every bundled lattice), ``algorithms`` (seeded runs of each
 reference implementation with its claims checked), ``lemmas`` (the z3 proof
 suite) and ``exploration`` (the Hypothesis explorer, algorithm by property).
+``--algorithm REF`` (repeatable) verifies just those algorithms -- a registry
+name or ``module:qualname`` of a user's class, with its own claims, plan and
+scenarios -- in the ``algorithms`` and ``exploration`` sections.
 
-Exit codes (DESIGN.md section 2): 0 every claimed row proved or held, 1 a
-claimed row violated, 2 usage error, 3 a claimed row inconclusive (and none
-violated).  Rows of properties the paper does not claim are findings, marked
-``*`` and not counted.  ``--json`` prints one document, bit-identical from run
-to run (no wall-clock figures); progress goes to stderr, only on a terminal.
+Exit codes (DESIGN.md section 2): without a baseline, 0 every claimed row
+proved or held, 1 a claimed row violated, 3 a claimed row inconclusive (and
+none violated); rows of properties the paper does not claim are findings,
+marked ``*`` and not counted.  With ``--baseline FILE``
+(:mod:`swarmproof.checkers.baseline`): 0 every row as the baseline says or
+better, 1 a regression (or a new claimed violation, or a new kind of failure
+in a known-violated row), 3 a row inconclusive; improvements fail only with
+``--strict``.  2 usage error or unreadable input.  ``--json`` prints one
+document, bit-identical from run to run (no wall-clock figures); progress goes
+to stderr, only on a terminal.  ``--junit``, ``--markdown`` and ``--html``
+write the matrix for CI systems (:mod:`swarmproof.checkers.ci_outputs`).
 """
 
 from __future__ import annotations
@@ -21,11 +30,12 @@ from swarmproof.commands import emit_json, human
 from swarmproof.models.errors import UsageError
 
 NAME = "verify"
-HELP = "run every check over the bundled library and print the property matrix"
+HELP = "run every check over the bundled library (or your algorithms) and print the property matrix"
 DESCRIPTION = (HELP + ": lattices, algorithm runs, the z3 lemmas and the explorer's rows. "
                "Exit 0 when every claimed row holds or is proved, 1 when a claimed row is violated, "
                "3 when a claimed row is inconclusive; rows marked * (not claimed by the paper) are "
-               "findings and do not count.")
+               "findings and do not count. With --baseline FILE: 0 as the baseline says or better, "
+               "1 a regression, 3 a row inconclusive (improvements fail only with --strict).")
 
 
 def add_arguments(p) -> None:
@@ -33,18 +43,39 @@ def add_arguments(p) -> None:
 
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--section", action="append", choices=list(report.SECTIONS), metavar="NAME",
-                   help=f"run only this section (repeatable): {', '.join(report.SECTIONS)}")
+                   help=f"run only this section (repeatable): {', '.join(report.SECTIONS)} (default: all; "
+                        "with --algorithm: algorithms and exploration)")
+    p.add_argument("--algorithm", action="append", metavar="REF", dest="algorithms",
+                   help="verify just this algorithm (repeatable): a registry name or module:qualname of your "
+                        "class, with its own claims, verify plan and scenarios")
+    p.add_argument("--property", action="append", metavar="NAME", dest="properties",
+                   help="only this property in the algorithms and exploration rows (repeatable)")
+    p.add_argument("--baseline", metavar="FILE",
+                   help="compare every row with this baseline of expected verdicts (swarmproof-baseline/1): "
+                        "exit 0 as the baseline says or better, 1 a regression, 3 a row inconclusive")
+    p.add_argument("--update-baseline", action="store_true",
+                   help="write this run's verdicts into the --baseline FILE (atomically; rows outside this "
+                        "run's sections, algorithms and properties are kept)")
+    p.add_argument("--strict", action="store_true",
+                   help="with --baseline: an improvement or another counterexample size fails (exit 1), and a "
+                        "baseline row this run no longer produces is an error (exit 2)")
+    p.add_argument("--junit", metavar="FILE", help="write the matrix as JUnit XML (one test case per row)")
+    p.add_argument("--markdown", metavar="FILE", help="write a Markdown summary table (for a CI job page)")
+    p.add_argument("--html", metavar="FILE",
+                   help="write one self-contained HTML report: the matrix, and each violated row's "
+                        "counterexample steps, picture and animation")
     p.add_argument("--out", metavar="DIR",
                    help="write the counterexamples of violated exploration and algorithm rows as "
                         "swarmproof-counterexample/1 files into DIR (default: none written; each violated "
                         "row names the command that repeats it)")
-    p.add_argument("--max-examples", type=int, default=report.VERIFY_EXPLORE_MAX_EXAMPLES, metavar="N",
+    p.add_argument("--max-examples", type=int, default=None, metavar="N",
                    help="exploration: Hypothesis examples per algorithm and property "
-                        f"(default {report.VERIFY_EXPLORE_MAX_EXAMPLES})")
-    p.add_argument("--robots", default="{}..{}".format(*report.VERIFY_EXPLORE_ROBOTS), metavar="MIN..MAX",
-                   help="exploration: number of robots (default {}..{})".format(*report.VERIFY_EXPLORE_ROBOTS))
-    p.add_argument("--seed", type=int, default=report.VERIFY_EXPLORE_SEED, metavar="S",
-                   help=f"exploration: Hypothesis seed (default {report.VERIFY_EXPLORE_SEED})")
+                        f"(default: the baseline's gate, else {report.VERIFY_EXPLORE_MAX_EXAMPLES})")
+    p.add_argument("--robots", default=None, metavar="MIN..MAX",
+                   help="exploration: number of robots (default: the baseline's gate, else {}..{})".format(
+                       *report.VERIFY_EXPLORE_ROBOTS))
+    p.add_argument("--seed", type=int, default=None, metavar="S",
+                   help=f"exploration: Hypothesis seed (default: the baseline's gate, else {report.VERIFY_EXPLORE_SEED})")
 
 
 class _TtyProgress:
@@ -64,28 +95,38 @@ class _TtyProgress:
 
 
 def run(args) -> int:
-    from swarmproof.checkers.report import run_report
+    from swarmproof.checkers.gate import check_gone, verify
     from swarmproof.commands.explore import parse_robots
+    from swarmproof.models.fileio import check_output_path
 
-    if args.max_examples < 1:
-        raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 200")
-    if args.seed < 0:
-        raise UsageError(f"--seed {args.seed!r} must be >= 0", fix="e.g. --seed 0")
-    if args.out is not None:
-        from swarmproof.models.fileio import check_output_dir
-
-        check_output_dir(args.out, "--out")
-    explore_opts = {"max_examples": args.max_examples, "robots": parse_robots(args.robots),
-                    "seed": args.seed, "out_dir": args.out}
+    for opt in ("junit", "markdown", "html"):
+        if getattr(args, opt) is not None:
+            check_output_path(getattr(args, opt), f"--{opt}")
     progress = _TtyProgress(sys.stderr) if sys.stderr.isatty() else None
     try:
-        report = run_report(args.section, progress=progress,
-                            options={"exploration": explore_opts, "algorithms": {"out_dir": args.out}})
+        report = verify(algorithms=args.algorithms, sections=args.section, properties=args.properties,
+                        baseline=args.baseline, update_baseline=args.update_baseline, strict=args.strict,
+                        max_examples=args.max_examples, seed=args.seed,
+                        robots=None if args.robots is None else parse_robots(args.robots),
+                        out_dir=args.out, progress=progress)
     finally:
         if progress is not None:
             progress.clear()
+    from swarmproof.checkers import ci_outputs
+
+    if args.junit is not None:
+        ci_outputs.write_junit(report, args.junit)
+    if args.markdown is not None:
+        ci_outputs.write_markdown(report, args.markdown)
+    if args.html is not None:
+        from swarmproof.checkers.html_report import write_html
+
+        write_html(report, args.html)
     if args.json:
         emit_json(report.to_json())
     else:
         human(args, report.format_table())
+    if report.updated:
+        human(args, report.updated)
+    check_gone(report, args.strict, args.baseline)
     return report.exit_code

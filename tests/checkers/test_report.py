@@ -114,7 +114,7 @@ def test_exploration_rows_held_claimed_violated_and_finding():
     assert Report(rows).exit_code == 1
     doc = violated.to_json()
     assert doc["reproduce"] == ("swarmproof explore song2014 --property tree_links --max-examples 20 "
-                                "--robots 4..6 --seed 0 --budget 180 --out DIR")
+                                "--robots 4..6 --seed 0 --budget none --out DIR")
     assert (doc["status"], doc["counterexample"], doc["counterexample_robots"]) == ("violated", None, 4)
     assert doc["violation"] == {"step": 3, "message": "step 3: the link child 0 -> parent 2 broke (distance "
                                                       "1.18335 -> 1.21626, range 1.2; decided links)"}
@@ -187,6 +187,7 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
     class _Rep:
         def __init__(self, algo, props):
             self.algo, self.props = algo, props
+            self.properties = {}          # no counterexample objects
 
         def as_dict(self):
             return {"kept_assumptions": ["a"], "broken_assumptions": [],
@@ -221,7 +222,7 @@ def test_report_json_is_bit_identical_has_no_seconds_and_writes_no_files(tmp_pat
     assert os.listdir(tmp_path) == []  # without out_dir nothing is written (the row says how)
     assert a.rows[0].detail.endswith("; the file: swarmproof verify --out DIR")
     doc = a.to_json()
-    assert set(doc) == {"verdict", "rows", "counts", "findings"}
+    assert set(doc) == {"verdict", "rows", "counts", "findings", "exit_code"}
     # the only row is an unclaimed violation: a finding, and nothing claimed was checked
     assert (doc["verdict"], doc["findings"]) == ("inconclusive", 1)
     assert doc["counts"] == {"proved": 0, "held": 0, "violated": 1, "inconclusive": 0}
