@@ -19,7 +19,7 @@ from typing import Any
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import InputFileError, UsageError
 
-__all__ = ["ReplayResult", "replay", "replay_file"]
+__all__ = ["ReplayResult", "replay", "replay_file", "plot_replay", "gif_replay"]
 
 
 @dataclass
@@ -107,3 +107,42 @@ def replay_file(path: str | os.PathLike) -> ReplayResult:
     """Load a counterexample file and :func:`replay` it."""
     name = os.fspath(path)
     return replay(Counterexample.load(name), file=name)
+
+
+def plot_replay(rr, path) -> str:
+    """Trajectories of the replayed run, start (o) and end (x) of each robot, the violation step marked."""
+    from swarmproof.checkers.plotting import new_figure, save_png
+
+    trace = rr.result.trace
+    fig, ax = new_figure()
+    step = rr.step
+    for k in range(trace.n):
+        ax.plot(trace.poses[:, k, 0], trace.poses[:, k, 1], lw=0.8, color="0.6", zorder=1)
+        ax.plot(trace.poses[0, k, 0], trace.poses[0, k, 1], "o", ms=4, color="tab:blue", zorder=2)
+        ax.plot(trace.poses[-1, k, 0], trace.poses[-1, k, 1], "x", ms=5, color="0.2", zorder=2)
+        ax.annotate(str(int(trace.ids[k])), trace.poses[0, k, :2], fontsize=7, zorder=3)
+    if step is not None and 0 <= int(step) <= trace.steps:
+        s = int(step)
+        pres = trace.present_at(s)
+        ax.plot(trace.poses[s, pres, 0], trace.poses[s, pres, 1], "o", ms=7, mfc="none", color="tab:red",
+                zorder=4, label=f"step {s}: violation")
+        ax.legend(loc="best", fontsize=8)
+    cx = rr.counterexample
+    status = "reproduced" if rr.reproduced else "not reproduced"
+    ax.set_title(f"{cx.algorithm} {cx.property} ({status})", fontsize=10)
+    ax.set_aspect("equal")
+    return save_png(fig, path)
+
+
+def gif_replay(rr, path) -> str:
+    """The replayed run as an animated GIF (:func:`swarmproof.checkers.plotting.animate_trace`)."""
+    from swarmproof.checkers.plotting import animate_trace
+
+    cx = rr.counterexample
+    status = "reproduced" if rr.reproduced else "not reproduced"
+    w = rr.verdict.witness or {}
+    named = [w[k] for k in ("robot", "child", "parent", "relocate", "root") if isinstance(w.get(k), int)]
+    named += [int(i) for i in w.get("robots", ()) if isinstance(i, int)]
+    return animate_trace(rr.result.trace, path, phi=float(cx.params["range"]),
+                         mark_step=None if rr.step is None else int(rr.step), mark_ids=named or None,
+                         title=f"{rr.result.trace.meta.get('algorithm', cx.algorithm)} {cx.property} ({status})")
