@@ -17,6 +17,18 @@ Loaded automatically once swarmproof is installed.  It offers
   re-runs it (``.reproduced``).  A failure shows the counterexample's steps and
   the replay command, not swarmproof's source;
 * the marker ``@pytest.mark.swarmproof_budget(SECONDS)``;
+* the fixture ``swarmproof_verify``: the CI gate of ``swarmproof verify`` from a
+  test (:func:`swarmproof.checkers.gate.verify`, same keywords), with
+  ``.assert_no_regression()``::
+
+      @pytest.mark.swarmproof_baseline("verify-baseline.json")
+      def test_no_regression(swarmproof_verify):
+          swarmproof_verify(algorithms=["mypkg.algo:MyAlgorithm"]).assert_no_regression()
+
+  The marker ``@pytest.mark.swarmproof_baseline(FILE)`` names the baseline
+  (relative to pytest's rootdir) unless ``baseline=`` is passed; a failure
+  prints each regressed row with its counterexample steps and replay command;
+  counterexample files go where ``swarmproof_explore`` puts them;
 * at the end of the session, the property table ("proof-of-property run"):
   every algorithm and property explored in the session -- through the fixture
   or by calling :func:`~swarmproof.checkers.explore.explore` directly -- with its verdict
@@ -24,7 +36,9 @@ Loaded automatically once swarmproof is installed.  It offers
   of the z3 proof suite with their verdicts (proved = for every input of the
   normalised statement, docs/proofs.md) that the explored algorithms' premise
   monitors rest on (none when no explored algorithm declares premises).  The proof suite runs only when the
-  fixture was used (about 1 s); ``--swarmproof-no-lemmas`` skips it.
+  fixture was used (about 1 s); ``--swarmproof-no-lemmas`` skips it.  The table
+  ends with the held / violated / inconclusive counts and, for every
+  ``swarmproof_verify`` run, its comparison with the baseline.
 
 Everything heavy is imported lazily: the plugin costs nothing in test
 sessions that do not use it.
@@ -35,6 +49,7 @@ from __future__ import annotations
 import pytest
 
 _REPORTS_KEY = pytest.StashKey[list]()
+_VERIFY_KEY = pytest.StashKey[list]()
 _LISTENER_KEY = pytest.StashKey[object]()
 
 TABLE_TITLE = "swarmproof property table (explored, not proved; lemmas proved by z3)"
@@ -59,7 +74,9 @@ def _current_test() -> str:
 
 def pytest_configure(config) -> None:
     config.addinivalue_line("markers", "swarmproof_budget(seconds): wall-clock budget of swarmproof_explore")
+    config.addinivalue_line("markers", "swarmproof_baseline(file): the baseline swarmproof_verify compares with")
     config.stash[_REPORTS_KEY] = []
+    config.stash[_VERIFY_KEY] = []
     reports = config.stash[_REPORTS_KEY]
 
     def listener(report, reports=reports):
@@ -108,6 +125,46 @@ def swarmproof_explore(request, tmp_path):
     return run
 
 
+@pytest.fixture
+def swarmproof_verify(request, tmp_path):
+    """Run the CI gate (:func:`swarmproof.checkers.gate.verify`); the report joins the end-of-session table."""
+    from pathlib import Path
+
+    from swarmproof.checkers.gate import verify
+
+    marker = request.node.get_closest_marker("swarmproof_baseline")
+    default = marker.args[0] if marker is not None and marker.args else None
+
+    def run(**kwargs):
+        __tracebackhide__ = True
+        kwargs.setdefault("baseline", default)
+        base = kwargs["baseline"]
+        if base is not None and not Path(str(base)).is_absolute():
+            kwargs["baseline"] = str(Path(str(request.config.rootpath)) / str(base))
+        if "out_dir" not in kwargs:
+            out = _out_dir(request, tmp_path)
+            out.mkdir(parents=True, exist_ok=True)
+            kwargs["out_dir"] = str(out)
+        rep = verify(**kwargs)
+        request.config.stash[_VERIFY_KEY].append((_current_test(), rep))
+        return rep
+
+    return run
+
+
+def verify_lines(runs) -> list[str]:
+    """The end-of-session lines of ``swarmproof_verify`` runs: counts and the baseline comparison."""
+    from swarmproof.checkers.ci_outputs import summary_line
+    from swarmproof.models.verdict import Verdict
+
+    lines = []
+    for nodeid, rep in runs:
+        counts = ", ".join(f"{sum(r.verdict is v for r in rep.rows)} {v.value}" for v in Verdict)
+        lines.append(f"verify ({nodeid}): {counts}")
+        lines.append(f"  {summary_line(rep)}")
+    return lines
+
+
 def property_table(reports, lemmas=None, lemma_note: str = "") -> list[str]:
     """The lines of the end-of-session table.
 
@@ -128,6 +185,8 @@ def property_table(reports, lemmas=None, lemma_note: str = "") -> list[str]:
             claimed = "yes" if rep.claims.get(name) else "no"
             lines.append(f"{rep.algorithm:<16} {name:<13} {v.status:<13} {claimed:<8} {v.scenarios:>9} "
                          f"{v.steps:>8}  {nodeid}")
+    statuses = [v.status for _, rep in reports for v in rep.properties.values()]
+    lines.append("explored: " + ", ".join(f"{statuses.count(s)} {s}" for s in ("held", "violated", "inconclusive")))
     if lemmas is None:
         lines.append(f"lemmas: {lemma_note}")
         return lines
@@ -143,6 +202,11 @@ def property_table(reports, lemmas=None, lemma_note: str = "") -> list[str]:
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
     reports = config.stash.get(_REPORTS_KEY, [])
+    runs = config.stash.get(_VERIFY_KEY, [])
+    if runs:
+        terminalreporter.section("swarmproof verify (the CI gate)")
+        for line in verify_lines(runs):
+            terminalreporter.write_line(line)
     if not reports:
         return
     lemmas, note = None, ""

@@ -54,6 +54,7 @@ def test_property_table_lines_with_lemmas():
         "song2016         connectivity  held          yes              5      700  t.py::a",
         "song2016         premises      held          no               5      700  t.py::a",
         "song2014         premises      violated      no               5      700  t.py::b",
+        "explored: 2 held, 1 violated, 0 inconclusive",
         "lemma                              verdict         used by (premise monitors)",
         "bounded_range                      proved          song2016, song2014",
         "nclb_link_kept                     inconclusive    song2016",
@@ -122,3 +123,46 @@ def test_plugin_gate_fails_with_counterexample_and_prints_table(tmp_path):
     assert ["song2014", "connectivity", "violated", "no"] in [r[:4] for r in rows]
     assert ["bounded_range", "proved", "song2016,", "song2014"] in rows
     assert ["relocate_stays_in_range", "proved", "song2016"] in rows
+
+
+GATE_TESTS = textwrap.dedent('''
+    import pytest
+
+    BASELINE = {shipped!r}
+
+
+    @pytest.mark.swarmproof_baseline(BASELINE)
+    def test_lattices_as_the_baseline_says(swarmproof_verify):
+        swarmproof_verify(sections=["lattices"]).assert_no_regression()
+
+
+    @pytest.mark.swarmproof_baseline(BASELINE)
+    def test_mutant_regresses(swarmproof_verify):
+        swarmproof_verify(algorithms=["{mutant}:Song2016"], sections=["algorithms"],
+                          properties=["tree_links"]).assert_no_regression()
+''')
+
+
+def test_swarmproof_verify_fixture_fails_on_regressions_with_the_counterexample(tmp_path):
+    """issue 14: a test suite asserts "no regression against the baseline"; a failing row prints its
+    counterexample steps and replay command; the session ends with the gate's counts and summary."""
+    from testkit import MUTANT, SHIPPED, write_mutant
+
+    write_mutant(tmp_path)
+    (tmp_path / "test_gate.py").write_text(GATE_TESTS.format(shipped=SHIPPED, mutant=MUTANT))
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--swarmproof-out", "kept",
+                           "-p", "no:randomly", str(tmp_path / "test_gate.py")],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    out = proc.stdout
+    assert proc.returncode == 1 and "1 failed, 1 passed" in out, out[-3000:]
+    failure = out.split("= FAILURES =")[1].split("swarmproof verify (the CI gate)")[0]
+    assert "verify: FAIL: 3 regressions, 1 known finding, 0 improvements, 0 held" in failure
+    assert "algorithms: song2016 square n=10 / tree_links: violated -- new claimed" not in failure
+    assert "algorithms: song2016 square n=10 / tree_links: violated -- regressed: held in the baseline" in failure
+    assert f"run {MUTANT}:Song2016 with seed" in failure and "at step 166: the link child 3 -> parent 6 broke" in failure
+    assert "replay: swarmproof replay kept/" in failure
+    assert "checkers/gate.py" not in failure                               # not swarmproof's source
+    summary = out.split("swarmproof verify (the CI gate)")[1]
+    assert "verify (test_gate.py::test_lattices_as_the_baseline_says): 0 proved, 8 held, 0 violated, 0 inconclusive" in summary
+    assert "  verify: PASS: 0 regressions, 0 known findings, 0 improvements, 8 held (against " in summary
+    assert "  verify: FAIL: 3 regressions" in summary
