@@ -199,23 +199,23 @@ class Baseline:
             doc = json.loads(text)
         except json.JSONDecodeError as exc:
             raise InputFileError(f"the baseline is not JSON ({exc.msg})", file=name, line=exc.lineno,
-                                 fix="restore it from version control, or " + fix_new) from None
+                                 fix="restore it from version control, or delete it and " + fix_new) from None
         return cls.from_json(doc, file=name)
 
     @classmethod
     def from_json(cls, doc: Any, *, file: str | None = None) -> "Baseline":
         def err(fld: str, msg: str, fix: str | None = None) -> InputFileError:
             return InputFileError(msg, file=file, field=fld,
-                                  fix=fix or "restore the file from version control, or rewrite it with "
-                                             "`swarmproof verify --baseline FILE --update-baseline`")
+                                  fix=fix or "restore the file from version control, or delete it and write a new "
+                                             "one with `swarmproof verify --baseline FILE --update-baseline`")
 
         if not isinstance(doc, dict):
             raise err("format", f"the baseline is a JSON {type(doc).__name__}, not an object")
         fmt = doc.get("format")
         if fmt != BASELINE_FORMAT:
             raise err("format", f"format={fmt!r} is not {BASELINE_FORMAT!r}",
-                      fix=f"this swarmproof reads {BASELINE_FORMAT}; rewrite the baseline with "
-                          "`swarmproof verify --baseline FILE --update-baseline`")
+                      fix=f"this swarmproof reads {BASELINE_FORMAT}; delete the file and write a new one "
+                          "with `swarmproof verify --baseline FILE --update-baseline`")
         gate = doc.get("gate", {})
         if not isinstance(gate, dict):
             raise err("gate", f"gate={gate!r} is not an object")

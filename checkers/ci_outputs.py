@@ -12,7 +12,8 @@ Every row becomes one test case, judged the way the exit code judges it
 * passed -- held or proved (or better than the baseline).
 
 A failure's text carries the counterexample as steps a person can run and the
-replay (or repeat) command.  The XML validates against the JUnit schema
+replay (or repeat) command.  Citations read as papers ("Song & O'Kane 2016, Lemma 11"), as on
+the terminal.  The XML validates against the JUnit schema
 Jenkins reads (junit-10.xsd; tests/checkers/test_ci_outputs.py) and holds no
 wall-clock time, so the same run gives the same bytes.
 """
@@ -22,6 +23,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from typing import Any
 
+from swarmproof.models.citations import readable
 from swarmproof.models.verdict import Verdict
 
 __all__ = ["row_status", "junit_xml", "write_junit", "markdown", "write_markdown", "row_steps"]
@@ -93,10 +95,10 @@ def junit_xml(report) -> bytes:
             text = "\n".join([r.detail] + row_steps(r)) if r.verdict is Verdict.VIOLATED else r.detail
             if kind in counts:
                 counts[kind] += 1
-                el = ET.SubElement(case, kind, {"message": message, "type": r.verdict.value})
-                el.text = text
+                el = ET.SubElement(case, kind, {"message": readable(message), "type": r.verdict.value})
+                el.text = readable(text)
             out = ET.SubElement(case, "system-out")
-            out.text = f"verdict: {r.verdict.value}; claim: {r.claim or 'not claimed'}\n{r.detail}"
+            out.text = readable(f"verdict: {r.verdict.value}; claim: {r.claim or 'not claimed'}\n{r.detail}")
         suite.set("tests", str(len(rows)))
         suite.set("failures", str(counts["failure"]))
         suite.set("errors", str(counts["error"]))
@@ -118,7 +120,8 @@ def write_junit(report, path) -> str:
 
 
 def _cell(text: Any) -> str:
-    return str(text).replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+    """One Markdown table cell: citations readable, pipes and newlines escaped."""
+    return readable(str(text)).replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
 
 
 def summary_line(report) -> str:
@@ -129,7 +132,7 @@ def summary_line(report) -> str:
 def markdown(report) -> str:
     """A Markdown summary for a CI job page: the summary line, the rows that need a look, then
     the whole matrix folded."""
-    lines = [f"## swarmproof verify", "", f"**{_cell(summary_line(report))}**", ""]
+    lines = ["## swarmproof verify", "", f"**{_cell(summary_line(report))}**", ""]
     header = ["| section | subject | property | verdict | status | claim | detail |",
               "|---|---|---|---|---|---|---|"]
 

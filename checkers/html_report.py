@@ -45,6 +45,13 @@ def _esc(text) -> str:
     return html.escape(str(text), quote=True)
 
 
+def _txt(text) -> str:
+    """Text a person reads: citations as papers ("Song & O'Kane 2016, Lemma 11"), escaped."""
+    from swarmproof.models.citations import readable
+
+    return _esc(readable(str(text)))
+
+
 def _img(data: bytes, mime: str, alt: str) -> str:
     return f'<img alt="{_esc(alt)}" src="data:{mime};base64,{base64.b64encode(data).decode("ascii")}">'
 
@@ -88,7 +95,7 @@ def render_html(report, *, pictures: bool = True) -> str:
     out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
            f'<meta http-equiv="Content-Security-Policy" content="{CSP}">',
            "<title>swarmproof verify</title>", f"<style>{_STYLE}</style>", "</head>", "<body>",
-           "<h1>swarmproof verify</h1>", f'<p class="summary {cls}" id="summary">{_esc(summary)}</p>']
+           "<h1>swarmproof verify</h1>", f'<p class="summary {cls}" id="summary">{_txt(summary)}</p>']
     if report.comparison is not None:
         b = report.comparison.baseline
         made = ", ".join(f"{k} {v}" for k, v in sorted(b.made_by.items()))
@@ -107,8 +114,8 @@ def render_html(report, *, pictures: bool = True) -> str:
             details.append((i, r))
         out.append(f'<tr class="row {kind}" data-verdict="{r.verdict.value}"><td>{_esc(r.section)}</td>'
                    f"<td>{_esc(r.subject)}</td><td>{_esc(r.property)}</td><td>{r.verdict.value}</td>"
-                   f'<td class="status">{kind}: {_esc(message)}</td><td>{_esc(r.claim or "not claimed")}</td>'
-                   f"<td>{_esc(r.detail)}{link}</td></tr>")
+                   f'<td class="status">{kind}: {_txt(message)}</td><td>{_txt(r.claim or "not claimed")}</td>'
+                   f"<td>{_txt(r.detail)}{link}</td></tr>")
     out += ["</tbody>", "</table>"]
     with tempfile.TemporaryDirectory(prefix="swarmproof-html-") as tmp:
         violated = [(i, r) for i, r in details if r.verdict is Verdict.VIOLATED]
@@ -116,10 +123,10 @@ def render_html(report, *, pictures: bool = True) -> str:
             out.append("<h2>Counterexamples</h2>")
         for i, r in violated:
             out.append(f'<div class="cx" id="cx-{i}"><h3>{_esc(r.subject)} / {_esc(r.property)}: violated</h3>')
-            out.append(f"<p>{_esc(r.detail)}</p>")
+            out.append(f"<p>{_txt(r.detail)}</p>")
             steps = row_steps(r)
             if steps:
-                out.append("<pre>" + _esc("\n".join(steps)) + "</pre>")
+                out.append("<pre>" + _txt("\n".join(steps)) + "</pre>")
             if pictures and r.artifact is not None:
                 tags, note = _replay_pictures(r.artifact, tmp, f"cx-{i}")
                 out.append('<div class="pictures">' + "".join(tags) + "</div>")
@@ -131,7 +138,7 @@ def render_html(report, *, pictures: bool = True) -> str:
             out.append("<h2>Lattices</h2>")
         for i, r in lattices:
             out.append(f'<div class="lattice" id="lattice-{i}"><h3>{_esc(r.subject)}: {r.verdict.value}</h3>'
-                       f"<p>{_esc(r.detail)}</p>")
+                       f"<p>{_txt(r.detail)}</p>")
             if pictures:
                 try:
                     out.append('<div class="pictures">' + _lattice_picture(r.subject, tmp) + "</div>")

@@ -130,7 +130,9 @@ class Report:
                 lines.append(f"{r.section}: {r.subject} / {r.property}: {r.verdict.value} -- {message}")
                 lines.append(f"  {r.detail}")
                 lines += ["  " + s for s in row_steps(r)]
-        raise AssertionError("\n".join(lines))
+        from swarmproof.models.citations import readable
+
+        raise AssertionError(readable("\n".join(lines)))
 
     def to_json(self, *, timings: bool = False) -> dict[str, Any]:
         doc: dict[str, Any] = {

@@ -41,7 +41,8 @@ def test_junit_validates_and_counts_without_a_baseline(rows, schema):
     root = ET.fromstring(data)
     assert (root.get("tests"), root.get("failures"), root.get("errors")) == ("4", "1", "0")
     (failure,) = root.iter("failure")
-    assert failure.get("message") == "violated [000 Lemma 7 (a descendant stays within range of its parent)]"
+    assert failure.get("message") == ("violated [Song & O'Kane 2014, Lemma 7 (a descendant stays within range of "
+                                      "its parent)]")
     assert "run song2014 with seed" in failure.text                        # the counterexample's steps
     assert "repeat: swarmproof explore song2014 --property tree_links" in failure.text
     assert [s.get("name") for s in root.iter("testsuite")] == ["swarmproof.lattices", "swarmproof.exploration"]
