@@ -146,8 +146,13 @@ class _Ctx:
 # parsing with line numbers
 # ---------------------------------------------------------------------------
 
-def _parse_yaml(text: str, source: str) -> tuple[Any, dict[Path, int]]:
-    """Parse YAML with ``SafeLoader``; map field paths to 1-based lines."""
+def parse_yaml_node(text: str, source: str, *, nesting: str) -> tuple[Any, Any]:
+    """Parse one YAML document with ``SafeLoader``: ``(data, root node)`` (the node gives lines).
+
+    Every YAML problem is an :class:`InputFileError` naming the file and, where
+    known, the line; ``nesting`` is the fix given for a document nested too deep.
+    Shared by the lattice-graph/1 and swarmproof-campaign/1 readers.
+    """
     try:
         loader = yaml.SafeLoader(text)
         try:
@@ -173,11 +178,16 @@ def _parse_yaml(text: str, source: str) -> tuple[Any, dict[Path, int]]:
         raise InputFileError(f"malformed YAML: {what}", file=source,
                              fix="check the file is one YAML document") from None
     except RecursionError:
-        raise InputFileError("malformed YAML: nesting is too deep", file=source,
-                             fix="a lattice-graph/1 file nests at most three levels") from None
+        raise InputFileError("malformed YAML: nesting is too deep", file=source, fix=nesting) from None
     except (ValueError, TypeError, OverflowError) as exc:  # e.g. a timestamp 2020-13-45
         raise InputFileError(f"malformed YAML: a value cannot be read ({exc})", file=source,
                              fix="quote the value or write a plain number") from None
+    return data, node
+
+
+def _parse_yaml(text: str, source: str) -> tuple[Any, dict[Path, int]]:
+    """Parse YAML with ``SafeLoader``; map field paths to 1-based lines."""
+    data, node = parse_yaml_node(text, source, nesting="a lattice-graph/1 file nests at most three levels")
     if node is None:
         return None, {}
     lines: dict[Path, int] = {(): node.start_mark.line + 1}
