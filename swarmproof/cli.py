@@ -32,6 +32,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "simulate",
     "prove",
     "verify",
+    "campaign",
     "explore",
     "replay",
 )

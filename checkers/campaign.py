@@ -1,0 +1,435 @@
+"""Campaigns on Dask: a matrix of explorations and experiments, resumable, with nothing lost.
+
+A campaign (:mod:`swarmproof.models.campaign_spec`) is split into *tasks*,
+each fully determined by the spec (an explorer task: one algorithm, one
+property, one Hypothesis seed, ``max_examples`` and no wall clock; an
+experiment task: one seeded run of one algorithm on one target with one team
+size), so the results are the same on 1, 2 or 100 workers.  Tasks run on
+``dask.distributed``: an embedded ``LocalCluster`` (processes, one per core)
+by default, or an existing cluster by its scheduler address.  The client
+alone writes the results store ``DIR/results.sqlite`` (SQLite, one row per
+finished task, one transaction each) and the counterexample files
+(``DIR/counterexamples/``, written atomically, named by a hash of their
+content, so two tasks that shrink to the same scenario share one file).  A
+killed client loses only unfinished tasks (``--resume`` skips the finished
+ones); a killed worker's tasks are retried by Dask.
+
+Store tables: ``meta(key, value)`` (format, spec, digest), ``results(task,
+cell, kind, verdict, figures, counterexample)`` -- the same content whatever
+the cluster -- and ``timings(task, seconds, worker)`` (machine-dependent,
+kept apart for benchmarks).
+
+References
+----------
+DESIGN.md section 1 "Past one machine"; docs/campaigns.md.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sqlite3
+import time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from swarmproof.models.errors import UsageError
+from swarmproof.models.verdict import Verdict
+
+__all__ = ["Task", "plan_tasks", "run_task", "ResultsStore", "run_campaign", "CampaignResult", "STORE_FORMAT"]
+
+STORE_FORMAT = "swarmproof-campaign-results/1"
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit of work: ``key`` is unique in the campaign and stable across runs."""
+
+    key: str
+    cell: str
+    kind: str            # "explore" | "simulate"
+    args: dict
+
+    def as_dict(self) -> dict:
+        return {"key": self.key, "cell": self.cell, "kind": self.kind, "args": dict(self.args)}
+
+
+def _check_names(spec) -> None:
+    """Every algorithm, property and target the spec names exists (errors located in the file)."""
+    from swarmproof.checkers.explore import FAULT_KINDS, explore_properties, resolve_algorithm
+    from swarmproof.models.targets import resolve_target
+
+    props = set(explore_properties())
+    for cell in spec.explore:
+        try:
+            resolve_algorithm(cell.algorithm)
+        except UsageError as exc:
+            raise spec.error(cell.path + ("algorithm",), exc.message, exc.fix or "use a registry name") from None
+        for k, p in enumerate(cell.properties or ()):
+            if p not in props and ":" not in p:
+                raise spec.error(cell.path + ("properties", k), f"property={p!r} is not registered",
+                                 f"use one of {sorted(props)!r}")
+        for k, f in enumerate(cell.draw_faults):
+            if f not in FAULT_KINDS:
+                raise spec.error(cell.path + ("draw_faults", k), f"draw_faults={f!r} is not a fault kind",
+                                 f"use one of {list(FAULT_KINDS)!r}")
+        for k, name in enumerate(cell.lattices or ()):
+            try:
+                resolve_target(name)
+            except UsageError as exc:
+                raise spec.error(cell.path + ("lattices", k), f"lattices={name!r}: {exc.message}",
+                                 exc.fix or "use a bundled name") from None
+    for cell in spec.simulate:
+        try:
+            resolve_algorithm(cell.algorithm)
+        except UsageError as exc:
+            raise spec.error(cell.path + ("algorithm",), exc.message, exc.fix or "use a registry name") from None
+        for k, name in enumerate(cell.targets):
+            try:
+                resolve_target(name)
+            except UsageError as exc:
+                raise spec.error(cell.path + ("targets", k), f"targets={name!r}: {exc.message}",
+                                 exc.fix or "use a bundled name") from None
+
+
+def plan_tasks(spec) -> list[Task]:
+    """Every task of ``spec``, in a fixed order (cells as written, then properties / targets,
+    sizes and seeds).  Names are checked first (located errors)."""
+    from swarmproof.checkers.explore import explore_properties
+
+    _check_names(spec)
+    tasks: list[Task] = []
+    for cell in spec.explore:
+        for prop in (cell.properties or explore_properties()):
+            for seed in cell.seeds:
+                args = {"algorithm": cell.algorithm, "property": prop, "seed": seed, "robots": list(cell.robots),
+                        "max_examples": cell.max_examples, "lattices": None if cell.lattices is None else list(cell.lattices),
+                        "draw_faults": list(cell.draw_faults), "speeds": None if cell.speeds is None else list(cell.speeds),
+                        "max_steps": cell.max_steps, "params": dict(cell.params),
+                        "allow_violations": cell.allow_violations}
+                tasks.append(Task(f"explore[{cell.index}]/{prop}/seed{seed}", cell.label, "explore", args))
+    for cell in spec.simulate:
+        for target in cell.targets:
+            for n in cell.robots:
+                for seed in cell.seeds:
+                    args = {"algorithm": cell.algorithm, "target": target, "robots": n, "seed": seed,
+                            "max_steps": cell.max_steps}
+                    tasks.append(Task(f"simulate[{cell.index}]/{target}/n{n}/seed{seed}", cell.label, "simulate", args))
+    return tasks
+
+
+# ---------------------------------------------------------------------------
+# the task function (runs on a worker; everything it needs is in its argument)
+# ---------------------------------------------------------------------------
+
+def _explore_task(a: dict) -> dict:
+    from swarmproof.checkers.explore import explore
+
+    rep = explore(a["algorithm"], [a["property"]], budget=None, max_examples=a["max_examples"],
+                  robots=tuple(a["robots"]), seed=a["seed"], lattices=a["lattices"],
+                  draw_faults=tuple(a["draw_faults"]), speeds=a["speeds"], max_steps=a["max_steps"],
+                  params=a["params"] or None, allow_violations=a["allow_violations"])
+    v = rep.properties[a["property"]]
+    cx = v.counterexample
+    figures = {"scenarios": v.scenarios, "conclusive": v.conclusive, "steps": v.steps, "capped": v.capped,
+               "message": v.message, "claim": rep.claims.get(a["property"]),
+               "first_failure_scenarios": v.first_failure_scenarios,
+               "counterexample_robots": None if cx is None else len(cx.robots),
+               "violation": None if cx is None else dict(cx.violation)}
+    return {"verdict": v.status, "figures": figures,
+            "counterexample": None if cx is None else cx.as_dict(),
+            "first_failure_seconds": v.first_failure_seconds}
+
+
+def _simulate_task(a: dict) -> dict:
+    from swarmproof.checkers.explore import resolve_algorithm
+    from swarmproof.checkers.report import RUN_PROPERTIES, _run_property_verdicts, run_counterexample
+    from swarmproof.checkers.runs import run_and_check
+    from swarmproof.models.targets import resolve_target
+
+    spec = resolve_algorithm(a["algorithm"])
+    checked = run_and_check(a["algorithm"], resolve_target(a["target"]), seed=a["seed"], robots=a["robots"],
+                            max_steps=a["max_steps"])
+    doc = checked.doc
+    verdicts = _run_property_verdicts(checked)
+    claimed = [p for p in RUN_PROPERTIES if spec.claims.get(p)]
+    verdict = Verdict.combine(verdicts[p][0] for p in (claimed or ["termination"]))
+    cx = None
+    for p in claimed:
+        if verdicts[p][0] is Verdict.VIOLATED:
+            res = getattr(checked, p if p != "formation" else "satisfaction", None)
+            step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
+            cx = run_counterexample(checked, p, verdicts[p][1], step, ref=spec.ref).as_dict()
+            break
+    figures = {k: doc.get(k) for k in ("status", "steps", "execution_steps", "satisfied", "fulfillment_ratio",
+                                        "connected_throughout", "total_distance", "min_separation")}
+    figures["properties"] = {p: {"verdict": v.value, "message": m, "claim": spec.claims.get(p)}
+                             for p, (v, m) in verdicts.items()}
+    return {"verdict": verdict.value, "figures": figures, "counterexample": cx, "first_failure_seconds": None}
+
+
+def run_task(task: dict) -> dict:
+    """Run one task (on a worker).  A crash of swarmproof itself becomes an inconclusive result
+    naming the error (the campaign goes on; the report lists it), never a lost task."""
+    import warnings
+
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            # A Dask worker's own threads (heartbeats, comms) use the `random` module; Hypothesis
+            # notices the global random state moving while a strategy draws and warns that the
+            # *strategy* used it.  Hypothesis's draws come from its own seeded generator, so the
+            # results do not depend on it (tests/checkers/test_campaign.py compares 1 and 2
+            # workers and a real cluster): silence that one warning inside tasks only.
+            warnings.filterwarnings("ignore", message="Do not use the `random` module inside strategies")
+            out = (_explore_task if task["kind"] == "explore" else _simulate_task)(task["args"])
+    except Exception as exc:  # noqa: BLE001 - one task's failure must not stop the campaign
+        out = {"verdict": "inconclusive", "counterexample": None, "first_failure_seconds": None,
+               "figures": {"error": f"{type(exc).__name__}: {exc}"[:500]}}
+    out["seconds"] = time.perf_counter() - t0
+    out["worker"] = f"{os.uname().nodename}:{os.getpid()}"
+    return out
+
+
+# ---------------------------------------------------------------------------
+# the results store (client only)
+# ---------------------------------------------------------------------------
+
+def _cx_name(cx: dict) -> str:
+    body = {k: v for k, v in cx.items() if k != "made_by"}
+    digest = hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()[:16]
+    safe = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in f"{cx['algorithm']}-{cx['property']}")
+    return f"{safe}-{digest}.json"
+
+
+class ResultsStore:
+    """``DIR/results.sqlite`` and ``DIR/counterexamples/``; written by the campaign's client only."""
+
+    def __init__(self, out_dir: str, spec, *, resume: bool) -> None:
+        from swarmproof.models.fileio import check_output_dir
+
+        check_output_dir(out_dir, "--out")
+        os.makedirs(out_dir, exist_ok=True)
+        self.dir = out_dir
+        self.path = os.path.join(out_dir, "results.sqlite")
+        existed = os.path.exists(self.path)
+        try:
+            self.con = sqlite3.connect(self.path)
+            self.con.execute("PRAGMA journal_mode=WAL")
+            with self.con:
+                self.con.execute("CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL)")
+                self.con.execute("CREATE TABLE IF NOT EXISTS results(task TEXT PRIMARY KEY, cell TEXT NOT NULL, "
+                                 "kind TEXT NOT NULL, verdict TEXT NOT NULL, figures TEXT NOT NULL, "
+                                 "counterexample TEXT)")
+                self.con.execute("CREATE TABLE IF NOT EXISTS timings(task TEXT PRIMARY KEY, seconds REAL, worker TEXT)")
+        except sqlite3.DatabaseError as exc:
+            raise UsageError(f"--out {out_dir!r}: {self.path} is not a readable results store ({exc})",
+                             fix="give another --out folder, or delete the file") from None
+        meta = dict(self.con.execute("SELECT key, value FROM meta"))
+        done = self.con.execute("SELECT COUNT(*) FROM results").fetchone()[0]
+        if meta and meta.get("format") != STORE_FORMAT:
+            raise UsageError(f"--out {out_dir!r} holds a results store of format {meta.get('format')!r}",
+                             fix="give another --out folder")
+        if meta and meta.get("digest") != spec.digest:
+            raise UsageError(f"--out {out_dir!r} holds the results of another campaign "
+                             f"(name={json.loads(meta.get('spec', '{}')).get('name')!r}, a different spec)",
+                             fix="give another --out folder, or the spec that made it")
+        if existed and done and not resume:
+            raise UsageError(f"--out {out_dir!r} already holds {done} finished task(s) of this campaign",
+                             fix="add --resume to run only the unfinished ones, or give another --out folder")
+        with self.con:
+            for k, v in (("format", STORE_FORMAT), ("digest", spec.digest),
+                         ("spec", json.dumps(spec.document, sort_keys=True))):
+                self.con.execute("INSERT OR REPLACE INTO meta VALUES (?, ?)", (k, v))
+
+    def finished(self) -> set[str]:
+        return {row[0] for row in self.con.execute("SELECT task FROM results")}
+
+    def write(self, task: Task, out: dict) -> None:
+        """Record one finished task (its counterexample file first, then the row, in one transaction)."""
+        from swarmproof.models.fileio import atomic_write_json
+
+        cx_path = None
+        if out.get("counterexample") is not None:
+            folder = os.path.join(self.dir, "counterexamples")
+            os.makedirs(folder, exist_ok=True)
+            cx_path = os.path.join("counterexamples", _cx_name(out["counterexample"]))
+            full = os.path.join(self.dir, cx_path)
+            if not os.path.exists(full):
+                atomic_write_json(full, out["counterexample"])
+        figures = json.dumps(out.get("figures") or {}, sort_keys=True)
+        try:
+            with self.con:
+                self.con.execute("INSERT OR REPLACE INTO results VALUES (?, ?, ?, ?, ?, ?)",
+                                 (task.key, task.cell, task.kind, out["verdict"], figures, cx_path))
+                self.con.execute("INSERT OR REPLACE INTO timings VALUES (?, ?, ?)",
+                                 (task.key, float(out.get("seconds") or 0.0), str(out.get("worker", ""))))
+        except sqlite3.OperationalError as exc:     # e.g. the disk is full: what finished before is kept
+            raise UsageError(f"--out {self.dir!r}: cannot record task {task.key} ({exc})",
+                             fix="free disk space, then run again with --resume") from None
+
+    def rows(self) -> list[tuple]:
+        return list(self.con.execute("SELECT task, cell, kind, verdict, figures, counterexample FROM results "
+                                     "ORDER BY task"))
+
+    def close(self) -> None:
+        self.con.close()
+
+
+# ---------------------------------------------------------------------------
+# running
+# ---------------------------------------------------------------------------
+
+@dataclass
+class CampaignResult:
+    spec: Any
+    tasks: list[Task]
+    results: dict[str, dict]       # task key -> {verdict, figures, counterexample}
+    out_dir: str
+    cut_short: bool = False
+    ran: int = 0                   # tasks run by this invocation (the others were resumed)
+
+    @property
+    def exit_code(self) -> int:
+        from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED
+
+        verdicts = [r["verdict"] for r in self.results.values()]
+        if "violated" in verdicts:
+            return EXIT_VIOLATED
+        if self.cut_short or "inconclusive" in verdicts or len(self.results) < len(self.tasks):
+            return EXIT_INCONCLUSIVE
+        return EXIT_OK
+
+    def cells(self) -> list[dict]:
+        """Per cell: the verdict over its tasks, counts, first-failure figures and the smallest
+        counterexample (fewest robots, then its file name)."""
+        out: dict[str, dict] = {}
+        for t in self.tasks:
+            c = out.setdefault(t.cell, {"cell": t.cell, "kind": t.kind, "tasks": 0, "finished": 0,
+                                        "counts": {"held": 0, "violated": 0, "inconclusive": 0},
+                                        "smallest_counterexample": None, "first_failure_scenarios": None})
+            c["tasks"] += 1
+            r = self.results.get(t.key)
+            if r is None:
+                continue
+            c["finished"] += 1
+            v = r["verdict"] if r["verdict"] in c["counts"] else "inconclusive"
+            c["counts"][v] += 1
+            fig = r.get("figures") or {}
+            if r.get("counterexample_path"):
+                size = fig.get("counterexample_robots") or t.args.get("robots")
+                cand = {"path": r["counterexample_path"], "robots": size, "task": t.key}
+                best = c["smallest_counterexample"]
+                if best is None or (cand["robots"], cand["path"]) < (best["robots"], best["path"]):
+                    c["smallest_counterexample"] = cand
+            ffs = fig.get("first_failure_scenarios")
+            if ffs is not None and (c["first_failure_scenarios"] is None or ffs < c["first_failure_scenarios"]):
+                c["first_failure_scenarios"] = ffs
+        for c in out.values():
+            n = c["counts"]
+            c["verdict"] = ("violated" if n["violated"] else
+                            "inconclusive" if n["inconclusive"] or c["finished"] < c["tasks"] else "held")
+        return list(out.values())
+
+    def to_json(self) -> dict:
+        """One document, no wall-clock figure: two runs of one spec compare equal."""
+        return {"campaign": self.spec.name, "digest": self.spec.digest, "out": self.out_dir,
+                "tasks": len(self.tasks), "finished": len(self.results), "cut_short": self.cut_short,
+                "cells": self.cells(),
+                "results": [{"task": t.key, "cell": t.cell, "kind": t.kind, **self.results[t.key]}
+                            for t in self.tasks if t.key in self.results],
+                "exit_code": self.exit_code}
+
+
+def _client(scheduler: str | None, workers: int | None):
+    """A dask.distributed Client: to ``scheduler``, or to an embedded LocalCluster of ``workers``
+    processes (default: one per core)."""
+    import logging
+
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise UsageError("campaigns need dask.distributed, which is not installed",
+                         fix="pip install 'swarmproof[campaign]' (or: pip install 'dask[distributed]')") from None
+    if scheduler is not None:
+        try:
+            return Client(scheduler, timeout="10s"), None
+        except (OSError, TimeoutError) as exc:
+            raise UsageError(f"--scheduler {scheduler!r} cannot be reached ({type(exc).__name__}: {exc})",
+                             fix="start it with `dask scheduler` (and workers with `dask worker ADDRESS`), or "
+                                 "check the address (tcp://HOST:PORT); without --scheduler a local cluster is used") from None
+        except ValueError as exc:
+            raise UsageError(f"--scheduler {scheduler!r} is not a scheduler address ({exc})",
+                             fix="e.g. --scheduler tcp://127.0.0.1:8786") from None
+    n = workers or os.cpu_count() or 1
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def run_campaign(spec, *, out_dir: str, scheduler: str | None = None, workers: int | None = None,
+                 resume: bool = False, progress: Callable[[int, int, int], None] | None = None) -> CampaignResult:
+    """Run every unfinished task of ``spec`` on Dask; results stream into ``out_dir``.
+
+    ``progress(done, total, violated)`` is called as tasks finish.  A
+    KeyboardInterrupt cuts the campaign short: what finished is kept
+    (``cut_short``; exit 3) and ``resume=True`` continues it.
+
+    Raises
+    ------
+    UsageError
+        A bad spec name (located), an unreachable scheduler, an ``out_dir``
+        that holds another campaign or finished tasks without ``resume``.
+    """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise UsageError(f"--workers {workers!r} must be >= 1", fix="e.g. --workers 2")
+    if scheduler is not None and workers is not None:
+        raise UsageError("--workers applies to the embedded cluster only", fix="drop --workers with --scheduler")
+    tasks = plan_tasks(spec)
+    store = ResultsStore(out_dir, spec, resume=resume)
+    cut = False
+    ran = lost = 0
+    try:
+        done = store.finished()
+        pending = [t for t in tasks if t.key not in done]
+        violated = sum(1 for r in store.rows() if r[3] == "violated")
+        if progress:
+            progress(len(done), len(tasks), violated)
+        if pending:
+            client, cluster = _client(scheduler, workers)
+            try:
+                from distributed import as_completed
+
+                by_key = {}
+                futures = []
+                for t in pending:
+                    fut = client.submit(run_task, t.as_dict(), key=f"swarmproof-{spec.digest[:12]}-{t.key}",
+                                        pure=False, retries=3)
+                    by_key[fut.key] = t
+                    futures.append(fut)
+                finished = len(done)
+                for fut in as_completed(futures):
+                    try:
+                        out = fut.result()
+                    except Exception:  # noqa: BLE001 - e.g. KilledWorker after the retries: the task stays unfinished
+                        lost += 1
+                        continue
+                    store.write(by_key[fut.key], out)
+                    ran += 1
+                    finished += 1
+                    violated += out["verdict"] == "violated"
+                    if progress:
+                        progress(finished, len(tasks), violated)
+            except KeyboardInterrupt:
+                cut = True
+            finally:
+                client.close()
+                if cluster is not None:
+                    cluster.close()
+        results = {}
+        for key, _cell, _kind, verdict, figures, cx in store.rows():
+            results[key] = {"verdict": verdict, "figures": json.loads(figures), "counterexample_path": cx}
+    finally:
+        store.close()
+    return CampaignResult(spec, tasks, results, out_dir, cut, ran)

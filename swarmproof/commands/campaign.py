@@ -1,0 +1,81 @@
+"""``swarmproof campaign SPEC``: a matrix of explorations and experiments on Dask (docs/campaigns.md).
+
+Runs every task of a ``swarmproof-campaign/1`` file on an embedded Dask
+``LocalCluster`` (one process per core; ``--workers N``) or on an existing
+cluster (``--scheduler tcp://HOST:PORT``); results stream into
+``DIR/results.sqlite`` and ``DIR/counterexamples/`` (``--out DIR``, default
+``campaign-NAME``), and ``DIR/report.md`` sums them up.  ``--resume`` runs
+only the unfinished tasks of a campaign that was cut short.
+
+Exit codes: 0 every task held; 1 a task found a violation (with a
+counterexample); 2 a bad spec, an unreachable scheduler, an unusable --out
+folder or a full disk (with the cause and the fix; what finished is kept);
+3 inconclusive or cut short (Ctrl-C: --resume continues it).
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+
+from swarmproof.commands import emit_json, human
+from swarmproof.models.errors import UsageError
+
+NAME = "campaign"
+HELP = "run a campaign file (explorations and experiments) on Dask, resumable"
+DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
+
+
+def add_arguments(p) -> None:
+    p.add_argument("spec", metavar="SPEC", help="a swarmproof-campaign/1 file (YAML or JSON; campaigns/ has examples)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="an existing Dask scheduler, e.g. tcp://127.0.0.1:8786 (default: an embedded local cluster)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="processes of the embedded cluster (default: one per core)")
+    p.add_argument("--out", metavar="DIR", help="results folder (default: campaign-NAME)")
+    p.add_argument("--resume", action="store_true", help="run only the tasks DIR does not hold yet")
+    p.add_argument("--json", action="store_true", help="print one JSON document on stdout (no wall-clock figures)")
+
+
+class _Bar:
+    """A self-overwriting progress bar on stderr (only on a terminal)."""
+
+    def __init__(self, stream) -> None:
+        self.stream = stream
+        self.width = max(20, shutil.get_terminal_size((80, 24)).columns - 1)
+
+    def __call__(self, done: int, total: int, violated: int) -> None:
+        frac = done / total if total else 1.0
+        bar = "#" * int(24 * frac)
+        text = f"campaign [{bar:<24}] {done}/{total} tasks, {violated} violated"
+        self.stream.write("\r\033[K" + text[: self.width])
+        self.stream.flush()
+
+    def clear(self) -> None:
+        self.stream.write("\r\033[K")
+        self.stream.flush()
+
+
+def run(args) -> int:
+    import os
+
+    from swarmproof.checkers.campaign import run_campaign
+    from swarmproof.checkers.campaign_report import format_summary, write_report
+    from swarmproof.models.campaign_spec import load_campaign_file
+
+    spec = load_campaign_file(args.spec)
+    out = args.out or f"campaign-{''.join(c if c.isalnum() or c in '-_' else '_' for c in spec.name)}"
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers {args.workers!r} must be >= 1", fix="e.g. --workers 2")
+    bar = _Bar(sys.stderr) if sys.stderr.isatty() else None
+    try:
+        result = run_campaign(spec, out_dir=out, scheduler=args.scheduler, workers=args.workers,
+                              resume=args.resume, progress=bar)
+    finally:
+        if bar is not None:
+            bar.clear()
+    report = write_report(result)
+    if args.json:
+        emit_json(result.to_json())
+    human(args, *format_summary(result), f"report: {report}; results: {os.path.join(out, 'results.sqlite')}")
+    return result.exit_code

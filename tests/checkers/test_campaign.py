@@ -1,0 +1,278 @@
+"""Campaigns on Dask (issue 18): the spec's located errors, tasks seeded from the spec, the same
+results store for 1 and 2 embedded workers and for a real `dask scheduler` with two `dask worker`
+processes on 127.0.0.1, resume, and nothing lost when the client or a worker is killed."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import sqlite3
+import subprocess
+import sys
+import time
+
+import pytest
+
+from swarmproof.checkers.campaign import plan_tasks, run_campaign
+from swarmproof.cli import main
+from swarmproof.models.campaign_spec import loads_campaign
+from swarmproof.models.errors import InputFileError
+
+SMALL = """\
+format: swarmproof-campaign/1
+name: small
+explore:
+  - algorithm: song2014
+    properties: [connectivity, tree_links]
+    robots: [3, 6]
+    seeds: [0, 1]
+    max_examples: 20
+simulate:
+  - algorithm: song2016
+    targets: [square]
+    robots: [6]
+    seeds: [0, 1]
+"""
+
+#: Tasks long enough (seconds each) to kill a process while some are finished and some are not.
+LONGER = """\
+format: swarmproof-campaign/1
+name: longer
+explore:
+  - algorithm: song2016
+    properties: [termination, formation]
+    robots: [3, 6]
+    seeds: [0, 1, 2, 3, 4, 5]
+    max_examples: 25
+"""
+
+BIN = os.path.dirname(sys.executable)
+
+
+def results_table(out_dir) -> list[tuple]:
+    con = sqlite3.connect(os.path.join(out_dir, "results.sqlite"))
+    try:
+        return list(con.execute("SELECT * FROM results ORDER BY task"))
+    finally:
+        con.close()
+
+
+def counterexamples(out_dir) -> dict[str, str]:
+    folder = os.path.join(out_dir, "counterexamples")
+    if not os.path.isdir(folder):
+        return {}
+    return {n: open(os.path.join(folder, n), encoding="utf-8").read() for n in sorted(os.listdir(folder))}
+
+
+BAD_SPECS = [
+    ("format", "format: swarmproof-campaign/2\nname: x\nexplore: [{algorithm: song2014}]\n",
+     "format='swarmproof-campaign/2' must be 'swarmproof-campaign/1'", 1, "format"),
+    ("unknown-key", "format: swarmproof-campaign/1\nname: x\nexplore:\n  - algorithm: song2014\n    robot: [3, 4]\n",
+     "key 'robot' is not known here", 5, "explore[0].robot"),
+    ("robots", "format: swarmproof-campaign/1\nname: x\nexplore:\n  - algorithm: song2014\n    robots: [0, 4]\n",
+     "explore[0].robots=[0, 4] must be [MIN, MAX]", 5, "explore[0].robots"),
+    ("seeds", "format: swarmproof-campaign/1\nname: x\nsimulate:\n  - algorithm: song2016\n    targets: [square]\n"
+              "    robots: [5]\n    seeds: [1, 1]\n", "repeats a seed", 7, "simulate[0].seeds"),
+    ("no-cells", "format: swarmproof-campaign/1\nname: x\n", "the campaign has no cells", 1, None),
+    ("yaml", "format: swarmproof-campaign/1\nname: [x\n", "malformed YAML", 3, None),
+    ("max-examples", "format: swarmproof-campaign/1\nname: x\nexplore:\n  - algorithm: song2014\n"
+                     "    max_examples: 0\n", "explore[0].max_examples=0 must be an integer in 1..", 5,
+     "explore[0].max_examples"),
+]
+
+
+@pytest.mark.parametrize("name, text, match, line, fld", BAD_SPECS, ids=[b[0] for b in BAD_SPECS])
+def test_bad_specs_are_located(name, text, match, line, fld):
+    with pytest.raises(InputFileError) as info:
+        loads_campaign(text, "spec.yaml")
+    msg = str(info.value)
+    assert match in msg and f"spec.yaml:{line}:" in msg and "fix: " in msg, msg
+    if fld:
+        assert f"field '{fld}'" in msg
+
+
+@pytest.mark.parametrize("text, match, fld", [
+    (SMALL.replace("algorithm: song2014", "algorithm: song2099"), "algorithm='song2099' is not known",
+     "explore[0].algorithm"),
+    (SMALL.replace("[connectivity, tree_links]", "[connectivity, speed]"), "property='speed' is not registered",
+     "explore[0].properties[1]"),
+    (SMALL.replace("targets: [square]", "targets: [squircle]"), "squircle", "simulate[0].targets[0]"),
+], ids=["algorithm", "property", "target"])
+def test_unknown_names_are_located(text, match, fld):
+    with pytest.raises(InputFileError) as info:
+        plan_tasks(loads_campaign(text, "spec.yaml"))
+    assert match in str(info.value) and f"field '{fld}'" in str(info.value)
+
+
+def test_tasks_are_seeded_from_the_spec():
+    keys = [t.key for t in plan_tasks(loads_campaign(SMALL))]
+    assert keys == ["explore[0]/connectivity/seed0", "explore[0]/connectivity/seed1",
+                    "explore[0]/tree_links/seed0", "explore[0]/tree_links/seed1",
+                    "simulate[0]/square/n6/seed0", "simulate[0]/square/n6/seed1"]
+
+
+def test_same_results_for_one_and_two_workers_json_and_resume(tmp_path, capsys):
+    spec = tmp_path / "small.yaml"
+    spec.write_text(SMALL)
+    outs = []
+    for workers in ("1", "2"):
+        out = str(tmp_path / f"w{workers}")
+        code = main(["campaign", str(spec), "--out", out, "--workers", workers, "--json"])
+        doc = json.loads(capsys.readouterr().out)
+        assert code == 1                      # song2014 breaks connectivity (not claimed) and tree links
+        outs.append((out, doc))
+    (a, da), (b, db) = outs
+    assert results_table(a) == results_table(b) and len(results_table(a)) == 6
+    assert counterexamples(a) == counterexamples(b) and counterexamples(a)
+    da.pop("out"), db.pop("out")
+    assert da == db and "seconds" not in json.dumps(da)
+    cells = {c["cell"]: c for c in da["cells"]}
+    assert cells["explore[0] song2014 n=3..6"]["verdict"] == "violated"
+    assert cells["simulate[0] song2016"]["counts"] == {"held": 2, "violated": 0, "inconclusive": 0}
+    # a second run into the same folder needs --resume, which then runs nothing
+    assert main(["campaign", str(spec), "--out", a]) == 2
+    assert "--resume" in capsys.readouterr().err
+    assert main(["campaign", str(spec), "--out", a, "--resume"]) == 1
+    assert "6/6 tasks finished, 0 run now" in capsys.readouterr().out
+    report = open(os.path.join(a, "report.md"), encoding="utf-8").read()
+    assert "| explore[0] song2014 n=3..6 | violated |" in report and os.path.exists(os.path.join(a, "plots",
+                                                                                                 "simulate-0.png"))
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _start_cluster(tmp_path, n_workers=2):
+    port = _free_port()
+    addr = f"tcp://127.0.0.1:{port}"
+    log = open(tmp_path / "dask.log", "w")
+    procs = [subprocess.Popen([os.path.join(BIN, "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port),
+                               "--no-dashboard"], stdout=log, stderr=log, start_new_session=True)]
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        try:
+            socket.create_connection(("127.0.0.1", port), timeout=1).close()
+            break
+        except OSError:
+            time.sleep(0.2)
+    for _ in range(n_workers):
+        procs.append(subprocess.Popen([os.path.join(BIN, "dask"), "worker", addr, "--nworkers", "1", "--nthreads",
+                                       "1", "--no-dashboard", "--no-nanny"], stdout=log, stderr=log,
+                                      cwd=str(tmp_path), start_new_session=True))
+    from distributed import Client
+
+    with Client(addr, timeout="30s") as c:
+        c.wait_for_workers(n_workers, timeout=60)
+    return addr, procs
+
+
+def _stop(procs) -> None:
+    for p in procs:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGTERM)
+    for p in procs:
+        try:
+            p.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+
+
+def test_real_scheduler_and_workers_give_the_embedded_results(tmp_path):
+    spec = loads_campaign(SMALL)
+    run_campaign(spec, out_dir=str(tmp_path / "embedded"), workers=2)
+    addr, procs = _start_cluster(tmp_path)
+    try:
+        res = run_campaign(spec, out_dir=str(tmp_path / "remote"), scheduler=addr)
+    finally:
+        _stop(procs)
+    assert res.exit_code == 1 and res.ran == 6
+    assert results_table(tmp_path / "remote") == results_table(tmp_path / "embedded")
+    assert counterexamples(tmp_path / "remote") == counterexamples(tmp_path / "embedded")
+
+
+def test_unreachable_scheduler_exit_2(tmp_path, capsys):
+    spec = tmp_path / "small.yaml"
+    spec.write_text(SMALL)
+    port = _free_port()
+    code = main(["campaign", str(spec), "--out", str(tmp_path / "o"), "--scheduler", f"tcp://127.0.0.1:{port}"])
+    err = capsys.readouterr().err
+    assert code == 2 and "cannot be reached" in err and "fix: start it with `dask scheduler`" in err
+    assert "Traceback" not in err
+    assert results_table(tmp_path / "o") == []          # the store is there and readable, empty
+
+
+def _rows_when(out_dir, at_least: int, proc, timeout=240) -> int:
+    path = os.path.join(out_dir, "results.sqlite")
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if os.path.exists(path):
+            try:
+                n = len(results_table(out_dir))
+            except sqlite3.Error:
+                n = 0
+            if n >= at_least:
+                return n
+        assert proc.poll() is None, "the campaign ended before it could be killed"
+        time.sleep(0.1)
+    raise AssertionError("no task finished in time")
+
+
+def test_a_killed_client_loses_nothing_that_finished(tmp_path):
+    spec = tmp_path / "longer.yaml"
+    spec.write_text(LONGER)
+    full = tmp_path / "full"
+    assert main(["campaign", str(spec), "--out", str(full), "--workers", "2"]) in (0, 1)
+    out = tmp_path / "killed"
+    proc = subprocess.Popen([os.path.join(BIN, "swarmproof"), "campaign", str(spec), "--out", str(out),
+                             "--workers", "2"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+    n = _rows_when(out, 2, proc)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    before = results_table(out)                       # the store is readable after the kill
+    assert len(before) >= n and len(before) < 12
+    assert main(["campaign", str(spec), "--out", str(out), "--workers", "2", "--resume"]) in (0, 1)
+    assert results_table(out) == results_table(full)
+    assert set(before) <= set(results_table(out))     # what finished was kept, not redone differently
+
+
+def test_a_killed_worker_loses_nothing(tmp_path):
+    spec = loads_campaign(LONGER)
+    run_campaign(spec, out_dir=str(tmp_path / "full"), workers=2)
+    addr, procs = _start_cluster(tmp_path)
+    import threading
+
+    result = {}
+
+    def go():
+        result["r"] = run_campaign(spec, out_dir=str(tmp_path / "remote"), scheduler=addr)
+    th = threading.Thread(target=go)
+    th.start()
+    try:
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and not os.path.exists(tmp_path / "remote" / "results.sqlite"):
+            time.sleep(0.1)
+        while time.monotonic() < deadline and len(results_table(tmp_path / "remote")) < 1:
+            time.sleep(0.1)
+        os.killpg(procs[1].pid, signal.SIGKILL)       # one worker dies mid-campaign
+        th.join(timeout=600)
+    finally:
+        _stop(procs)
+    assert not th.is_alive()
+    assert result["r"].exit_code in (0, 1) and len(result["r"].results) == 12
+    assert results_table(tmp_path / "remote") == results_table(tmp_path / "full")
+
+
+@pytest.mark.parametrize("name, tasks", [("song2014-oscillation.yaml", 24), ("paper-statistics.yaml", 1230)])
+def test_shipped_campaigns_load_and_plan(name, tasks):
+    from swarmproof.models.campaign_spec import load_campaign_file
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    planned = plan_tasks(load_campaign_file(os.path.join(root, "campaigns", name)))
+    assert len(planned) == tasks and len({t.key for t in planned}) == tasks
