@@ -363,7 +363,8 @@ def _client(scheduler: str | None, workers: int | None):
             raise UsageError(f"--scheduler {scheduler!r} is not a scheduler address ({exc})",
                              fix="e.g. --scheduler tcp://127.0.0.1:8786") from None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+    # dashboard_address=":0": any free port (the HTTP server cannot be switched off; 8787 may be taken)
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
