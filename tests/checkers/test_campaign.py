@@ -276,3 +276,14 @@ def test_shipped_campaigns_load_and_plan(name, tasks):
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     planned = plan_tasks(load_campaign_file(os.path.join(root, "campaigns", name)))
     assert len(planned) == tasks and len({t.key for t in planned}) == tasks
+
+
+def test_the_oscillation_campaign_finding_replays():
+    """docs/explorer.md: the 100-seed run of campaigns/song2014-oscillation.yaml found song2014's
+    robot 22 going back and forth (28 robots, square); the kept file must still reproduce."""
+    from swarmproof.checkers.replay import replay_file
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    rr = replay_file(os.path.join(root, "campaigns", "findings", "song2014-oscillation-28-robots.json"))
+    assert rr.reproduced and rr.step == 288
+    assert rr.verdict.message.startswith("robot 22 came back within 1e-06 of its position at step 125")
