@@ -207,17 +207,22 @@ def test_unreachable_scheduler_exit_2(tmp_path, capsys):
     assert results_table(tmp_path / "o") == []          # the store is there and readable, empty
 
 
+def _finished(out_dir) -> int:
+    """Rows of a store another process or thread is writing (0 until its tables exist)."""
+    if not os.path.exists(os.path.join(out_dir, "results.sqlite")):
+        return 0
+    try:
+        return len(results_table(out_dir))
+    except sqlite3.Error:          # the file exists a moment before its tables do
+        return 0
+
+
 def _rows_when(out_dir, at_least: int, proc, timeout=240) -> int:
-    path = os.path.join(out_dir, "results.sqlite")
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        if os.path.exists(path):
-            try:
-                n = len(results_table(out_dir))
-            except sqlite3.Error:
-                n = 0
-            if n >= at_least:
-                return n
+        n = _finished(out_dir)
+        if n >= at_least:
+            return n
         assert proc.poll() is None, "the campaign ended before it could be killed"
         time.sleep(0.1)
     raise AssertionError("no task finished in time")
@@ -256,9 +261,8 @@ def test_a_killed_worker_loses_nothing(tmp_path):
     th.start()
     try:
         deadline = time.monotonic() + 240
-        while time.monotonic() < deadline and not os.path.exists(tmp_path / "remote" / "results.sqlite"):
-            time.sleep(0.1)
-        while time.monotonic() < deadline and len(results_table(tmp_path / "remote")) < 1:
+        while time.monotonic() < deadline and _finished(tmp_path / "remote") < 1:
+            assert th.is_alive(), "the campaign ended before a worker could be killed"
             time.sleep(0.1)
         os.killpg(procs[1].pid, signal.SIGKILL)       # one worker dies mid-campaign
         th.join(timeout=600)
