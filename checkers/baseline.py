@@ -332,6 +332,10 @@ class Comparison:
     changes: list[Change]
     baseline: Baseline
     strict: bool = False
+    _by_key: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self._by_key = {c.key: c for c in self.changes}
 
     def of(self, outcome: str) -> list[Change]:
         return [c for c in self.changes if c.outcome == outcome]
@@ -344,27 +348,41 @@ class Comparison:
     def new_inconclusive(self) -> list[Change]:
         return [c for c in self.of("new") if c.verdict is Verdict.INCONCLUSIVE and c.claim is not None]
 
+    def fails(self, c: Change) -> bool:
+        """Whether ``c`` fails the gate (exit 1): a regression, a new kind of failure in a
+        known-violated row, a new claimed violation; with ``strict`` an improvement or a resize."""
+        if c.outcome in ("regressed", "changed"):
+            return True
+        if c.outcome == "new":
+            return c.verdict is Verdict.VIOLATED and c.claim is not None
+        return self.strict and c.outcome in ("improved", "resized")
+
+    def undecided(self, c: Change) -> bool:
+        """Whether ``c`` makes the gate inconclusive (exit 3, when nothing fails)."""
+        if c.outcome in ("inconclusive", "weakened"):
+            return True
+        return c.outcome == "new" and c.verdict is Verdict.INCONCLUSIVE and c.claim is not None
+
     @property
     def failing(self) -> list[Change]:
         """The changes that make the gate fail (exit 1)."""
-        bad = self.of("regressed") + self.of("changed") + self.new_violations
-        if self.strict:
-            bad += self.of("improved") + self.of("resized")
-        return bad
+        return [c for c in self.changes if self.fails(c)]
 
     @property
     def exit_code(self) -> int:
         if self.failing:
             return EXIT_VIOLATED
-        if self.of("inconclusive") or self.of("weakened") or self.new_inconclusive:
+        if any(self.undecided(c) for c in self.changes):
             return EXIT_INCONCLUSIVE
         return EXIT_OK
 
+    def change_of(self, key) -> Change | None:
+        """The change of the row ``(section, subject, property)``, None when there is none."""
+        return self._by_key.get(tuple(key))
+
     def outcome_of(self, key) -> str | None:
-        for c in self.changes:
-            if c.key == key:
-                return c.outcome
-        return None
+        c = self.change_of(key)
+        return None if c is None else c.outcome
 
     def counts(self) -> dict[str, int]:
         out = {o: len(self.of(o)) for o in OUTCOMES}

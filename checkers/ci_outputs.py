@@ -28,41 +28,28 @@ from swarmproof.models.verdict import Verdict
 
 __all__ = ["row_status", "junit_xml", "write_junit", "markdown", "write_markdown", "row_steps"]
 
-#: Outcomes of a baseline comparison that fail the gate (``improved`` and
-#: ``resized`` only with ``--strict``).
-_FAILING = ("regressed", "changed")
-
-
 def row_status(report, row) -> tuple[str, str]:
-    """``(kind, message)`` of one row: kind is ``failure``, ``error``, ``skipped`` or ``passed``."""
+    """``(kind, message)`` of one row: kind is ``failure``, ``error``, ``skipped`` or ``passed``,
+    as the exit code judges it (with a baseline: :meth:`~swarmproof.checkers.baseline.Comparison.fails`
+    and :meth:`~swarmproof.checkers.baseline.Comparison.undecided`)."""
     cmp_ = report.comparison
-    outcome = report.outcome(row)
     if cmp_ is None:
         if row.verdict is Verdict.VIOLATED:
             return ("failure", f"violated [{row.claim}]") if row.claimed else ("skipped", "finding (not claimed)")
         if row.verdict is Verdict.INCONCLUSIVE:
             return ("error", f"inconclusive [{row.claim}]") if row.claimed else ("skipped", "inconclusive (not claimed)")
         return ("passed", row.verdict.value)
-    if outcome in _FAILING or (cmp_.strict and outcome in ("improved", "resized")):
-        return ("failure", f"{outcome}: {_note(cmp_, row)}")
-    if outcome == "new" and row.claimed and row.verdict is Verdict.VIOLATED:
-        return ("failure", f"new claimed violation [{row.claim}]")
-    if outcome in ("inconclusive", "weakened") or (outcome == "new" and row.claimed
-                                                   and row.verdict is Verdict.INCONCLUSIVE):
-        return ("error", f"{outcome}: {_note(cmp_, row) or 'inconclusive'}")
+    c = cmp_.change_of((row.section, row.subject, row.property))
+    outcome = None if c is None else c.outcome
+    if c is not None and cmp_.fails(c):
+        return ("failure", f"new claimed violation [{row.claim}]" if outcome == "new" else f"{outcome}: {c.note}")
+    if c is not None and cmp_.undecided(c):
+        return ("error", f"{outcome}: {c.note or 'inconclusive'}")
     if row.verdict is Verdict.VIOLATED:
         return ("skipped", "known finding (baseline)" if outcome in ("known", "resized") else "finding (not claimed)")
     if row.verdict is Verdict.INCONCLUSIVE:
         return ("skipped", "inconclusive (not claimed)")
-    return ("passed", row.verdict.value if outcome != "improved" else f"improved: {_note(cmp_, row)}")
-
-
-def _note(cmp_, row) -> str:
-    key = (row.section, row.subject, row.property)
-    for c in cmp_.changes:
-        if c.key == key:
-            return c.note
-    return ""
+    return ("passed", row.verdict.value if outcome != "improved" else f"improved: {c.note}")
 
 
 def row_steps(row) -> list[str]:
