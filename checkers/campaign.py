@@ -158,9 +158,7 @@ def _simulate_task(a: dict) -> dict:
     cx = None
     for p in claimed:
         if verdicts[p][0] is Verdict.VIOLATED:
-            res = getattr(checked, p if p != "formation" else "satisfaction", None)
-            step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
-            cx = run_counterexample(checked, p, verdicts[p][1], step, ref=spec.ref).as_dict()
+            cx = run_counterexample(checked, p, verdicts[p][1], ref=spec.ref).as_dict()
             break
     figures = {k: doc.get(k) for k in ("status", "steps", "execution_steps", "satisfied", "fulfillment_ratio",
                                         "connected_throughout", "total_distance", "min_separation")}

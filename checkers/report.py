@@ -317,17 +317,20 @@ def simulate_command(algorithm: str, target: str, robots: int, seed: int) -> str
     return f"swarmproof simulate {algorithm} --target {target} --robots {robots} --seed {seed}"
 
 
-def run_counterexample(checked, prop: str, message: str, step, ref: str | None = None):
+def run_counterexample(checked, prop: str, message: str, ref: str | None = None):
     """A ``swarmproof-counterexample/1`` of one seeded run whose ``prop`` was violated, for
     ``swarmproof replay`` (the same algorithm, start, seed and parameters; the property is
     judged by the registry, as the run was).  ``ref`` is what the file names as the algorithm
-    (``module:qualname`` of a user's class; default the algorithm's registry name); a leading
+    (``module:qualname`` of a user's class; default the algorithm's registry name).  The
+    violation's step is the step of the property's witness (None when it has none); a leading
     ``step N:`` of the message is left to the file's ``violation.step``."""
     import re
 
     from swarmproof.checkers.explore import cx_params
     from swarmproof.models.counterexample import Counterexample
 
+    res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
+    step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
     init = checked.initial
     target = checked.lattice
     is_lattice = getattr(target, "kind", "lattice") == "lattice"
@@ -391,10 +394,8 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                 if verdict is Verdict.VIOLATED and prop in first_bad:
                     seed, checked, msg = first_bad[prop]
                     data["reproduce"] = simulate_command(subj.ref, lname, robots, seed)
-                    res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
-                    step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
-                    data["violation"] = {"seed": seed, "step": step, "message": msg}
-                    cx = run_counterexample(checked, prop, msg, step, ref=subj.ref)
+                    cx = run_counterexample(checked, prop, msg, ref=subj.ref)
+                    data["violation"] = {"seed": seed, "step": cx.violation["step"], "message": msg}
                     if out_dir is not None:
                         os.makedirs(out_dir, exist_ok=True)
                         data["counterexample"] = cx.save(os.path.join(
