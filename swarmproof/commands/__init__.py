@@ -51,3 +51,23 @@ def add_tree_link_mode(p) -> None:
                         "tree the step decided, newly chosen ones included), standing (links held before the step) "
                         "or persistent (links held before and after it: does not see a link that breaks in the "
                         "step it was chosen)")
+
+
+class StatusLine:
+    """One self-overwriting status line on stderr, ``PREFIX: text`` cut to the terminal's width
+    (commands create it only when stderr is a terminal)."""
+
+    def __init__(self, stream, prefix: str) -> None:
+        import shutil
+
+        self.stream = stream
+        self.prefix = prefix
+        self.width = max(20, shutil.get_terminal_size((80, 24)).columns - 1)
+
+    def __call__(self, text: str) -> None:
+        self.stream.write("\r\033[K" + f"{self.prefix}: {text}"[: self.width])
+        self.stream.flush()
+
+    def clear(self) -> None:
+        self.stream.write("\r\033[K")
+        self.stream.flush()

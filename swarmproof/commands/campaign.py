@@ -15,10 +15,9 @@ folder or a full disk (with the cause and the fix; what finished is kept);
 
 from __future__ import annotations
 
-import shutil
 import sys
 
-from swarmproof.commands import emit_json, human
+from swarmproof.commands import StatusLine, emit_json, human
 from swarmproof.models.errors import UsageError
 
 NAME = "campaign"
@@ -37,23 +36,12 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout (no wall-clock figures)")
 
 
-class _Bar:
-    """A self-overwriting progress bar on stderr (only on a terminal)."""
-
-    def __init__(self, stream) -> None:
-        self.stream = stream
-        self.width = max(20, shutil.get_terminal_size((80, 24)).columns - 1)
+class _Bar(StatusLine):
+    """The campaign's progress bar: a :class:`~swarmproof.commands.StatusLine` fed task counts."""
 
     def __call__(self, done: int, total: int, violated: int) -> None:
         frac = done / total if total else 1.0
-        bar = "#" * int(24 * frac)
-        text = f"campaign [{bar:<24}] {done}/{total} tasks, {violated} violated"
-        self.stream.write("\r\033[K" + text[: self.width])
-        self.stream.flush()
-
-    def clear(self) -> None:
-        self.stream.write("\r\033[K")
-        self.stream.flush()
+        super().__call__(f"[{'#' * int(24 * frac):<24}] {done}/{total} tasks, {violated} violated")
 
 
 def run(args) -> int:
@@ -67,7 +55,7 @@ def run(args) -> int:
     out = args.out or f"campaign-{''.join(c if c.isalnum() or c in '-_' else '_' for c in spec.name)}"
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers {args.workers!r} must be >= 1", fix="e.g. --workers 2")
-    bar = _Bar(sys.stderr) if sys.stderr.isatty() else None
+    bar = _Bar(sys.stderr, "campaign") if sys.stderr.isatty() else None
     try:
         result = run_campaign(spec, out_dir=out, scheduler=args.scheduler, workers=args.workers,
                               resume=args.resume, progress=bar)

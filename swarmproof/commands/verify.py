@@ -23,10 +23,9 @@ write the matrix for CI systems (:mod:`swarmproof.checkers.ci_outputs`).
 
 from __future__ import annotations
 
-import shutil
 import sys
 
-from swarmproof.commands import emit_json, human
+from swarmproof.commands import StatusLine, emit_json, human
 from swarmproof.models.errors import UsageError
 
 NAME = "verify"
@@ -78,22 +77,6 @@ def add_arguments(p) -> None:
                    help=f"exploration: Hypothesis seed (default: the baseline's gate, else {report.VERIFY_EXPLORE_SEED})")
 
 
-class _TtyProgress:
-    """One self-overwriting status line on stderr (only used when stderr is a terminal)."""
-
-    def __init__(self, stream) -> None:
-        self.stream = stream
-        self.width = max(20, shutil.get_terminal_size((80, 24)).columns - 1)
-
-    def __call__(self, text: str) -> None:
-        self.stream.write("\r\033[K" + f"verify: {text}"[: self.width])
-        self.stream.flush()
-
-    def clear(self) -> None:
-        self.stream.write("\r\033[K")
-        self.stream.flush()
-
-
 def run(args) -> int:
     from swarmproof.checkers.gate import check_gone, verify
     from swarmproof.commands.explore import parse_robots
@@ -102,7 +85,7 @@ def run(args) -> int:
     for opt in ("junit", "markdown", "html"):
         if getattr(args, opt) is not None:
             check_output_path(getattr(args, opt), f"--{opt}")
-    progress = _TtyProgress(sys.stderr) if sys.stderr.isatty() else None
+    progress = StatusLine(sys.stderr, "verify") if sys.stderr.isatty() else None
     try:
         report = verify(algorithms=args.algorithms, sections=args.section, properties=args.properties,
                         baseline=args.baseline, update_baseline=args.update_baseline, strict=args.strict,

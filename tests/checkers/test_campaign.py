@@ -291,3 +291,16 @@ def test_the_oscillation_campaign_finding_replays():
     rr = replay_file(os.path.join(root, "campaigns", "findings", "song2014-oscillation-28-robots.json"))
     assert rr.reproduced and rr.step == 288
     assert rr.verdict.message.startswith("robot 22 came back within 1e-06 of its position at step 125")
+
+
+def test_progress_bar_overwrites_one_line():
+    import io
+
+    from swarmproof.commands.campaign import _Bar
+
+    buf = io.StringIO()
+    bar = _Bar(buf, "campaign")
+    bar.width = 60
+    bar(3, 12, 1)
+    bar.clear()
+    assert buf.getvalue() == "\r\x1b[Kcampaign: [######                  ] 3/12 tasks, 1 violated\r\x1b[K"

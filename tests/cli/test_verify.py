@@ -105,10 +105,10 @@ def test_unknown_section_exit_2():
 def test_tty_progress_overwrites_one_line():
     import io
 
-    from swarmproof.commands.verify import _TtyProgress
+    from swarmproof.commands import StatusLine
 
     buf = io.StringIO()
-    show = _TtyProgress(buf)
+    show = StatusLine(buf, "verify")
     show.width = 30
     show("lemmas: bounded_range")
     show("exploration: song2014 connectivity: example 3 (max 300 + shrinking)")
