@@ -60,7 +60,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
 
-from swarmproof.models.errors import InputFileError, UsageError
+from swarmproof.models.errors import InputFileError
 from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, Verdict
 
 __all__ = ["BASELINE_FORMAT", "Expected", "Baseline", "Change", "Comparison", "compare", "signature",

@@ -197,8 +197,9 @@ def run_task(task: dict) -> dict:
 def _cx_name(cx: dict) -> str:
     body = {k: v for k, v in cx.items() if k != "made_by"}
     digest = hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()[:16]
-    safe = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in f"{cx['algorithm']}-{cx['property']}")
-    return f"{safe}-{digest}.json"
+    from swarmproof.checkers.explore import _safe
+
+    return f"{_safe(cx['algorithm'] + '-' + cx['property'])}-{digest}.json"
 
 
 class ResultsStore:

@@ -134,23 +134,21 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
         for name in sections:
             if name not in report_mod.SECTIONS:
                 raise UsageError(f"section={name!r} is not known", fix=f"use one of {list(report_mod.SECTIONS)!r}")
+    explore_props = None
     if properties is not None:
         from swarmproof.checkers.explore import explore_properties
 
-        known = set(explore_properties()) | set(report_mod.RUN_PROPERTIES)
+        registered = explore_properties()
+        known = set(registered) | set(report_mod.RUN_PROPERTIES)
         for prop in properties:
             if prop not in known:
                 raise UsageError(f"--property {prop!r} is not a property of verify's rows",
                                  fix=f"use one of {sorted(known)!r}")
         properties = list(properties)
+        explore_props = [p for p in registered if p in properties]
     subjects = report_mod.verify_subjects(None if algorithms is None else tuple(algorithms))
     wanted = sections or (["algorithms", "exploration"] if algorithms else list(report_mod.SECTIONS))
     ordered = [s for s in report_mod.SECTIONS if s in wanted]
-    explore_props = None
-    if properties is not None:
-        from swarmproof.checkers.explore import explore_properties
-
-        explore_props = [p for p in explore_properties() if p in properties]
     rep = report_mod.run_report(ordered, progress=progress, options={
         "exploration": {"max_examples": gate["max_examples"], "robots": tuple(gate["robots"]),
                         "seed": gate["seed"], "out_dir": out_dir, "properties": explore_props,

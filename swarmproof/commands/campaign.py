@@ -18,7 +18,6 @@ from __future__ import annotations
 import sys
 
 from swarmproof.commands import StatusLine, emit_json, human
-from swarmproof.models.errors import UsageError
 
 NAME = "campaign"
 HELP = "run a campaign file (explorations and experiments) on Dask, resumable"
@@ -51,10 +50,10 @@ def run(args) -> int:
     from swarmproof.checkers.campaign_report import format_summary, write_report
     from swarmproof.models.campaign_spec import load_campaign_file
 
+    from swarmproof.checkers.explore import _safe
+
     spec = load_campaign_file(args.spec)
-    out = args.out or f"campaign-{''.join(c if c.isalnum() or c in '-_' else '_' for c in spec.name)}"
-    if args.workers is not None and args.workers < 1:
-        raise UsageError(f"--workers {args.workers!r} must be >= 1", fix="e.g. --workers 2")
+    out = args.out or f"campaign-{_safe(spec.name)}"     # run_campaign checks --workers first
     bar = _Bar(sys.stderr, "campaign") if sys.stderr.isatty() else None
     try:
         result = run_campaign(spec, out_dir=out, scheduler=args.scheduler, workers=args.workers,

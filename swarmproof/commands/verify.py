@@ -26,7 +26,6 @@ from __future__ import annotations
 import sys
 
 from swarmproof.commands import StatusLine, emit_json, human
-from swarmproof.models.errors import UsageError
 
 NAME = "verify"
 HELP = "run every check over the bundled library (or your algorithms) and print the property matrix"
