@@ -202,6 +202,11 @@ def _cx_name(cx: dict) -> str:
     return f"{_safe(cx['algorithm'] + '-' + cx['property'])}-{digest}.json"
 
 
+def _no_space(exc: sqlite3.Error) -> bool:
+    """Whether SQLite failed for want of disk space (SQLITE_FULL), not for a bad file."""
+    return getattr(exc, "sqlite_errorcode", None) == sqlite3.SQLITE_FULL or "disk is full" in str(exc)
+
+
 class ResultsStore:
     """``DIR/results.sqlite`` and ``DIR/counterexamples/``; written by the campaign's client only."""
 
@@ -223,6 +228,9 @@ class ResultsStore:
                                  "counterexample TEXT)")
                 self.con.execute("CREATE TABLE IF NOT EXISTS timings(task TEXT PRIMARY KEY, seconds REAL, worker TEXT)")
         except sqlite3.DatabaseError as exc:
+            if _no_space(exc):
+                raise UsageError(f"--out {out_dir!r}: {self.path} cannot be written ({exc})",
+                                 fix="free disk space, or give --out a folder on another disk") from None
             raise UsageError(f"--out {out_dir!r}: {self.path} is not a readable results store ({exc})",
                              fix="give another --out folder, or delete the file") from None
         meta = dict(self.con.execute("SELECT key, value FROM meta"))

@@ -304,3 +304,98 @@ def test_progress_bar_overwrites_one_line():
     bar(3, 12, 1)
     bar.clear()
     assert buf.getvalue() == "\r\x1b[Kcampaign: [######                  ] 3/12 tasks, 1 violated\r\x1b[K"
+
+
+#: Run inside a private mount namespace (``unshare``): a small tmpfs is the results folder's disk.
+#: The campaign starts, the disk is filled once two tasks are recorded, the campaign must stop with
+#: exit 2 naming the cause and the fix, the store must stay readable, and after freeing the space
+#: ``--resume`` must finish it with the table of an uninterrupted run.  Prints one JSON document.
+_FULL_DISK_SCRIPT = r"""
+import json, os, sqlite3, subprocess, sys, time
+disk, spec, exe = sys.argv[1], sys.argv[2], sys.argv[3]
+subprocess.run(["mount", "-t", "tmpfs", "-o", "size=4m", "tmpfs", disk], check=True)
+out = os.path.join(disk, "out")
+def rows():
+    try:
+        con = sqlite3.connect(os.path.join(out, "results.sqlite"))
+        try:
+            return list(con.execute("SELECT * FROM results ORDER BY task"))
+        finally:
+            con.close()
+    except sqlite3.Error:
+        return None
+def fill():
+    fd = os.open(os.path.join(disk, "filler"), os.O_WRONLY | os.O_CREAT | os.O_APPEND)
+    try:
+        while True:
+            os.write(fd, b"\0" * 4096)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+doc = {}
+# 1. the disk is full before anything is written
+fill()
+p = subprocess.run([exe, "campaign", spec, "--out", out, "--workers", "2"], capture_output=True, text=True)
+doc["full_at_start"] = {"code": p.returncode, "err": p.stderr}
+os.unlink(os.path.join(disk, "filler"))
+subprocess.run(["rm", "-rf", out], check=True)
+# 2. the disk fills up while the campaign runs
+proc = subprocess.Popen([exe, "campaign", spec, "--out", out, "--workers", "2"],
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+deadline = time.monotonic() + 240
+while time.monotonic() < deadline and len(rows() or []) < 2 and proc.poll() is None:
+    time.sleep(0.05)
+fill()
+o, e = proc.communicate(timeout=600)
+doc["full_midway"] = {"code": proc.returncode, "err": e, "rows": rows()}
+os.unlink(os.path.join(disk, "filler"))
+# 3. space freed: --resume finishes it
+p = subprocess.run([exe, "campaign", spec, "--out", out, "--workers", "2", "--resume"],
+                   capture_output=True, text=True)
+doc["resumed"] = {"code": p.returncode, "err": p.stderr, "rows": rows()}
+print(json.dumps(doc))
+"""
+
+
+def _namespace_prefix() -> list[str] | None:
+    """``unshare`` arguments that give a private mount namespace where tmpfs can be mounted, or None."""
+    import shutil
+
+    if shutil.which("unshare") is None:
+        return None
+    for prefix in (["unshare", "-rm"], ["unshare", "-m"]):
+        ok = subprocess.run(prefix + ["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", "/mnt"],
+                            capture_output=True).returncode == 0
+        if ok:
+            return prefix
+    return None
+
+
+def test_a_full_disk_stops_with_exit_2_and_a_readable_store(tmp_path):
+    """DESIGN §5: a full disk is exit 2 with the cause; issue 18: the results store stays readable."""
+    prefix = _namespace_prefix()
+    if prefix is None:
+        pytest.skip("no private mount namespace here (unshare -rm / -m) to make a small full disk")
+    spec = tmp_path / "longer.yaml"
+    spec.write_text(LONGER)
+    run_campaign(loads_campaign(LONGER), out_dir=str(tmp_path / "full"), workers=2)
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    script = tmp_path / "full_disk.py"
+    script.write_text(_FULL_DISK_SCRIPT)
+    p = subprocess.run(prefix + [sys.executable, str(script), str(disk), str(spec), os.path.join(BIN, "swarmproof")],
+                       capture_output=True, text=True, timeout=900)
+    assert p.returncode == 0, p.stderr
+    doc = json.loads(p.stdout)
+    start = doc["full_at_start"]
+    assert start["code"] == 2 and "disk is full" in start["err"] and "fix: free disk space" in start["err"], start
+    assert "Traceback" not in start["err"]
+    mid = doc["full_midway"]
+    assert mid["code"] == 2, mid
+    assert "disk is full" in mid["err"] or "No space left on device" in mid["err"], mid
+    assert "fix: free disk space, then run again with --resume" in mid["err"] and "Traceback" not in mid["err"]
+    assert mid["rows"] is not None and 2 <= len(mid["rows"]) < 12      # readable, and what finished is kept
+    full = [list(r) for r in results_table(tmp_path / "full")]
+    assert all(r in full for r in mid["rows"])
+    assert doc["resumed"]["code"] in (0, 1) and doc["resumed"]["rows"] == full
