@@ -2,8 +2,11 @@
 
 The verdict matrix (one line per cell: verdict, held / violated /
 inconclusive counts, the fewest scenarios before a first failure, the
-smallest counterexample), then, for each experiment cell, its metrics by team
-size (mean over seeds: execution steps, total distance) and a plot of them.
+smallest counterexample), then, for each experiment cell, its figures by
+target and team size (mean ± sample standard deviation over seeds: execution
+steps, total distance, fulfillment ratio; runs that ended, satisfied
+the target, violated a claimed property) and a plot of execution steps and
+fulfillment ratio against team size.
 Deterministic: no wall-clock figure (the timings stay in the store's
 ``timings`` table).
 """
@@ -12,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["format_summary", "markdown", "write_report", "plot_experiment"]
+__all__ = ["format_summary", "markdown", "write_report", "plot_experiment", "mean_sd"]
 
 
 def _counts(c: dict) -> str:
@@ -53,29 +56,79 @@ def _experiment_rows(result, cell_label: str) -> dict:
     return out
 
 
+def _numbers(xs) -> list[float]:
+    return [float(x) for x in xs if isinstance(x, (int, float)) and not isinstance(x, bool)]
+
+
 def _mean(xs):
-    xs = [float(x) for x in xs if isinstance(x, (int, float))]
+    xs = _numbers(xs)
     return None if not xs else sum(xs) / len(xs)
 
 
+def mean_sd(xs) -> str:
+    """``mean ± sd`` (sample standard deviation, as benchmarks/bench_song2014.py) of the numbers in
+    ``xs``; the mean alone for one number; empty for none.
+
+    >>> mean_sd([1, 2, 3, None])
+    '2 ± 1'
+    >>> mean_sd([0.5]), mean_sd([None])
+    ('0.5', '')
+    """
+    import statistics
+
+    xs = _numbers(xs)
+    if not xs:
+        return ""
+    if len(xs) == 1:
+        return f"{xs[0]:.3g}"
+    return f"{statistics.mean(xs):.3g} ± {statistics.stdev(xs):.2g}"
+
+
+#: The per-team-size figures of an experiment cell: (column, figures key, plot label).
+EXPERIMENT_FIGURES = (("execution steps", "execution_steps", "execution steps"),
+                      ("total distance", "total_distance", "total distance"),
+                      ("fulfillment ratio Q", "fulfillment_ratio", "fulfillment ratio Q"))
+
+
 def plot_experiment(result, cell_label: str, path: str) -> str | None:
-    """Execution steps and total distance by team size, one line per target; None when empty."""
+    """Execution steps and fulfillment ratio by team size (mean ± sd over seeds), one line per
+    target; None when the cell has no finished run."""
+    import statistics
+
     from swarmproof.checkers.plotting import new_figure, save_png
 
     rows = _experiment_rows(result, cell_label)
     if not rows:
         return None
-    fig, ax = new_figure(7.0, 4.0)
-    ax.set_aspect("auto")
-    for target in sorted({t for t, _ in rows}):
-        ns = sorted(n for t, n in rows if t == target)
-        ys = [_mean(f.get("execution_steps") for f in rows[(target, n)]) for n in ns]
-        ax.plot(ns, [y if y is not None else float("nan") for y in ys], "o-", label=target)
-    ax.set_xlabel("robots")
-    ax.set_ylabel("execution steps (mean over seeds)")
-    ax.set_title(cell_label, fontsize=10)
-    ax.legend(fontsize=8)
+    fig, _ = new_figure(11.0, 4.0)
+    fig.clf()
+    axes = fig.subplots(1, 2)
+    for a, key, label in ((axes[0], "execution_steps", "execution steps"),
+                          (axes[1], "fulfillment_ratio", "fulfillment ratio Q")):
+        a.set_aspect("auto")
+        for target in sorted({t for t, _ in rows}):
+            ns = sorted(n for t, n in rows if t == target)
+            ys, es = [], []
+            for n in ns:
+                xs = _numbers(f.get(key) for f in rows[(target, n)])
+                ys.append(statistics.mean(xs) if xs else float("nan"))
+                es.append(statistics.stdev(xs) if len(xs) > 1 else 0.0)
+            a.errorbar(ns, ys, yerr=es, fmt="o-", capsize=3, label=target)
+        a.set_xlabel("robots")
+        a.set_ylabel(f"{label} (mean ± sd over seeds)")
+        a.legend(fontsize=8)
+    fig.suptitle(cell_label, fontsize=10)
     return save_png(fig, path)
+
+
+def _claimed_violations(fs: list[dict]) -> str:
+    """Per claimed property violated in some runs, how many: ``"tree_links 50"``; ``"0"`` for none."""
+    counts: dict[str, int] = {}
+    for f in fs:
+        for name, p in (f.get("properties") or {}).items():
+            if p.get("claim") and p.get("verdict") == "violated":
+                counts[name] = counts.get(name, 0) + 1
+    return ", ".join(f"{k} {v}" for k, v in sorted(counts.items())) or "0"
 
 
 def markdown(result, plots: dict | None = None) -> str:
@@ -85,27 +138,37 @@ def markdown(result, plots: dict | None = None) -> str:
     lines = [f"# Campaign {result.spec.name}", "",
              f"{len(result.results)} of {len(result.tasks)} tasks finished; exit code {result.exit_code}"
              + (" (cut short: `--resume` continues it)" if result.cut_short else "") + ".", "",
-             "| cell | verdict | held | violated | inconclusive | scenarios before the first failure | "
-             "smallest counterexample |", "|---|---|---:|---:|---:|---:|---|"]
+             "| cell | verdict | finished | held | violated | inconclusive | scenarios before the first failure | "
+             "smallest counterexample |", "|---|---|---:|---:|---:|---:|---:|---|"]
     for c in result.cells():
         n = c["counts"]
         small = c["smallest_counterexample"]
         cx = f"{small['robots']} robots: `{small['path']}`" if small else ""
         ffs = "" if c["first_failure_scenarios"] is None else str(c["first_failure_scenarios"])
-        lines.append(f"| {c['cell']} | {c['verdict']} | {n['held']} | {n['violated']} | {n['inconclusive']} | "
+        lines.append(f"| {c['cell']} | {c['verdict']} | {c['finished']}/{c['tasks']} | {n['held']} | {n['violated']} | {n['inconclusive']} | "
                      f"{ffs} | {cx} |")
     for c in result.cells():
         if c["kind"] != "simulate":
             continue
         rows = _experiment_rows(result, c["cell"])
-        lines += ["", f"## {c['cell']}", "", "| target | robots | runs | execution steps (mean) | "
-                  "total distance (mean) | satisfied |", "|---|---:|---:|---:|---:|---:|"]
+        if not rows:
+            lines += ["", f"## {c['cell']}", "", "No run of this cell has finished yet."]
+            continue
+        head = " | ".join(f"{col} (mean ± sd)" for col, _, _ in EXPERIMENT_FIGURES)
+        lines += ["", f"## {c['cell']}", "",
+                  "Over the seeds of each row: the figures' mean ± sample standard deviation; *ended* "
+                  "counts runs that ended (a static state, or the algorithm's own end) before the step cap; "
+                  "*satisfied* counts final configurations that satisfy the target; *claims violated* "
+                  "names each property the algorithm claims that some runs violated, with how many runs.", "",
+                  f"| target | robots | runs | ended | {head} | satisfied | claims violated |",
+                  "|---|---:|---:|---:|" + "---:|" * len(EXPERIMENT_FIGURES) + "---:|---:|"]
         for (target, n) in sorted(rows):
             fs = rows[(target, n)]
-            steps, dist = _mean(f.get("execution_steps") for f in fs), _mean(f.get("total_distance") for f in fs)
+            cols = " | ".join(mean_sd(f.get(key) for f in fs) for _, key, _ in EXPERIMENT_FIGURES)
+            ended = sum(f.get("status") in ("static", "finished") for f in fs)
             sat = sum(f.get("satisfied") is True for f in fs)
-            lines.append(f"| {target} | {n} | {len(fs)} | {'' if steps is None else f'{steps:.1f}'} | "
-                         f"{'' if dist is None else f'{dist:.2f}'} | {sat}/{len(fs)} |")
+            lines.append(f"| {target} | {n} | {len(fs)} | {ended}/{len(fs)} | {cols} | {sat}/{len(fs)} | "
+                         f"{_claimed_violations(fs)} |")
         if c["cell"] in plots:
             lines += ["", f"![{c['cell']}]({plots[c['cell']]})"]
     return readable("\n".join(lines) + "\n")

@@ -137,8 +137,35 @@ def test_same_results_for_one_and_two_workers_json_and_resume(tmp_path, capsys):
     assert main(["campaign", str(spec), "--out", a, "--resume"]) == 1
     assert "6/6 tasks finished, 0 run now" in capsys.readouterr().out
     report = open(os.path.join(a, "report.md"), encoding="utf-8").read()
-    assert "| explore[0] song2014 n=3..6 | violated |" in report and os.path.exists(os.path.join(a, "plots",
-                                                                                                 "simulate-0.png"))
+    assert "| explore[0] song2014 n=3..6 | violated | 4/4 |" in report
+    assert os.path.exists(os.path.join(a, "plots", "simulate-0.png"))
+    import re
+
+    assert re.search(r"\| square \| 6 \| 2 \| 2/2 \| [0-9.e+]+ ± [0-9.e+]+ \| [0-9.e+]+ ± [0-9.e+]+ \| "
+                     r"[0-9.e+]+ ± [0-9.e+]+ \| 2/2 \| 0 \|", report), report
+
+
+def test_report_experiment_figures_are_mean_and_sample_sd():
+    """The experiment table's figures from known task results (no run): mean ± sample sd, the
+    runs that ended, satisfied, and each violated claimed property named with its count."""
+    from swarmproof.checkers.campaign import CampaignResult
+    from swarmproof.checkers.campaign_report import markdown
+
+    spec = loads_campaign(SMALL)
+    tasks = plan_tasks(spec)
+    sim = [t for t in tasks if t.kind == "simulate"]
+    figs = [{"status": "static", "execution_steps": 100, "total_distance": 2.0, "fulfillment_ratio": 0.5,
+             "satisfied": True, "properties": {"tree_links": {"verdict": "violated", "claim": "Lemma 1"},
+                                               "connectivity": {"verdict": "violated", "claim": None}}},
+            {"status": "step_cap", "execution_steps": 200, "total_distance": 4.0, "fulfillment_ratio": None,
+             "satisfied": False, "properties": {"tree_links": {"verdict": "held", "claim": "Lemma 1"}}}]
+    results = {t.key: {"verdict": "violated", "figures": f, "counterexample_path": None} for t, f in zip(sim, figs)}
+    md = markdown(CampaignResult(spec, tasks, results, "out"))
+    assert "| simulate[0] song2016 | violated | 2/2 | 0 | 2 | 0 |" in md
+    assert "| explore[0] song2014 n=3..6 | inconclusive | 0/4 |" in md
+    assert "| square | 6 | 2 | 1/2 | 150 ± 71 | 3 ± 1.4 | 0.5 | 1/2 | tree_links 1 |" in md
+    none = markdown(CampaignResult(spec, tasks, {}, "out"))
+    assert "No run of this cell has finished yet." in none
 
 
 def _free_port() -> int:
