@@ -153,3 +153,31 @@ def animate_trace(trace, path, *, phi: float | None = None, mark_step: int | Non
         caption.set_color("tab:red" if marked else "black")
 
     return save_gif(fig, update, gif_frames(T, mark_step, max_frames), path, fps=fps)
+
+
+def plot_pattern_check(result, path) -> str:
+    """Draw a repeating pattern's assembled copies (002 Defs. 3, 7): each copy of B as a polygon
+    of its points, copy heads as squares, the vectors of A from the origin as arrows, and an
+    overlap (if any) as a red ring.  Returns the path written."""
+    import numpy as np
+
+    pattern = result.pattern
+    b = len(pattern.basic)
+    pts = pattern.formation(result.copies * b)
+    fig, ax = new_figure()
+    for k in range(0, len(pts), b):
+        copy = pts[k:k + b]
+        color = ROLE_COLORS[(k // b) % len(ROLE_COLORS)]
+        if b > 1:
+            closed = np.vstack((copy, copy[:1])) if b > 2 else copy
+            ax.plot(closed[:, 0], closed[:, 1], "-", color=color, lw=1.0, alpha=0.7)
+        ax.plot(copy[:, 0], copy[:, 1], "o", color=color, ms=4)
+        ax.plot(copy[0, 0], copy[0, 1], "s", color="black", ms=3)
+    for ax_, ay_ in pattern.assembling:
+        if (ax_, ay_) != (0.0, 0.0):
+            ax.annotate("", xy=(ax_, ay_), xytext=(0, 0), arrowprops={"arrowstyle": "->", "color": "grey", "lw": 1.2})
+    if result.overlap:
+        x, y = result.overlap["at"]
+        ax.plot([x], [y], "o", ms=16, mfc="none", mec="red", mew=2)
+    ax.set_title(f"{pattern.name}: {result.copies} copies of B ({len(pts)} points), {result.status}", fontsize=10)
+    return save_png(fig, path)

@@ -325,21 +325,9 @@ def loads_campaign(text: str, source: str = "<string>") -> CampaignSpec:
 
 def load_campaign_file(path: str | os.PathLike) -> CampaignSpec:
     """Read a campaign file (``.yaml``, ``.yml`` or ``.json``)."""
+    from swarmproof.models.doclines import read_text
+
     name = os.fspath(path)
-    try:
-        with open(name, encoding="utf-8") as fh:
-            text = fh.read(10_000_001)
-    except FileNotFoundError:
-        raise InputFileError(f"campaign file={name!r} does not exist", file=name,
-                             fix="give the path of a swarmproof-campaign/1 file (campaigns/ has examples)") from None
-    except IsADirectoryError:
-        raise InputFileError(f"campaign file={name!r} is a folder", file=name, fix="give the path of a file") from None
-    except OSError as exc:
-        raise InputFileError(f"cannot read campaign file={name!r} ({exc.strerror})", file=name,
-                             fix="check the path and its permissions") from None
-    except UnicodeDecodeError as exc:
-        raise InputFileError(f"the file is not UTF-8 text (byte {exc.start})", file=name,
-                             fix="save it as UTF-8 text") from None
-    if len(text) > 10_000_000:
-        raise InputFileError("the campaign file is larger than 10 MB", file=name, fix="a campaign file is a short matrix")
+    text = read_text(name, what="campaign file", max_bytes=10_000_000,
+                     fix="give the path of a swarmproof-campaign/1 file (campaigns/ has examples)")
     return loads_campaign(text, name)

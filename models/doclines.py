@@ -30,7 +30,7 @@ import yaml
 
 from .errors import InputFileError, UsageError
 
-__all__ = ["parse_document", "field_name", "line_of"]
+__all__ = ["parse_document", "field_name", "line_of", "read_text"]
 
 
 def field_name(path: tuple) -> str:
@@ -113,3 +113,35 @@ def parse_document(text: str, fmt: str, source: str) -> tuple[Any, dict]:
     else:
         raise UsageError(f"fmt={fmt!r} must be 'yaml' or 'json'")
     return data, _lines(text)
+
+
+def read_text(path, *, what: str, fix: str, max_bytes: int) -> str:
+    """Read a UTF-8 input file of at most ``max_bytes`` characters; every failure an
+    :class:`InputFileError` naming the file and a fix (``what`` names the kind of file,
+    ``fix`` says what to give instead of a missing one).
+
+    >>> read_text("no/such.yaml", what="campaign file", fix="give a campaign file", max_bytes=10)
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.InputFileError: no/such.yaml: campaign file='no/such.yaml' does not exist; fix: give a campaign file
+    """
+    import os
+
+    name = os.fspath(path)
+    try:
+        with open(name, encoding="utf-8") as fh:
+            text = fh.read(max_bytes + 1)
+    except FileNotFoundError:
+        raise InputFileError(f"{what}={name!r} does not exist", file=name, fix=fix) from None
+    except IsADirectoryError:
+        raise InputFileError(f"{what}={name!r} is a folder", file=name, fix="give the path of a file") from None
+    except OSError as exc:
+        raise InputFileError(f"cannot read {what}={name!r} ({exc.strerror})", file=name,
+                             fix="check the path and its permissions") from None
+    except UnicodeDecodeError as exc:
+        raise InputFileError(f"the file is not UTF-8 text (byte {exc.start})", file=name,
+                             fix="save it as UTF-8 text") from None
+    if len(text) > max_bytes:
+        raise InputFileError(f"the {what} is larger than {max_bytes // 1_000_000} MB", file=name,
+                             fix=f"a {what} is a few lines")
+    return text

@@ -13,14 +13,14 @@ questions about a configuration of robots (IDs and poses):
 
 Kinds (DESIGN.md section 5, "Targets on the command line"):
 
-=========  ================================================  =========================
-kind       class                                             paper
-=========  ================================================  =========================
-lattice    :class:`~swarmproof.models.lattice.LatticeGraph`  001 Def. 2 (000 Def. 2), Q
-lines      :class:`LinePattern`                              003 Sec. 3 (uni-line type)
-shape      :class:`GoalSet`                                  004 Sec. III (goal cells)
-pattern    (Jiang et al.'s repeating pattern: to come)       002 Defs. 3-10
-=========  ================================================  =========================
+=========  =========================================================  ==============================
+kind       class                                                      paper
+=========  =========================================================  ==============================
+lattice    :class:`~swarmproof.models.lattice.LatticeGraph`           001 Def. 2 (000 Def. 2), Q
+lines      :class:`LinePattern`                                       003 Sec. 3 (uni-line type)
+shape      :class:`GoalSet`                                           004 Sec. III (goal cells)
+pattern    :class:`~swarmproof.models.repeating_pattern.RepeatingPattern`  002 Defs. 3-9 (epsilon = 1)
+=========  =========================================================  ==============================
 
 Kinds are a registry: :func:`register_target_kind` adds one (a user's, or an
 algorithm module's at import time).  :func:`resolve_target` reads the
@@ -35,7 +35,7 @@ Examples
 >>> line.satisfied([1, 2, 3], [[0, 0, 0], [0, 1, 0], [0, 2, 0]]).status
 'held'
 >>> sorted(target_kinds())
-['lattice', 'lines', 'shape']
+['lattice', 'lines', 'pattern', 'shape']
 """
 
 from __future__ import annotations
@@ -233,15 +233,15 @@ def _load_description_file(path: str, expect: str | None = None):
 
 
 def _load_any_file(path: str):
-    """A lattice-graph/1 file (YAML or JSON) or a JSON target description."""
-    if path.endswith((".yaml", ".yml")):
-        return _kind("lattice").load_file(path)
+    """A lattice-graph/1 or repeating-pattern/1 file (YAML or JSON) or a JSON target description."""
     try:
         with open(path, "rb") as fh:
             head = fh.read(4096)
     except OSError as exc:
         raise InputFileError(f"cannot read the file ({exc.strerror or exc})", file=path) from None
-    if b"lattice-graph/" in head or b'"kind"' not in head:
+    if b"repeating-pattern/" in head:
+        return _kind("pattern").load_file(path)
+    if path.endswith((".yaml", ".yml")) or b"lattice-graph/" in head or b'"kind"' not in head:
         return _kind("lattice").load_file(path)
     return _load_description_file(path)
 
@@ -563,3 +563,13 @@ register_target_kind("lines", from_description=LinePattern.from_description,
                      bundled=lambda: sorted(_BUNDLED_LINES), by_name=lambda n: _BUNDLED_LINES[n]())
 register_target_kind("shape", from_description=GoalSet.from_description,
                      bundled=lambda: sorted(_BUNDLED_SHAPES), by_name=lambda n: _BUNDLED_SHAPES[n]())
+
+
+def _pattern_kind() -> None:
+    from .repeating_pattern import RepeatingPattern, load_pattern, load_pattern_file, pattern_names
+
+    register_target_kind("pattern", from_description=RepeatingPattern.from_description, bundled=pattern_names,
+                         by_name=load_pattern, load_file=load_pattern_file)
+
+
+_pattern_kind()

@@ -29,6 +29,7 @@ from swarmproof.models.verdict import EXIT_INTERNAL, EXIT_USAGE
 #: Subcommand modules, in the order ``--help`` lists them.
 COMMAND_MODULES: tuple[str, ...] = (
     "check_lattice",
+    "check_pattern",
     "simulate",
     "prove",
     "verify",

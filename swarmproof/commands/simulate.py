@@ -3,7 +3,7 @@
 Runs ALGORITHM (a registry name, :mod:`swarmproof.reference_impl.registry`)
 from a random connected start of ``--robots`` robots (seeded; or
 ``--initial FILE``) toward a target -- ``--target [KIND:]NAME|FILE`` of any
-kind (lattice, lines, shape; ``--lattice``, ``--shape`` and ``--pattern`` are
+kind (lattice, lines, shape, pattern; ``--lattice``, ``--shape`` and ``--pattern`` are
 aliases fixing the kind) -- then checks the final formation against the
 target (a lattice: 001 Def. 2), connectivity at every step (001 Lemma 11)
 and reports the target's metrics (a lattice: 001 Sec. III-C / 000 Eq. 3).

@@ -97,8 +97,9 @@ def test_resolving_names_kinds_files_and_ambiguity(tmp_path):
     assert resolve_target("square").kind == "lattice"
     assert resolve_target("lattice:square").name == "square"
     assert resolve_target("square-9", kind="shape").kind == "shape"
-    with pytest.raises(UsageError, match=r"target kind='pattern' is not known"):
-        resolve_target("x", kind="pattern")
+    with pytest.raises(UsageError, match=r"target kind='patterns' is not known"):
+        resolve_target("x", kind="patterns")
+    assert resolve_target("pattern:rhombus-triangles").kind == "pattern"
     with pytest.raises(InputFileError, match=r"no-such: no such file and no bundled target of that name"):
         resolve_target("no-such")
     with pytest.raises(InputFileError, match=r"no bundled shape target of that name"):
@@ -172,7 +173,7 @@ def test_simulate_on_a_shape_has_null_lattice_fields_and_the_shapes_metrics(cli)
 @pytest.mark.parametrize("argv, match", [
     (["--target", "nope"], r"nope: no such file and no bundled target of that name"),
     (["--shape", "square"], r"no bundled shape target of that name"),
-    (["--pattern", "x"], r"target kind='pattern' is not known"),
+    (["--pattern", "x"], r"x: no such file and no bundled pattern target of that name.*rhombus-triangles"),
 ])
 def test_simulate_bad_targets_exit_2_naming_what(cli, argv, match):
     code, out, err = cli("simulate", "example-gather", *argv, "--robots", "3", "--seed", "0")

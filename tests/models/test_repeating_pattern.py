@@ -1,0 +1,128 @@
+"""Repeating patterns of 002 (models/repeating_pattern.py): the repeating-pattern/1 file with
+located errors, the bundled patterns, the target kind, lattice conversion and check-pattern."""
+
+from __future__ import annotations
+
+import json
+import os
+
+import pytest
+
+from swarmproof.cli import main
+from swarmproof.models.errors import InputFileError, UsageError
+from swarmproof.models.repeating_pattern import (check_pattern, load_pattern, loads_pattern, pattern_names,
+                                                 resolve_pattern, schema_path)
+from swarmproof.models.targets import resolve_target
+
+GOOD = """\
+format: repeating-pattern/1
+name: seg
+basic: [[0, 0], [0.4, 0]]
+assembling: [[0, 0], [1, 0], [0, 1]]
+"""
+
+BAD = [
+    ("not a mapping", "- 1\n", 1, None, "must be a mapping"),
+    ("format", GOOD.replace("repeating-pattern/1", "repeating-pattern/2"), 1, "format", "must be 'repeating-pattern/1'"),
+    ("unknown key", GOOD + "colour: red\n", 5, "colour", "key 'colour' is not known"),
+    ("missing assembling", "format: repeating-pattern/1\nbasic: [[0, 0]]\n", 1, None, "'assembling' is missing"),
+    ("origin first", GOOD.replace("[[0, 0], [0.4, 0]]", "[[0.4, 0], [0, 0]]"), 3, "basic[0]", "must be the origin"),
+    ("repeated point", GOOD.replace("[[0, 0], [0.4, 0]]", "[[0, 0], [0.4, 0], [0.4, 0]]"), 3, "basic[2]",
+     "repeats basic[1]"),
+    ("repeated vector", GOOD.replace("[1, 0], [0, 1]", "[1, 0], [1, 0]"), 4, "assembling[2]", "repeats"),
+    ("quoted number", GOOD.replace("[0.4, 0]", "['0.4', 0]"), 3, "basic[1][0]", "without quotes"),
+    ("not a pair", GOOD.replace("[0.4, 0]", "[0.4, 0, 1]"), 3, "basic[1]", "must be a pair"),
+    ("infinite", GOOD.replace("[0.4, 0]", "[.inf, 0]"), 3, "basic[1][0]", "finite"),
+    ("tol", GOOD + "tol: -1\n", 5, "tol", "must be > 0"),
+    ("empty basic", GOOD.replace("[[0, 0], [0.4, 0]]", "[]"), 3, "basic", "non-empty list"),
+    ("yaml", GOOD + "basic: [\n", None, None, "malformed YAML"),
+]
+
+
+@pytest.mark.parametrize("name, text, line, fld, match", BAD, ids=[b[0] for b in BAD])
+def test_bad_files_are_located(name, text, line, fld, match):
+    with pytest.raises(InputFileError) as e:
+        loads_pattern(text, "yaml", "p.yaml")
+    err = e.value
+    assert match in str(err) and err.file == "p.yaml" and "fix: " in str(err)
+    if line is not None:
+        assert err.line == line, str(err)
+    if fld is not None:
+        assert err.field == fld, str(err)
+
+
+def test_json_files_and_schema_agree(tmp_path):
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.load(open(schema_path(), encoding="utf-8"))
+    for name in pattern_names():
+        doc = load_pattern(name).document()
+        jsonschema.validate(doc, schema)
+        f = tmp_path / f"{name}.json"
+        f.write_text(json.dumps(doc))
+        assert resolve_target(str(f)).describe() == load_pattern(name).describe()
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate({"format": "repeating-pattern/1", "basic": [[0, 0]]}, schema)
+
+
+def test_bundled_patterns_assemble_with_quality_one():
+    assert pattern_names() == ["rhombus-triangles", "square-dots", "square-segments", "trapezoid-hexagons",
+                               "triangle-segments"]
+    for name in pattern_names():
+        p = resolve_target(name)
+        assert p.kind == "pattern"
+        r = check_pattern(p, 32)
+        assert r.status == "held", r.message
+        pts = p.formation(30 * len(p.basic))
+        assert p.satisfied(None, pts).status == "held"
+        # one robot moved away: quality below 1, violated with the exact epsilon
+        moved = pts.copy()
+        moved[len(moved) // 2] += (7.77, 3.33)
+        v = p.satisfied(None, moved)
+        assert v.status == "violated" and v.detail["exact"] and v.detail["epsilon"] < 1
+
+
+def test_target_describe_round_trip_and_metrics():
+    from swarmproof.models.targets import target_from_description
+
+    p = load_pattern("rhombus-triangles")
+    assert target_from_description(p.describe()) == p
+    m = p.metrics(None, p.formation(12))
+    assert (m["epsilon"], m["basic_fulfillment"], m["assembling_fulfillment"], m["method"]) == (1.0, 1.0, 1.0,
+                                                                                               "perfect-cover")
+
+
+def test_an_overlapping_pattern_is_found(tmp_path, capsys):
+    f = tmp_path / "overlap.yaml"
+    f.write_text(GOOD.replace("[0.4, 0]", "[1, 0]"))        # copies one step apart share a point
+    code = main(["check-pattern", str(f), "--json", "--plot", str(tmp_path / "o.png")])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 1 and doc["verdict"] == "violated" and doc["overlap"]["pairs"] > 0
+    assert os.path.getsize(tmp_path / "o.png") > 1000
+
+
+def test_check_pattern_command(capsys, tmp_path):
+    assert main(["check-pattern", "--list"]) == 0
+    assert capsys.readouterr().out.split() == pattern_names()
+    assert main(["check-pattern", "rhombus-triangles"]) == 0
+    assert "HELD" in capsys.readouterr().out
+    assert main(["check-pattern", "lattice:square", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["quality"]["epsilon"] == 1.0
+    assert main(["check-pattern", "lattice:hexagon"]) == 2
+    assert "2 roles" in capsys.readouterr().err
+    assert main(["check-pattern", "no-such"]) == 2
+    err = capsys.readouterr().err
+    assert "no-such" in err and "rhombus-triangles" in err and "Traceback" not in err
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(GOOD.replace("[0.4, 0]", "[0.4, x]"))
+    assert main(["check-pattern", str(bad)]) == 2
+    assert f"{bad}:3" in capsys.readouterr().err
+    assert main(["check-pattern", "rhombus-triangles", "--copies", "0"]) == 2
+    assert main(["check-pattern"]) == 2
+
+
+def test_pattern_from_lattice_refuses_what_does_not_convert():
+    with pytest.raises(UsageError, match="2 roles"):
+        resolve_pattern("lattice:hexagon")
+    with pytest.raises(UsageError, match="theta"):
+        resolve_pattern("lattice:honeycomb-rotating")
+    assert resolve_pattern("lattice:triangle").basic == ((0.0, 0.0),)
