@@ -426,7 +426,9 @@ def closeness(prop: str, result) -> float | None:
 
 #: Fault kinds the explorer can draw (all replayable: data-driven hooks, or draws from the
 #: engine's fault generator, which the run's seed fixes).
-FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops", "additions", "noise")
+FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops", "additions", "noise", "delays")
+#: Largest drawn message delay (steps) of the ``delays`` fault kind.
+MAX_DRAWN_DELAY = 5
 
 #: Largest drawn sensing-noise standard deviations: (x, y) as a fraction of the range phi, theta in radians.
 MAX_NOISE_XY_FRACTION = 0.04
@@ -448,7 +450,10 @@ def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str], *, poses: S
     * ``noise``: Gaussian sensing noise, standard deviations drawn in
       ``[0, 0.04 phi]`` for the sensed (x, y) and ``[0, 0.05]`` rad for theta
       (``FaultModel.noise_std``; the draws come from the engine's fault generator,
-      seeded by the run's seed, so a replay is exact).
+      seeded by the run's seed, so a replay is exact);
+    * ``delays``: every delivery arrives 0..K steps late, K drawn in 1..5
+      (``FaultModel.message_delay``), in order or not (``message_reorder`` drawn); the
+      delays come from the engine's fault generator (exact replay).
 
     ``poses`` are the starting poses of the robots ``ids`` (same order), ``phi``
     the range; both are needed for ``additions`` only.
@@ -485,6 +490,9 @@ def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str], *, poses: S
     if "noise" in kinds:
         kw["noise_std"] = (draw(st.floats(0.0, MAX_NOISE_XY_FRACTION * phi)),
                            draw(st.floats(0.0, MAX_NOISE_THETA)))
+    if "delays" in kinds:
+        kw["message_delay"] = draw(st.integers(1, MAX_DRAWN_DELAY))
+        kw["message_reorder"] = draw(st.booleans())
     return FaultModel(**kw) if kw else None
 
 
@@ -496,7 +504,8 @@ def _fault_probe(kinds: Sequence[str]):
                       crashes={0: [0]} if "crashes" in kinds else {},
                       drop_message=DropSet(frozenset({(0, 0, 1)})) if "drops" in kinds else None,
                       additions={0: [(0, [0.0, 0.0, 0.0])]} if "additions" in kinds else {},
-                      noise_std=(0.01, 0.01) if "noise" in kinds else (0.0, 0.0))
+                      noise_std=(0.01, 0.01) if "noise" in kinds else (0.0, 0.0),
+                      message_delay=1 if "delays" in kinds else 0, message_reorder="delays" in kinds)
 
 
 #: Angle steps tried, in order, when a drawn placement lands closer than range/4 to a robot
@@ -530,7 +539,7 @@ def place_robot(pts: Sequence[tuple], parent: int, dist: float, ang: float, min_
 
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
                       fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None,
-                      grid_spacing: float | None = None):
+                      grid_spacing: float | None = None, team_multiple: Mapping[str, int] | None = None):
     """A Hypothesis strategy of connected :class:`Scenario` objects.
 
     Robot 0 of the construction sits at the origin with a drawn heading;
@@ -549,6 +558,10 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
     with every drawn link just short of the range.
     ``speeds``: when given, each scenario also draws its ``v`` from them
     (``sampled_from``: shrinking goes toward the first).
+    ``team_multiple``: target label -> k when the algorithm's paper runs whole multiples of k
+    robots (an algorithm's ``team_multiple(target)``; 002 Sec. V-A places ``|F_d|`` robots, a
+    whole number of copies of B): the last drawn robots are dropped down to a multiple of k
+    (robots are placed in order, so the start stays connected), and a team below k is redrawn.
     ``grid_spacing``: for ``motion="grid"`` algorithms, robots stand on distinct
     cells; each further robot is ``(parent, dx, dy)``, a cell offset within
     the range of an earlier robot (the start is connected), heading 0.
@@ -595,6 +608,11 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
             assume(p is not None)
             pts.append(p)
             heads.append(head)
+        k_mult = (team_multiple or {}).get(lat, 1)
+        if k_mult > 1:
+            keep = len(pts) - len(pts) % k_mult
+            assume(keep >= max(k_mult, 1))
+            pts, heads = pts[:keep], heads[:keep]
         n = len(pts)
         perm = draw(st.permutations(list(range(n))))
         seed = draw(st.integers(0, 1000))
@@ -931,7 +949,9 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     if getattr(getattr(spec.factory, "model", None), "motion", None) == "grid":
         first = build_params(algo, phi_of[lats[0]], rng_robots[1], extra=params.get("extra"))
         grid_spacing = float((first.extra or {}).get("grid_spacing", 1.0))
-    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing)
+    multiple = getattr(spec.factory, "team_multiple", None)
+    team_multiple = {name: int(multiple(g)) for name, g in loaded.items()} if callable(multiple) else None
+    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing, team_multiple)
 
     for prop in props:
         t0, c0 = time.monotonic(), time.process_time()

@@ -20,7 +20,7 @@ Examples
 >>> get_property("no-such")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'no_crash'], or module:name of a property you registered
+swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'invariants', 'no_crash'], or module:name of a property you registered
 """
 
 from __future__ import annotations
@@ -413,6 +413,18 @@ def _premises(trace, ctx):
     return premises(trace, premise_monitors_of(ctx.algorithm), ctx.phi, ctx.params.v, ctx.params.dt)
 
 
+def _invariants(trace, ctx):
+    from .algorithm_invariants import check_invariants
+
+    return check_invariants(trace, ctx.algorithm)
+
+
+def _invariants_stream(algorithm, params, options):
+    from .algorithm_invariants import InvariantsMonitor, invariants_of
+
+    return InvariantsMonitor(invariants_of(algorithm))
+
+
 def _no_crash(trace, ctx):
     crash = getattr(ctx.result, "crash", None)
     if crash is None:
@@ -454,6 +466,10 @@ for _p in (
     Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
              "only the lemma premises the algorithm declares (premise_monitors)",
              CITE_PREMISES, stream=_premises_stream, every_step=True),
+    Property("invariants", "safety", _invariants, ("poses", "states", "the algorithm's invariants"),
+             "only the invariants the algorithm declares (its invariants attribute), on its own state keys",
+             "the algorithm's own runtime invariants (its invariants attribute)",
+             stream=_invariants_stream, every_step=True),
     Property("no_crash", "safety", _no_crash, ("exceptions the algorithm's code raised",),
              "exceptions only: a controller that loops forever is stopped by the time budget, not found",
              CITE_NO_CRASH),

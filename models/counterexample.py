@@ -96,6 +96,9 @@ def _fault_phrases(faults: Mapping) -> list[str]:
     noise = faults.get("noise_std") or []
     if any(noise):
         out.append(f"sensing noise sd {_g(noise[0])} on x, y and {_g(noise[1])} rad on theta")
+    if faults.get("message_delay"):
+        out.append(f"messages up to {int(faults['message_delay'])} step(s) late"
+                   + (", in any order" if faults.get("message_reorder") else ""))
     return out
 
 

@@ -98,10 +98,14 @@ class RobotModel:
     #: Who is a neighbor: ``"strict"`` (closer than phi, 000/001 Sec. III) or ``"inclusive"``
     #: (at most phi, e.g. 004's ``<= R``); sensing, messages and the connectivity property use it.
     neighbor_rule: str = "strict"
+    #: When messages arrive: ``"timely"`` (the next step, in order: 000/001) or ``"unbounded"``
+    #: (any later step, in any order: 002 Sec. III-A, "no fixed upper bound on the time it takes
+    #: for a message to be delivered").  Delay and reordering faults break only a timely model.
+    message_timing: str = "timely"
 
     CHOICES = {"sensing": ("local", "anonymous", "global"), "communication": ("neighbors", "all", "none"),
                "motion": ("differential", "holonomic", "grid"), "clocks": ("sync", "async"),
-               "neighbor_rule": ("strict", "inclusive")}
+               "neighbor_rule": ("strict", "inclusive"), "message_timing": ("timely", "unbounded")}
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
@@ -276,6 +280,11 @@ class Algorithm(Protocol):
     #     proof rests on; the ``premises`` property checks exactly these.
     # verify : VerifyPlan
     #     What ``swarmproof verify`` runs of it; without one it has no rows.
+    # knows_start : bool
+    #     The paper gives every robot the robot set and all initial positions as input
+    #     (002 Sec. III-A, Alg. 1 "Input"); needs ``sensing="global"``.  The engine then
+    #     calls ``controller.know_start(ids, positions)`` once before step 0 (``ids`` a
+    #     tuple, ``positions`` a read-only ``(n, 2)`` array in the common frame).
 
 
 @dataclass(frozen=True)

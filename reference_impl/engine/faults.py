@@ -109,11 +109,12 @@ class FaultModel:
             out.append("reliable_messages")
         if self.noisy:
             out.append("exact_sensing")
-        if self.message_delay > 0:
+        timely = getattr(model, "message_timing", "timely") == "timely"
+        if self.message_delay > 0 and timely:
             out.append("timely_messages")
         if self.message_duplication > 0:
             out.append("messages_delivered_once")
-        if self.message_reorder:
+        if self.message_reorder and timely:
             out.append("ordered_messages")
         return out
 

@@ -437,6 +437,20 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             controllers[k] = algorithm.controller(None if anonymous else ids_list[k], params, lattice,
                                                   _robot_rng(seed, k))
         calling = None
+        if getattr(algorithm, "knows_start", False):
+            # The paper's input: every robot knows the robot set and all initial positions in the
+            # common frame (002 Sec. III-A, Alg. 1 "Input"); given once, read-only, before step 0.
+            if getattr(algorithm.model, "sensing", None) != "global":
+                raise UsageError(f"algorithm {getattr(algorithm, 'name', '?')!r} sets knows_start but its "
+                                 f"model.sensing={algorithm.model.sensing!r}",
+                                 fix="knows_start needs sensing='global' (positions in the common frame)")
+            known_ids = tuple(int(x) for x in ids0)
+            known_xy = np.array(initial.poses[:, :2], dtype=float)
+            known_xy.setflags(write=False)
+            for k in range(n0):
+                calling = k
+                controllers[k].know_start(known_ids, known_xy)
+            calling = None
 
         if max_steps is None:
             f = getattr(algorithm, "default_max_steps", None)

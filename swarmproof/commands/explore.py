@@ -49,8 +49,9 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--out", metavar="DIR", help="write counterexample files into DIR")
     p.add_argument("--fault", action="append", dest="faults", default=[], metavar="KIND",
-                   help="draw faults of this kind per scenario, repeatable: schedule, crashes, drops, additions, noise "
-                        "(breaks robot-model assumptions; reported)")
+                   help="draw faults of this kind per scenario, repeatable: schedule, crashes, drops, additions, noise, "
+                        "delays "
+                        "(each breaks the robot-model assumptions it breaks; reported)")
     p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default: the algorithm's)")
     p.add_argument("--speeds", metavar="V1,V2,...",
                    help="every scenario draws its speed v from these (shrinking goes toward the first); "

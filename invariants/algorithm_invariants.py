@@ -1,0 +1,114 @@
+"""An algorithm's own runtime invariants, checked at every step (the ``invariants`` property).
+
+Some claims are about an algorithm's bookkeeping, not about geometry every
+algorithm shares: Jiang et al.'s robots are each in at most one group, no two
+heads take one assembling slot (002 Algs. 1-2).  An algorithm lists them on its
+class as ``invariants``: a tuple of :class:`Invariant`, each a statement, where
+it comes from, and ``check(t, ids, poses, states) -> str | None`` -- None
+while it holds at step ``t``, else a message naming the robots and values.
+The ``invariants`` property (registered in :mod:`swarmproof.invariants.registry`)
+runs them on every step the engine makes (streaming, whatever is recorded),
+and is inconclusive for an algorithm that declares none.
+
+Examples
+--------
+>>> import numpy as np
+>>> from swarmproof.models.trace import Trace
+>>> distinct = Invariant("distinct_targets", "no two robots share a target", "example",
+...     lambda t, ids, poses, states: None if len({dict(s)["target"] for s in states}) == len(states)
+...     else "two robots share a target")
+>>> alg = type("A", (), {"invariants": (distinct,)})()
+>>> tr = Trace(ids=[1, 2], poses=np.zeros((2, 2, 3)), states=[((("target", 1),), (("target", 2),)),
+...                                                            ((("target", 1),), (("target", 1),))])
+>>> r = check_invariants(tr, alg)
+>>> r.status, r.witness["invariant"], r.witness["step"]
+('violated', 'distinct_targets', 1)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from .result import InvariantResult
+
+__all__ = ["Invariant", "invariants_of", "InvariantsMonitor", "check_invariants", "CITE_INVARIANTS"]
+
+CITE_INVARIANTS = "the algorithm's own runtime invariants (its invariants attribute, each citing its paper)"
+
+
+@dataclass(frozen=True)
+class Invariant:
+    """One runtime invariant of an algorithm.
+
+    ``check(t, ids, poses, states)`` sees the IDs, poses and controller states
+    of the robots present after step ``t`` (``t = 0``: the start) and returns
+    None while the invariant holds, else a message.
+    """
+
+    name: str
+    statement: str
+    cites: str
+    check: Callable[[int, Any, np.ndarray, tuple], str | None]
+
+
+def invariants_of(algorithm) -> tuple:
+    """The algorithm's ``invariants`` attribute (a tuple of :class:`Invariant`), else ``()``."""
+    return tuple(getattr(algorithm, "invariants", None) or ())
+
+
+class InvariantsMonitor:
+    """Streaming form of the ``invariants`` property: every step the engine makes."""
+
+    name = "invariants"
+
+    def __init__(self, invariants) -> None:
+        self.invariants = tuple(invariants)
+        self.steps = 0
+        self.first: dict = {}           # invariant name -> (step, message)
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+
+    def observe(self, t, poses, states, present) -> None:
+        self.steps += 1
+        mask = np.asarray(present, dtype=bool)
+        ids = self.ids[mask]
+        pos = np.asarray(poses)[mask]
+        sts = tuple(s for s, p in zip(states, mask) if p)
+        for inv in self.invariants:
+            if inv.name in self.first:
+                continue
+            msg = inv.check(int(t), ids, pos, sts)
+            if msg is not None:
+                self.first[inv.name] = (int(t), str(msg))
+
+    def result(self) -> InvariantResult:
+        if not self.invariants:
+            return InvariantResult("invariants", "inconclusive", CITE_INVARIANTS, None,
+                                   "vacuous: the algorithm declares no runtime invariants", applicable=False)
+        if self.first:
+            name, (step, msg) = min(self.first.items(), key=lambda kv: (kv[1][0], kv[0]))
+            inv = next(i for i in self.invariants if i.name == name)
+            return InvariantResult("invariants", "violated", inv.cites,
+                                   {"invariant": name, "step": step, "statement": inv.statement},
+                                   f"{name} ({inv.cites}) broke in step {step}: {msg}")
+        names = ", ".join(i.name for i in self.invariants)
+        return InvariantResult("invariants", "held", "; ".join(i.cites for i in self.invariants), None,
+                               f"{names} held at every one of {self.steps} observed steps",
+                               detail={"invariants": [i.name for i in self.invariants]})
+
+
+def check_invariants(trace, algorithm) -> InvariantResult:
+    """Run the algorithm's invariants over every recorded step of ``trace`` (the non-streaming
+    form; a sparse trace is judged on what it kept -- the explorer streams instead)."""
+    mon = InvariantsMonitor(invariants_of(algorithm))
+    mon.start(trace.ids)
+    present = getattr(trace, "present", None)
+    for k in range(len(trace.poses)):
+        pres = np.ones(len(trace.ids), bool) if present is None else np.asarray(present[k], dtype=bool)
+        t = int(trace.times[k]) if getattr(trace, "times", None) else k
+        mon.observe(t, trace.poses[k], trace.states[k], pres)
+    return mon.result()
