@@ -19,7 +19,7 @@ True
 >>> get_algorithm("song2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'song2014', 'song2016', 'song2016-literal']
+swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'song2014', 'song2016', 'song2016-literal']
 """
 
 from __future__ import annotations
@@ -40,6 +40,8 @@ ALGORITHMS: dict[str, str] = {
     "song2016": "swarmproof.reference_impl.song2016:Song2016",
     "song2016-literal": "swarmproof.reference_impl.song2016:Song2016Literal",
     "song2014": "swarmproof.reference_impl.song2014:Song2014",
+    "jiang": "swarmproof.reference_impl.jiang:Jiang",
+    "jiang-literal": "swarmproof.reference_impl.jiang:JiangLiteral",
     "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
     "example-anonymous-line": "swarmproof.reference_impl.examples:AnonymousLine",
     "example-grid-goals": "swarmproof.reference_impl.examples:GridGoals",
@@ -84,7 +86,7 @@ def verify_plans() -> list[tuple[str, object]]:
     ``verify`` plan, in the plans' ``rank`` order (ties by name).
 
     >>> [name for name, _ in verify_plans()]
-    ['song2016', 'song2016-literal', 'song2014', 'example-anonymous-line', 'example-grid-goals']
+    ['song2016', 'song2016-literal', 'song2014', 'jiang', 'jiang-literal', 'example-anonymous-line', 'example-grid-goals']
     """
     plans = []
     for name in algorithm_names():

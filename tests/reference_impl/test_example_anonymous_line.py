@@ -64,7 +64,7 @@ def test_verify_has_its_rows_beside_the_papers(monkeypatch):
     from swarmproof.reference_impl import registry
 
     plans = dict(registry.verify_plans())
-    assert list(plans)[3:] == ["example-anonymous-line", "example-grid-goals"]
+    assert list(plans)[-2:] == ["example-anonymous-line", "example-grid-goals"]
     monkeypatch.setattr(registry, "verify_plans", lambda: [("example-anonymous-line", plans["example-anonymous-line"])])
     rows = section_algorithms()
     got = {r.property: r.verdict.value for r in rows}

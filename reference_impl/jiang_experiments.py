@@ -1,0 +1,69 @@
+"""The experiments of Jiang et al. (002 Sec. V-A) as functions: seeded starts and one summarised run.
+
+Sec. V-A places ``|F_d|`` robots "randomly and uniformly in the working
+plane" (a 15 m x 15 m square for n = 50..300), moves them at 10 cm/s, and
+reports the formation quality and the total distance; it compares with Song's
+algorithm [16] (001).  :func:`uniform_start` draws such a start (seeded; a
+minimum separation keeps robots distinct, Def. 1); :func:`run_sec5` runs one
+and returns its figures; ``benchmarks/bench_jiang.py`` tables them
+(docs/jiang.md).
+
+>>> s = uniform_start(20, 0)
+>>> s.n, bool((s.poses[:, :2] >= 0).all() and (s.poses[:, :2] <= 15).all())
+(20, True)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from swarmproof.models.trace import InitialConfiguration
+
+__all__ = ["AREA", "ROBOT_RADIUS", "uniform_start", "run_sec5"]
+
+#: 002 Sec. V-A: "a square of 15m x 15m" for n = 50..300.
+AREA = 15.0
+#: 002 Sec. V-B: the PiBots are cylinders of radius 7 cm (the collision figure uses it).
+ROBOT_RADIUS = 0.07
+
+
+def uniform_start(n: int, seed: int, *, area: float = AREA, min_separation: float = 2 * ROBOT_RADIUS
+                  ) -> InitialConfiguration:
+    """``n`` robots uniformly at random in ``[0, area]^2`` (rejection keeps them at least
+    ``min_separation`` apart), headings uniform, IDs ``0..n-1``; seeded."""
+    rng = np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(2002,)))
+    pts: list = []
+    tries = 0
+    while len(pts) < n:
+        tries += 1
+        if tries > 1000 * n:
+            raise ValueError(f"cannot place n={n} robots {min_separation} apart in a {area} m square")
+        p = rng.uniform(0.0, area, size=2)
+        if all(np.hypot(*(p - q)) >= min_separation for q in pts):
+            pts.append(p)
+    head = rng.uniform(-np.pi, np.pi, size=n)
+    poses = np.column_stack((np.array(pts), head))
+    return InitialConfiguration(list(range(n)), poses)
+
+
+def run_sec5(algorithm_name: str, pattern, n: int, seed: int, *, start: InitialConfiguration | None = None,
+             range: float = 1.5) -> dict:
+    """One run of ``algorithm_name`` toward ``pattern`` from :func:`uniform_start` (or ``start``):
+    status, steps, total distance, minimum separation, the collisions at radius 7 cm, and the
+    pattern's figures (epsilon of Def. 9, its parts, and Sec. V-A's alignment)."""
+    from swarmproof.invariants.metrics import min_separation, total_distance
+    from swarmproof.checkers.runs import build_params
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    alg = get_algorithm(algorithm_name, n_robots=n)
+    init = start if start is not None else uniform_start(n, seed)
+    params = build_params(alg, range, n)
+    r = simulate(alg, pattern, init, params, seed=seed)
+    m = pattern.metrics(r.final_ids, r.final_poses)
+    sep = min_separation(r.trace)
+    return {"n": n, "seed": seed, "status": r.status, "steps": r.steps,
+            "total_distance": total_distance(r.trace), "min_separation": sep,
+            "collides": bool(sep < 2 * ROBOT_RADIUS),
+            "epsilon": m["epsilon"], "epsilon_exact": m["epsilon_exact"], "gamma": m["basic_fulfillment_exact"],
+            "delta": m["assembling_fulfillment_exact"], "method": m["method"], "alignment": m["alignment"]}
