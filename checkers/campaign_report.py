@@ -71,8 +71,8 @@ def mean_sd(xs) -> str:
 
     >>> mean_sd([1, 2, 3, None])
     '2 ± 1'
-    >>> mean_sd([0.5]), mean_sd([None])
-    ('0.5', '')
+    >>> mean_sd([0.5]), mean_sd([None]), mean_sd([0.6, 0.6000000000000001])
+    ('0.5', '', '0.6 ± 0')
     """
     import statistics
 
@@ -81,7 +81,10 @@ def mean_sd(xs) -> str:
         return ""
     if len(xs) == 1:
         return f"{xs[0]:.3g}"
-    return f"{statistics.mean(xs):.3g} ± {statistics.stdev(xs):.2g}"
+    mean, sd = statistics.mean(xs), statistics.stdev(xs)
+    if sd <= 1e-12 * max(1.0, abs(mean)):      # equal up to rounding: 0.6 ± 5.6e-17 reads as noise
+        sd = 0.0
+    return f"{mean:.3g} ± {sd:.2g}"
 
 
 #: The per-team-size figures of an experiment cell: (column, figures key, plot label).
