@@ -57,8 +57,8 @@ Examples
 >>> str(q.gamma), str(q.delta), str(q.epsilon)
 ('1', '1/2', '1/2')
 >>> q = formation_quality([(0, 0), (1, 0), (7, 7)], B, A)            # a copy and a lone robot
->>> str(q.gamma), q.method
-('3/4', 'milp')
+>>> str(q.gamma), q.method, q.completion_rates()
+('3/4', 'milp', {'1': 1, '1/2': 1})
 """
 
 from __future__ import annotations
@@ -113,6 +113,16 @@ class FormationQuality:
     #: lower bound of the best epsilon over optimal partitions).
     delta_of: str = "the optimal partition found"
 
+    def completion_rates(self) -> dict:
+        """How many parts of the partition have each completion rate (Def. 4's alpha, as a
+        fraction string; an incompatible part has alpha 0): ``{"1": 10, "1/3": 1}``."""
+        b = self.size.get("basic_points")
+        out: dict = {}
+        for center, members in self.parts:
+            key = "0" if center is None or not b else str(Fraction(len(members), b))
+            out[key] = out.get(key, 0) + 1
+        return dict(sorted(out.items(), key=lambda kv: -Fraction(kv[0])))
+
     def as_dict(self) -> dict:
         """JSON-ready: exact fractions as strings (``"3/4"``) beside floats."""
         def fr(x):
@@ -126,6 +136,7 @@ class FormationQuality:
                 "basic_fulfillment_bounds": [fr(self.gamma_bounds[0]), fr(self.gamma_bounds[1])],
                 "assembling_fulfillment": fl(self.delta), "assembling_fulfillment_exact": fr(self.delta),
                 "components": self.components, "parts": len(self.parts), "assembling_fulfillment_of": self.delta_of,
+                "completion_rates": self.completion_rates(),
                 "optimal_partitions": self.optimal_partitions, "centers_ambiguous": self.centers_ambiguous,
                 "method": self.method, "size": dict(self.size), "message": self.message, "cites": self.cites}
 
