@@ -294,3 +294,38 @@ class TreeLinkMonitor:
         return InvariantResult("tree_links", "held", LEMMA_11, None,
                                f"{self.checked} link-steps checked ({mode} links), none broke",
                                detail=detail)
+
+
+def range_graph_applies(algorithm) -> bool:
+    """Whether the range graph is the algorithm's communication graph: not when every robot
+    hears every robot (``model.communication == "all"``, e.g. 002 Sec. III-A), where the
+    communication graph is complete and cannot split.
+
+    >>> from swarmproof.reference_impl.protocol import RobotModel
+    >>> range_graph_applies(type("A", (), {"model": RobotModel(communication="all")})())
+    False
+    """
+    return getattr(getattr(algorithm, "model", None), "communication", "neighbors") != "all"
+
+
+def complete_graph_result() -> InvariantResult:
+    """The connectivity verdict for an algorithm whose robots all hear each other:
+    inconclusive and not applicable (a check that cannot fail is no check)."""
+    return InvariantResult("connectivity", "inconclusive", LEMMA_11, None,
+                           "not applicable: every robot hears every robot (communication='all'), so the "
+                           "communication graph is complete; no range graph to split", applicable=False)
+
+
+class CompleteGraphMonitor:
+    """The streaming counterpart of :func:`complete_graph_result` (observes nothing)."""
+
+    name = "connectivity"
+
+    def start(self, ids) -> None:
+        pass
+
+    def observe(self, t, poses, states, present) -> None:
+        pass
+
+    def result(self) -> InvariantResult:
+        return complete_graph_result()

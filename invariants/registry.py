@@ -282,8 +282,10 @@ def _satisfaction(ctx: PropertyContext):
 
 
 def _connectivity(trace, ctx):
-    from .connectivity import connected_throughout
+    from .connectivity import complete_graph_result, connected_throughout, range_graph_applies
 
+    if not range_graph_applies(ctx.algorithm):
+        return complete_graph_result()
     return connected_throughout(trace, ctx.phi)
 
 
@@ -298,8 +300,10 @@ def _inclusive(algorithm) -> bool:
 
 
 def _connectivity_stream(algorithm, params, options):
-    from .connectivity import ConnectivityMonitor
+    from .connectivity import CompleteGraphMonitor, ConnectivityMonitor, range_graph_applies
 
+    if not range_graph_applies(algorithm):
+        return CompleteGraphMonitor()
     return ConnectivityMonitor(float(params.range), _inclusive(algorithm))
 
 

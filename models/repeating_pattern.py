@@ -60,6 +60,10 @@ _KEYS = ("format", "name", "description", "basic", "assembling", "tol", "range")
 #: Bounds that keep a file's work bounded (a basic pattern is a handful of points).
 MAX_BASIC = 64
 MAX_ASSEMBLING = 64
+#: Largest coordinate, and smallest distance between two points of B / length of a vector of A:
+#: a pattern is judged within tol, which must stay far above the floating-point resolution.
+MAX_COORD = 1e6
+MIN_LENGTH = 1e-6
 
 
 @dataclass(frozen=True)
@@ -250,13 +254,20 @@ class _Doc:
         raise InputFileError(message, file=self.source, line=line_of(self.lines, path),
                              field=field_name(path) or None, fix=fix)
 
-    def number(self, path: tuple, v: Any, what: str) -> float:
+    def number(self, path: tuple, v: Any, what: str, *, limit: float = MAX_COORD) -> float:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
-            hint = " without quotes" if isinstance(v, str) and _is_float(v) else ""
-            self.fail(path, f"{field_name(path)}={v!r} must be a number", f"write {what} as a plain number{hint}")
-        x = float(v)
-        if not math.isfinite(x):
-            self.fail(path, f"{field_name(path)}={v!r} must be a finite number", f"write {what} as a finite number")
+            hint = ""
+            if isinstance(v, str) and _is_float(v):
+                hint = (" (YAML reads 1e-6 as text: write 1.0e-6)" if "e" in v.lower() and "." not in v
+                        else " without quotes")
+            self.fail(path, f"{field_name(path)}={_short(v)} must be a number", f"write {what} as a plain number{hint}")
+        try:
+            x = float(v)
+        except OverflowError:
+            x = math.inf
+        if not math.isfinite(x) or abs(x) > limit:
+            self.fail(path, f"{field_name(path)}={_short(v)} must be a finite number of size at most {limit:g}",
+                      f"write {what} in units where the pattern spans less than {limit:g}")
         return x
 
     def points(self, key: str, v: Any, limit: int, what: str) -> list[tuple[float, float]]:
@@ -270,6 +281,12 @@ class _Doc:
                 self.fail((key, i), f"{key}[{i}]={p!r} must be a pair [x, y]", "write each entry as [x, y]")
             out.append((self.number((key, i, 0), p[0], "x"), self.number((key, i, 1), p[1], "y")))
         return out
+
+
+def _short(v: Any) -> str:
+    """``repr`` of a value, cut to 60 characters (a 400-digit number stays readable)."""
+    r = repr(v)
+    return r if len(r) <= 60 else r[:57] + "..."
 
 
 def _is_float(s: str) -> bool:
@@ -329,6 +346,23 @@ def _from_document(data: Any, source: str, lines: dict, default_name: str) -> Re
     t = tol if tol is not None else default_tol(basic, assembling)
     _distinct(doc, "basic", basic, t, "002 Def. 3: the points of B do not overlap")
     _distinct(doc, "assembling", assembling, t, "002 Def. 7: the vectors of A are distinct")
+    steps = [k for k, a in enumerate(assembling) if math.hypot(*a) > t]
+    if not steps:
+        doc.fail(("assembling",), f"assembling={[list(a) for a in assembling]!r} has no nonzero vector: no two "
+                                  "copies of B can be linked (002 Def. 8)",
+                 "add the vectors from one copy's center to its neighbours' centers, e.g. [1, 0]")
+    for i, p in enumerate(basic):
+        for j in range(i):
+            d = math.hypot(p[0] - basic[j][0], p[1] - basic[j][1])
+            if d < MIN_LENGTH:
+                doc.fail(("basic", i), f"basic[{i}]={list(p)!r} is {d:.3g} from basic[{j}] (less than {MIN_LENGTH:g})",
+                         f"scale the pattern so that its points are at least {MIN_LENGTH:g} apart")
+    for i, a in enumerate(assembling):
+        if 0 < math.hypot(*a) < MIN_LENGTH:
+            doc.fail(("assembling", i), f"assembling[{i}]={list(a)!r} is shorter than {MIN_LENGTH:g}",
+                     f"scale the pattern so that its vectors are at least {MIN_LENGTH:g} long, or write [0, 0]")
+    if t < 1e-12:
+        doc.fail(("tol",), f"tol={t!r} is below 1e-12", "give tol >= 1e-12 (and lengths of at least 1e-6)")
     return RepeatingPattern(name.strip(), tuple(basic), tuple(assembling), tol, rng, desc)
 
 

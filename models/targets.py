@@ -99,6 +99,7 @@ class _Kind:
     bundled: Callable[[], list]            # -> bundled names
     by_name: Callable[[str], Any] | None   # bundled name -> target
     load_file: Callable[[str], Any] | None  # path -> target (None: files of this kind are JSON descriptions)
+    by_other_name: Callable[[str], Any] | None = None  # other names the kind reads (e.g. pattern's lattice:NAME)
 
 
 _KINDS: dict[str, _Kind] = {}
@@ -107,16 +108,19 @@ _KINDS: dict[str, _Kind] = {}
 def register_target_kind(kind: str, *, from_description: Callable[[Mapping], Any],
                          bundled: Callable[[], list] | None = None,
                          by_name: Callable[[str], Any] | None = None,
-                         load_file: Callable[[str], Any] | None = None) -> None:
+                         load_file: Callable[[str], Any] | None = None,
+                         by_other_name: Callable[[str], Any] | None = None) -> None:
     """Register a target kind.
 
     ``from_description(d)`` rebuilds a target from its ``describe()``
     dictionary; ``bundled()`` lists the bundled names and ``by_name(name)``
-    builds one; ``load_file(path)`` reads a file of this kind.
+    builds one; ``load_file(path)`` reads a file of this kind; ``by_other_name(text)``
+    builds one from a name that is neither a file nor bundled, or returns None (the
+    ``pattern`` kind reads ``lattice:NAME`` this way).
     """
     if not isinstance(kind, str) or not kind or ":" in kind:
         raise UsageError(f"target kind={kind!r} must be a non-empty string without ':'")
-    _KINDS[kind] = _Kind(kind, from_description, bundled or (lambda: []), by_name, load_file)
+    _KINDS[kind] = _Kind(kind, from_description, bundled or (lambda: []), by_name, load_file, by_other_name)
 
 
 def target_kinds() -> list[str]:
@@ -193,6 +197,10 @@ def resolve_target(text, kind: str | None = None):
             return _load_description_file(text, expect=kind)
         if text in k.bundled() and k.by_name is not None:
             return k.by_name(text)
+        if k.by_other_name is not None:
+            found = k.by_other_name(text)
+            if found is not None:
+                return found
         raise InputFileError(f"no such file and no bundled {kind} target of that name", file=text,
                              fix=f"give a file path or one of the bundled {kind} names {k.bundled()!r}")
     if os.path.exists(text):
@@ -568,8 +576,15 @@ register_target_kind("shape", from_description=GoalSet.from_description,
 def _pattern_kind() -> None:
     from .repeating_pattern import RepeatingPattern, load_pattern, load_pattern_file, pattern_names
 
+    def other(text: str):
+        if text.startswith("lattice:"):
+            from .repeating_pattern import resolve_pattern
+
+            return resolve_pattern(text)
+        return None
+
     register_target_kind("pattern", from_description=RepeatingPattern.from_description, bundled=pattern_names,
-                         by_name=load_pattern, load_file=load_pattern_file)
+                         by_name=load_pattern, load_file=load_pattern_file, by_other_name=other)
 
 
 _pattern_kind()

@@ -45,9 +45,12 @@ registered and both reported by ``verify``:
 
 Other choices (docs/decisions.md): with fewer robots left in R (or heads in H)
 than positions, the ones left are assigned to the positions that minimise the
-total distance (a rectangular assignment) and the rest stay empty; a robot
+total distance (a rectangular assignment) and the rest stay empty; a head
 enters Algorithm 2 when its R is empty (the paper has no barrier between the
-phases), with H the heads named by the Group messages it received; a head
+phases), with H the heads named by the Group messages it received, and every
+robot when a Layer message reaches it; Algorithm 1's "Upon" has no other
+condition, so a robot whose R grows back (a late Group message) and names it
+the largest acts again, as printed; a head
 acts as soon as it is first in Q, from its assigned position (the position
 the layer is built around), without waiting to arrive; nearest means smallest
 distance from the initial positions P (robots of R and H do not move before
@@ -251,7 +254,7 @@ class JiangController:
                 self._on_group(msg)
             elif isinstance(msg, Layer):
                 self._on_layer(msg)
-        if self.r_max == self.id and self.head_of is None:                 # Alg. 1, "Upon ... largest ID in R"
+        if self.r_max == self.id:                                         # Alg. 1, "Upon ... largest ID in R"
             self._become_head(pos)
         if not self.R and self.is_head and not self.in_phase2:
             self._enter_phase2()
@@ -387,7 +390,8 @@ class Jiang:
 
             raise UsageError(f"{self.name} needs a repeating pattern target (002 Defs. 3, 7), not "
                              f"{getattr(target, 'kind', type(target).__name__)} {getattr(target, 'name', '')!r}",
-                             fix="e.g. --pattern rhombus-triangles (swarmproof check-pattern --list)")
+                             fix="e.g. --pattern rhombus-triangles (swarmproof check-pattern --list), or "
+                                 "--pattern lattice:square for a one-role lattice")
         return JiangController(robot_id, params, basic, assembling, self.reading, float(target.tol))
 
     def finished(self, states) -> bool:

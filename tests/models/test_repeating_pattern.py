@@ -36,6 +36,13 @@ BAD = [
     ("tol", GOOD + "tol: -1\n", 5, "tol", "must be > 0"),
     ("empty basic", GOOD.replace("[[0, 0], [0.4, 0]]", "[]"), 3, "basic", "non-empty list"),
     ("yaml", GOOD + "basic: [\n", None, None, "malformed YAML"),
+    ("huge int", GOOD.replace("[1, 0], [0, 1]", "[1" + "0" * 400 + ", 0], [0, 1]"), 4, "assembling[1][0]",
+     "of size at most 1e+06"),
+    ("huge float", GOOD.replace("[1, 0], [0, 1]", "[1.0e+308, 0], [0, 1]"), 4, "assembling[1][0]", "at most"),
+    ("yaml 1.1 exponent", GOOD + "tol: 1e-6\n", 5, "tol", "write 1.0e-6"),
+    ("no nonzero vector", GOOD.replace("[[0, 0], [1, 0], [0, 1]]", "[[0, 0]]"), 4, "assembling",
+     "no nonzero vector"),
+    ("points too close", GOOD.replace("[0.4, 0]", "[1.0e-300, 0]"), 3, "basic[1]", "less than 1e-06"),
 ]
 
 
@@ -126,3 +133,14 @@ def test_pattern_from_lattice_refuses_what_does_not_convert():
     with pytest.raises(UsageError, match="theta"):
         resolve_pattern("lattice:honeycomb-rotating")
     assert resolve_pattern("lattice:triangle").basic == ((0.0, 0.0),)
+
+
+def test_simulate_takes_a_converted_lattice_and_does_not_judge_a_range_graph(capsys):
+    """Every jiang robot hears every robot: connectivity of the range graph is not applicable
+    (inconclusive, never a failure), so a run that forms the pattern exits 0."""
+    assert main(["simulate", "jiang", "--pattern", "lattice:square", "--robots", "6", "--seed", "0", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["satisfied"] is True and doc["connectivity"]["status"] == "inconclusive"
+    assert doc["connected_throughout"] is None
+    assert main(["simulate", "jiang", "--lattice", "square", "--robots", "6", "--seed", "0"]) == 2
+    assert "--pattern lattice:square" in capsys.readouterr().err

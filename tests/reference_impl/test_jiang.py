@@ -192,3 +192,16 @@ def test_a_target_that_is_not_a_pattern_is_refused():
 
     with pytest.raises(UsageError, match="needs a repeating pattern target"):
         Jiang().controller(1, P, library.load("square"), None)
+
+
+def test_a_stale_R_that_names_a_head_again_makes_it_act_again_as_printed():
+    """Alg. 1's "Upon r_i finds that it has the largest ID in R" has no other condition: a head
+    whose R grows back (a late Group message, R <- R') and names it the largest forms a second
+    group -- of robots already grouped -- and one_group sees it."""
+    c = ctl(6)
+    c.know_start(tuple(POS), np.array(list(POS.values())))
+    first = c.step(obs(6, POS[6])).message                 # head 6 takes 2 and 3
+    stale = Group((1, 2, 3, 4, 5, 6), 9, (9.0, 9.0), ())   # an old message from a head 9
+    second = c.step(obs(6, POS[6], [(9, stale)], step=1)).message
+    assert isinstance(second, Group) and second.head == 6 and second is not first
+    assert {r for r, _ in second.members} <= {1, 2, 3, 4, 5}
