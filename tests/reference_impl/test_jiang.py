@@ -205,3 +205,18 @@ def test_a_stale_R_that_names_a_head_again_makes_it_act_again_as_printed():
     second = c.step(obs(6, POS[6], [(9, stale)], step=1)).message
     assert isinstance(second, Group) and second.head == 6 and second is not first
     assert {r for r, _ in second.members} <= {1, 2, 3, 4, 5}
+
+
+def test_the_explorer_finds_the_delay_deadlock_and_its_file_replays(tmp_path):
+    """Delays within 002's model (no assumption broken) end a run short of its own end; the
+    shrunk counterexample file replays exactly."""
+    from swarmproof.checkers.explore import explore
+    from swarmproof.checkers.replay import replay_file
+
+    rep = explore("jiang", ["termination"], budget=None, max_examples=120, robots=(3, 9), seed=0,
+                  lattices=["pattern:rhombus-triangles"], draw_faults=("delays",), out_dir=tmp_path)
+    v = rep.properties["termination"]
+    assert v.status == "violated" and rep.broken_assumptions == []
+    assert "deadlock" in v.message
+    rr = replay_file(v.counterexample_path)
+    assert rr.reproduced
