@@ -115,6 +115,8 @@ def plan_tasks(spec) -> list[Task]:
                 for seed in cell.seeds:
                     args = {"algorithm": cell.algorithm, "target": target, "robots": n, "seed": seed,
                             "max_steps": cell.max_steps}
+                    if cell.start is not None:      # only when given: older stores' task args stay as they were
+                        args["start"] = dict(cell.start)
                     tasks.append(Task(f"simulate[{cell.index}]/{target}/n{n}/seed{seed}", cell.label, "simulate", args))
     return tasks
 
@@ -149,7 +151,14 @@ def _simulate_task(a: dict) -> dict:
     from swarmproof.models.targets import resolve_target
 
     spec = resolve_algorithm(a["algorithm"])
-    checked = run_and_check(a["algorithm"], resolve_target(a["target"]), seed=a["seed"], robots=a["robots"],
+    initial = None
+    if a.get("start"):
+        from swarmproof.reference_impl.initial import random_uniform
+
+        initial = random_uniform(a["robots"], a["seed"], side=a["start"]["uniform"],
+                                 min_separation=a["start"].get("separation", 0.0))
+    checked = run_and_check(a["algorithm"], resolve_target(a["target"]), seed=a["seed"],
+                            robots=None if initial is not None else a["robots"], initial=initial,
                             max_steps=a["max_steps"])
     doc = checked.doc
     verdicts = _run_property_verdicts(checked)
@@ -162,6 +171,10 @@ def _simulate_task(a: dict) -> dict:
             break
     figures = {k: doc.get(k) for k in ("status", "steps", "execution_steps", "satisfied", "fulfillment_ratio",
                                         "connected_throughout", "total_distance", "min_separation")}
+    if doc.get("target", {}).get("kind") != "lattice":
+        # another kind's figures (e.g. a repeating pattern's epsilon, 002 Def. 9); numbers and texts only
+        figures["metrics"] = {k: v for k, v in (doc.get("metrics") or {}).items()
+                              if isinstance(v, (int, float, str)) or v is None}
     figures["properties"] = {p: {"verdict": v.value, "message": m, "claim": spec.claims.get(p)}
                              for p, (v, m) in verdicts.items()}
     return {"verdict": verdict.value, "figures": figures, "counterexample": cx, "first_failure_seconds": None}

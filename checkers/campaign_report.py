@@ -87,15 +87,30 @@ def mean_sd(xs) -> str:
     return f"{mean:.3g} ± {sd:.2g}"
 
 
-#: The per-team-size figures of an experiment cell: (column, figures key, plot label).
+#: The per-team-size figures of an experiment cell: (column, figures key, plot label); a
+#: "metrics.K" key reads a target's own figure.  A column shows when some run has the figure.
 EXPERIMENT_FIGURES = (("execution steps", "execution_steps", "execution steps"),
                       ("total distance", "total_distance", "total distance"),
-                      ("fulfillment ratio Q", "fulfillment_ratio", "fulfillment ratio Q"))
+                      ("fulfillment ratio Q", "fulfillment_ratio", "fulfillment ratio Q"),
+                      ("formation quality epsilon", "metrics.epsilon", "formation quality epsilon"))
+
+
+def _fig(f: dict, key: str):
+    if key.startswith("metrics."):
+        return (f.get("metrics") or {}).get(key.split(".", 1)[1])
+    return f.get(key)
+
+
+def _columns(rows: dict) -> list:
+    """The EXPERIMENT_FIGURES some run of the cell has."""
+    runs = [f for fs in rows.values() for f in fs]
+    return [c for c in EXPERIMENT_FIGURES if any(isinstance(_fig(f, c[1]), (int, float)) for f in runs)]
 
 
 def plot_experiment(result, cell_label: str, path: str) -> str | None:
-    """Execution steps and fulfillment ratio by team size (mean ± sd over seeds), one line per
-    target; None when the cell has no finished run."""
+    """Execution steps and the target's quality figure (fulfillment ratio Q, formation quality
+    epsilon) by team size (mean ± sd over seeds), one line per target; None when the cell has
+    no finished run."""
     import statistics
 
     from swarmproof.checkers.plotting import new_figure, save_png
@@ -103,17 +118,17 @@ def plot_experiment(result, cell_label: str, path: str) -> str | None:
     rows = _experiment_rows(result, cell_label)
     if not rows:
         return None
-    fig, _ = new_figure(11.0, 4.0)
+    cols = [c for c in _columns(rows) if c[1] != "total_distance"][:2] or [EXPERIMENT_FIGURES[0]]
+    fig, _ = new_figure(5.5 * len(cols), 4.0)
     fig.clf()
-    axes = fig.subplots(1, 2)
-    for a, key, label in ((axes[0], "execution_steps", "execution steps"),
-                          (axes[1], "fulfillment_ratio", "fulfillment ratio Q")):
+    axes = fig.subplots(1, len(cols), squeeze=False)[0]
+    for a, (_, key, label) in zip(axes, cols):
         a.set_aspect("auto")
         for target in sorted({t for t, _ in rows}):
             ns = sorted(n for t, n in rows if t == target)
             ys, es = [], []
             for n in ns:
-                xs = _numbers(f.get(key) for f in rows[(target, n)])
+                xs = _numbers(_fig(f, key) for f in rows[(target, n)])
                 ys.append(statistics.mean(xs) if xs else float("nan"))
                 es.append(statistics.stdev(xs) if len(xs) > 1 else 0.0)
             a.errorbar(ns, ys, yerr=es, fmt="o-", capsize=3, label=target)
@@ -157,20 +172,21 @@ def markdown(result, plots: dict | None = None) -> str:
         if not rows:
             lines += ["", f"## {c['cell']}", "", "No run of this cell has finished yet."]
             continue
-        head = " | ".join(f"{col} (mean ± sd)" for col, _, _ in EXPERIMENT_FIGURES)
+        cols = _columns(rows)
+        head = " | ".join(f"{col} (mean ± sd)" for col, _, _ in cols)
         lines += ["", f"## {c['cell']}", "",
                   "Over the seeds of each row: the figures' mean ± sample standard deviation; *ended* "
                   "counts runs that ended (a static state, or the algorithm's own end) before the step cap; "
                   "*satisfied* counts final configurations that satisfy the target; *claims violated* "
                   "names each property the algorithm claims that some runs violated, with how many runs.", "",
                   f"| target | robots | runs | ended | {head} | satisfied | claims violated |",
-                  "|---|---:|---:|---:|" + "---:|" * len(EXPERIMENT_FIGURES) + "---:|---:|"]
+                  "|---|---:|---:|---:|" + "---:|" * len(cols) + "---:|---:|"]
         for (target, n) in sorted(rows):
             fs = rows[(target, n)]
-            cols = " | ".join(mean_sd(f.get(key) for f in fs) for _, key, _ in EXPERIMENT_FIGURES)
+            figs = " | ".join(mean_sd(_fig(f, key) for f in fs) for _, key, _ in cols)
             ended = sum(f.get("status") in ("static", "finished") for f in fs)
             sat = sum(f.get("satisfied") is True for f in fs)
-            lines.append(f"| {target} | {n} | {len(fs)} | {ended}/{len(fs)} | {cols} | {sat}/{len(fs)} | "
+            lines.append(f"| {target} | {n} | {len(fs)} | {ended}/{len(fs)} | {figs} | {sat}/{len(fs)} | "
                          f"{_claimed_violations(fs)} |")
         if c["cell"] in plots:
             lines += ["", f"![{c['cell']}]({plots[c['cell']]})"]

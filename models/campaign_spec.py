@@ -20,6 +20,7 @@ YAML (or JSON, a subset of YAML)::
         robots: [10, 20, 40]          # team sizes: one task per target, size and seed
         seeds: [0, 1, 2]              # or  seeds: {count: 20}  (seeds 0..19)
         max_steps: 20000              # optional
+        start: {uniform: 15.0, separation: 0.14}   # optional: uniform starts in a square (default: connected)
 
 Every problem is an :class:`~swarmproof.models.errors.InputFileError` naming
 the file, the line and the field (``explore[0].robots``) and how to fix it.
@@ -73,7 +74,7 @@ MAX_ROBOTS = 100_000
 _TOP = ("format", "name", "explore", "simulate", "description")
 _EXPLORE = ("algorithm", "properties", "robots", "seeds", "max_examples", "lattices", "draw_faults", "speeds",
             "max_steps", "params", "allow_violations")
-_SIMULATE = ("algorithm", "targets", "robots", "seeds", "max_steps")
+_SIMULATE = ("algorithm", "targets", "robots", "seeds", "max_steps", "start")
 
 
 @dataclass(frozen=True)
@@ -113,6 +114,9 @@ class SimulateCell:
     robots: tuple[int, ...]
     seeds: tuple[int, ...]
     max_steps: int | None = None
+    #: None: seeded connected starts (``random_connected`` at the target's range); or
+    #: ``{"uniform": SIDE, "separation": D}``: uniform in ``[0, SIDE]^2``, ``D`` apart.
+    start: dict | None = None
 
     @property
     def path(self) -> tuple:
@@ -284,7 +288,22 @@ def _simulate_cell(c: _Check, i: int, d) -> SimulateCell:
     max_steps = d.get("max_steps")
     if max_steps is not None:
         max_steps = c.int_(p + ("max_steps",), max_steps, 1, 10_000_000, "max_steps: 20000")
-    return SimulateCell(i, algo, targets, sizes, seeds, max_steps)
+    start = d.get("start")
+    if start is not None:
+        sp = p + ("start",)
+        example = "start: {uniform: 15.0, separation: 0.14}"
+        if not isinstance(start, dict) or "uniform" not in start or set(start) - {"uniform", "separation"}:
+            c.fail(sp, f"{_field(sp)}={start!r} must be {{uniform: SIDE, separation: D}}", f"e.g. {example}")
+        vals = {}
+        for key, lo in (("uniform", 0.0), ("separation", 0.0)):
+            v = start.get(key, 0.0)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (lo <= v <= 1e6) or v != v \
+                    or (key == "uniform" and v <= 0):
+                c.fail(sp + (key,), f"{_field(sp + (key,))}={v!r} must be a number in "
+                                    f"{'(0' if key == 'uniform' else '[0'}, 1e6]", f"e.g. {example}")
+            vals[key] = float(v)
+        start = vals
+    return SimulateCell(i, algo, targets, sizes, seeds, max_steps, start)
 
 
 def loads_campaign(text: str, source: str = "<string>") -> CampaignSpec:

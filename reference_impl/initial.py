@@ -53,7 +53,7 @@ from swarmproof.models.fileio import atomic_write_text, dumps_json
 from swarmproof.models.sensing import is_connected
 from swarmproof.models.trace import InitialConfiguration
 
-__all__ = ["InitialConfiguration", "random_connected", "from_file", "to_file", "loads", "dumps",
+__all__ = ["InitialConfiguration", "random_connected", "random_uniform", "from_file", "to_file", "loads", "dumps",
            "INITIAL_FORMAT"]
 
 INITIAL_FORMAT = "swarmproof-initial/1"
@@ -68,6 +68,35 @@ def _generator(rng_or_seed) -> np.random.Generator:
         return np.random.default_rng(int(rng_or_seed))
     raise UsageError(f"rng_or_seed={rng_or_seed!r} must be a non-negative int seed or a "
                      "numpy.random.Generator", fix="pass an explicit seed")
+
+
+def random_uniform(n: int, seed: int, *, side: float, min_separation: float = 0.0) -> InitialConfiguration:
+    """``n`` robots uniformly at random in the square ``[0, side]^2`` (002 Sec. V-A: "placed
+    randomly and uniformly in the working plane"), at least ``min_separation`` apart (rejection),
+    headings uniform, IDs ``0..n-1``; seeded (its own stream of ``seed``).  Not necessarily
+    connected: for algorithms whose robots all hear each other.
+
+    >>> s = random_uniform(20, 0, side=15.0, min_separation=0.14)
+    >>> s.n, bool((s.poses[:, :2] >= 0).all() and (s.poses[:, :2] <= 15).all())
+    (20, True)
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise UsageError(f"n={n!r} must be an integer >= 1")
+    if not (isinstance(side, (int, float)) and math.isfinite(side) and side > 0):
+        raise UsageError(f"side={side!r} must be a finite number > 0")
+    rng = np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(2002,)))
+    pts: list = []
+    tries = 0
+    while len(pts) < n:
+        tries += 1
+        if tries > 1000 * n:
+            raise UsageError(f"cannot place n={n} robots {min_separation} apart in a square of side={side}",
+                             fix="give a larger side or fewer robots")
+        p = rng.uniform(0.0, side, size=2)
+        if all(math.hypot(*(p - q)) >= min_separation for q in pts):
+            pts.append(p)
+    head = rng.uniform(-np.pi, np.pi, size=n)
+    return InitialConfiguration(list(range(n)), np.column_stack((np.array(pts), head)))
 
 
 def random_connected(n: int, rng_or_seed, *, range: float, min_separation: float | None = None,

@@ -15,8 +15,6 @@ and returns its figures; ``benchmarks/bench_jiang.py`` tables them
 
 from __future__ import annotations
 
-import numpy as np
-
 from swarmproof.models.trace import InitialConfiguration
 
 __all__ = ["AREA", "ROBOT_RADIUS", "uniform_start", "run_sec5"]
@@ -29,21 +27,12 @@ ROBOT_RADIUS = 0.07
 
 def uniform_start(n: int, seed: int, *, area: float = AREA, min_separation: float = 2 * ROBOT_RADIUS
                   ) -> InitialConfiguration:
-    """``n`` robots uniformly at random in ``[0, area]^2`` (rejection keeps them at least
-    ``min_separation`` apart), headings uniform, IDs ``0..n-1``; seeded."""
-    rng = np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(2002,)))
-    pts: list = []
-    tries = 0
-    while len(pts) < n:
-        tries += 1
-        if tries > 1000 * n:
-            raise ValueError(f"cannot place n={n} robots {min_separation} apart in a {area} m square")
-        p = rng.uniform(0.0, area, size=2)
-        if all(np.hypot(*(p - q)) >= min_separation for q in pts):
-            pts.append(p)
-    head = rng.uniform(-np.pi, np.pi, size=n)
-    poses = np.column_stack((np.array(pts), head))
-    return InitialConfiguration(list(range(n)), poses)
+    """``n`` robots uniformly at random in ``[0, area]^2``, at least ``min_separation`` apart
+    (:func:`~swarmproof.reference_impl.initial.random_uniform`; campaign cells with
+    ``start: {uniform: 15, separation: 0.14}`` draw the same starts)."""
+    from swarmproof.reference_impl.initial import random_uniform
+
+    return random_uniform(n, seed, side=area, min_separation=min_separation)
 
 
 def run_sec5(algorithm_name: str, pattern, n: int, seed: int, *, start: InitialConfiguration | None = None,

@@ -80,6 +80,12 @@ BAD_SPECS = [
     ("max-examples", "format: swarmproof-campaign/1\nname: x\nexplore:\n  - algorithm: song2014\n"
                      "    max_examples: 0\n", "explore[0].max_examples=0 must be an integer in 1..", 5,
      "explore[0].max_examples"),
+    ("start", "format: swarmproof-campaign/1\nname: x\nsimulate:\n  - algorithm: jiang\n    targets: [square-dots]\n"
+              "    robots: [5]\n    start: {uniform: -1}\n", "simulate[0].start.uniform=-1 must be a number", 7,
+     "simulate[0].start.uniform"),
+    ("start-keys", "format: swarmproof-campaign/1\nname: x\nsimulate:\n  - algorithm: jiang\n"
+                   "    targets: [square-dots]\n    robots: [5]\n    start: uniform\n",
+     "must be {uniform: SIDE, separation: D}", 7, "simulate[0].start"),
 ]
 
 
@@ -300,7 +306,7 @@ def test_a_killed_worker_loses_nothing(tmp_path):
     assert results_table(tmp_path / "remote") == results_table(tmp_path / "full")
 
 
-@pytest.mark.parametrize("name, tasks", [("song2014-oscillation.yaml", 24), ("paper-statistics.yaml", 1230)])
+@pytest.mark.parametrize("name, tasks", [("song2014-oscillation.yaml", 24), ("paper-statistics.yaml", 1710)])
 def test_shipped_campaigns_load_and_plan(name, tasks):
     from swarmproof.models.campaign_spec import load_campaign_file
 
@@ -426,3 +432,27 @@ def test_a_full_disk_stops_with_exit_2_and_a_readable_store(tmp_path):
     full = [list(r) for r in results_table(tmp_path / "full")]
     assert all(r in full for r in mid["rows"])
     assert doc["resumed"]["code"] in (0, 1) and doc["resumed"]["rows"] == full
+
+
+def test_uniform_starts_in_experiment_cells(tmp_path):
+    """``start: {uniform: SIDE, separation: D}`` draws the starts of random_uniform (002 Sec. V-A's
+    "placed randomly and uniformly"), the same as the benchmark's for the same seed, and the
+    report shows the target's own quality figure (a repeating pattern's epsilon)."""
+    from swarmproof.checkers.campaign import _simulate_task
+    from swarmproof.reference_impl.jiang_experiments import run_sec5
+    from swarmproof.models.targets import resolve_target
+
+    spec = loads_campaign("format: swarmproof-campaign/1\nname: u\nsimulate:\n  - algorithm: jiang\n"
+                          "    targets: [pattern:rhombus-triangles]\n    robots: [9]\n    seeds: [3]\n"
+                          "    start: {uniform: 15.0, separation: 0.14}\n")
+    (task,) = plan_tasks(spec)
+    assert task.args["start"] == {"uniform": 15.0, "separation": 0.14}
+    out = _simulate_task(task.args)
+    bench = run_sec5("jiang", resolve_target("pattern:rhombus-triangles"), 9, 3)
+    assert out["figures"]["total_distance"] == bench["total_distance"]
+    assert out["figures"]["metrics"]["epsilon"] == 1.0 and out["verdict"] == "held"
+    res = run_campaign(spec, out_dir=str(tmp_path / "u"), workers=1)
+    from swarmproof.checkers.campaign_report import markdown
+
+    md = markdown(res)
+    assert "formation quality epsilon (mean ± sd)" in md and "fulfillment ratio Q" not in md
