@@ -43,8 +43,9 @@ graph; a part with several fitting translations (a partial copy) takes the
 one whose center has the most A-links to the full copies' centers (ties: the
 first found, by robot and B index), and the result says
 ``centers_ambiguous``; among several optimal partitions ``delta`` is the
-largest found by the exact-cover enumeration (perfect case) and is the one
-of the partition found otherwise.
+largest found by the exact-cover enumeration (perfect case); otherwise a
+second integer program picks an optimal partition with the most full copies of
+B, and delta is that partition's.
 
 Examples
 --------
@@ -319,6 +320,31 @@ def _beta(parts: list[tuple], b: int) -> Fraction:
     return sum((Fraction(len(m), b) for c, m in parts if c is not None), Fraction(0)) / len(parts)
 
 
+def _most_full_copies(cands, b, ratio, best, a, lo_b, hi_b, nv, m, n, parts_of, node_limit):
+    """Among the optimal partitions, one with the most full copies of B (a second integer
+    program: keep ``beta = gamma`` as a constraint, maximise the full candidates chosen), so that
+    Def. 8's graph is built on whole copies where the optimum allows; the first optimum is kept
+    when this one does not finish or does not reach gamma exactly."""
+    from scipy.optimize import Bounds, LinearConstraint, milp
+    from scipy.sparse import csr_matrix, vstack
+
+    p, q = ratio.numerator, ratio.denominator
+    # q * sum z - p * b * (sum y + G) >= 0  <=>  beta of the solution >= gamma
+    row = np.concatenate((np.full(m, -float(p * b)), np.full(n, float(q)), [-float(p * b)]))
+    cons = [LinearConstraint(vstack([a, csr_matrix(row)]), np.concatenate((lo_b, [0.0])),
+                             np.concatenate((hi_b, [np.inf])))]
+    full = np.array([1.0 if len(ms) == b else 0.0 for ms, _ in cands])
+    # full copies count, and their members must be covered (z_p <= y_c is implied by the
+    # covering rows only one way): reward whole copies, prefer fewer parts among equals
+    cost = np.concatenate((-full * (n + 1) + 1.0, np.zeros(n), [1.0]))
+    res = milp(cost, constraints=cons, integrality=np.ones(nv), bounds=Bounds(np.zeros(nv), np.ones(nv)),
+               options={"node_limit": node_limit, "mip_rel_gap": 0.0, "presolve": True})
+    if res.status != 0 or res.x is None:
+        return best
+    cand = parts_of(res.x)
+    return cand if _beta(cand, b) == ratio else best
+
+
 def _milp_gamma(n: int, b: int, cands: list, singles: np.ndarray, node_limit: int):
     """Dinkelbach's iteration over exact MILPs; returns ``(exact, parts, lo, size)``."""
     from scipy.optimize import Bounds, LinearConstraint, milp
@@ -345,7 +371,8 @@ def _milp_gamma(n: int, b: int, cands: list, singles: np.ndarray, node_limit: in
     size = {"robots": n, "basic_points": b, "candidate_parts": m, "variables": nv, "constraints": 2 * n}
 
     def parts_of(x) -> list[tuple]:
-        chosen = [k for k in range(m) if x[k] > 0.5]
+        # whole copies first: a robot two chosen candidates share goes to the larger one
+        chosen = sorted((k for k in range(m) if x[k] > 0.5), key=lambda k: (-len(cands[k][0]), k))
         owner: dict[int, int] = {}
         for k in chosen:
             for p in cands[k][0]:
@@ -368,6 +395,8 @@ def _milp_gamma(n: int, b: int, cands: list, singles: np.ndarray, node_limit: in
         cand = parts_of(res.x)
         value = _beta(cand, b)
         if value <= ratio:
+            if res.status == 0:
+                best = _most_full_copies(cands, b, ratio, best, a, lo_b, hi_b, nv, m, n, parts_of, node_limit)
             return res.status == 0, best, ratio, size
         best, ratio = cand, value
         if res.status != 0:

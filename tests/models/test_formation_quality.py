@@ -122,3 +122,16 @@ def test_budgets_give_inconclusive_with_bounds_never_a_wrong_number():
 def test_no_robots_is_inconclusive():
     q = formation_quality([], SEG, [(0, 1)])
     assert not q.exact and q.epsilon is None and q.message == "no robots"
+
+
+def test_among_optimal_partitions_whole_copies_are_preferred():
+    """n = 3 k + 1 on triangles: k full copies and a lone robot, or k - 1 copies and two pairs,
+    give the same gamma; the partition reported keeps the whole copies, whose centers (and the
+    lone robot's, on its slot) are linked by A, so delta = 1."""
+    from swarmproof.models.repeating_pattern import load_pattern
+
+    pat = load_pattern("rhombus-triangles")
+    pts = pat.formation(31)
+    q = formation_quality(pts, pat.basic, pat.assembling, tol=pat.tol)
+    assert q.exact and q.gamma == Fraction(31, 33)
+    assert q.completion_rates() == {"1": 10, "1/3": 1} and q.delta == 1 and q.epsilon == q.gamma
