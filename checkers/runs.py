@@ -105,7 +105,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         or parameters outside the paper's assumptions (``AssumptionError``)
         unless ``allow_violations``.
     """
-    from swarmproof.invariants.connectivity import connected_throughout, tree_link_mode_of, tree_links_survive
+    from swarmproof.invariants.connectivity import judge_connectivity, tree_link_mode_of, tree_links_survive
     from swarmproof.invariants.metrics import (execution_steps, fulfillment_ratio, min_separation as
                                                min_sep, non_fulfillment_ratio, total_distance)
     from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
@@ -155,10 +155,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     if record_every != 1:
         # a sparse trace: connectivity and the tree links are judged by streaming monitors that
         # the engine feeds every step (DESIGN.md section 5, "Monitors see every step")
-        from swarmproof.invariants.connectivity import ConnectivityMonitor, TreeLinkMonitor
+        from swarmproof.invariants.connectivity import TreeLinkMonitor, connectivity_monitor
 
-        observers = (ConnectivityMonitor(phi, getattr(algorithm.model, "neighbor_rule", "strict") == "inclusive"),
-                     TreeLinkMonitor(phi, mode=link_mode))
+        observers = (connectivity_monitor(algorithm, phi), TreeLinkMonitor(phi, mode=link_mode))
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, progress=progress, record_every=record_every,
                       observers=observers)
@@ -182,12 +181,8 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     if observers:
         conn, links = result.observed("connectivity"), result.observed("tree_links")
     else:
-        conn = connected_throughout(trace, phi)
+        conn = judge_connectivity(trace, phi, algorithm)
         links = tree_links_survive(trace, phi, mode=link_mode)
-    from swarmproof.invariants.connectivity import complete_graph_result, range_graph_applies
-
-    if not range_graph_applies(algorithm):      # every robot hears every robot: nothing to split
-        conn = complete_graph_result()
     satisfied = sat.held if sat.status != "inconclusive" else None
     doc = {
         "algorithm": algorithm.name,

@@ -329,3 +329,20 @@ class CompleteGraphMonitor:
 
     def result(self) -> InvariantResult:
         return complete_graph_result()
+
+
+def judge_connectivity(trace, phi: float, algorithm) -> InvariantResult:
+    """The connectivity verdict of one run of ``algorithm``: :func:`connected_throughout` on its
+    range graph, or :func:`complete_graph_result` when every robot hears every robot."""
+    if not range_graph_applies(algorithm):
+        return complete_graph_result()
+    return connected_throughout(trace, phi)
+
+
+def connectivity_monitor(algorithm, phi: float):
+    """The streaming judge of :func:`judge_connectivity` for ``algorithm`` at range ``phi``
+    (its model's neighbor rule decides strict or inclusive neighbours)."""
+    if not range_graph_applies(algorithm):
+        return CompleteGraphMonitor()
+    model = getattr(algorithm, "model", None)
+    return ConnectivityMonitor(float(phi), getattr(model, "neighbor_rule", "strict") == "inclusive")

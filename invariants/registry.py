@@ -282,11 +282,9 @@ def _satisfaction(ctx: PropertyContext):
 
 
 def _connectivity(trace, ctx):
-    from .connectivity import complete_graph_result, connected_throughout, range_graph_applies
+    from .connectivity import judge_connectivity
 
-    if not range_graph_applies(ctx.algorithm):
-        return complete_graph_result()
-    return connected_throughout(trace, ctx.phi)
+    return judge_connectivity(trace, ctx.phi, ctx.algorithm)
 
 
 def _tree_links(trace, ctx):
@@ -295,16 +293,10 @@ def _tree_links(trace, ctx):
     return tree_links_survive(trace, ctx.phi, mode=tree_link_mode_of(ctx.algorithm, ctx.options))
 
 
-def _inclusive(algorithm) -> bool:
-    return getattr(getattr(algorithm, "model", None), "neighbor_rule", "strict") == "inclusive"
-
-
 def _connectivity_stream(algorithm, params, options):
-    from .connectivity import CompleteGraphMonitor, ConnectivityMonitor, range_graph_applies
+    from .connectivity import connectivity_monitor
 
-    if not range_graph_applies(algorithm):
-        return CompleteGraphMonitor()
-    return ConnectivityMonitor(float(params.range), _inclusive(algorithm))
+    return connectivity_monitor(algorithm, params.range)
 
 
 def _tree_links_stream(algorithm, params, options):
