@@ -238,32 +238,28 @@ def _exact_covers(n: int, full: list[tuple[int, ...]], budget: int):
 
 
 def _components(centers: list[np.ndarray], assembling: np.ndarray, tol: float) -> int:
-    """Connected components of Def. 8's graph: centers linked when they differ by a vector of A."""
+    """Connected components of Def. 8's graph: centers linked when they differ by a vector of A
+    (:func:`swarmproof.models.sensing.components` on those links)."""
     from scipy.spatial import cKDTree
+
+    from .sensing import components
 
     m = len(centers)
     if m == 0:
         return 0
-    parent = list(range(m))
-
-    def find(x):
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
     pts = np.asarray(centers, dtype=float)
     tree = cKDTree(pts)
+    src, dst = [], []
     for a in assembling:
         if math.hypot(a[0], a[1]) <= tol:
             continue
         _, idx = tree.query(pts + a, k=1, distance_upper_bound=tol)
-        for i, j in enumerate(idx):
-            if j < m:
-                ri, rj = find(i), find(int(j))
-                if ri != rj:
-                    parent[max(ri, rj)] = min(ri, rj)
-    return len({find(i) for i in range(m)})
+        hit = np.flatnonzero(idx < m)
+        src.append(hit)
+        dst.append(idx[hit])
+    if not src:
+        return m
+    return len(components(m, np.concatenate(src), np.concatenate(dst)))
 
 
 def _best_translations(parts: list, xy: np.ndarray, bp: np.ndarray, av: np.ndarray, tol: float) -> list:

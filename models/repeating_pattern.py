@@ -297,12 +297,19 @@ def _is_float(s: str) -> bool:
         return False
 
 
-def _distinct(doc: _Doc, key: str, pts: list, tol: float, what: str) -> None:
+def _distinct(doc: _Doc, key: str, pts: list, tol: float, what: str, min_distance: float = 0.0) -> None:
+    """No two entries within ``tol`` (a repeat), nor closer than ``min_distance`` (too small to
+    judge within a tolerance far above the floating-point resolution)."""
     for i in range(len(pts)):
         for j in range(i):
-            if math.hypot(pts[i][0] - pts[j][0], pts[i][1] - pts[j][1]) <= tol:
+            d = math.hypot(pts[i][0] - pts[j][0], pts[i][1] - pts[j][1])
+            if d <= tol:
                 doc.fail((key, i), f"{key}[{i}]={list(pts[i])!r} repeats {key}[{j}]={list(pts[j])!r} "
                                    f"(within tol={tol:g})", f"{what} (remove one, or lower tol)")
+            if d < min_distance:
+                doc.fail((key, i), f"{key}[{i}]={list(pts[i])!r} is {d:.3g} from {key}[{j}] "
+                                   f"(less than {min_distance:g})",
+                         f"scale the pattern so that its points are at least {min_distance:g} apart")
 
 
 def _from_document(data: Any, source: str, lines: dict, default_name: str) -> RepeatingPattern:
@@ -344,19 +351,13 @@ def _from_document(data: Any, source: str, lines: dict, default_name: str) -> Re
     from .formation_quality import default_tol
 
     t = tol if tol is not None else default_tol(basic, assembling)
-    _distinct(doc, "basic", basic, t, "002 Def. 3: the points of B do not overlap")
+    _distinct(doc, "basic", basic, t, "002 Def. 3: the points of B do not overlap", MIN_LENGTH)
     _distinct(doc, "assembling", assembling, t, "002 Def. 7: the vectors of A are distinct")
     steps = [k for k, a in enumerate(assembling) if math.hypot(*a) > t]
     if not steps:
         doc.fail(("assembling",), f"assembling={[list(a) for a in assembling]!r} has no nonzero vector: no two "
                                   "copies of B can be linked (002 Def. 8)",
                  "add the vectors from one copy's center to its neighbours' centers, e.g. [1, 0]")
-    for i, p in enumerate(basic):
-        for j in range(i):
-            d = math.hypot(p[0] - basic[j][0], p[1] - basic[j][1])
-            if d < MIN_LENGTH:
-                doc.fail(("basic", i), f"basic[{i}]={list(p)!r} is {d:.3g} from basic[{j}] (less than {MIN_LENGTH:g})",
-                         f"scale the pattern so that its points are at least {MIN_LENGTH:g} apart")
     for i, a in enumerate(assembling):
         if 0 < math.hypot(*a) < MIN_LENGTH:
             doc.fail(("assembling", i), f"assembling[{i}]={list(a)!r} is shorter than {MIN_LENGTH:g}",
