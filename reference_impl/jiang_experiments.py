@@ -37,22 +37,17 @@ def uniform_start(n: int, seed: int, *, area: float = AREA, min_separation: floa
 
 def run_sec5(algorithm_name: str, pattern, n: int, seed: int, *, start: InitialConfiguration | None = None,
              range: float = 1.5) -> dict:
-    """One run of ``algorithm_name`` toward ``pattern`` from :func:`uniform_start` (or ``start``):
+    """One run of ``algorithm_name`` toward ``pattern`` from :func:`uniform_start` (or ``start``),
+    checked as ``swarmproof simulate`` checks it (:func:`~swarmproof.checkers.runs.run_and_check`):
     status, steps, total distance, minimum separation, the collisions at radius 7 cm, and the
     pattern's figures (epsilon of Def. 9, its parts, and Sec. V-A's alignment)."""
-    from swarmproof.invariants.metrics import min_separation, total_distance
-    from swarmproof.checkers.runs import build_params
-    from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.registry import get_algorithm
+    from swarmproof.checkers.runs import run_and_check
 
-    alg = get_algorithm(algorithm_name, n_robots=n)
     init = start if start is not None else uniform_start(n, seed)
-    params = build_params(alg, range, n)
-    r = simulate(alg, pattern, init, params, seed=seed)
-    m = pattern.metrics(r.final_ids, r.final_poses)
-    sep = min_separation(r.trace)
-    return {"n": n, "seed": seed, "status": r.status, "steps": r.steps,
-            "total_distance": total_distance(r.trace), "min_separation": sep,
-            "collides": bool(sep < 2 * ROBOT_RADIUS),
+    doc = run_and_check(algorithm_name, pattern, seed=seed, initial=init, phi=range).doc
+    m, sep = doc["metrics"], doc["min_separation"]
+    return {"n": n, "seed": seed, "status": doc["status"], "steps": doc["steps"],
+            "total_distance": doc["total_distance"], "min_separation": sep,
+            "collides": bool(sep is not None and sep < 2 * ROBOT_RADIUS),
             "epsilon": m["epsilon"], "epsilon_exact": m["epsilon_exact"], "gamma": m["basic_fulfillment_exact"],
             "delta": m["assembling_fulfillment_exact"], "method": m["method"], "alignment": m["alignment"]}
