@@ -43,15 +43,14 @@ def _ms(xs) -> str:
 
 
 def perf() -> dict:
+    from swarmproof.models.formation_quality import formation_quality
+
     pat = load_pattern("rhombus-triangles")
     out = {}
     for n in (150, 300):
         t0 = time.perf_counter()
         r = run_sec5("jiang", pat, n, 0)
         t_run = time.perf_counter() - t0
-        from swarmproof.models.formation_quality import formation_quality
-        from swarmproof.reference_impl.engine import simulate  # noqa: F401 - import cost outside timing
-
         pts = pat.formation(n)
         t0 = time.perf_counter()
         q = formation_quality(pts, pat.basic, pat.assembling, tol=pat.tol)
