@@ -144,3 +144,36 @@ def test_simulate_takes_a_converted_lattice_and_does_not_judge_a_range_graph(cap
     assert doc["connected_throughout"] is None
     assert main(["simulate", "jiang", "--lattice", "square", "--robots", "6", "--seed", "0"]) == 2
     assert "--pattern lattice:square" in capsys.readouterr().err
+
+
+def test_a_spent_search_budget_is_inconclusive_in_check_pattern_and_satisfied(monkeypatch):
+    """The third verdict: when the exact-cover search runs out of nodes before it proves quality
+    1, check-pattern and the target say inconclusive (exit 3), never held."""
+    from swarmproof.models import formation_quality as fq
+    from swarmproof.models.repeating_pattern import RepeatingPattern
+
+    def starved(self, poses):
+        return fq.formation_quality(poses, self.basic, self.assembling, tol=self.tol, max_cover_nodes=1,
+                                    max_milp_nodes=1)
+
+    monkeypatch.setattr(RepeatingPattern, "quality", starved)
+    p = load_pattern("rhombus-triangles")
+    r = check_pattern(p, 8)
+    assert r.status == "inconclusive" and r.to_json()["exit_code"] == 3
+    assert p.satisfied(None, p.formation(24)).status == "inconclusive"
+
+
+def test_the_invariants_property_has_three_verdicts():
+    from swarmproof.invariants.algorithm_invariants import Invariant, InvariantsMonitor
+
+    assert InvariantsMonitor(()).result().status == "inconclusive"          # nothing declared: vacuous
+    ok = Invariant("ok", "always", "test", lambda t, ids, poses, states: None)
+    bad = Invariant("bad", "never at step 2", "test", lambda t, ids, poses, states: "broke" if t == 2 else None)
+    for invs, want in (((ok,), "held"), ((ok, bad), "violated")):
+        m = InvariantsMonitor(invs)
+        m.start([1])
+        for t in range(4):
+            m.observe(t, [[0.0, 0.0, 0.0]], (("s",),), [True])
+        r = m.result()
+        assert r.status == want
+    assert r.witness == {"invariant": "bad", "step": 2, "statement": "never at step 2"}
