@@ -171,7 +171,10 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
         metrics = {"fulfillment_ratio": q, "non_fulfillment_ratio": nq}
     else:
+        from swarmproof.invariants.satisfaction import judged_robots
+
         tol = getattr(algorithm, "satisfaction_tol", None)
+        ids, poses = judged_robots(algorithm, result)
         sat = lattice.satisfied(ids, poses, phi=phi, tol=tol)
         q = nq = None
         metrics = dict(lattice.metrics(ids, poses, phi=phi))

@@ -102,6 +102,10 @@ class RobotModel:
     #: (any later step, in any order: 002 Sec. III-A, "no fixed upper bound on the time it takes
     #: for a message to be delivered").  Delay and reordering faults break only a timely model.
     message_timing: str = "timely"
+    #: ``sensing="anonymous"`` only: the robot knows a fixed label of its own (passed to
+    #: ``Algorithm.controller`` as ``robot_id``) though it senses the others anonymously (003
+    #: Sec. 3.7's F-team, "robots with initial fixed IDs").  Observations still carry no IDs.
+    own_id: bool = False
 
     CHOICES = {"sensing": ("local", "anonymous", "global"), "communication": ("neighbors", "all", "none"),
                "motion": ("differential", "holonomic", "grid"), "clocks": ("sync", "async"),

@@ -367,6 +367,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     faults = faults if faults is not None else FaultModel()
     model = algorithm.model
     anonymous = model.sensing == "anonymous"
+    hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
     events: list[Event] = []
     broken: list[str] = []
 
@@ -381,9 +382,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                                       "(--allow-violations on the command line)")
         broken.append("unique_ids")
     for a in algorithm.assumptions:
-        msg = a.check(params, n0, None if anonymous else ids0)
+        msg = a.check(params, n0, None if hide_ids else ids0)
         if msg is None and a.check_start is not None:
-            msg = a.check_start(params, None if anonymous else ids0, initial.poses.copy())
+            msg = a.check_start(params, None if hide_ids else ids0, initial.poses.copy())
         if msg is not None:
             if not allow_violations:
                 raise AssumptionError(a.name, f"{msg} ({a.statement}; {a.cites})",
@@ -434,7 +435,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         controllers: list = [None] * n_total
         for k in range(n0):
             calling = k
-            controllers[k] = algorithm.controller(None if anonymous else ids_list[k], params, lattice,
+            controllers[k] = algorithm.controller(None if hide_ids else ids_list[k], params, lattice,
                                                   _robot_rng(seed, k))
         calling = None
         if getattr(algorithm, "knows_start", False):
@@ -550,7 +551,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 mover.add(slot, poses, ids_list[slot], t)
                 present[slot] = True
                 calling = slot
-                controllers[slot] = algorithm.controller(None if anonymous else ids_list[slot], params,
+                controllers[slot] = algorithm.controller(None if hide_ids else ids_list[slot], params,
                                                          lattice, _robot_rng(seed, slot))
                 calling = None
                 events.append(Event(t, "add", (ids_list[slot],)))

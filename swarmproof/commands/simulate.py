@@ -37,7 +37,9 @@ def add_arguments(p) -> None:
                             "e.g. lattice:hexagon), a lattice-graph/1 file or a target description file")
     which.add_argument("--lattice", metavar="NAME|FILE", help="a lattice target (--target lattice:NAME)")
     which.add_argument("--shape", metavar="NAME|FILE", help="a goal-set target (--target shape:NAME)")
-    which.add_argument("--pattern", metavar="NAME|FILE", help="a repeating-pattern target (--target pattern:NAME)")
+    which.add_argument("--pattern", metavar="NAME|FILE",
+                       help="a pattern target of the algorithm's own pattern kind: a repeating pattern "
+                            "(--target pattern:NAME) or, for 003's algorithms, a line pattern (--target lines:NAME)")
     p.add_argument("--robots", type=int, metavar="N", help="number of robots (random connected start)")
     p.add_argument("--seed", type=int, required=True, metavar="S", help="seed of the start and of the run")
     p.add_argument("--range", type=float, dest="range_", metavar="PHI",
@@ -58,10 +60,37 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
     p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
+    p.add_argument("--gif", metavar="GIF", help="write an animation of the run (every recorded step, at most "
+                                               f"{GIF_FRAMES} frames)")
+    p.add_argument("--then", action="append", default=[], metavar="PATTERN",
+                   help="switch to PATTERN once the present one stands (repeatable; algorithms that switch "
+                        "patterns, e.g. 003's: --param then=...)")
+    p.add_argument("--fail", action="append", default=[], metavar="ROBOT@STEP",
+                   help="robot ROBOT fails at step STEP (003's algorithms: an allocated ID or 'leader'; "
+                        "repeatable: --param fail=...)")
     add_tree_link_mode(p)
     p.add_argument("--record-every", type=int, default=1, metavar="K",
                    help="keep every K-th step (and every event, and the last) in the trace; connectivity "
                         "and tree links are still judged on every step by streaming monitors (default 1)")
+
+
+GIF_FRAMES = 120
+
+
+def _extra_with_options(args, spec) -> dict:
+    """``--param`` values, plus ``--then`` / ``--fail`` for the algorithms that take them (their class
+    lists ``then`` / ``fail`` in ``options``); for any other algorithm they are a usage error."""
+    extra = _parse_extra(getattr(args, "param", []) or [])
+    takes = tuple(getattr(spec.factory, "options", ()) or ())
+    for flag, key in (("--then", "then"), ("--fail", "fail")):
+        values = getattr(args, key, None) or []
+        if not values:
+            continue
+        if key not in takes:
+            raise UsageError(f"{flag} {values[0]!r}: algorithm={spec.label!r} does not take {flag}",
+                             fix="drop it (003's leechong-* algorithms switch patterns and take failures)")
+        extra[key] = ",".join(str(v) for v in values)
+    return extra
 
 
 def _parse_extra(items) -> dict:
@@ -100,12 +129,14 @@ def run(args) -> int:
     from swarmproof.reference_impl import initial as initial_mod
     from swarmproof.checkers.explore import resolve_algorithm
 
-    resolve_algorithm(args.algorithm)  # unknown names fail first, listing the valid ones
+    spec = resolve_algorithm(args.algorithm)  # unknown names fail first, listing the valid ones
     if args.target is not None:
         lattice = resolve_target(args.target)
     else:
-        kind = next(k for k in ("lattice", "shape", "pattern") if getattr(args, k) is not None)
-        lattice = resolve_target(getattr(args, kind), kind=kind)
+        option = next(k for k in ("lattice", "shape", "pattern") if getattr(args, k) is not None)
+        # --pattern names the algorithm's own kind of pattern (003's line patterns, 002's repeating ones)
+        kind = getattr(spec.factory, "pattern_kind", "pattern") if option == "pattern" else option
+        lattice = resolve_target(getattr(args, option), kind=kind)
     if args.seed < 0:
         raise UsageError(f"--seed {args.seed!r} must be >= 0")
     if args.range_ is not None and not (math.isfinite(args.range_) and args.range_ > 0):
@@ -116,7 +147,7 @@ def run(args) -> int:
         raise UsageError(f"--record-every {args.record_every!r} must be >= 1", fix="1 records every step")
     from swarmproof.models.fileio import check_output_path
 
-    for option, value in (("--trace", args.trace), ("--plot", args.plot)):
+    for option, value in (("--trace", args.trace), ("--plot", args.plot), ("--gif", args.gif)):
         if value is not None:            # checked before the run: a finished report is never lost
             check_output_path(value, option)
     for name in ("v", "omega", "dt"):
@@ -136,7 +167,7 @@ def run(args) -> int:
     checked = run_and_check(
         args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
         max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
-        extra=_parse_extra(getattr(args, "param", []) or []), min_separation=args.min_separation,
+        extra=_extra_with_options(args, spec), min_separation=args.min_separation,
         allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
         tree_link_mode=args.tree_link_mode,
         strict=args.strict)
@@ -150,6 +181,11 @@ def run(args) -> int:
         doc["trace"] = trace.save(args.trace)
     if args.plot is not None:
         doc["plot"] = plot_run(trace, lattice, getattr(sat, "roles", None), args.plot, phi)
+    if args.gif is not None:
+        from swarmproof.checkers.plotting import animate_trace
+
+        doc["gif"] = animate_trace(trace, args.gif, title=f"{algorithm.name} on {lattice.name}",
+                                   max_frames=GIF_FRAMES)
     if args.json:
         emit_json(doc)
     else:
@@ -180,6 +216,8 @@ def run(args) -> int:
             lines.append(f"  trace: {doc['trace']}")
         if args.plot is not None:
             lines.append(f"  plot: {doc['plot']}")
+        if args.gif is not None:
+            lines.append(f"  animation: {doc['gif']}")
         lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
                       "result: a checked property failed",
                       3: "result: inconclusive (step cap reached)"}[code])
