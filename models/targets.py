@@ -17,7 +17,7 @@ Kinds (DESIGN.md section 5, "Targets on the command line"):
 kind       class                                                      paper
 =========  =========================================================  ==============================
 lattice    :class:`~swarmproof.models.lattice.LatticeGraph`           001 Def. 2 (000 Def. 2), Q
-lines      :class:`LinePattern`                                       003 Sec. 3 (uni-line type)
+lines      :class:`LinePattern`                                       003 Sec. 3, Table 1, Algs. 2-3
 shape      :class:`GoalSet`                                           004 Sec. III (goal cells)
 pattern    :class:`~swarmproof.models.repeating_pattern.RepeatingPattern`  002 Defs. 3-9 (epsilon = 1)
 =========  =========================================================  ==============================
@@ -36,6 +36,8 @@ Examples
 'held'
 >>> sorted(target_kinds())
 ['lattice', 'lines', 'pattern', 'shape']
+>>> resolve_target("lines:wedge").points(3).round(3).tolist()
+[[0.0, 0.0], [-0.866, -0.5], [-0.866, 0.5]]
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ from typing import Any, Callable, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
+from . import line_patterns as _lp
 from .errors import InputFileError, UsageError
 from .verdict import ThreeValued
 
@@ -317,12 +320,19 @@ def _rigid_fit(template: np.ndarray, xy: np.ndarray, tol: float):
 
 @dataclass(frozen=True)
 class LinePattern:
-    """A uni-line pattern of 003 Sec. 3: ``n`` points at a uniform interval ``d_u``.
+    """A line pattern of 003 Sec. 3: ``n`` points at a uniform interval ``d_u``.
 
     ``shape="line"``: the points ``(k d_u, 0)``, k = 0..n-1 (the horizontal
     or vertical line of Table 1; which one depends only on the common
-    direction, so up to a rigid motion they are the same pattern).  The
-    robots are anonymous, so ``satisfied`` matches positions, not IDs, up
+    direction, so up to a rigid motion they are the same pattern).  Any other
+    shape is one of Lee & Chong's patterns
+    (:data:`~swarmproof.models.line_patterns.PATTERN_NAMES`: Table 1 with
+    003 Alg. 2, or Alg. 3), whose points are
+    :func:`~swarmproof.models.line_patterns.target_points` with ``params``
+    (``alpha_star``, ``m``, ``k``, ``rotation`` and the readings of
+    docs/decisions.md).  The size is ``interval`` (``d_u``) or ``span``
+    (``d_u = span / (n - 1)``, 003 Secs. 3.1, 3.5); neither given: interval 1.
+    The robots are anonymous, so ``satisfied`` matches positions, not IDs, up
     to a proper rigid motion and a permutation (DESIGN.md section 5), within
     ``tol`` (default ``1e-6 d_u``); headings are not judged.
 
@@ -336,75 +346,133 @@ class LinePattern:
     {'kind': 'lines', 'name': 'line', 'shape': 'line', 'interval': 1.0}
     >>> LinePattern("line", range=1.5).describe()["range"]
     1.5
+    >>> w = LinePattern("wide-wedge", "wedge", span=8.0, params={"alpha_star": 45})
+    >>> w.describe()
+    {'kind': 'lines', 'name': 'wide-wedge', 'shape': 'wedge', 'span': 8.0, 'params': {'alpha_star': 45}}
+    >>> w.interval_for(5)
+    2.0
+    >>> w.satisfied(range(5), w.points(5)[::-1] + 3.0).status
+    'held'
     """
 
     name: str
     shape: str = "line"
-    interval: float = 1.0
+    interval: float | None = None   # d_u; None with span None means 1.0
     range: float | None = None   # a recommended range phi for runs toward it (as a lattice file's)
     kind: str = "lines"
     cites: str = "003 Sec. 3 (uni-line type, uniform interval d_u)"
+    span: float | None = None    # 003 Sec. 3.1: span = d_u (n - 1); then d_u follows n
+    params: Any = ()             # a pattern's parameters (a mapping; kept as sorted pairs)
 
-    SHAPES = ("line",)
+    SHAPES = ("line",) + _lp.PATTERN_NAMES + _lp.GENERIC_NAMES
 
     def __post_init__(self) -> None:
         if self.shape not in self.SHAPES:
-            raise UsageError(f"shape={self.shape!r} is not a known line pattern", fix=f"use one of {self.SHAPES!r}")
-        if isinstance(self.interval, bool) or not (isinstance(self.interval, (int, float))
-                                                   and math.isfinite(self.interval) and self.interval > 0):
-            raise UsageError(f"interval={self.interval!r} must be a finite number > 0")
+            raise UsageError(f"shape={self.shape!r} is not a known line pattern", fix=f"use one of {list(self.SHAPES)!r}")
+        if self.interval is not None and self.span is not None:
+            raise UsageError(f"interval={self.interval!r} and span={self.span!r} are both given",
+                             fix="give one: the interval d_u, or the span d_u (n - 1) (003 Sec. 3.1)")
+        if self.interval is None and self.span is None:
+            object.__setattr__(self, "interval", 1.0)
+        for key in ("interval", "span"):
+            val = getattr(self, key)
+            if val is not None and (isinstance(val, bool) or not (isinstance(val, (int, float))
+                                                                  and math.isfinite(val) and val > 0)):
+                raise UsageError(f"{key}={val!r} must be a finite number > 0")
         if self.range is not None and (isinstance(self.range, bool) or not isinstance(self.range, (int, float))
                                        or not math.isfinite(self.range) or self.range <= 0):
             raise UsageError(f"range={self.range!r} must be a finite number > 0 or null")
+        params = self.params
+        if isinstance(params, Mapping):
+            params = tuple(sorted(params.items()))
+        elif not (isinstance(params, tuple) and all(isinstance(p, tuple) and len(p) == 2 for p in params)):
+            raise UsageError(f"params={params!r} must be a mapping of parameter names to values",
+                             fix="e.g. {\"alpha_star\": 30}")
+        object.__setattr__(self, "params", params)
+        if self.shape == "line":
+            if params:
+                raise UsageError(f"params={dict(params)!r}: shape 'line' takes no parameters", fix="drop them")
+        else:
+            _lp._params(self.shape, dict(params))          # validates names and values now
+            if self.cites == LinePattern.cites:
+                object.__setattr__(self, "cites", _lp.pattern_info(self.shape)["citation"])
+
+    def interval_for(self, n: int) -> float:
+        """``d_u`` for ``n`` robots: the interval, or ``span / (n - 1)``."""
+        if self.span is None:
+            return float(self.interval)
+        return _lp.interval_for_span(self.span, n)
 
     def points(self, n: int) -> np.ndarray:
-        """The pattern's ``n`` target points in its own frame."""
-        return np.column_stack((np.arange(n, dtype=float) * float(self.interval), np.zeros(n)))
+        """The pattern's ``n`` target points in its own frame (row i: the robot with ID i, leader at row 0)."""
+        if self.shape == "line":
+            return np.column_stack((np.arange(n, dtype=float) * self.interval_for(n), np.zeros(n)))
+        return _lp.target_points(self.shape, n, self.interval_for(n), 0.0, **dict(self.params))
 
     def _fit(self, poses, tol):
         xy = _as_xy(poses)
-        tol = 1e-6 * float(self.interval) if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
+        scale = self.interval_for(len(xy)) if (self.span is None or len(xy) >= 2) else float(self.span)
+        tol = 1e-6 * scale if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
         if len(xy) == 0:
-            return xy, tol, math.inf, None
+            return xy, tol, math.inf, None, scale
+        if len(xy) == 1:
+            return xy, tol, 0.0, [0], scale
         err, assign = _rigid_fit(self.points(len(xy)), xy, tol)
-        return xy, tol, err, assign
+        return xy, tol, err, assign, scale
 
     def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck:
-        xy, tol, err, assign = self._fit(poses, tol)
+        xy, tol, err, assign, d_u = self._fit(poses, tol)
         if len(xy) == 0:
             return TargetCheck("inconclusive", "no robots", self.cites)
         if err <= tol:
             return TargetCheck("held", f"{len(xy)} robots form the {self.shape} at interval "
-                                       f"{self.interval:g} (largest error {err:.3g})", self.cites,
+                                       f"{d_u:g} (largest error {err:.3g})", self.cites,
                                detail={"max_error": err})
-        return TargetCheck("violated", f"{len(xy)} robots are not a {self.shape} at interval {self.interval:g}: "
+        return TargetCheck("violated", f"{len(xy)} robots are not a {self.shape} at interval {d_u:g}: "
                                        f"the best rigid fit leaves a robot {err:.4g} from its slot (tol {tol:.3g})",
                            self.cites, {"max_error": err}, {"max_error": err})
 
     def progress(self, ids, poses, *, phi: float | None = None) -> float:
         """Minus the largest slot error of the best rigid fit, in intervals (0 at the goal)."""
-        _, _, err, _ = self._fit(poses, None)
-        return -float(err) / float(self.interval) if math.isfinite(err) else -math.inf
+        _, _, err, _, d_u = self._fit(poses, None)
+        return -float(err) / d_u if math.isfinite(err) else -math.inf
 
     def metrics(self, ids, poses, *, phi: float | None = None) -> dict:
-        _, _, err, _ = self._fit(poses, None)
+        _, _, err, _, _ = self._fit(poses, None)
         return {"max_slot_error": err if math.isfinite(err) else None}
 
     def describe(self) -> dict:
-        d = {"kind": self.kind, "name": self.name, "shape": self.shape, "interval": float(self.interval)}
+        d = {"kind": self.kind, "name": self.name, "shape": self.shape}
+        if self.span is not None:
+            d["span"] = float(self.span)
+        else:
+            d["interval"] = float(self.interval)
+        if self.params:
+            d["params"] = dict(self.params)
         if self.range is not None:
             d["range"] = float(self.range)
         return d
 
     @classmethod
     def from_description(cls, d: Mapping) -> "LinePattern":
-        return cls(str(d.get("name") or d.get("shape") or "line"), shape=d.get("shape", "line"),
-                   interval=d.get("interval", 1.0), range=d.get("range"))
+        name = d.get("name")
+        shape = d.get("shape") or (name if name in cls.SHAPES else "line")
+        params = d.get("params") or {}
+        if not isinstance(params, Mapping):
+            raise UsageError(f"params={params!r} must be an object of parameter names to values",
+                             fix="e.g. {\"alpha_star\": 30}")
+        return cls(str(name or shape), shape=shape, interval=d.get("interval"), span=d.get("span"),
+                   range=d.get("range"), params=dict(params))
 
 
 #: ``line``: interval 1, recommended range 1.5 (a finished line is connected, next-but-one
-#: robots are not neighbors).
-_BUNDLED_LINES = {"line": lambda: LinePattern("line", "line", 1.0, 1.5)}
+#: robots are not neighbors).  Lee & Chong's patterns (003 Table 1, Alg. 3): interval 1 and
+#: no recommended range: 003's robots sense every robot (Sec. 5.3: "the sensing capability of
+#: all robots is assumed to be unlimited"), so no finite range belongs to the pattern, and
+#: every pattern's diameter grows with n (a run gives ``--range`` when a row needs one).
+_BUNDLED_LINES = {"line": lambda: LinePattern("line", "line", 1.0, 1.5),
+                  **{name: (lambda name=name: LinePattern(name, name, 1.0, None))
+                     for name in _lp.PATTERN_NAMES}}
 
 
 # ----------------------------------------------------------------------------
