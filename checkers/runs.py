@@ -122,6 +122,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     if phi is None:
         phi = getattr(lattice, "range", None)
     if phi is None:
+        # an algorithm whose robots sense everyone (003) needs a range only to draw connected starts
+        phi = getattr(spec.factory, "default_range", None)
+    if phi is None:
         raise UsageError(f"{kind} {lattice.name!r} has no default range", fix="pass --range PHI")
     if not (math.isfinite(phi) and phi > 0):
         raise UsageError(f"range={phi!r} must be a finite number > 0")
@@ -174,10 +177,10 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         from swarmproof.invariants.satisfaction import judged_robots
 
         tol = getattr(algorithm, "satisfaction_tol", None)
-        ids, poses = judged_robots(algorithm, result)
-        sat = lattice.satisfied(ids, poses, phi=phi, tol=tol)
+        judged, ids, poses = judged_robots(algorithm, result, lattice)
+        sat = judged.satisfied(ids, poses, phi=phi, tol=tol)
         q = nq = None
-        metrics = dict(lattice.metrics(ids, poses, phi=phi))
+        metrics = dict(judged.metrics(ids, poses, phi=phi))
     own = getattr(algorithm, "metrics", None)
     if callable(own):
         metrics.update(own(result))

@@ -276,8 +276,8 @@ def _satisfaction(ctx: PropertyContext):
     if getattr(ctx.target, "kind", "lattice") != "lattice":
         from .satisfaction import judged_robots
 
-        ids, poses = judged_robots(ctx.algorithm, ctx.result)
-        return ctx.target.satisfied(ids, poses, phi=ctx.phi,
+        target, ids, poses = judged_robots(ctx.algorithm, ctx.result, ctx.target)
+        return target.satisfied(ids, poses, phi=ctx.phi,
                                     tol=getattr(ctx.algorithm, "satisfaction_tol", None))
     pos_tol, ang_tol = getattr(ctx.algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
     return satisfies_lattice(ctx.result.final_ids, ctx.result.final_poses, ctx.target, ctx.phi,

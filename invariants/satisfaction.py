@@ -12,15 +12,20 @@ __all__ = ["SatisfactionResult", "satisfies_lattice", "DEFAULT_SAT_POS_TOL", "DE
            "judged_robots"]
 
 
-def judged_robots(algorithm, result):
-    """``(ids, poses)`` of the final robots the target is judged on: every present robot, less those
-    the algorithm's ``out_of_formation(state)`` names (003 Sec. 3.5: a failed robot stands where it
-    stopped, and the survivors re-form the pattern without it)."""
+def judged_robots(algorithm, result, target):
+    """``(target, ids, poses)`` a run's final configuration is judged by: every present robot, less
+    those the algorithm's ``out_of_formation(state)`` names (003 Sec. 3.5: a failed robot stands
+    where it stopped, and the survivors re-form the pattern without it), against the target as the
+    algorithm's ``judging_target(target, n_start)`` restates it (003: the span of the start is kept,
+    so fewer robots stand at a wider interval), or the target itself."""
     ids, poses = result.final_ids, result.final_poses
+    restate = getattr(algorithm, "judging_target", None)
+    if callable(restate):
+        target = restate(target, int(result.trace.n))
     out = getattr(algorithm, "out_of_formation", None)
     if not callable(out):
-        return ids, poses
+        return target, ids, poses
     import numpy as np
 
     keep = np.array([not out(s) for s in result.final_states], dtype=bool)
-    return ids[keep], poses[keep]
+    return target, ids[keep], poses[keep]

@@ -42,7 +42,7 @@ import numpy as np
 
 from .errors import UsageError
 
-__all__ = ["PATTERN_NAMES", "GENERIC_NAMES", "pattern_info", "target_points", "interval_for_span",
+__all__ = ["PATTERN_NAMES", "GENERIC_NAMES", "pattern_info", "target_points", "target_of", "interval_for_span",
            "line_count", "uni_line_parameters", "multi_line_offsets", "polygon_index_angle"]
 
 # name -> (type, family, fixed k or None, citation)
@@ -215,20 +215,22 @@ def multi_line_offsets(name: str, n: int, **params) -> list[tuple[int, int]]:
     """
     p = _params(name, params)
     noline = line_count(name, n, reading=p["noline"], **{k: v for k, v in params.items() if k != "noline"})
-    out = []
-    for i in range(n):
-        q, r = i % noline, i // noline
-        if noline % 2 == 0:                 # Alg. 3 lines 10-11
-            ell = (q + 1) // 2
-        elif r % 2 == 0:                    # lines 13-14
-            ell = (q + 1) // 2
-        elif i % 2 == 0:                    # lines 16-17
-            ell = (q + 2) // 2
-        else:                               # lines 18-19
-            ell = q // 2
-        mark = 1 if i % 2 == 0 else -1      # lines 23-25
-        out.append((r, ell * mark))
-    return out
+    return [_multi_offset(i, noline) for i in range(n)]
+
+
+def _multi_offset(i: int, noline: int) -> tuple[int, int]:
+    """003 Alg. 3 lines 10-27 for the robot with ID ``i``: ``(floor(ID / NoLine), L mark / d_u)``."""
+    q, r = i % noline, i // noline
+    if noline % 2 == 0:                 # Alg. 3 lines 10-11
+        ell = (q + 1) // 2
+    elif r % 2 == 0:                    # lines 13-14
+        ell = (q + 1) // 2
+    elif i % 2 == 0:                    # lines 16-17
+        ell = (q + 2) // 2
+    else:                               # lines 18-19
+        ell = q // 2
+    mark = 1 if i % 2 == 0 else -1      # lines 23-25
+    return r, ell * mark
 
 
 def polygon_index_angle(j: int, n: int, k: int, *, index: str = "rational", rotation=0) -> Fraction:
@@ -377,13 +379,30 @@ def target_points(name: str, n: int, d_u: float, u_l: float = 0.0, **params) -> 
     if _PATTERNS[name][0] == "multi":
         offs = multi_line_offsets(name, n, **params)
         return np.array([(u_l - a * d_u, b * d_u) for a, b in offs], dtype=float).reshape(n, 2)
-    out = np.empty((n, 2))
-    for i in range(n):
-        try:
-            p = uni_line_parameters(name, n, i, d_u, u_l, **params)
-        except ZeroDivisionError as exc:
-            raise UsageError(f"pattern {name!r} is undefined for n={n} at ID {i}: {exc}",
-                             fix="003 Table 1's k_m needs k >= 3 (and index='rational' when n < k)") from None
-        c, s = _cos_sin(p["theta_exact"])
-        out[i] = (c * p["L"] + p["T"], s * p["L"] * p["mark"] + 0.0)   # Alg. 2 lines 4-5 (+0.0: no -0.0)
-    return out
+    return np.array([target_of(name, i, n, d_u, u_l, **params) for i in range(n)], dtype=float).reshape(n, 2)
+
+
+def target_of(name: str, i: int, n: int, d_u: float, u_l: float = 0.0, **params) -> tuple[float, float]:
+    """The target ``f_i`` of the robot with ID ``i`` in a team of ``n`` (what a robot computes for
+    itself, 003 Algs. 2-3): row ``i`` of :func:`target_points` for ``i < n``, and the same formulas
+    for an ID >= n (Alg. 1's printed numbering can hand out IDs up to ``2 (n - 1)``).
+
+    >>> target_of("two-row", 3, 4, 1.0), target_of("two-row", 5, 4, 1.0)
+    ((-1.0, -1.0), (-2.0, -1.0))
+    >>> target_of("wedge", 2, 3, 1.0) == tuple(target_points("wedge", 3, 1.0)[2])
+    True
+    """
+    _check_name(name)
+    n = _check_n(n)
+    if _PATTERNS[name][0] == "multi":
+        p = _params(name, params)
+        noline = line_count(name, n, reading=p["noline"], **{k: v for k, v in params.items() if k != "noline"})
+        a, b = _multi_offset(int(i), noline)
+        return (u_l - a * d_u, b * d_u)
+    try:
+        p = uni_line_parameters(name, n, int(i), d_u, u_l, **params)
+    except ZeroDivisionError as exc:
+        raise UsageError(f"pattern {name!r} is undefined for n={n} at ID {i}: {exc}",
+                         fix="003 Table 1's k_m needs k >= 3 (and index='rational' when n < k)") from None
+    c, s = _cos_sin(p["theta_exact"])
+    return (c * p["L"] + p["T"], s * p["L"] * p["mark"] + 0.0)   # Alg. 2 lines 4-5 (+0.0: no -0.0)

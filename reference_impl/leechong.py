@@ -1,0 +1,798 @@
+"""Lee & Chong (003): anonymous robots agree on a frame, allocate IDs, and form, flock and switch patterns.
+
+The algorithms of 003 Secs. 2-4 for the engine:
+
+* **Robot model** (Secs. 2.1, 5.3, 6): anonymous planar points at distinct
+  positions, no IDs, no leader, no common frame at the start; every robot senses
+  the positions of all others in its own body frame (``sensing="anonymous"``: the
+  engine gives positions only -- no IDs, no headings -- ordered by body-frame
+  ``(x, y)``, and messages keyed by the row a sender is sensed at, never by an
+  ID).  The only messages are the two the paper names: a failed robot's ID (Sec.
+  3.5) and the leader's pattern command (Sec. 3.6) (``communication="all"``:
+  wireless LAN, Sec. 6).  Holonomic motion at most ``v dt`` per step.  A robot
+  knows its own motion (it integrates its own commands: odometry), which the
+  engine applies exactly.
+* **Algorithm 1** (Sec. 2.1): common origin p_o (Eq. 1, the centroid), leader
+  (farthest from p_o), common direction u (from p_o to p_l), v (u turned
+  90 degrees counter-clockwise), common coordinates (Eqs. 3-4), IDs.  Leader ties
+  (two or more robots equally far from p_o): the candidates move slightly
+  outward, off the circle (a random distance drawn from their own generator),
+  the others stay, and the selection is repeated.
+* **Algorithms 2 and 3** (Sec. 3.2): a follower's target f_i in the common
+  frame, from its ID, p_l and the pattern F (:mod:`swarmproof.models.line_patterns`).
+* **Leader-referenced control** (Sec. 3): the leader stays; every follower
+  moves straight to its f_i.  **Neighbor-referenced control** (Sec. 4,
+  Algorithm 4): a follower keeps the offset ``f_i - f_N`` (distance and local
+  angle) to its neighbor N_id's current position, and follows it.
+* **Flocking** (Secs. 3.3, 4.3): once the pattern stands, the leader drives to a
+  goal; followers do not move until it starts moving, then keep their offset to
+  the leader (leader-referenced) or to N_id (neighbor-referenced).
+* **Pattern switching** (Secs. 3.4, 3.6, 4.3): the leader, which sees the
+  pattern complete, broadcasts the next pattern; the leader and the IDs stay, the
+  origin moves to p_l (``u_l = 0``), u is kept.
+* **Robustness** (Secs. 3.5, 4.4): a robot that fails stops and broadcasts its
+  ID.  A follower's failure: the survivors keep the leader and u, move the
+  origin to p_l and re-issue IDs with Algorithm 1's numbering; the leader's
+  failure: the survivors repeat Algorithm 1 from where they stand.  ``d_u =
+  span / (n - 1)`` with the survivors' n keeps the span.
+
+Readings (docs/decisions.md, "Lee & Chong (issue 17)"): IDs follow Algorithm
+1's printed formula ``2 x rank`` (v >= 0) / ``2 x rank - 1`` (v < 0), the rank
+counted within the robot's own half plane by increasing u, as printed
+(``leechong-leader``, ``leechong-neighbor``); the prose's "by turns, then
+consecutively" numbering is the variant ``leechong-leader-prose``; Sec. 3.2's
+"robots closer to r_l get IDs 1-4" is the option ``id_order="leader-first"``.
+F-team (Sec. 3.7, robots with fixed IDs) is ``team="F"``: the robots know a
+fixed label (RobotModel ``own_id``), the robot labelled 0 leads.
+
+Examples
+--------
+>>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, -0.4), (-0.1, 0.2), (-0.6, -0.1)], 0)
+[0, 4, 3, 2, 1]
+>>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, 0.4), (-0.1, 0.2)], 0)
+[0, 6, 4, 2]
+>>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, 0.4), (-0.1, 0.2)], 0, numbering="prose")
+[0, 3, 2, 1]
+>>> neighbor_id(7, "uni"), neighbor_id(2, "uni"), neighbor_id(3, "multi", 4), neighbor_id(8, "multi", 4)
+(5, 0, 1, 4)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmproof.invariants.algorithm_invariants import Invariant
+from swarmproof.models.errors import UsageError
+from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
+
+__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderProse", "LeeChongController", "Agreement",
+           "agree", "allocate_ids", "neighbor_id", "NUMBERINGS", "ID_ORDERS", "TEAMS"]
+
+NUMBERINGS = ("formula", "prose")
+ID_ORDERS = ("u-increasing", "leader-first")
+TEAMS = ("A", "F")
+#: Two robots whose distances to p_o differ by at most this (relative to the largest) tie.
+TIE_REL = 1e-9
+ARRIVE = 1e-9
+
+
+# ---------------------------------------------------------------------------------------------
+# Algorithm 1
+# ---------------------------------------------------------------------------------------------
+
+def allocate_ids(common, leader: int, *, numbering: str = "formula", order: str = "u-increasing") -> list:
+    """IDs of the robots at common coordinates ``common`` (rows), the leader at row ``leader`` (003 Alg. 1).
+
+    ``numbering="formula"`` (Alg. 1 lines 11-14): a robot with ``v >= 0`` gets ``2 x rank``,
+    one with ``v < 0`` gets ``2 x rank - 1``, rank = its place (from 1) among the robots of
+    its own half plane by increasing u (ties by increasing v).  Not a bijection onto
+    1..n-1 when the half planes hold numbers of robots that differ by more than the
+    formula allows (docs/leechong.md).  ``numbering="prose"`` (Sec. 2.1): odd IDs to the
+    lower half plane, even to the upper, by turns (1, 2, 3, ...) until one half plane is
+    used up, then the rest consecutively.  ``order="leader-first"`` ranks by decreasing u
+    (Sec. 3.2: "robots positioned closer to r_l are assigned ... ID_1 to ID_4").
+    """
+    if numbering not in NUMBERINGS:
+        raise UsageError(f"id_numbering={numbering!r} is not one of {list(NUMBERINGS)!r}")
+    if order not in ID_ORDERS:
+        raise UsageError(f"id_order={order!r} is not one of {list(ID_ORDERS)!r}")
+    pts = [(float(u), float(v)) for u, v in common]
+    sign = 1.0 if order == "u-increasing" else -1.0
+    upper = sorted((k for k in range(len(pts)) if k != leader and pts[k][1] >= 0.0),
+                   key=lambda k: (sign * pts[k][0], pts[k][1]))
+    lower = sorted((k for k in range(len(pts)) if k != leader and pts[k][1] < 0.0),
+                   key=lambda k: (sign * pts[k][0], pts[k][1]))
+    ids = [0] * len(pts)
+    if numbering == "formula":
+        for rank, k in enumerate(upper, start=1):
+            ids[k] = 2 * rank                              # Alg. 1 line 12
+        for rank, k in enumerate(lower, start=1):
+            ids[k] = 2 * rank - 1                          # Alg. 1 line 14
+    else:
+        turns = min(len(upper), len(lower))
+        for j in range(turns):
+            ids[lower[j]] = 2 * j + 1
+            ids[upper[j]] = 2 * j + 2
+        rest = upper[turns:] if len(upper) > turns else lower[turns:]
+        for j, k in enumerate(rest):
+            ids[k] = 2 * turns + 1 + j
+    return ids
+
+
+@dataclass(frozen=True)
+class Agreement:
+    """The outcome of Algorithm 1 on one robot's view (rows of ``points``).
+
+    ``tie`` holds the rows of the leader candidates when the farthest distance is
+    shared (then the other fields are None)."""
+
+    origin: tuple | None
+    leader: int | None
+    u: tuple | None
+    common: np.ndarray | None
+    ids: tuple | None
+    tie: tuple = ()
+
+
+def agree(points, *, numbering: str = "formula", order: str = "u-increasing", leader: int | None = None) -> Agreement:
+    """003 Alg. 1 on ``points`` (an ``(n, 2)`` array in any frame: the result is the same up to
+    that frame).  ``leader`` fixes the leader row (F-team, Sec. 3.7) instead of the farthest robot.
+
+    >>> a = agree(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]]))
+    >>> a.leader, a.ids, [round(x, 6) for x in a.u]
+    (1, (1, 0, 2), [0.894427, -0.447214])
+    >>> agree(np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 0.5], [0.0, -0.5]])).tie
+    (0, 1)
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    n = len(pts)
+    origin = pts.mean(axis=0)                                            # Eq. (1)
+    dist = np.hypot(pts[:, 0] - origin[0], pts[:, 1] - origin[1])
+    if leader is None:
+        far = float(dist.max()) if n else 0.0
+        cands = tuple(int(k) for k in np.flatnonzero(dist >= far - TIE_REL * max(far, 1e-300)))
+        if len(cands) > 1:                                               # Sec. 2.1: no unique leader
+            return Agreement(None, None, None, None, None, cands)
+        leader = cands[0]
+    d = pts[leader] - origin
+    norm = math.hypot(*d)
+    u = (d[0] / norm, d[1] / norm) if norm > 0 else (1.0, 0.0)
+    rel = pts - origin
+    common = np.column_stack((rel @ np.array(u), rel @ np.array((-u[1], u[0]))))   # Eqs. (3)-(4)
+    ids = tuple(allocate_ids(common, leader, numbering=numbering, order=order))
+    return Agreement((float(origin[0]), float(origin[1])), int(leader), u, common, ids)
+
+
+# ---------------------------------------------------------------------------------------------
+# Algorithm 4
+# ---------------------------------------------------------------------------------------------
+
+def neighbor_id(robot_id: int, kind: str, k: int | None = None) -> int:
+    """003 Alg. 4: N_id of the robot with ID ``robot_id`` for a uni-line (``kind="uni"``) or a
+    multi-line pattern of ``k`` lines (``NoLine := k``, line 7).
+
+    Uni-line: ``ID - 2`` for ``ID > 2``, else 0.  Multi-line: ``LiOrder = ID % NoLine``;
+    ``ID - NoLine`` when ``LiOrder = 0``, else ``ID - floor((LiOrder + 1) / 2)`` ("the quotient
+    from the division of ... LiOrder plus one, by ... 2", Sec. 4.1).
+    """
+    if kind == "uni":
+        return robot_id - 2 if robot_id > 2 else 0
+    no_line = int(k)
+    li_order = robot_id % no_line
+    if li_order == 0:
+        return robot_id - no_line
+    return robot_id - (li_order + 1) // 2
+
+
+# ---------------------------------------------------------------------------------------------
+# the controller
+# ---------------------------------------------------------------------------------------------
+
+def _rot(th: float):
+    c, s = math.cos(th), math.sin(th)
+    return np.array([[c, -s], [s, c]])
+
+
+class LeeChongController:
+    """One robot of 003 (leader- or neighbor-referenced); see the module docstring.
+
+    Everything is kept in the robot's *private frame*: its body frame at step 0,
+    maintained by integrating its own motion (a holonomic turn, then at most
+    ``v dt``; the controller never asks for more, so the engine applies it
+    exactly).  Other robots are tracked from step to step by an optimal matching
+    of their remembered to their sensed positions (they move at most ``v dt``).
+    A failed robot stands still: its position, heard once, is left out of every
+    later agreement and matching."""
+
+    def __init__(self, alg, params: Params, target, rng, fixed_id) -> None:
+        self.alg = alg
+        self.params = params
+        self.rng = rng
+        self.fixed_id = fixed_id
+        ex = params.extra
+        self.numbering = alg.numbering
+        self.order = str(ex.get("id_order", "u-increasing"))
+        if self.order not in ID_ORDERS:
+            raise UsageError(f"id_order={self.order!r} is not one of {list(ID_ORDERS)!r}",
+                             fix="--param id_order=u-increasing (Alg. 1 as printed) or leader-first (Sec. 3.2)")
+        self.mode = alg.mode
+        self.patterns = [target.shape] + [str(p).strip() for p in _as_list(ex.get("then", ()))]
+        self.pattern_k = 0
+        self.target = target
+        self.span = None
+        self.tol = float(ex.get("arrive_tol", 1e-6))
+        self.fail_at = _failures(ex.get("fail", ()))
+        self.errors = {int(x) for x in _as_list(ex.get("position_errors", ()))}
+        self.error_size = float(ex.get("error_size", 0.3))
+        flock = ex.get("flock_to")
+        self.flock = None if flock in (None, "", ()) else _flock(flock)
+        self.perturb = float(ex.get("perturbation", 0.05))
+        self.x = self.y = self.th = 0.0        # odometry: the private pose
+        self.phase = "agree"
+        self.id = None
+        self.pos_of: dict = {}                 # alive ID -> private position (tracked)
+        self.dead: list = []                   # private positions of failed robots (they stand still)
+        self.origin = None                     # common origin, private frame
+        self.u = None                          # common direction, unit vector, private frame
+        self.u_l = 0.0
+        self.lead0 = None                      # the leader's position when the origin was set
+        self.d_u = None
+        self.goal = None                       # the leader's flocking goal (private frame)
+        self.formed = False                    # the leader saw the present pattern stand
+        self.error_vec = None
+        self.done = False
+        self.i_failed = False
+        self.labels: dict = {}                 # F-team: sensed row -> fixed label heard
+        self.rebuilds = 0
+
+    # -- frames ---------------------------------------------------------------------------------
+
+    def _to_private(self, body: np.ndarray) -> np.ndarray:
+        return body @ _rot(self.th).T + np.array([self.x, self.y])
+
+    def _to_body(self, p) -> np.ndarray:
+        return _rot(-self.th) @ (np.asarray(p, dtype=float) - np.array([self.x, self.y]))
+
+    def _common_to_private(self, uv) -> np.ndarray:
+        u = np.array(self.u)
+        return np.array(self.origin) + uv[0] * u + uv[1] * np.array((-u[1], u[0]))
+
+    # -- Algorithm 1 and the IDs ----------------------------------------------------------------
+
+    def _live_rows(self, others: np.ndarray) -> list:
+        """Rows of the sensed robots that have not failed (a failed robot stands still)."""
+        dead = set()
+        for p in self.dead:
+            if len(others):
+                dead.add(int(np.argmin(np.hypot(others[:, 0] - p[0], others[:, 1] - p[1]))))
+        return [r for r in range(len(others)) if r not in dead]
+
+    def _agree(self, me: np.ndarray, others: np.ndarray, rows: list):
+        """003 Alg. 1 over this robot (row 0) and the live others; None when done, else the tie."""
+        pts = np.vstack((me[None, :], others[rows]))
+        leader_row = None
+        if self.alg.team == "F":
+            labels = [self.fixed_id] + [self.labels.get(r) for r in rows]
+            leader_row = labels.index(min(labels))
+        a = agree(pts, numbering=self.numbering, order=self.order, leader=leader_row)
+        if a.tie:
+            return a.tie
+        ids = list(a.ids) if self.alg.team == "A" else _rank_labels(labels)
+        self.origin, self.u = a.origin, a.u
+        self.u_l = float(a.common[a.leader, 0])
+        self.id = ids[0]
+        self.pos_of = {ids[k]: pts[k].copy() for k in range(len(pts))}
+        self.lead0 = pts[a.leader].copy()
+        self._new_interval()
+        if self.flock is not None and self.goal is None:
+            dist, ang = self.flock
+            th = math.atan2(self.u[1], self.u[0]) + ang
+            self.goal = pts[a.leader] + dist * np.array((math.cos(th), math.sin(th)))
+        return None
+
+    def _new_interval(self) -> None:
+        n = len(self.pos_of)
+        if self.span is None:
+            self.span = self.target.interval_for(n) * max(n - 1, 1)
+        self.d_u = self.span / max(n - 1, 1)                              # Sec. 3.5: keep the span
+
+    def _set_origin_at_leader(self) -> None:
+        lead = self.pos_of[0]
+        self.origin, self.u_l, self.lead0 = (float(lead[0]), float(lead[1])), 0.0, lead.copy()
+
+    # -- targets ------------------------------------------------------------------------------
+
+    def _pattern(self) -> str:
+        return self.patterns[self.pattern_k]
+
+    def _target_of(self, rid: int) -> np.ndarray:
+        """f_ID in the private frame (003 Alg. 2 / Alg. 3, in the common frame)."""
+        uv = self.target.target_of(self._pattern(), rid, len(self.pos_of), self.d_u, self.u_l)
+        return self._common_to_private(uv)
+
+    # -- one step -----------------------------------------------------------------------------
+
+    def step(self, obs: Observation) -> Command:
+        others_body = np.asarray(obs.neighbor_poses, dtype=float).reshape(-1, 2)
+        others = self._to_private(others_body) if len(others_body) else np.zeros((0, 2))
+        me = np.array([self.x, self.y])
+        if self.i_failed:
+            return Command(message=("failed", self.id))                   # Sec. 3.5
+        if self.id is not None and obs.step in self.fail_at.get("leader" if self.id == 0 else self.id, ()):
+            self.i_failed, self.done = True, True                          # it stops and says so
+            return Command(message=("failed", self.id))
+        failed_rows, command = [], None
+        for row, msg in obs.messages.items():
+            if not (isinstance(msg, tuple) and msg):
+                continue
+            if msg[0] == "failed":
+                failed_rows.append(row)
+            elif msg[0] == "pattern":
+                command = msg
+            elif msg[0] == "label":
+                self.labels[row] = int(msg[1])
+        if self.phase != "agree":
+            self._track(others)
+        if failed_rows:
+            self._on_failures(others, failed_rows)
+        if self.phase == "agree":
+            return self._step_agree(obs, me, others)
+        if command is not None and self.id != 0 and int(command[1]) != self.pattern_k:
+            self._switch(int(command[1]))
+        return self._act(me)
+
+    def _step_agree(self, obs, me, others) -> Command:
+        rows = self._live_rows(others)
+        if self.alg.team == "F" and (obs.step == 0 or any(r not in self.labels for r in rows)):
+            return Command(message=("label", self.fixed_id))              # F-team: say the fixed label
+        tie = self._agree(me, others, rows)
+        if tie is None:
+            self.phase = "form"
+            return self._act(me)
+        if 0 in tie:                                                      # Sec. 2.1: off the circle
+            pts = np.vstack((me[None, :], others[rows]))
+            d = me - pts.mean(axis=0)
+            norm = math.hypot(*d)
+            out = d / norm if norm > 0 else np.array([1.0, 0.0])
+            step = float(self.rng.uniform(0.0, 1.0)) * min(self.perturb, self.params.v * self.params.dt)
+            return self._move_to(me + out * step)
+        return Command()                                                  # the others stay
+
+    def _track(self, others: np.ndarray) -> None:
+        """Re-identify the live robots: each remembered robot is predicted one step on toward the
+        target this robot computes for it (every robot runs the same rules and knows the IDs), then
+        the predictions are matched to the sensed positions at least total distance."""
+        from scipy.optimize import linear_sum_assignment
+
+        keys = [k for k in self.pos_of if k != self.id]
+        rows = self._live_rows(others)
+        if keys and rows:
+            old = np.array([self._predict(k) for k in keys])
+            new = others[rows]
+            cost = np.hypot(old[:, None, 0] - new[None, :, 0], old[:, None, 1] - new[None, :, 1])
+            r, c = linear_sum_assignment(cost)
+            for a, b in zip(r.tolist(), c.tolist()):
+                self.pos_of[keys[a]] = new[b].copy()
+        if self.id is not None:
+            self.pos_of[self.id] = np.array([self.x, self.y])
+
+    def _predict(self, rid) -> np.ndarray:
+        """Where robot ``rid`` should be one step later by the rules (it moves at most v dt)."""
+        p = self.pos_of[rid]
+        try:
+            if rid == 0:
+                last = self.pattern_k + 1 >= len(self.patterns)
+                tgt = self.goal if (self.formed and last and self.goal is not None) else p
+            else:
+                tgt = self._rule_target(rid)
+        except (KeyError, UsageError):
+            return p
+        if tgt is None:
+            return p
+        d = np.asarray(tgt, dtype=float) - p
+        dist = float(math.hypot(d[0], d[1]))
+        step = self.params.v * self.params.dt
+        return p + (d if dist <= step else d * (step / dist))
+
+    def _rule_target(self, rid):
+        """The target the rules give the follower ``rid`` now (without its own positioning error)."""
+        if self.mode == "leader":
+            return self._target_of(rid) + self._shift()                        # Secs. 3.2-3.3
+        kind, k = self.target.line_kind(self._pattern(), len(self.pos_of))
+        nid = neighbor_id(rid, kind, k)                                         # Alg. 4
+        ref = self.pos_of.get(nid)
+        return None if ref is None else ref + (self._target_of(rid) - self._target_of(nid))   # Sec. 4.2
+
+    def _on_failures(self, others, failed_rows) -> None:
+        """Sec. 3.5: a failure heard.  The leader's: Alg. 1 again over the survivors.  A
+        follower's: origin at p_l, u kept, IDs re-issued (the leader keeps 0), span kept."""
+        new = []
+        for row in failed_rows:
+            p = others[row]
+            if any(float(np.hypot(*(p - q))) <= 1e-9 for q in self.dead):
+                continue
+            self.dead.append(p.copy())
+            if self.pos_of:
+                rid = min(self.pos_of, key=lambda k: float(np.hypot(*(self.pos_of[k] - p))))
+                del self.pos_of[rid]
+                new.append(rid)
+        if not new:
+            return
+        self.rebuilds += 1
+        self.formed, self.done = False, False
+        if 0 in new or self.phase == "agree":
+            self.phase, self.id, self.pos_of = "agree", None, {}
+            return
+        alive = sorted(self.pos_of)
+        pts = [self.pos_of[i] for i in alive]
+        lead = self.pos_of[0]
+        u = np.array(self.u)
+        v = np.array((-u[1], u[0]))
+        common = [((p - lead) @ u, (p - lead) @ v) for p in pts]
+        ids = allocate_ids(common, alive.index(0), numbering=self.numbering, order=self.order)
+        me = self.id
+        self.pos_of = {ids[k]: pts[k] for k in range(len(alive))}
+        self.id = ids[alive.index(me)]
+        self._set_origin_at_leader()
+        self._new_interval()
+
+    def _switch(self, k: int) -> None:
+        """Sec. 3.4: the leader and the IDs stay, the origin moves to p_l, u is kept."""
+        self.pattern_k = k
+        self._set_origin_at_leader()
+        self.formed, self.done = False, False
+
+    def _shift(self) -> np.ndarray:
+        """How far the leader has moved since the origin was set (flocking, Sec. 3.3)."""
+        return self.pos_of[0] - self.lead0
+
+    def _all_at_targets(self) -> bool:
+        """The leader sees the pattern stand: the sensed positions are the target set (matched as a
+        set, at least total distance: which robot stands where does not matter)."""
+        from scipy.optimize import linear_sum_assignment
+
+        ids = sorted(self.pos_of)
+        shift = self._shift()
+        tgt = np.array([self._target_of(rid) + shift for rid in ids])
+        pos = np.array([self.pos_of[rid] for rid in ids])
+        cost = np.hypot(pos[:, None, 0] - tgt[None, :, 0], pos[:, None, 1] - tgt[None, :, 1])
+        r, c = linear_sum_assignment(cost)
+        return float(cost[r, c].max()) <= self.tol
+
+    def _act(self, me) -> Command:
+        return self._act_leader(me) if self.id == 0 else self._act_follower(me)
+
+    def _act_leader(self, me) -> Command:
+        last = self.pattern_k + 1 >= len(self.patterns)
+        if not self.formed and self._all_at_targets():
+            self.formed = True
+            if not last:                                                   # Sec. 3.6: the next pattern
+                self._switch(self.pattern_k + 1)
+                self.done = False
+                return Command(message=("pattern", self.pattern_k, self._pattern()))
+        if self.formed and last and self.goal is not None and float(np.hypot(*(self.goal - me))) > ARRIVE:
+            self.done = False
+            return self._move_to(self.goal)                                # Sec. 3.3: the leader flocks
+        self.done = self.formed and last
+        return Command()
+
+    def _act_follower(self, me) -> Command:
+        if self.error_vec is None and self.id in self.errors:
+            ang = float(self.rng.uniform(0.0, 2 * math.pi))                # Sec. 5.2: one computing error
+            self.error_vec = self.error_size * self.d_u * np.array((math.cos(ang), math.sin(ang)))
+        err = self.error_vec if self.error_vec is not None else np.zeros(2)
+        tgt = self._rule_target(self.id)
+        if tgt is None:                                                    # N_id is no allocated ID
+            self.done = False
+            return Command()
+        tgt = tgt + err
+        self.done = float(np.hypot(*(tgt - me))) <= self.tol
+        return self._move_to(tgt)
+
+    def _move_to(self, p) -> Command:
+        """Holonomic: turn toward ``p`` (private frame), drive at most ``v dt``; keep the odometry."""
+        d = np.asarray(p, dtype=float) - np.array([self.x, self.y])
+        dist = float(math.hypot(d[0], d[1]))
+        if dist <= ARRIVE:
+            return Command()
+        turn = math.remainder(math.atan2(d[1], d[0]) - self.th, 2 * math.pi)
+        fwd = min(dist, self.params.v * self.params.dt)
+        self.th = math.remainder(self.th + turn, 2 * math.pi)
+        self.x += fwd * math.cos(self.th)
+        self.y += fwd * math.sin(self.th)
+        return Command(turn=turn, forward=fwd)
+
+    def state(self):
+        view = None
+        if self.origin is not None and 0 in self.pos_of:
+            o = self._to_body(self.origin)
+            lead = self._to_body(self.pos_of[0])
+            ua = math.remainder(math.atan2(self.u[1], self.u[0]) - self.th, 2 * math.pi)
+            view = tuple(round(float(x), 9) for x in (o[0], o[1], ua, lead[0], lead[1]))
+        return (("phase", self.phase), ("id", self.id), ("failed", self.i_failed), ("done", self.done),
+                ("pattern", self._pattern()), ("view", view), ("alive", len(self.pos_of)),
+                ("rebuilds", self.rebuilds))
+
+
+def _as_list(x):
+    if x is None or x == "":
+        return []
+    if isinstance(x, str):
+        return [p for p in x.replace(";", ",").split(",") if p.strip()]
+    return list(x)
+
+
+def _failures(spec) -> dict:
+    """``fail``: ``"ID@STEP,..."`` or pairs; ID an allocated ID or ``leader``."""
+    out: dict = {}
+    for item in _as_list(spec):
+        if isinstance(item, str):
+            who, sep, when = item.strip().partition("@")
+            if not sep:
+                raise UsageError(f"fail={item!r} must be ROBOT@STEP", fix="e.g. --fail leader@40 or --fail 3@25")
+            who = who.strip()
+        else:
+            who, when = item
+        try:
+            step = int(when)
+        except (TypeError, ValueError):
+            raise UsageError(f"fail={item!r}: STEP={when!r} is not an integer", fix="e.g. --fail 3@25") from None
+        if who != "leader":
+            try:
+                who = int(who)
+            except (TypeError, ValueError):
+                raise UsageError(f"fail={item!r}: ROBOT={who!r} is neither an allocated ID nor 'leader'",
+                                 fix="e.g. --fail leader@40 or --fail 3@25") from None
+            if who == 0:
+                who = "leader"
+        if step < 0:
+            raise UsageError(f"fail={item!r}: STEP={step} must be >= 0")
+        out.setdefault(who, set()).add(step)
+    return out
+
+
+def _flock(spec):
+    if isinstance(spec, str):
+        parts = spec.replace("@", ",").split(",")
+    else:
+        parts = list(spec)
+    try:
+        dist, ang = float(parts[0]), float(parts[1])
+    except (IndexError, ValueError, TypeError):
+        raise UsageError(f"flock_to={spec!r} must be DISTANCE,ANGLE_DEGREES",
+                         fix="e.g. --param flock_to=100,30 (003 Fig. 9)") from None
+    if not (math.isfinite(dist) and dist >= 0 and math.isfinite(ang)):
+        raise UsageError(f"flock_to={spec!r} must be a finite distance >= 0 and a finite angle")
+    return dist, math.radians(ang)
+
+
+def _rank_labels(labels) -> list:
+    """F-team: fixed labels to IDs 0..n-1 by rank (the smallest label leads)."""
+    order = sorted(range(len(labels)), key=lambda k: labels[k])
+    out = [0] * len(labels)
+    for r, k in enumerate(order):
+        out[k] = r
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# the patterns (003 Table 1, Algs. 2-3: swarmproof.models.line_patterns)
+# ---------------------------------------------------------------------------------------------
+
+class _Patterns:
+    """What a controller needs of the target: its first pattern and the formulas of every pattern
+    it may switch to (any name of :mod:`swarmproof.models.line_patterns`)."""
+
+    def __init__(self, target, params: Params) -> None:
+        from swarmproof.models import line_patterns as lp
+
+        self.lp = lp
+        self.shape = target.shape
+        self.options = dict(target.params)
+        self.base = target
+        for name in [self.shape] + [str(p).strip() for p in _as_list(params.extra.get("then", ()))]:
+            if name not in lp.PATTERN_NAMES:
+                raise UsageError(f"pattern={name!r} is not a pattern of 003", fix=f"use one of {list(lp.PATTERN_NAMES)!r}")
+
+    def interval_for(self, n: int) -> float:
+        return self.base.interval_for(n)
+
+    def target_of(self, name: str, rid: int, n: int, d_u: float, u_l: float):
+        opts = self.options if name == self.shape else {}
+        return self.lp.target_of(name, rid, n, d_u, u_l, **opts)
+
+    def line_kind(self, name: str, n: int):
+        """("uni", None) or ("multi", NoLine of Alg. 4 line 7)."""
+        info = self.lp.pattern_info(name)
+        if info["type"] == "uni":
+            return "uni", None
+        return "multi", self.lp.line_count(name, n, reading="alg4")
+
+
+# ---------------------------------------------------------------------------------------------
+# runtime invariants (the ``invariants`` property)
+# ---------------------------------------------------------------------------------------------
+
+def _world_view(pose, view):
+    """A robot's (origin, direction angle, leader position) from its body-frame view, in the world."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    ox, oy, ua, lx, ly = view
+    return ((pose[0] + c * ox - s * oy, pose[1] + s * ox + c * oy), math.remainder(pose[2] + ua, 2 * math.pi),
+            (pose[0] + c * lx - s * ly, pose[1] + s * lx + c * ly))
+
+
+AGREE_TOL = 1e-6
+
+
+def _agreement(t, ids, poses, states) -> str | None:
+    """003 Sec. 2.1: every robot past Alg. 1 holds the same origin, direction and leader."""
+    ref = None
+    for rid, pose, s in zip(ids.tolist(), poses, states):
+        d = dict(s)
+        if d["failed"] or d["view"] is None or d["phase"] == "agree":
+            continue
+        o, ua, lead = _world_view(pose, d["view"])
+        if ref is None:
+            ref = (rid, o, ua, lead)
+            continue
+        r0, o0, ua0, lead0 = ref
+        if (math.hypot(o[0] - o0[0], o[1] - o0[1]) > AGREE_TOL or abs(math.remainder(ua - ua0, 2 * math.pi)) > AGREE_TOL
+                or math.hypot(lead[0] - lead0[0], lead[1] - lead0[1]) > AGREE_TOL):
+            return (f"robots {r0} and {rid} disagree: origin ({o0[0]:.6g}, {o0[1]:.6g}) vs ({o[0]:.6g}, {o[1]:.6g}), "
+                    f"direction {math.degrees(ua0):.6g} vs {math.degrees(ua):.6g} deg, leader at "
+                    f"({lead0[0]:.6g}, {lead0[1]:.6g}) vs ({lead[0]:.6g}, {lead[1]:.6g})")
+    return None
+
+
+def _ids_unique(t, ids, poses, states) -> str | None:
+    """003 Sec. 2.1 ("reissuing ... unique IDs"): once every live robot holds an ID, the IDs are
+    0 (the leader) and 1..n-1, one each."""
+    live = [(rid, dict(s)["id"]) for rid, s in zip(ids.tolist(), states)
+            if not dict(s)["failed"] and dict(s)["phase"] != "agree"]
+    if not live or len(live) < sum(1 for s in states if not dict(s)["failed"]):
+        return None
+    got = sorted(i for _, i in live)
+    if got != list(range(len(live))):
+        dup = sorted({i for i in got if got.count(i) > 1})
+        extra = sorted(set(got) - set(range(len(live))))
+        what = f"ID(s) {dup} held twice" if dup else f"ID(s) {extra} outside 0..{len(live) - 1}"
+        return f"the {len(live)} IDs are {got}: {what} (not a bijection onto 0..n-1)"
+    return None
+
+
+INVARIANTS = (
+    Invariant("agreement", "all robots agree on the common origin, leader and direction",
+              "003 Sec. 2.1, Alg. 1 (lines 1-5)", _agreement),
+    Invariant("ids_unique", "the IDs are a bijection onto 0 (the leader) and 1..n-1",
+              "003 Sec. 2.1, Alg. 1 (lines 8-16)", _ids_unique),
+)
+
+
+def _v_dt_positive(params: Params, n: int, ids) -> str | None:
+    return None if params.v > 0 and params.dt > 0 else f"v={params.v!r}, dt={params.dt!r} must be > 0"
+
+
+def _distinct_start(params: Params, ids, poses) -> str | None:
+    xy = np.asarray(poses, dtype=float)[:, :2]
+    d = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+    np.fill_diagonal(d, np.inf)
+    if len(xy) > 1 and float(d.min()) <= 0.0:
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        return f"robots in rows {int(i)} and {int(j)} start at the same position"
+    return None
+
+
+def _fixed_labels(params: Params, n: int, ids) -> str | None:
+    if ids is None:
+        return None
+    return None if len(set(ids)) == len(ids) else f"ids={list(ids)!r} are not distinct labels"
+
+
+class LeeChongLeader:
+    """003's leader-referenced formation control (registry name ``leechong-leader``); A-team (IDs
+    by Alg. 1's printed formula).  See the module docstring."""
+
+    name = "leechong-leader"
+    mode = "leader"
+    numbering = "formula"
+    team = "A"
+    model = RobotModel(sensing="anonymous", communication="all", motion="holonomic", clocks="sync")
+    assumptions = (
+        Assumption("positive_speed", "v > 0 and dt > 0", "003 Sec. 6.2 (200 mm/s)", _v_dt_positive),
+        Assumption("distinct_positions", "the robots start at distinct positions", "003 Sec. 2.1",
+                   lambda params, n, ids: None, check_start=_distinct_start),
+    )
+    claims = {
+        "formation": "003 Secs. 3.2, 4.2 (Function 1: the robots form the pattern)",
+        "termination": "003 Secs. 3.2, 4.2 (the pattern is generated in finite time, Fig. 6)",
+        "invariants": "003 Sec. 2.1 (agreement on origin, leader and direction; unique IDs)",
+    }
+    own_end = "every live robot at its target, the leader's pattern sequence and flocking done (003 Secs. 3-4)"
+    invariants = INVARIANTS
+    explore_targets = ("lines:wedge", "lines:circle", "lines:two-row", "lines:diamond")
+    pattern_kind = "lines"
+    #: The robots sense every robot (Sec. 2.1); a range only draws the random connected starts: 2
+    #: intervals, so starts are about as dense as the patterns, at least range/4 = 0.5 apart
+    #: (Sec. 6.1: 600 mm apart at a 1000 mm interval).
+    default_range = 2.0
+    #: simulate's --then (pattern switching, Secs. 3.4/3.6) and --fail (Sec. 3.5) become these params.
+    options = ("then", "fail")
+    verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=30)
+
+    @staticmethod
+    def default_params(range: float, n: int) -> Params:
+        """003 Sec. 6.2's ratio (interval 1000 mm, 200 mm/s): v = 0.2 intervals per unit time, dt = 0.5;
+        holonomic robots turn freely (omega unused)."""
+        return Params(range=range, v=0.2, omega=math.pi, dt=0.5)
+
+    @staticmethod
+    def default_max_steps(params: Params, n: int) -> int:
+        """Generous: 20 patterns' worth of 60-interval trips plus a 200-interval flight."""
+        return int(math.ceil((20 * 60 + 200) / max(params.v * params.dt, 1e-9)))
+
+    def controller(self, robot_id, params: Params, target, rng) -> LeeChongController:
+        if getattr(target, "kind", None) != "lines" or not hasattr(target, "shape"):
+            raise UsageError(f"{self.name} needs a line pattern of 003 (Table 1, Alg. 3), not "
+                             f"{getattr(target, 'kind', type(target).__name__)} {getattr(target, 'name', '')!r}",
+                             fix="e.g. --pattern wedge (or --target lines:wedge)")
+        return LeeChongController(self, params, _Patterns(target, params), rng, robot_id)
+
+    def finished(self, states) -> bool:
+        live = [dict(s) for s in states if s is not None and not dict(s)["failed"]]
+        return bool(live) and all(s["done"] and s["phase"] != "agree" for s in live)
+
+    @staticmethod
+    def judging_target(target, n_start: int):
+        """Sec. 3.5: the team keeps the span of the start (``d_u = span / (n - 1)``), so a run is
+        judged against the pattern with that span, whatever the number of survivors."""
+        import dataclasses
+
+        if getattr(target, "span", None) is not None or not hasattr(target, "interval_for"):
+            return target
+        return dataclasses.replace(target, interval=None, span=target.interval_for(n_start) * max(n_start - 1, 1))
+
+    @staticmethod
+    def out_of_formation(state) -> bool:
+        """A failed robot stands where it stopped; the pattern is judged on the others (Sec. 3.5)."""
+        return bool(dict(state)["failed"])
+
+
+class LeeChongNeighbor(LeeChongLeader):
+    """003's neighbor-referenced formation control (registry name ``leechong-neighbor``, Sec. 4, Alg. 4)."""
+
+    name = "leechong-neighbor"
+    mode = "neighbor"
+    claims = dict(LeeChongLeader.claims, formation="003 Sec. 4.2 (Function 1 by neighbor reference)")
+    verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=31)
+
+
+class LeeChongLeaderProse(LeeChongLeader):
+    """``leechong-leader`` with the IDs of Sec. 2.1's prose ("by turns ... then consecutively")."""
+
+    name = "leechong-leader-prose"
+    numbering = "prose"
+    verify = VerifyPlan(targets=("lines:wedge", "lines:circle"), robots=12, seeds=(0, 1, 2), explore=False, rank=32)
+
+
+class LeeChongLeaderFTeam(LeeChongLeader):
+    """Sec. 3.7's F-team: robots with fixed IDs (labels 0..n-1; label 0 leads), same control."""
+
+    name = "leechong-leader-fteam"
+    team = "F"
+    model = RobotModel(sensing="anonymous", communication="all", motion="holonomic", clocks="sync", own_id=True)
+    assumptions = LeeChongLeader.assumptions + (
+        Assumption("fixed_labels", "every robot carries its own fixed label", "003 Sec. 3.7 (F-team)", _fixed_labels),)
+    claims: dict = {}
+    verify = None
+
+
+class LeeChongNeighborFTeam(LeeChongLeaderFTeam):
+    """Sec. 4.6's F-team with neighbor-referenced control."""
+
+    name = "leechong-neighbor-fteam"
+    mode = "neighbor"
