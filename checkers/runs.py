@@ -177,7 +177,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         from swarmproof.invariants.satisfaction import judged_robots
 
         tol = getattr(algorithm, "satisfaction_tol", None)
-        judged, ids, poses = judged_robots(algorithm, result, lattice)
+        judged, ids, poses = judged_robots(algorithm, result, lattice, params)
         sat = judged.satisfied(ids, poses, phi=phi, tol=tol)
         q = nq = None
         metrics = dict(judged.metrics(ids, poses, phi=phi))

@@ -276,7 +276,7 @@ def _satisfaction(ctx: PropertyContext):
     if getattr(ctx.target, "kind", "lattice") != "lattice":
         from .satisfaction import judged_robots
 
-        target, ids, poses = judged_robots(ctx.algorithm, ctx.result, ctx.target)
+        target, ids, poses = judged_robots(ctx.algorithm, ctx.result, ctx.target, ctx.params)
         return target.satisfied(ids, poses, phi=ctx.phi,
                                     tol=getattr(ctx.algorithm, "satisfaction_tol", None))
     pos_tol, ang_tol = getattr(ctx.algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))

@@ -12,16 +12,17 @@ __all__ = ["SatisfactionResult", "satisfies_lattice", "DEFAULT_SAT_POS_TOL", "DE
            "judged_robots"]
 
 
-def judged_robots(algorithm, result, target):
+def judged_robots(algorithm, result, target, params=None):
     """``(target, ids, poses)`` a run's final configuration is judged by: every present robot, less
     those the algorithm's ``out_of_formation(state)`` names (003 Sec. 3.5: a failed robot stands
     where it stopped, and the survivors re-form the pattern without it), against the target as the
-    algorithm's ``judging_target(target, n_start)`` restates it (003: the span of the start is kept,
-    so fewer robots stand at a wider interval), or the target itself."""
+    algorithm's ``judging_target(target, n_start, params)`` restates it (003: the last pattern of a
+    switching sequence, with the span of the start kept, so fewer robots stand at a wider
+    interval), or the target itself."""
     ids, poses = result.final_ids, result.final_poses
     restate = getattr(algorithm, "judging_target", None)
     if callable(restate):
-        target = restate(target, int(result.trace.n))
+        target = restate(target, int(result.trace.n), params)
     out = getattr(algorithm, "out_of_formation", None)
     if not callable(out):
         return target, ids, poses

@@ -514,7 +514,7 @@ class LeeChongController:
             view = tuple(round(float(x), 9) for x in (o[0], o[1], ua, lead[0], lead[1]))
         return (("phase", self.phase), ("id", self.id), ("failed", self.i_failed), ("done", self.done),
                 ("pattern", self._pattern()), ("view", view), ("alive", len(self.pos_of)),
-                ("rebuilds", self.rebuilds))
+                ("rebuilds", self.rebuilds), ("epoch", (self.pattern_k, self.rebuilds)))
 
 
 def _as_list(x):
@@ -628,17 +628,20 @@ AGREE_TOL = 1e-6
 
 
 def _agreement(t, ids, poses, states) -> str | None:
-    """003 Sec. 2.1: every robot past Alg. 1 holds the same origin, direction and leader."""
-    ref = None
+    """003 Sec. 2.1: the robots past Alg. 1 hold the same origin, direction and leader.  Compared
+    within one epoch (pattern switched to, agreements redone): a switch or a failure reaches the
+    others one step after the robot that starts it (Secs. 3.4-3.5), and the frame moves on purpose."""
+    ref: dict = {}
     for rid, pose, s in zip(ids.tolist(), poses, states):
         d = dict(s)
         if d["failed"] or d["view"] is None or d["phase"] == "agree":
             continue
         o, ua, lead = _world_view(pose, d["view"])
-        if ref is None:
-            ref = (rid, o, ua, lead)
+        epoch = d["epoch"]
+        if epoch not in ref:
+            ref[epoch] = (rid, o, ua, lead)
             continue
-        r0, o0, ua0, lead0 = ref
+        r0, o0, ua0, lead0 = ref[epoch]
         if (math.hypot(o[0] - o0[0], o[1] - o0[1]) > AGREE_TOL or abs(math.remainder(ua - ua0, 2 * math.pi)) > AGREE_TOL
                 or math.hypot(lead[0] - lead0[0], lead[1] - lead0[1]) > AGREE_TOL):
             return (f"robots {r0} and {rid} disagree: origin ({o0[0]:.6g}, {o0[1]:.6g}) vs ({o[0]:.6g}, {o[1]:.6g}), "
@@ -648,18 +651,23 @@ def _agreement(t, ids, poses, states) -> str | None:
 
 
 def _ids_unique(t, ids, poses, states) -> str | None:
-    """003 Sec. 2.1 ("reissuing ... unique IDs"): once every live robot holds an ID, the IDs are
-    0 (the leader) and 1..n-1, one each."""
-    live = [(rid, dict(s)["id"]) for rid, s in zip(ids.tolist(), states)
-            if not dict(s)["failed"] and dict(s)["phase"] != "agree"]
-    if not live or len(live) < sum(1 for s in states if not dict(s)["failed"]):
+    """003 Sec. 2.1 ("unique IDs"), Sec. 3.5 ("reissuing new ID_i"): no two live robots hold one ID,
+    and once every live robot has allocated IDs over the same live team, the IDs are 0 (the
+    leader) and 1..n-1, one each.  (A failure reaches the others one step after it happens: in
+    that step they still count the failed robot and only duplicates are judged.)"""
+    live = [(rid, dict(s)) for rid, s in zip(ids.tolist(), states) if not dict(s)["failed"]]
+    held = [(rid, d["id"]) for rid, d in live if d["phase"] != "agree" and d["id"] is not None]
+    seen: dict = {}
+    for rid, i in held:
+        if i in seen:
+            return f"robots {seen[i]} and {rid} both hold ID {i}"
+        seen[i] = rid
+    if not live or len(held) < len(live) or any(d["alive"] != len(live) for _, d in live):
         return None
-    got = sorted(i for _, i in live)
+    got = sorted(i for _, i in held)
     if got != list(range(len(live))):
-        dup = sorted({i for i in got if got.count(i) > 1})
         extra = sorted(set(got) - set(range(len(live))))
-        what = f"ID(s) {dup} held twice" if dup else f"ID(s) {extra} outside 0..{len(live) - 1}"
-        return f"the {len(live)} IDs are {got}: {what} (not a bijection onto 0..n-1)"
+        return f"the {len(live)} IDs are {got}: ID(s) {extra} outside 0..{len(live) - 1} (not a bijection onto 0..n-1)"
     return None
 
 
@@ -689,6 +697,21 @@ def _fixed_labels(params: Params, n: int, ids) -> str | None:
     if ids is None:
         return None
     return None if len(set(ids)) == len(ids) else f"ids={list(ids)!r} are not distinct labels"
+
+
+class _LineCites:
+    """Citation of a pattern by name (for a restated target)."""
+
+    def get(self, name, default):
+        from swarmproof.models import line_patterns as lp
+
+        try:
+            return lp.pattern_info(name)["citation"]
+        except UsageError:
+            return default
+
+
+LineCites = _LineCites()
 
 
 class LeeChongLeader:
@@ -746,14 +769,47 @@ class LeeChongLeader:
         return bool(live) and all(s["done"] and s["phase"] != "agree" for s in live)
 
     @staticmethod
-    def judging_target(target, n_start: int):
-        """Sec. 3.5: the team keeps the span of the start (``d_u = span / (n - 1)``), so a run is
-        judged against the pattern with that span, whatever the number of survivors."""
+    def metrics(result) -> dict:
+        """simulate's ``metrics``: whether the runtime invariants held at every recorded step
+        (``agreement``, ``ids_unique``: True / False, with the first violation), the final IDs
+        (engine ID -> allocated ID), the failed robots and the agreements redone."""
+        trace = result.trace
+        out: dict = {}
+        for inv in INVARIANTS:
+            first = None
+            for t in range(len(trace.states)):
+                mask = trace.present_at(t)
+                ids = trace.ids[mask]
+                states = tuple(s for s, m in zip(trace.states[t], mask) if m)
+                msg = inv.check(t, ids, trace.poses[t][mask], states)
+                if msg is not None:
+                    first = f"step {t}: {msg}"
+                    break
+            out[inv.name] = first is None
+            if first is not None:
+                out[inv.name + "_violation"] = first
+        final = {int(i): dict(s) for i, s in zip(result.final_ids.tolist(), result.final_states)}
+        out["ids"] = {str(i): d["id"] for i, d in sorted(final.items())}
+        out["failed"] = sorted(i for i, d in final.items() if d["failed"])
+        out["agreements_redone"] = max((d["rebuilds"] for d in final.values()), default=0)
+        return out
+
+    @staticmethod
+    def judging_target(target, n_start: int, params=None):
+        """The pattern a run ends in: the last one of a switching sequence (``then``, Secs. 3.4,
+        3.6), with the span of the start (Sec. 3.5: ``d_u = span / (n - 1)``, so the survivors of a
+        failure stand at a wider interval)."""
         import dataclasses
 
-        if getattr(target, "span", None) is not None or not hasattr(target, "interval_for"):
+        if not hasattr(target, "interval_for"):
             return target
-        return dataclasses.replace(target, interval=None, span=target.interval_for(n_start) * max(n_start - 1, 1))
+        seq = _as_list(dict(getattr(params, "extra", None) or {}).get("then", ()))
+        span = target.span if target.span is not None else target.interval_for(n_start) * max(n_start - 1, 1)
+        last = str(seq[-1]).strip() if seq else target.shape
+        params_of = target.params if last == target.shape else ()
+        name = target.name if last == target.shape else last
+        return dataclasses.replace(target, name=name, shape=last, interval=None, span=span, params=params_of,
+                                   cites=LineCites.get(last, target.cites))
 
     @staticmethod
     def out_of_formation(state) -> bool:
