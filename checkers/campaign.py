@@ -76,7 +76,7 @@ def _check_names(spec) -> None:
                                  f"use one of {list(FAULT_KINDS)!r}")
         for k, name in enumerate(cell.lattices or ()):
             try:
-                resolve_target(name)
+                resolve_target(name, prefer="lattice")
             except UsageError as exc:
                 raise spec.error(cell.path + ("lattices", k), f"lattices={name!r}: {exc.message}",
                                  exc.fix or "use a bundled name") from None
@@ -87,7 +87,7 @@ def _check_names(spec) -> None:
             raise spec.error(cell.path + ("algorithm",), exc.message, exc.fix or "use a registry name") from None
         for k, name in enumerate(cell.targets):
             try:
-                resolve_target(name)
+                resolve_target(name, prefer="lattice")
             except UsageError as exc:
                 raise spec.error(cell.path + ("targets", k), f"targets={name!r}: {exc.message}",
                                  exc.fix or "use a bundled name") from None
@@ -157,7 +157,7 @@ def _simulate_task(a: dict) -> dict:
 
         initial = random_uniform(a["robots"], a["seed"], side=a["start"]["uniform"],
                                  min_separation=a["start"].get("separation", 0.0))
-    checked = run_and_check(a["algorithm"], resolve_target(a["target"]), seed=a["seed"],
+    checked = run_and_check(a["algorithm"], resolve_target(a["target"], prefer="lattice"), seed=a["seed"],
                             robots=None if initial is not None else a["robots"], initial=initial,
                             max_steps=a["max_steps"])
     doc = checked.doc

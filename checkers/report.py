@@ -366,7 +366,7 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
     for subj in (verify_subjects() if subjects is None else subjects):
         algo, claims = subj.label, subj.claims
         for lname, robots, seeds in subj.plan.runs():
-            lattice = resolve_target(lname)
+            lattice = resolve_target(lname, prefer="lattice")   # plans name lattices by bare names
             per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in wanted}
             first_bad: dict[str, Any] = {}
             for seed in seeds:

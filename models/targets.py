@@ -178,12 +178,18 @@ def target_from_description(d: Mapping, *, file: str | None = None, field_name: 
         raise
 
 
-def resolve_target(text, kind: str | None = None):
+def resolve_target(text, kind: str | None = None, *, prefer: str | None = None):
     """A target from the command line's ``[KIND:]NAME|FILE``.
 
     ``kind`` (an alias option such as ``--lattice``) fixes the kind; a
     ``KIND:`` prefix does the same.  An existing file wins over a bundled
-    name.  A bare name bundled by two kinds is a usage error naming both.
+    name.  A bare name bundled by two kinds is a usage error naming both,
+    unless ``prefer`` names one of them: verify plans and campaign files
+    named lattices by bare names before other kinds bundled the same names
+    (``hexagon``, ``triangle``), and read them with ``prefer="lattice"``.
+
+    >>> resolve_target("hexagon", prefer="lattice").kind
+    'lattice'
     """
     try:
         text = os.fspath(text)
@@ -211,6 +217,8 @@ def resolve_target(text, kind: str | None = None):
     matches = [k for k in _KINDS if text in _KINDS[k].bundled()]
     if len(matches) == 1:
         return _KINDS[matches[0]].by_name(text)
+    if len(matches) > 1 and prefer in matches:
+        return _KINDS[prefer].by_name(text)
     if len(matches) > 1:
         raise UsageError(f"target={text!r} is ambiguous: bundled as {', '.join(matches)}",
                          fix="say which: " + " or ".join(f"{k}:{text}" for k in matches))
@@ -280,7 +288,7 @@ def _rigid_fit(template: np.ndarray, xy: np.ndarray, tol: float):
     """The best proper rigid motion and one-to-one assignment of ``xy`` onto ``template``.
 
     Anchors: template point 0 and its nearest other point ``q`` against every
-    ordered pair of robots at (about) the same distance; for each, the
+    ordered pair of robots at about the same distance (within 10%, closest first); for each, the
     rigid motion mapping the pair onto the anchors, then an optimal
     assignment (scipy's ``linear_sum_assignment``) of all robots, then the
     least-squares rigid motion for that assignment (Kabsch) when it fits
@@ -300,10 +308,13 @@ def _rigid_fit(template: np.ndarray, xy: np.ndarray, tol: float):
     ang0 = math.atan2(b0[1] - a0[1], b0[0] - a0[0])
     dd = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
     best = (math.inf, None)
-    slack = max(4 * tol, 1e-9)
-    for i, j in zip(*np.nonzero(np.abs(dd - d0[q]) <= slack)):
-        if i == j:
-            continue
+    # anchor pairs at about the anchors' distance, closest first: within 4 tol they find a
+    # configuration that forms the pattern; up to 10% off they keep the witness error of a
+    # configuration that does not near the best one (one moved robot may be an anchor)
+    slack = max(4 * tol, 1e-9, 0.1 * float(d0[q]))
+    gap = np.abs(dd - d0[q])
+    cand = [(gap[i, j], i, j) for i, j in zip(*np.nonzero(gap <= slack)) if i != j]
+    for _, i, j in sorted(cand):
         ang = math.atan2(xy[j, 1] - xy[i, 1], xy[j, 0] - xy[i, 0])
         c, s = math.cos(ang0 - ang), math.sin(ang0 - ang)
         rel = xy - xy[i]
