@@ -129,9 +129,17 @@ def nearest_xy(c1x: float, c1y: float, r1: float, c2x: float, c2y: float, r2: fl
     # Both active: the crossing points of the two circles (always in K).
     # a = signed distance from c1 to the radical line along u; h = half chord.
     a = (d * d + (r1 - r2) * (r1 + r2)) / (2.0 * d)
-    a = min(max(a, -r1), r1)
-    h = math.sqrt(max((r1 - a) * (r1 + a), 0.0))
-    mx, my = c1x + a * ux, c1y + a * uy
+    if r2 < r1:
+        # the half chord from the smaller circle: r1^2 - a^2 cancels catastrophically when the
+        # small disc sits just inside the big circle (r2 = 1e-12 next to r1 = 6.6 lost 1e-7)
+        b = (d * d - (r1 - r2) * (r1 + r2)) / (2.0 * d)     # signed distance from c2, back along u
+        b = min(max(b, -r2), r2)
+        h = math.sqrt(max((r2 - b) * (r2 + b), 0.0))
+        mx, my = c2x - b * ux, c2y - b * uy
+    else:
+        a = min(max(a, -r1), r1)
+        h = math.sqrt(max((r1 - a) * (r1 + a), 0.0))
+        mx, my = c1x + a * ux, c1y + a * uy
     for sgn in (1.0, -1.0):
         px, py = mx - sgn * h * uy, my + sgn * h * ux
         d2 = (px - tx) ** 2 + (py - ty) ** 2

@@ -142,8 +142,8 @@ def agree(points, *, numbering: str = "formula", order: str = "u-increasing", le
     that frame).  ``leader`` fixes the leader row (F-team, Sec. 3.7) instead of the farthest robot.
 
     >>> a = agree(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]]))
-    >>> a.leader, a.ids, [round(x, 6) for x in a.u]
-    (1, (1, 0, 2), [0.894427, -0.447214])
+    >>> a.leader, a.ids, [round(float(x), 6) for x in a.u]
+    (1, (1, 0, 2), [0.970143, -0.242536])
     >>> agree(np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 0.5], [0.0, -0.5]])).tie
     (0, 1)
     """
@@ -159,7 +159,7 @@ def agree(points, *, numbering: str = "formula", order: str = "u-increasing", le
         leader = cands[0]
     d = pts[leader] - origin
     norm = math.hypot(*d)
-    u = (d[0] / norm, d[1] / norm) if norm > 0 else (1.0, 0.0)
+    u = (float(d[0] / norm), float(d[1] / norm)) if norm > 0 else (1.0, 0.0)
     rel = pts - origin
     common = np.column_stack((rel @ np.array(u), rel @ np.array((-u[1], u[0]))))   # Eqs. (3)-(4)
     ids = tuple(allocate_ids(common, leader, numbering=numbering, order=order))
