@@ -467,20 +467,21 @@ def _read_png(path: str) -> frozenset:
                                          "the number of robots anyway")
             if w == 0 or h == 0:
                 raise InputFileError(f"size={w}x{h} pixels is empty", file=path, fix="draw the shape")
-            if img.mode in ("I;16", "I;16B", "I;16L", "I"):
-                lum = np.asarray(img, dtype=float) * (255.0 / 65535.0)
-                alpha = np.ones_like(lum)
+            if img.mode in ("I;16", "I;16B", "I;16L", "I"):     # 16-bit grey: to 0..255 (exact for 0, 65535)
+                grey = np.clip(np.asarray(img, dtype=np.int64), 0, 65535) * 255 // 65535
+                lum1000 = grey * 1000
+                alpha = np.full(grey.shape, 255, dtype=np.int64)
             else:
-                rgba = np.asarray(img.convert("RGBA"), dtype=float)
-                lum = rgba[..., 0] * 0.299 + rgba[..., 1] * 0.587 + rgba[..., 2] * 0.114
-                alpha = rgba[..., 3] / 255.0
+                rgba = np.asarray(img.convert("RGBA"), dtype=np.int64)
+                lum1000 = 299 * rgba[..., 0] + 587 * rgba[..., 1] + 114 * rgba[..., 2]   # 1000 x luminance
+                alpha = rgba[..., 3]
     except InputFileError:
         raise
     except (OSError, ValueError, SyntaxError, Image.DecompressionBombError) as exc:
         raise InputFileError(f"cannot decode the PNG image ({exc})", file=path,
                              fix="re-save it as an ordinary 8-bit PNG") from None
-    over_white = alpha * lum + (1.0 - alpha) * 255.0
-    filled = over_white < DARK_THRESHOLD          # rows top to bottom
+    # composited over white, in integers: (a L + (255 - a) 255) / 255 < DARK_THRESHOLD
+    filled = alpha * lum1000 + (255 - alpha) * 255000 < 255 * 1000 * DARK_THRESHOLD   # rows top to bottom
     rows, cols = np.nonzero(filled)
     return frozenset(zip(cols.tolist(), (h - 1 - rows).tolist()))
 
