@@ -258,6 +258,8 @@ def _load_any_file(path: str):
             head = fh.read(4096)
     except OSError as exc:
         raise InputFileError(f"cannot read the file ({exc.strerror or exc})", file=path) from None
+    if path.lower().endswith((".txt", ".png")):
+        return _kind("shape").load_file(path)
     if b"repeating-pattern/" in head:
         return _kind("pattern").load_file(path)
     if path.endswith((".yaml", ".yml")) or b"lattice-graph/" in head or b'"kind"' not in head:
@@ -603,6 +605,11 @@ class GoalSet:
         name = d.get("name")
         if name in _BUNDLED_SHAPES and "cells" not in d:
             return _BUNDLED_SHAPES[name]()
+        if isinstance(name, str) and "cells" not in d:
+            from .shapes import bundled_shape, bundled_shape_names
+
+            if name in bundled_shape_names():
+                return bundled_shape(name)
         cells = d.get("cells")
         if not isinstance(cells, (list, tuple)) or not all(
                 isinstance(c, (list, tuple)) and len(c) == 2 and all(isinstance(v, int) and not isinstance(v, bool)
@@ -648,8 +655,35 @@ def _lattice_kind() -> None:
 _lattice_kind()
 register_target_kind("lines", from_description=LinePattern.from_description,
                      bundled=lambda: sorted(_BUNDLED_LINES), by_name=lambda n: _BUNDLED_LINES[n]())
-register_target_kind("shape", from_description=GoalSet.from_description,
-                     bundled=lambda: sorted(_BUNDLED_SHAPES), by_name=lambda n: _BUNDLED_SHAPES[n]())
+
+
+def _shape_kind() -> None:
+    """The ``shape`` kind (004): bundled bitmaps of models/shape_bitmaps/ besides ``_BUNDLED_SHAPES``;
+    files ``.txt`` / ``.png`` read by :func:`swarmproof.models.shapes.load_shape_file` at their own
+    size, other files as JSON target descriptions."""
+
+    def bundled():
+        from .shapes import bundled_shape_names
+
+        return sorted(set(_BUNDLED_SHAPES) | set(bundled_shape_names()))
+
+    def by_name(name):
+        from .shapes import bundled_shape
+
+        return bundled_shape(name)
+
+    def load_file(path):
+        if str(path).lower().endswith((".txt", ".png")):
+            from .shapes import load_shape_file
+
+            return load_shape_file(path)
+        return _load_description_file(path, expect="shape")
+
+    register_target_kind("shape", from_description=GoalSet.from_description, bundled=bundled,
+                         by_name=by_name, load_file=load_file)
+
+
+_shape_kind()
 
 
 def _pattern_kind() -> None:
