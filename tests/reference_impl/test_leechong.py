@@ -1,0 +1,162 @@
+"""Lee & Chong (003) runs through the engine: patterns, the formula's finding, switching, failures,
+flocking, the F-team, anonymity and determinism."""
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from swarmproof.checkers.runs import run_and_check
+from swarmproof.models.errors import UsageError
+from swarmproof.models.targets import resolve_target
+from swarmproof.models.trace import InitialConfiguration
+from swarmproof.reference_impl.engine import simulate
+from swarmproof.reference_impl.leechong import LeeChongLeader
+from swarmproof.reference_impl.registry import get_algorithm
+
+
+def run(alg, pattern, seed=0, robots=12, **extra):
+    return run_and_check(alg, resolve_target("lines:" + pattern), seed=seed, robots=robots,
+                         extra={k: v for k, v in extra.items()})
+
+
+@pytest.mark.parametrize("pattern", ["circle", "triangle", "diamond", "hexagon", "arc"])
+def test_leader_referenced_forms_the_uni_line_patterns(pattern):
+    c = run("leechong-leader", pattern)
+    assert c.doc["status"] == "finished" and c.doc["satisfied"] is True
+    assert c.doc["metrics"]["agreement"] is True and c.doc["termination"]["status"] == "held"
+
+
+def test_printed_id_formula_breaks_the_wedge_where_the_prose_forms_it():
+    """Seed 0 puts 7 followers above u and 4 below: Alg. 1's 2 x rank hands out IDs 12 and 14."""
+    lit = run("leechong-leader", "wedge")
+    assert lit.doc["metrics"]["ids_unique"] is False
+    assert "outside 0..11" in lit.doc["metrics"]["ids_unique_violation"]
+    assert lit.doc["satisfied"] is False
+    prose = run("leechong-leader-prose", "wedge")
+    assert prose.doc["metrics"]["ids_unique"] is True and prose.doc["satisfied"] is True
+
+
+def test_neighbor_referenced_deadlocks_when_its_neighbor_id_is_not_allocated():
+    c = run("leechong-neighbor", "two-row")
+    assert c.doc["termination"]["status"] == "violated"          # a robot waits for a neighbor that is not there
+    assert run("leechong-neighbor", "circle").doc["satisfied"] is True
+
+
+def test_switching_keeps_the_leader_and_the_ids_and_ends_in_the_last_pattern():
+    c = run("leechong-leader-prose", "circle", then="two-column,triangle")
+    assert c.doc["satisfied"] is True and c.doc["satisfaction"]["message"].find("triangle") >= 0
+    first = run("leechong-leader-prose", "circle")
+    assert first.doc["metrics"]["ids"] == c.doc["metrics"]["ids"]   # Sec. 3.4: the IDs stay
+    assert c.doc["metrics"]["agreements_redone"] == 0
+
+
+@pytest.mark.parametrize("who", ["leader", "3"])
+def test_failure_recovery_reforms_the_pattern_with_the_same_span(who):
+    # fail mid-way through a switch, so the team is moving when it happens
+    c = run("leechong-leader-prose", "wedge", then="circle", fail=f"{who}@60")
+    assert c.doc["metrics"]["failed"] and c.doc["metrics"]["agreements_redone"] == 1
+    assert c.doc["satisfied"] is True                              # 11 survivors, the start's span
+    assert "interval 1.1" in c.doc["satisfaction"]["message"]       # span 11 over 10 intervals
+    assert c.doc["metrics"]["ids_unique"] is True and c.doc["metrics"]["agreement"] is True
+
+
+def test_flocking_keeps_the_formation_rigid_and_reaches_the_goal():
+    c = run("leechong-leader-prose", "arc", flock_to="5,30")
+    assert c.doc["satisfied"] is True
+    tr = c.result.trace
+    # the leader ends 5 intervals from where the pattern first stood, at 30 degrees to u
+    lead = [k for k, s in enumerate(tr.states[-1]) if dict(s)["id"] == 0][0]
+    moved = tr.poses[-1][lead, :2] - tr.poses[0][lead, :2]
+    assert math.hypot(*moved) == pytest.approx(5.0, abs=1e-6)
+
+
+def test_f_team_uses_fixed_labels_and_forms_the_pattern():
+    c = run("leechong-leader-fteam", "diamond")
+    assert c.doc["satisfied"] is True
+    ids = c.doc["metrics"]["ids"]
+    assert ids == {str(k): k for k in range(12)}                   # label k -> ID k
+
+
+def test_controllers_get_no_identity_and_runs_do_not_depend_on_engine_ids():
+    """The engine hands anonymous controllers no ID; relabelling the robots changes nothing."""
+    alg = LeeChongLeader()
+    seen = []
+
+    class Spy(LeeChongLeader):
+        def controller(self, robot_id, params, target, rng):
+            seen.append(robot_id)
+            return super().controller(robot_id, params, target, rng)
+
+    rng = np.random.default_rng(5)
+    xy = rng.uniform(0, 4, (8, 2))
+    poses = np.column_stack((xy, rng.uniform(-3, 3, 8)))
+    target = resolve_target("lines:circle")
+    params = alg.default_params(range=2.0, n=8)
+    a = simulate(Spy(), target, InitialConfiguration(list(range(8)), poses), params, seed=3)
+    b = simulate(Spy(), target, InitialConfiguration([70, 11, 5, 3, 99, 42, 8, 1], poses), params, seed=3)
+    assert set(seen) == {None}
+    assert np.array_equal(a.trace.poses, b.trace.poses)
+    assert [tuple(x) for x in a.trace.states[-1]] == [tuple(x) for x in b.trace.states[-1]]
+
+
+def test_symmetric_start_ties_are_broken_by_perturbation_and_deterministic():
+    """A regular hexagon around a centre robot: six leader candidates (Sec. 2.1, Fig. 3)."""
+    ang = np.arange(6) * math.pi / 3
+    xy = np.vstack(([[0.0, 0.0]], np.column_stack((np.cos(ang), np.sin(ang)))))
+    init = InitialConfiguration(list(range(7)), np.column_stack((xy, np.zeros(7))))
+    alg = get_algorithm("leechong-leader-prose")
+    params = alg.default_params(range=2.0, n=7)
+    r1 = simulate(alg, resolve_target("lines:wedge"), init, params, seed=1)
+    r2 = simulate(alg, resolve_target("lines:wedge"), init, params, seed=1)
+    assert np.array_equal(r1.trace.poses, r2.trace.poses)
+    assert dict(r1.trace.states[1][1])["phase"] == "agree"          # a tie at step 0
+    assert r1.status == "finished"
+    assert resolve_target("lines:wedge").satisfied(r1.final_ids, r1.final_poses).held
+
+
+def test_positioning_errors_distort_the_leader_referenced_pattern():
+    c = run("leechong-leader-prose", "wedge", position_errors="3,6,9", error_size=0.3)
+    assert c.doc["satisfied"] is False
+
+
+def test_bad_options_are_usage_errors():
+    with pytest.raises(UsageError, match="fail='3'"):
+        run("leechong-leader", "wedge", fail="3")
+    with pytest.raises(UsageError, match="pattern='blob'"):
+        run("leechong-leader", "wedge", then="blob")
+    with pytest.raises(UsageError, match="flock_to"):
+        run("leechong-leader", "wedge", flock_to="far")
+    with pytest.raises(UsageError, match="pattern='line' is not a pattern of 003"):
+        run_and_check("leechong-leader", resolve_target("lines:line"), seed=0, robots=4)
+
+
+def _cli(capsys, *argv):
+    from swarmproof.cli import main
+
+    code = main(["simulate", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_cli_simulate_wedge_with_plot_gif_then_and_fail(capsys, tmp_path):
+    png, gif = tmp_path / "out.png", tmp_path / "out.gif"
+    base = ["leechong-leader", "--pattern", "wedge", "--robots", "12", "--seed", "0"]
+    code, out, _ = _cli(capsys, *base, "--plot", str(png), "--gif", str(gif), "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["satisfied"] is False                # the formula's IDs (a finding)
+    for key in ("satisfied", "total_distance", "min_separation"):
+        assert key in doc
+    assert {"agreement", "ids_unique"} <= set(doc["metrics"])
+    assert png.read_bytes()[:4] == b"\x89PNG" and gif.read_bytes()[:3] == b"GIF"
+    code, out, _ = _cli(capsys, *base, "--then", "circle", "--fail", "leader@30", "--json")
+    assert json.loads(out)["metrics"]["failed"]
+    code, out, err = _cli(capsys, "leechong-leader", "--pattern", "wedgie", "--robots", "12", "--seed", "0")
+    assert code == 2 and "wedgie" in err and "Traceback" not in err
+    code, out, err = _cli(capsys, "song2016", "--lattice", "square", "--robots", "4", "--seed", "0", "--then", "circle")
+    assert code == 2 and "does not take --then" in err
+    code, out, err = _cli(capsys, *base, "--fail", "3@soon")
+    assert code == 2 and "STEP='soon'" in err
