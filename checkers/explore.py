@@ -34,6 +34,7 @@ connected start, the robot model), Lemma 11, Thm. 13 (song2016).
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import os
 import time
@@ -770,11 +771,11 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         from swarmproof.models.fileio import check_output_dir
 
         check_output_dir(out_dir, "out_dir")
-    lats, loaded, warnings = _load_targets(lattices, strict)
+    lats, loaded, warnings = _load_targets(lattices, strict, getattr(spec.factory, "default_range", None))
     return spec, props, float(budget), (lo, hi), lats, loaded, warnings
 
 
-def _load_targets(lattices, strict: bool = False):
+def _load_targets(lattices, strict: bool = False, default_range: float | None = None):
     """Labels and targets the scenarios draw from: bundled periodic lattices by default; else
     each item a bundled name, ``KIND:NAME``, a file (a user's lattice) or a target object."""
     from swarmproof.models import library
@@ -803,6 +804,9 @@ def _load_targets(lattices, strict: bool = False):
         if label in loaded:
             raise UsageError(f"lattices item={label!r} is given twice", fix="give each target once")
         _warn_user_lattice(target, strict, warnings)
+        if getattr(target, "range", None) is None and default_range is not None and dataclasses.is_dataclass(target):
+            # an algorithm whose robots sense everyone (003) names the range its starts are drawn at
+            target = dataclasses.replace(target, range=float(default_range))
         if getattr(target, "range", None) is None:
             raise UsageError(f"{getattr(target, 'kind', 'lattice')} {label!r} has no default range",
                              fix="give a lattice file with a range")
