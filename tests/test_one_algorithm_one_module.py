@@ -61,7 +61,7 @@ def test_every_algorithm_declares_what_the_checkers_read(name):
 def test_verify_plans_order_and_content():
     plans = verify_plans()
     assert [n for n, _ in plans] == ["song2016", "song2016-literal", "song2014", "jiang", "jiang-literal",
-                                     "example-anonymous-line", "example-grid-goals"]
+                                     "wang2020", "example-anonymous-line", "example-grid-goals"]
     for _, plan in (plans[0], plans[2]):
         assert plan.targets == ("square", "hexagon", "octagon-square") and plan.robots == 10
         assert plan.seeds == (0, 1, 2)
