@@ -38,7 +38,7 @@ from .termination import THEOREM_13
 
 __all__ = ["Property", "PropertyContext", "register_property", "unregister_property", "property_check",
            "get_property", "properties", "property_names", "progress_values",
-           "DEFAULT_RADIUS", "DEFAULT_POS_TOL", "DEFAULT_PROGRESS_WINDOW"]
+           "DEFAULT_RADIUS", "DEFAULT_POS_TOL", "DEFAULT_PROGRESS_WINDOW", "collision_radius"]
 
 DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges have unit length
 DEFAULT_POS_TOL = 1e-6     # oscillation: poses rounded to this when global states are compared
@@ -308,10 +308,28 @@ def _tree_links_stream(algorithm, params, options):
     return TreeLinkMonitor(float(params.range), mode=tree_link_mode_of(algorithm, options))
 
 
+def collision_radius(params, options) -> float:
+    """The disc radius the ``collision`` property uses: the ``radius`` option, else the run's
+    ``params.extra["robot_radius"]`` (an algorithm's paper value, e.g. 004 Sec. V-A: r = 0.05 m,
+    set by its ``default_params``), else :data:`DEFAULT_RADIUS`.
+
+    >>> from swarmproof.reference_impl.protocol import Params
+    >>> collision_radius(Params(range=1.0), {}), collision_radius(Params(range=1.0, extra={"robot_radius": 0.05}), {})
+    (0.1, 0.05)
+    >>> collision_radius(Params(range=1.0, extra={"robot_radius": 0.05}), {"radius": 0.2})
+    0.2
+    """
+    options = dict(options or {})
+    if "radius" in options:
+        return float(options["radius"])
+    extra = getattr(params, "extra", None) or {}
+    return float(extra.get("robot_radius", DEFAULT_RADIUS))
+
+
 def _collision_stream(algorithm, params, options):
     from .properties import CollisionMonitor
 
-    return CollisionMonitor(float(dict(options or {}).get("radius", DEFAULT_RADIUS)))
+    return CollisionMonitor(collision_radius(params, options))
 
 
 def _premises_stream(algorithm, params, options):
@@ -352,7 +370,7 @@ def _formation(trace, ctx):
 def _collision(trace, ctx):
     from .properties import collision
 
-    return collision(trace, float(ctx.options.get("radius", DEFAULT_RADIUS)))
+    return collision(trace, collision_radius(ctx.params, ctx.options))
 
 
 def _deadlock(trace, ctx):
@@ -452,7 +470,7 @@ for _p in (
     Property("formation", "liveness", _formation, ("final poses", "ids", "target", "range"),
              "judges the final configuration only; a run cut by the step cap is inconclusive",
              "001 Thm. 13 / Def. 2"),
-    Property("collision", "safety", _collision, ("poses between steps", "radius option"),
+    Property("collision", "safety", _collision, ("poses between steps", "radius option or params robot_radius"),
              "robots are discs of the radius option; motion within a step is taken as straight",
              CITE_COLLISION, stream=_collision_stream, every_step=True),
     Property("deadlock", "liveness", _deadlock, ("poses", "states", "final poses", "target"),

@@ -744,7 +744,7 @@ class LeeChongLeader:
     #: simulate's --then (pattern switching, Secs. 3.4/3.6) and --fail (Sec. 3.5) become these params.
     options = ("then", "fail")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=30)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=40)
 
     @staticmethod
     def default_params(range: float, n: int) -> Params:
@@ -824,7 +824,7 @@ class LeeChongNeighbor(LeeChongLeader):
     mode = "neighbor"
     claims = dict(LeeChongLeader.claims, formation="003 Sec. 4.2 (Function 1 by neighbor reference)")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=31)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=41)
 
 
 class LeeChongLeaderProse(LeeChongLeader):
@@ -832,7 +832,7 @@ class LeeChongLeaderProse(LeeChongLeader):
 
     name = "leechong-leader-prose"
     numbering = "prose"
-    verify = VerifyPlan(targets=("lines:wedge", "lines:circle"), robots=12, seeds=(0, 1, 2), explore=False, rank=32)
+    verify = VerifyPlan(targets=("lines:wedge", "lines:circle"), robots=12, seeds=(0, 1, 2), explore=False, rank=42)
 
 
 class LeeChongLeaderFTeam(LeeChongLeader):

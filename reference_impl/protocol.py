@@ -85,6 +85,7 @@ class Assumption:
     check: Callable[["Params", int, Sequence[int] | None], str | None] = field(compare=False)
     check_start: Callable[["Params", Sequence[int] | None, np.ndarray], str | None] | None = field(
         default=None, compare=False)
+    check_target: Callable[["Params", int, Any], str | None] | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ True
 >>> get_algorithm("song2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'song2014', 'song2016', 'song2016-literal']
+swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-prose', 'leechong-neighbor', 'leechong-neighbor-fteam', 'song2014', 'song2016', 'song2016-literal', 'wang2020']
 """
 
 from __future__ import annotations
@@ -50,6 +50,7 @@ ALGORITHMS: dict[str, str] = {
     "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
     "example-anonymous-line": "swarmproof.reference_impl.examples:AnonymousLine",
     "example-grid-goals": "swarmproof.reference_impl.examples:GridGoals",
+    "wang2020": "swarmproof.reference_impl.wang2020:Wang2020",
 }
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
@@ -91,7 +92,7 @@ def verify_plans() -> list[tuple[str, object]]:
     ``verify`` plan, in the plans' ``rank`` order (ties by name).
 
     >>> [name for name, _ in verify_plans()]
-    ['song2016', 'song2016-literal', 'song2014', 'jiang', 'jiang-literal', 'example-anonymous-line', 'example-grid-goals']
+    ['song2016', 'song2016-literal', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-prose', 'example-anonymous-line', 'example-grid-goals']
     """
     plans = []
     for name in algorithm_names():

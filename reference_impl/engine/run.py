@@ -385,6 +385,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         msg = a.check(params, n0, None if hide_ids else ids0)
         if msg is None and a.check_start is not None:
             msg = a.check_start(params, None if hide_ids else ids0, initial.poses.copy())
+        if msg is None and getattr(a, "check_target", None) is not None:
+            msg = a.check_target(params, n0, lattice)
         if msg is not None:
             if not allow_violations:
                 raise AssumptionError(a.name, f"{msg} ({a.statement}; {a.cites})",

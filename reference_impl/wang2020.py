@@ -1,0 +1,789 @@
+"""Wang & Rubenstein 2020 (004): shape formation by local task swapping, followed line by line.
+
+The paper (004_004a3703645971e3.txt) runs three threads on every agent
+(Sec. III-C); here they are one controller that the engine asks once per
+clock tick:
+
+* **Algorithm 2, main component** (:meth:`Wang2020Controller._main`): at a
+  waypoint, pick ``next_step`` greedily (lines 9-14, surroundings in the
+  printed order W, S, E, N), run the hop-count gradient (lines 15-24), raise
+  ``wait_flag`` when a message in ``msg_buff`` claims ``next_step`` (line 26)
+  or a lexically larger agent wants it too (line 28), and move only when no
+  flag is raised and the agent has waited more than ``Delta t`` (line 30).
+  The move (line 32) blocks the loop until the agent arrives; ``last_check``
+  is reset on arrival (line 33).
+* **Algorithm 3, broadcast** (:class:`WangMsg`): ``{p, wp, next_step, T,
+  q_u, hop}`` plus the handshake fields and the shape-complete count; the
+  engine sends the last decided message at ``f_comm`` (``broadcast_every``).
+* **Algorithm 4, goal manager** (:meth:`Wang2020Controller._goal_manager`),
+  for every message received: same goal and ``p_j > p_i`` -> a new goal,
+  ``q_u`` with probability 0.9 and a random element of Q with 0.1 (lines
+  3-10); a swap that reduces the pairwise Manhattan cost (line 11), or one
+  that leaves it equal with probability beta (line 16), runs the 2-way
+  handshake of Sec. III-A (client: the lexically smaller agent, sends a
+  request and waits for the ACK; server: waits for the request, takes the
+  client's goal on receiving it and answers with an ACK carrying its old
+  goal).  The handshake is **not atomic**, as in the paper: the server
+  updates on the request, the client on the ACK, each with its own timeout.
+* **Shape complete** (Sec. III-B): an agent whose hop-count exceeds the
+  number of agents knows no anchor is left; it says so in its messages,
+  every agent that hears it does the same, and then forms the next shape if
+  one is given (Fig. 9: "N" then "U"), restarting Algorithm 2's lines 2-7.
+
+Every ambiguity and its reading is in docs/decisions.md, "Wang & Rubenstein
+2020 (issue 15)"; docs/wang2020.md describes the implementation.
+
+Examples
+--------
+>>> from swarmproof.reference_impl.engine import simulate
+>>> from swarmproof.models.targets import resolve_target
+>>> from swarmproof.models.trace import InitialConfiguration
+>>> shape = resolve_target("shape:letter-l")
+>>> cells = [(-2, 0), (-1, 0), (-2, 1), (-1, 1), (-2, 2)]
+>>> init = InitialConfiguration([1, 2, 3, 4, 5], [[0.2 * x, 0.2 * y, 0] for x, y in cells])
+>>> alg = Wang2020()
+>>> r = simulate(alg, shape, init, alg.default_params(range=0.6, n=5), seed=0)
+>>> r.status, shape.satisfied(r.final_ids, r.final_poses).status
+('finished', 'held')
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmproof.invariants.algorithm_invariants import Invariant
+from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
+
+__all__ = ["Wang2020", "Wang2020Controller", "WangMsg", "manhattan", "lex_greater", "default_params",
+           "J1", "J2", "INVARIANT_NAMES"]
+
+#: Alg. 2 lines 9 and 11: the surroundings in the printed order (x - l, y), (x, y - l), (x + l, y), (x, y + l).
+SURROUNDINGS = ((-1, 0), (0, -1), (1, 0), (0, 1))
+_EPS = 1e-9
+
+
+def manhattan(a, b) -> int:
+    """Manhattan distance between two cells, in grid edges (004 Sec. III-A, IV-B).
+
+    >>> manhattan((0, 0), (2, -3))
+    5
+    """
+    return abs(a[0] - b[0]) + abs(a[1] - b[1])
+
+
+def lex_greater(p, q) -> bool:
+    """``p > q`` in the lexicographic order of 004 Sec. II-B: ``p.x > q.x``, or equal x and ``p.y > q.y``.
+
+    >>> lex_greater((0.2, 0.0), (0.0, 5.0)), lex_greater((0.0, 0.4), (0.0, 0.2)), lex_greater((0, 0), (0, 0))
+    (True, True, False)
+    """
+    return (p[0], p[1]) > (q[0], q[1])
+
+
+@dataclass(frozen=True)
+class WangMsg:
+    """004 Alg. 3 line 2: ``msg = {p, wp, next_step, T, q_u, hop}``, and what the handshake and
+    shape-complete detection need (Sec. III-A, III-B).
+
+    Cells are integer ``(i, j)`` of the engine's grid (position ``l * (i, j)``).
+
+    Attributes
+    ----------
+    p : (float, float)
+        The agent's position when it decided (the priority of Alg. 2 line 28).
+    wp, next_step, T, q_u : (int, int)
+        Claimed waypoint, next waypoint, goal, candidate goal.
+    hop : int or None
+        Hop-count; None stands for infinity (Alg. 2 line 2).
+    completed : int
+        How many shapes this agent knows to be complete (Sec. III-B; its shape
+        index is ``min(completed, shapes - 1)``).
+    request : (server id, seq, client goal) or None
+        A client's handshake request (Sec. III-A).
+    ack : (client id, seq, server's old goal) or None
+        A server's ACK.
+    """
+
+    p: tuple
+    wp: tuple
+    next_step: tuple
+    T: tuple
+    q_u: tuple
+    hop: int | None
+    completed: int = 0
+    request: tuple | None = None
+    ack: tuple | None = None
+
+
+@dataclass
+class _Handshake:
+    role: str            # "client" | "server"
+    peer: int
+    seq: int             # the client's request number (server: None until the request arrives)
+    deadline: float      # local clock
+    goal: tuple          # this agent's goal when the handshake began
+
+
+class Wang2020Controller:
+    """One agent of 004 (Algorithms 2-4); see the module docstring.
+
+    ``shapes`` is a tuple of goal sets (sorted tuples of engine cells): the
+    first is formed, then the next once it is complete (Fig. 9).
+    """
+
+    def __init__(self, robot_id: int, params: Params, shapes, rng: np.random.Generator) -> None:
+        ex = params.extra
+        self.id = int(robot_id)
+        self.rng = rng
+        self.l = float(ex.get("grid_spacing", 0.2))
+        self.shapes = tuple(tuple(sorted(s)) for s in shapes)
+        self.shape_sets = tuple(frozenset(s) for s in self.shapes)
+        self.boxes = tuple((min(i for i, _ in s), min(j for _, j in s), max(i for i, _ in s),
+                            max(j for _, j in s)) for s in self.shapes)
+        self.delta_t = float(delta_t_of(params))
+        self.beta = float(ex.get("beta", 0.5))
+        self.p_random = float(ex.get("p_random", 0.1))
+        self.timeout = float(ex.get("handshake_timeout", 3.0 * self.delta_t))
+        self.ack_hold = float(ex.get("ack_hold", self.delta_t))
+        self.completed = 0
+        self.shape = 0                   # index of the shape being formed (the last once all are complete)
+        self.started = False
+        self.buff: deque = deque()       # (receipt clock, sender, WangMsg): msg_buff (Alg. 2 line 15)
+        self.hs: _Handshake | None = None
+        self.seq = 0
+        self.ack: tuple | None = None    # (client, seq, old goal, until)
+        self.answered: set = set()       # (client, seq) requests this server has answered
+        self.moving = False
+        self.p = (0.0, 0.0)
+        self.cell = self.wp = self.next_step = None     # set by the first tick (Alg. 2 lines 1, 5)
+        self.hop = math.inf
+        self.T = self.q_u = None
+        self.last_check = 0.0
+        self.now = 0.0
+        self.swaps = 0                   # successful handshakes (either role)
+        # lines 26/28 inline unless a subclass redefines them (mutation tests)
+        self._plain = (type(self).occupied is Wang2020Controller.occupied
+                       and type(self).yields_to is Wang2020Controller.yields_to)
+
+    # -- shape bookkeeping ------------------------------------------------------------
+
+    @property
+    def Q(self) -> tuple:
+        return self.shapes[self.shape]
+
+    def _random_goal(self) -> tuple:
+        """A uniformly random element of Q (Alg. 2 lines 3-4, Alg. 4 line 9), from the agent's rng."""
+        return self.Q[int(self.rng.integers(len(self.Q)))]
+
+    def _begin_shape(self, now: float) -> None:
+        """004 Alg. 2 lines 2-7 (the per-shape initialisation): hop = inf, q_u and T random in Q,
+        next_step = wp, last_check = clock()."""
+        self.hop = math.inf
+        self.q_u = self._random_goal()          # line 3
+        self.T = self._random_goal()            # line 4
+        self.next_step = self.wp                # line 5
+        self.last_check = now                   # line 7
+        self.hs = None
+        self.ack = None
+
+    def _switch(self, now: float) -> None:
+        """Sec. III-B / Fig. 9: the current shape is complete; form the next one, if any."""
+        self.completed += 1
+        self.shape = min(self.completed, len(self.shapes) - 1)
+        if self.completed < len(self.shapes):
+            self._begin_shape(now)
+
+    # -- the tick -----------------------------------------------------------------------
+
+    def step(self, obs: Observation) -> Command:
+        now = float(obs.clock) if obs.clock is not None else float(obs.step)
+        self.now = now
+        x, y = float(obs.own_pose[0]), float(obs.own_pose[1])
+        self.p = (x, y)
+        c = (int(round(x / self.l)), int(round(y / self.l)))
+        at_cell = abs(x - c[0] * self.l) <= _EPS * self.l and abs(y - c[1] * self.l) <= _EPS * self.l
+        if not self.started:                    # Alg. 2 line 1: wp <- current waypoint
+            self.started = True
+            self.cell = self.wp = c
+            self._begin_shape(now)
+        if self.moving and at_cell and c == self.wp:
+            self.moving = False                 # line 32 returns: the agent arrived
+            self.cell = c
+            self.last_check = now               # line 33
+        new = [(s, m) for s, m in obs.inbox if isinstance(m, WangMsg)]
+        last = len(self.shapes) - 1
+        for s, m in new:
+            self.buff.append((now, s, m, m.completed if m.completed < last else last))
+        cutoff = now - self.delta_t            # msg_buff: received since clock() - Delta t
+        while self.buff and self.buff[0][0] < cutoff:
+            self.buff.popleft()
+        if self.hs is not None and now > self.hs.deadline:
+            self.hs = None                      # handshake timeout (Sec. III-A)
+        if self.ack is not None and now > self.ack[3]:
+            self.ack = None
+        for s, m in new:                        # Alg. 4: every message received
+            self._goal_manager(now, s, m)
+        move = None if self.moving else self._main(now)
+        return Command(message=self.message(), move=move)
+
+    # -- Algorithm 2 ----------------------------------------------------------------------
+
+    def _greedy_next(self) -> tuple:
+        """004 Alg. 2 lines 9-14: the first of the surroundings that reduces the Manhattan
+        distance to T; none (the agent is at its goal) -> the current waypoint (Sec. III-A's
+        "wait"; docs/decisions.md)."""
+        d = manhattan(self.wp, self.T)
+        for dx, dy in SURROUNDINGS:
+            i = (self.wp[0] + dx, self.wp[1] + dy)
+            if manhattan(i, self.T) < d:
+                return i
+        return self.wp
+
+    def _gradient(self) -> None:
+        """004 Alg. 2 lines 15-24 over this shape's messages in msg_buff."""
+        shape = self.shape
+        best = None
+        low = math.inf
+        held = set()
+        for _, _, m, ms in self.buff:
+            if ms != shape:
+                continue
+            held.add(m.T)
+            if best is None or (m.hop is not None and m.hop < low):
+                best = m                                                        # line 18 (first of ties)
+                low = math.inf if m.hop is None else m.hop
+        if best is None:
+            return
+        self.hop = math.inf if best.hop is None else 1 + best.hop               # line 19
+        self.q_u = best.q_u                                                     # line 20
+        Q = self.shape_sets[self.shape]
+        for dx, dy in SURROUNDINGS:                                             # lines 21-24
+            i = (self.wp[0] + dx, self.wp[1] + dy)
+            if i in Q and i not in held:
+                self.q_u, self.hop = i, 0
+                break
+
+    def occupied(self, m: WangMsg) -> bool:
+        """004 Alg. 2 line 26: ``i.wp == next_step`` (next_step is occupied)."""
+        return m.wp == self.next_step
+
+    def yields_to(self, m: WangMsg) -> bool:
+        """004 Alg. 2 line 28: ``i.next_step == next_step and i.p > p`` (a lexically larger agent
+        intends to go to the same waypoint)."""
+        return m.next_step == self.next_step and lex_greater(m.p, self.p)
+
+    def _main(self, now: float):
+        """One pass of 004 Alg. 2's loop (lines 9-35) at a waypoint; returns the engine move or None."""
+        self.next_step = self._greedy_next()                                   # lines 9-14
+        self._gradient()                                                        # lines 15-24
+        if self.completed < len(self.shapes) and self.hop != math.inf and self.hop > len(self.Q):  # III-B
+            self._switch(now)
+            self.next_step = self._greedy_next()
+        if self._plain:                                                         # lines 25-29
+            ns, p = self.next_step, self.p
+            wait_flag = any(m.wp == ns or (m.next_step == ns and m.p > p) for _, _, m, _ in self.buff)
+        else:
+            wait_flag = any(self.occupied(m) or self.yields_to(m) for _, _, m, _ in self.buff)
+        if not wait_flag and now - self.last_check > self.delta_t:             # line 30
+            target = self.next_step
+            if target == self.wp:
+                self.last_check = now                                           # lines 31-33, no move
+                return None
+            self.wp = target                                                    # line 31
+            self.moving = True                                                  # line 32 (blocks)
+            return (target[0] - self.cell[0], target[1] - self.cell[1])
+        return None                                                             # line 35
+
+    # -- Algorithm 4 -------------------------------------------------------------------
+
+    def _goal_manager(self, now: float, sender: int, m: WangMsg) -> None:
+        """004 Alg. 4 for one received message, with the handshake of Sec. III-A."""
+        if m.request is not None and m.request[0] == self.id:
+            self._on_request(now, sender, m.request)
+        if m.ack is not None and m.ack[0] == self.id:
+            self._on_ack(now, sender, m.ack)
+        while m.completed > self.completed:                                     # Sec. III-B propagation
+            self._switch(now)
+        if min(m.completed, len(self.shapes) - 1) != self.shape:
+            return                                                              # another shape's goals
+        if self.hs is not None:
+            return                                                              # blocked in a handshake
+        if m.T == self.T and lex_greater(m.p, self.p):                          # lines 3-5
+            self.T = self.select_new_goal()                                     # lines 6-9
+            self.last_check = now                                               # lines 7, 10
+        now_cost = manhattan(self.wp, self.T) + manhattan(m.wp, m.T)
+        swap_cost = manhattan(self.wp, m.T) + manhattan(m.wp, self.T)
+        if swap_cost < now_cost:                                                # line 11
+            self._begin_handshake(now, sender, m)                               # line 12
+        elif swap_cost == now_cost and self.rng.random() < self.beta:           # lines 16-17
+            self._begin_handshake(now, sender, m)                               # line 18
+
+    def select_new_goal(self) -> tuple:
+        """004 Alg. 4 lines 6-9: ``rand(0, 1) > 0.1`` -> q_u (gradient-based selector, Sec. III-B2),
+        else a random element of Q (random selector, Sec. III-B1); ``p_random`` sets the 0.1
+        (1: random only, 0: gradient only)."""
+        if self.rng.random() > self.p_random:
+            return self.q_u
+        return self._random_goal()
+
+    def _begin_handshake(self, now: float, peer: int, m: WangMsg) -> None:
+        """Sec. III-A: client when the peer is lexically larger, else server."""
+        if lex_greater(m.p, self.p):
+            self.seq += 1
+            self.hs = _Handshake("client", int(peer), self.seq, now + self.timeout, self.T)
+        else:
+            self.hs = _Handshake("server", int(peer), -1, now + self.timeout, self.T)
+
+    def _on_request(self, now: float, sender: int, req: tuple) -> None:
+        """Server side: a request from its intended peer -> take the client's goal and ACK with the
+        old one; from anyone else -> no answer (the client times out)."""
+        hs = self.hs
+        key = (int(sender), int(req[1]))
+        if hs is None or hs.role != "server" or hs.peer != sender or key in self.answered:
+            return
+        old = self.T
+        self.T = tuple(req[2])
+        self.last_check = now                                                   # Alg. 4 line 21
+        self.ack = (int(sender), int(req[1]), old, now + self.ack_hold)
+        self.answered.add(key)
+        self.hs = None
+        self.swaps += 1
+
+    def _on_ack(self, now: float, sender: int, ack: tuple) -> None:
+        """Client side: the ACK of the request it is waiting on -> take the server's old goal."""
+        hs = self.hs
+        if hs is None or hs.role != "client" or hs.peer != sender or int(ack[1]) != hs.seq:
+            return
+        self.T = tuple(ack[2])
+        self.last_check = now                                                   # Alg. 4 line 15/21
+        self.hs = None
+        self.swaps += 1
+
+    # -- Algorithm 3 and the state ---------------------------------------------------------
+
+    def message(self) -> WangMsg:
+        """004 Alg. 3 line 2, with the handshake fields."""
+        req = None
+        if self.hs is not None and self.hs.role == "client":
+            req = (self.hs.peer, self.hs.seq, self.hs.goal)
+        ack = None if self.ack is None else self.ack[:3]
+        return WangMsg(self.p, self.wp, self.next_step, self.T, self.q_u,
+                       None if self.hop == math.inf else int(self.hop), self.completed, req, ack)
+
+    def state(self):
+        """The keys other monitors read: ``cell`` (the waypoint the agent is at, or left),
+        ``next`` (the waypoint it moves to, or its next_step while waiting; None at its goal),
+        ``goal``, ``priority`` (its position as Alg. 2 line 28 compares it), ``wp``,
+        ``moving``, ``shape``, the handshake and the timing premises."""
+        nxt = self.wp if self.moving else (None if self.next_step == self.wp else self.next_step)
+        if not self.started:
+            return (("cell", None), ("next", None), ("goal", None), ("priority", None), ("wp", None),
+                    ("moving", False), ("shape", 0), ("completed", 0), ("done", False), ("hop", None),
+                    ("q_u", None), ("handshake", None), ("ack", None), ("waited", False), ("heard", ()),
+                    ("n_goals", len(self.Q)), ("shape_box", self.boxes[0]), ("spacing", self.l))
+        hs = None if self.hs is None else (self.hs.role, self.hs.peer, self.hs.seq)
+        return (("cell", self.cell), ("next", nxt), ("goal", self.T), ("priority", self.p),
+                ("wp", self.wp), ("moving", self.moving), ("shape", self.shape),
+                ("completed", self.completed), ("done", self.completed >= len(self.shapes)),
+                ("hop", None if self.hop == math.inf else int(self.hop)), ("q_u", self.q_u),
+                ("handshake", hs), ("ack", None if self.ack is None else self.ack[:3]),
+                ("waited", bool(self.now - self.last_check > self.delta_t)),
+                ("heard", tuple(sorted({e[1] for e in self.buff}))),
+                ("n_goals", len(self.Q)), ("shape_box", self.boxes[self.shape]), ("spacing", self.l))
+
+
+# -- parameters and assumptions -------------------------------------------------------------
+
+def delta_t_of(params: Params) -> float:
+    """Delta t in local clock units: ``params.extra["delta_t"]``, else ``2 / f_comm`` (004 Alg. 2
+    line 6) with ``1 / f_comm = broadcast_every`` local units.
+
+    >>> delta_t_of(Params(range=0.6, extra={"broadcast_every": 2}))
+    4.0
+    """
+    ex = params.extra
+    if ex.get("delta_t") is not None:
+        return float(ex["delta_t"])
+    return 2.0 * float(ex.get("broadcast_every", 1.0))
+
+
+def default_params(range: float = 0.6, n: int = 0) -> Params:
+    """004's values and our choices (docs/decisions.md, "Wang & Rubenstein 2020").
+
+    Paper: r = 0.05 m, R = 0.6 m, v = 0.05 m/s (Sec. V-A), l = 0.20 m (Sec. V-B3).  Ours: a
+    step of dt = 0.5 s, f_comm = 1 Hz (``broadcast_every`` = 2 ticks), hence Delta t = 2 s
+    = 4 ticks, equal clock rates (Sec. II-A a), beta = 0.5, handshake timeouts 3 Delta t.
+
+    >>> p = default_params(0.6, 9)
+    >>> p.v, p.dt, p.extra["grid_spacing"], p.extra["robot_radius"], delta_t_of(p)
+    (0.05, 0.5, 0.2, 0.05, 4.0)
+    """
+    return Params(range=range, v=0.05, dt=0.5, extra={
+        "grid_spacing": 0.2, "robot_radius": 0.05, "broadcast_every": 2.0, "clock_rate_min": 1.0,
+        "clock_rate_max": 1.0, "beta": 0.5, "p_random": 0.1})
+
+
+def _r(params) -> float:
+    return float(params.extra.get("robot_radius", 0.05))
+
+
+def _range_vs_radius(params: Params, n, ids):
+    r = _r(params)
+    if params.range >= 4 * math.sqrt(2) * r - 1e-12:
+        return None
+    return f"range={params.range!r} < 4*sqrt(2)*robot_radius={4 * math.sqrt(2) * r:.6g} (robot_radius={r!r})"
+
+
+def _spacing_bounds(params: Params, n, ids):
+    r, l = _r(params), float(params.extra.get("grid_spacing", 1.0))
+    if 2 * math.sqrt(2) * r - 1e-12 <= l <= params.range / 2 + 1e-12:
+        return None
+    return (f"grid_spacing={l!r} is outside [2*sqrt(2)*robot_radius, range/2] = "
+            f"[{2 * math.sqrt(2) * r:.6g}, {params.range / 2:.6g}]")
+
+
+def _same_clock_rate(params: Params, n, ids):
+    lo = float(params.extra.get("clock_rate_min", 1.0))
+    hi = float(params.extra.get("clock_rate_max", lo))
+    return None if lo == hi else f"clock_rate_min={lo!r} != clock_rate_max={hi!r}"
+
+
+def _window(params: Params, n, ids):
+    every = float(params.extra.get("broadcast_every", 1.0))
+    lo = float(params.extra.get("clock_rate_min", 1.0))
+    hi = float(params.extra.get("clock_rate_max", lo))
+    need = 2.0 * every * (hi / lo)
+    dt = delta_t_of(params)
+    return None if dt >= need - 1e-12 else (f"delta_t={dt!r} < 2/f_comm * f_max/f_min = {need:.6g} "
+                                            f"(broadcast_every={every!r})")
+
+
+def _beta(params: Params, n, ids):
+    b = params.extra.get("beta", 0.5)
+    p = params.extra.get("p_random", 0.1)
+    if not (isinstance(b, (int, float)) and 0 < b < 1):
+        return f"beta={b!r} must be in (0, 1)"
+    if not (isinstance(p, (int, float)) and 0 <= p <= 1):
+        return f"p_random={p!r} must be in [0, 1]"
+    return None
+
+
+def _own_waypoint(params: Params, ids, poses):
+    l = float(params.extra.get("grid_spacing", 1.0))
+    xy = np.asarray(poses, dtype=float)[:, :2]
+    cells = np.rint(xy / l)
+    bad = np.flatnonzero(np.abs(xy - cells * l).max(axis=1) > 1e-9 * l) if len(xy) else []
+    if len(bad):
+        k = int(bad[0])
+        return f"robot {ids[k] if ids else k} at ({xy[k, 0]:.6g}, {xy[k, 1]:.6g}) is not on a waypoint"
+    seen = {}
+    for k, c in enumerate(map(tuple, cells.astype(int).tolist())):
+        if c in seen:
+            return f"robots {ids[seen[c]] if ids else seen[c]} and {ids[k] if ids else k} start on waypoint {c}"
+        seen[c] = k
+    return None
+
+
+def goal_cells(target, spacing: float) -> tuple:
+    """The target's goal cells on the engine's grid (origin + spacing * (i, j) -> integer cells)."""
+    ox, oy = (float(v) for v in getattr(target, "origin", (0.0, 0.0)))
+    oi, oj = int(round(ox / spacing)), int(round(oy / spacing))
+    return tuple(sorted((oi + i, oj + j) for i, j in target.cells))
+
+
+def _target_on_grid(params: Params, n, target):
+    if target is None or getattr(target, "cells", None) is None:
+        return f"target={target!r} is not a goal set (004 Sec. II-C: Q on grid waypoints)"
+    l = float(params.extra.get("grid_spacing", 1.0))
+    ox, oy = (float(v) for v in getattr(target, "origin", (0.0, 0.0)))
+    if abs(float(target.spacing) - l) > 1e-9 * l or any(abs(o / l - round(o / l)) > 1e-9 for o in (ox, oy)):
+        return (f"target {target.name!r} spacing={target.spacing!r}, origin=({ox:g}, {oy:g}) is not on the "
+                f"grid of grid_spacing={l!r}")
+    return None
+
+
+def _goal_count(params: Params, n, target):
+    cells = getattr(target, "cells", None)
+    if cells is None or len(cells) == n:
+        return None
+    return f"|Q|={len(cells)} goal cells of {getattr(target, 'name', '?')!r} but |A|=n={n} robots"
+
+
+def _goal_connected(params: Params, n, target):
+    cells = getattr(target, "cells", None)
+    if not cells:
+        return None
+    cells = set(map(tuple, cells))
+    start = min(cells)
+    seen, todo = {start}, [start]
+    while todo:
+        i, j = todo.pop()
+        for dx, dy in SURROUNDINGS:
+            c = (i + dx, j + dy)
+            if c in cells and c not in seen:
+                seen.add(c)
+                todo.append(c)
+    if len(seen) == len(cells):
+        return None
+    return f"the goal set {getattr(target, 'name', '?')!r} is not 4-connected ({len(cells) - len(seen)} cells apart)"
+
+
+ASSUMPTIONS = (
+    Assumption("range_vs_radius", "R >= 4 sqrt(2) r", "004 Sec. II-A", _range_vs_radius),
+    Assumption("grid_spacing_bounds", "2 sqrt(2) r <= l <= R / 2", "004 Sec. III-A", _spacing_bounds),
+    Assumption("same_clock_frequency", "every agent has the same clock frequency (phases arbitrary)",
+               "004 Sec. II-A a)", _same_clock_rate),
+    Assumption("message_window", "Delta t >= 2 / f_comm (x f_max / f_min when rates differ)",
+               "004 Alg. 2 line 6, Lemma IV-A.1, Sec. V-B3", _window),
+    Assumption("beta_in_unit_interval", "0 < beta < 1", "004 Alg. 2 input, Alg. 4 line 16", _beta),
+    Assumption("own_waypoint", "each agent starts on its own waypoint", "004 Theorems IV-A.1/IV-A.2",
+               lambda p, n, ids: None, check_start=_own_waypoint),
+    Assumption("goals_on_grid", "Q is a set of waypoints of the grid of spacing l", "004 Sec. II-B, III-A",
+               lambda p, n, ids: None, check_target=_target_on_grid),
+    Assumption("goal_count", "|Q| = |A|", "004 Sec. II-C", lambda p, n, ids: None, check_target=_goal_count),
+    Assumption("goal_connected", "the target formation Q is connected", "004 Sec. II-C",
+               lambda p, n, ids: None, check_target=_goal_connected),
+)
+
+
+# -- J1, J2 and the runtime invariants ----------------------------------------------------------
+
+def _split(poses, states, l: float):
+    """Per robot: ``(state dict, rest cell or None, edge (from, to) or None)``.  A robot whose pose
+    is exactly on a waypoint rests there (pose, not its own word); one between waypoints is on the
+    edge from its state's ``cell`` to its ``wp`` (the waypoint it claims, Alg. 2 line 31)."""
+    xy = np.asarray(poses, dtype=float)[:, :2] / l
+    cells = np.rint(xy)
+    on = (np.abs(xy - cells).max(axis=1) <= 1e-9) if len(xy) else np.zeros(0, bool)
+    out = []
+    for k, st in enumerate(states):
+        d = dict(st)
+        if on[k]:
+            out.append((d, (int(cells[k, 0]), int(cells[k, 1])), None))
+        else:
+            out.append((d, None, (tuple(d["cell"]), tuple(d["wp"]))))
+    return out
+
+
+def _j1(split) -> int:
+    total = 0
+    for d, rest, edge in split:
+        total += manhattan(rest, d["goal"]) if rest is not None else 1 + manhattan(edge[1], d["goal"])
+    return total
+
+
+def J1(poses, states, l: float) -> int:
+    """004 Sec. IV-B: J1 = sum of d_i, the number of grid edges agent i still has to traverse to its
+    goal: ``|cell - T|_1`` at a waypoint; on an edge, 1 (the rest of it) + ``|wp - T|_1`` of its end.
+
+    >>> st = lambda cell, wp, goal: (("cell", cell), ("wp", wp), ("goal", goal))
+    >>> J1([[0.0, 0.0, 0], [0.3, 0.2, 0]], [st((0, 0), (0, 0), (2, 0)), st((1, 1), (2, 1), (0, 1))], 0.2)
+    5
+    """
+    return _j1(_split(poses, states, l))
+
+
+def J2(states) -> int:
+    """004 Sec. IV-B: J2 = |A| - (the number of goals held by some agent).
+
+    >>> J2([(("goal", (0, 0)),), (("goal", (0, 0)),), (("goal", (1, 0)),)])
+    1
+    """
+    return len(states) - len({tuple(dict(s)["goal"]) for s in states})
+
+
+class _Checks:
+    """The runtime invariants of one run; the J checks remember the previous step, so every
+    monitor gets fresh ones (``Wang2020().invariants``).  One frame per step is computed once."""
+
+    def __init__(self) -> None:
+        self.key = None
+        self.frame = None
+        self.prev = None          # (shape, J1, J2, goals, handshakes)
+        self.c0 = None            # (shape, c_t0)
+
+    def _frame(self, t, ids, poses, states):
+        key = (t, id(states), id(poses))
+        if key != self.key:
+            l = float(dict(states[0])["spacing"]) if states else 1.0
+            split = _split(poses, states, l) if states else []
+            started = all(d["goal"] is not None for d, _, _ in split)
+            shapes = {d["shape"] for d, _, _ in split}
+            shape = shapes.pop() if started and len(shapes) == 1 else None
+            self.key, self.frame = key, (l, split, shape)
+        return self.frame
+
+    def vertex(self, t, ids, poses, states):
+        """Constraint III-A.1 from poses and states: no agent moves to a waypoint where another
+        stands, and no two agents move toward one waypoint."""
+        _, split, _ = self._frame(t, ids, poses, states)
+        rid = ids.tolist()
+        rest = {c: r for r, (_, c, _) in zip(rid, split) if c is not None}
+        dest = {}
+        for r, (_, _, edge) in zip(rid, split):
+            if edge is None:
+                continue
+            to = edge[1]
+            if to in rest:
+                return f"robot {r} moves to waypoint {to} where robot {rest[to]} stands"
+            if to in dest:
+                return f"robots {dest[to]} and {r} both move toward waypoint {to}"
+            dest[to] = r
+        return None
+
+    def edge(self, t, ids, poses, states):
+        """Constraint III-A.2: no two agents travel one edge in opposite directions."""
+        _, split, _ = self._frame(t, ids, poses, states)
+        seen = {}
+        for r, (_, _, edge) in zip(ids.tolist(), split):
+            if edge is None:
+                continue
+            if (edge[1], edge[0]) in seen:
+                return (f"robots {seen[(edge[1], edge[0])]} and {r} travel the edge between {edge[1]} and "
+                        f"{edge[0]} in opposite directions")
+            seen[edge] = r
+        return None
+
+    def bounded(self, t, ids, poses, states):
+        """Lemma IV-B.1: J2 <= |A| - 1 and J1 <= |A| c_t0 (c_t0: x plus y extent, in edges, of the
+        smallest rectangle holding every agent and goal at the first step of the shape)."""
+        if t == 0:
+            self.c0 = None
+        l, split, shape = self._frame(t, ids, poses, states)
+        if shape is None:
+            return None
+        if self.c0 is None or self.c0[0] != shape:
+            box = split[0][0]["shape_box"]
+            xy = np.asarray(poses, dtype=float)[:, :2] / l
+            xs = [box[0], box[2], float(xy[:, 0].min()), float(xy[:, 0].max())]
+            ys = [box[1], box[3], float(xy[:, 1].min()), float(xy[:, 1].max())]
+            self.c0 = (shape, (max(xs) - min(xs)) + (max(ys) - min(ys)))
+        n = len(split)
+        j1, j2 = _j1(split), n - len({d["goal"] for d, _, _ in split})
+        if j2 > n - 1:
+            return f"J2={j2} > |A| - 1 = {n - 1}"
+        if j1 > n * self.c0[1] + 1e-9:
+            return f"J1={j1} > |A| c_t0 = {n} x {self.c0[1]:g}"
+        return None
+
+    def monotone(self, t, ids, poses, states):
+        """Lemma IV-B.2: J2 never rises; J1 never rises while J2 = 0 (within one shape)."""
+        if t == 0:
+            self.prev = None
+        _, split, shape = self._frame(t, ids, poses, states)
+        if shape is None:
+            self.prev = None
+            return None
+        rid = ids.tolist()
+        goals = {r: d["goal"] for r, (d, _, _) in zip(rid, split)}
+        hs = {r: d["handshake"] for r, (d, _, _) in zip(rid, split)}
+        j1, j2 = _j1(split), len(split) - len(set(goals.values()))
+        prev, self.prev = self.prev, (shape, j1, j2, goals, hs)
+        if prev is None or prev[0] != shape:
+            return None
+        if j2 <= prev[2] and not (prev[2] == 0 and j1 > prev[1]):
+            return None
+        changed = ", ".join(f"robot {r}: {prev[3].get(r)} -> {g}" + (f" (handshake {prev[4].get(r)})"
+                                                                    if prev[4].get(r) else "")
+                            for r, g in goals.items() if prev[3].get(r) != g)
+        if j2 > prev[2]:
+            lost = sorted(set(prev[3].values()) - set(goals.values()))
+            return f"J2 rose from {prev[2]} to {j2}: goal(s) {lost} no longer held ({changed})"
+        return f"J1 rose from {prev[1]} to {j1} while J2 = 0 ({changed or 'no goal changed'})"
+
+
+INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j_monotone")
+
+
+def make_invariants() -> tuple:
+    """Fresh :class:`Invariant` objects (the J checks remember the previous step); the grid
+    spacing is read from the states (key ``spacing``)."""
+    ch = _Checks()
+    return (
+        Invariant("constraint_vertex", "no agent moves to an occupied waypoint; no two agents move toward "
+                  "one waypoint", "004 Constraint III-A.1, Theorem IV-A.1", ch.vertex),
+        Invariant("constraint_edge", "no two agents travel one edge in opposite directions",
+                  "004 Constraint III-A.2, Theorem IV-A.2", ch.edge),
+        Invariant("j_bounded", "J2 <= |A| - 1 and J1 <= |A| c_t0", "004 Lemma IV-B.1", ch.bounded),
+        Invariant("j_monotone", "J2 never rises; J1 never rises once J2 = 0", "004 Lemma IV-B.2", ch.monotone),
+    )
+
+
+# -- the algorithm ----------------------------------------------------------------------------
+
+class Wang2020:
+    """004's algorithm (registry name ``wang2020``); see the module docstring.
+
+    Parameters
+    ----------
+    then : GoalSet or sequence of GoalSet, optional
+        Shapes to form after the run's target, in order, each once the previous one is
+        detected complete (004 Fig. 9, Sec. V-B4: "N" then "U").
+    """
+
+    name = "wang2020"
+    model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
+                       neighbor_rule="inclusive")
+    assumptions = ASSUMPTIONS
+    randomized = True
+    controller_class = Wang2020Controller
+    claims = {
+        "collision": "004 Theorems IV-A.1/IV-A.2 with l >= 2 sqrt(2) r (Sec. III-A): discs never overlap",
+        "invariants": "004 Constraints III-A.1/2 (Theorems IV-A.1/2), Lemmas IV-B.1/IV-B.2 (J1, J2)",
+        "formation": "004 Theorem IV-B.1 (J1, J2 -> 0 almost surely; exploration: held over what it ran)",
+        "termination": "004 Theorem IV-B.1 with Sec. III-B shape-complete detection (almost surely)",
+        "deadlock": "004 Sec. II-C, Lemma IV-B.4 (deadlock-free)",
+    }
+    own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
+    explore_targets = ("shape:letter-l", "shape:square-9")
+    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
+                        more=(("shape:square-9", 9, (0, 1, 2)),))
+
+    def __init__(self, then=()) -> None:
+        if then is None:
+            then = ()
+        elif getattr(then, "cells", None) is not None:
+            then = (then,)
+        self.then = tuple(then)
+        for g in self.then:
+            if getattr(g, "cells", None) is None:
+                from swarmproof.models.errors import UsageError
+
+                raise UsageError(f"then={g!r} is not a goal set", fix="pass GoalSet objects (shape targets)")
+
+    @property
+    def invariants(self) -> tuple:
+        """Fresh runtime invariants (every access: a new J memory)."""
+        return make_invariants()
+
+    @staticmethod
+    def team_multiple(target) -> int:
+        """004 Sec. II-C: |A| = |Q|."""
+        return len(getattr(target, "cells", ()) or (0,))
+
+    @staticmethod
+    def default_params(range: float = 0.6, n: int = 0) -> Params:
+        return default_params(range, n)
+
+    def controller(self, robot_id, params: Params, target, rng) -> Wang2020Controller:
+        if getattr(target, "cells", None) is None:
+            from swarmproof.models.errors import UsageError
+
+            raise UsageError(f"wang2020 needs a shape target (goal cells), not {target!r}",
+                             fix="e.g. --target shape:letter-l")
+        l = float(params.extra.get("grid_spacing", 1.0))
+        shapes = (goal_cells(target, l),) + tuple(goal_cells(g, l) for g in self.then)
+        return self.controller_class(robot_id, params, shapes, rng)
+
+    def finished(self, states) -> bool:
+        live = [dict(s) for s in states if s is not None]
+        return bool(live) and all(s["done"] for s in live)
+
+    @staticmethod
+    def default_max_steps(params: Params, n: int) -> int:
+        """Generous: 20000 ticks plus 400 per agent."""
+        return int(20000 + 400 * n)
