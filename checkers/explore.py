@@ -85,6 +85,9 @@ class Scenario:
     seed: int
     faults: Any = None    # a drawn FaultModel (data-driven hooks only) or None
     v: float | None = None  # a drawn speed (explore(speeds=...)), None: the run's params decide
+    #: drawn algorithm parameters (``(key, value)`` pairs for ``Params.extra``) from the algorithm's
+    #: ``explore_extra(draw, n)``: 003's failures and positioning errors
+    extra: tuple = ()
 
     @property
     def n(self) -> int:
@@ -540,7 +543,8 @@ def place_robot(pts: Sequence[tuple], parent: int, dist: float, ang: float, min_
 
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
                       fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None,
-                      grid_spacing: float | None = None, team_multiple: Mapping[str, int] | None = None):
+                      grid_spacing: float | None = None, team_multiple: Mapping[str, int] | None = None,
+                      algorithm=None):
     """A Hypothesis strategy of connected :class:`Scenario` objects.
 
     Robot 0 of the construction sits at the origin with a drawn heading;
@@ -566,6 +570,11 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
     ``grid_spacing``: for ``motion="grid"`` algorithms, robots stand on distinct
     cells; each further robot is ``(parent, dx, dy)``, a cell offset within
     the range of an earlier robot (the start is connected), heading 0.
+    ``algorithm``: its class may draw scenarios of its own kind: ``explore_start(draw, lo, hi,
+    phi)`` returns start poses (or None for the construction above: 003's symmetric and
+    near-symmetric starts, where leader ties really happen), and ``explore_extra(draw, n)``
+    returns a dict of parameters for ``Params.extra`` (003's failures at any step, positioning
+    errors), kept in the scenario and in its counterexample file, so a replay runs them again.
     """
     from hypothesis import assume
     from hypothesis import strategies as st
@@ -600,15 +609,21 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
             poses = tuple((cx * grid_spacing, cy * grid_spacing, 0.0) for cx, cy in cells)
             faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
             return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
-        placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), dist, angle, angle),
-                                   min_size=lo - 1, max_size=hi - 1))
-        pts = [(0.0, 0.0)]
-        heads = [draw(angle)]
-        for k, (parent, dist, ang, head) in enumerate(placements, start=1):
-            p = place_robot(pts, parent % k, dist, ang, min_sep)
-            assume(p is not None)
-            pts.append(p)
-            heads.append(head)
+        own_start = getattr(algorithm, "explore_start", None)
+        drawn = own_start(draw, lo, hi, phi) if callable(own_start) else None
+        if drawn is not None:
+            pts = [(float(x), float(y)) for x, y, _ in drawn]
+            heads = [float(h) for _, _, h in drawn]
+        else:
+            placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), dist, angle, angle),
+                                       min_size=lo - 1, max_size=hi - 1))
+            pts = [(0.0, 0.0)]
+            heads = [draw(angle)]
+            for k, (parent, dist, ang, head) in enumerate(placements, start=1):
+                p = place_robot(pts, parent % k, dist, ang, min_sep)
+                assume(p is not None)
+                pts.append(p)
+                heads.append(head)
         k_mult = (team_multiple or {}).get(lat, 1)
         if k_mult > 1:
             keep = len(pts) - len(pts) % k_mult
@@ -619,7 +634,9 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
         seed = draw(st.integers(0, 1000))
         poses = tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads))
         faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
-        return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
+        own_extra = getattr(algorithm, "explore_extra", None)
+        extra = tuple(sorted(own_extra(draw, n).items())) if callable(own_extra) else ()
+        return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v, extra)
 
     return build()
 
@@ -955,7 +972,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         grid_spacing = float((first.extra or {}).get("grid_spacing", 1.0))
     multiple = getattr(spec.factory, "team_multiple", None)
     team_multiple = {name: int(multiple(g)) for name, g in loaded.items()} if callable(multiple) else None
-    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing, team_multiple)
+    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing, team_multiple,
+                                 algorithm=spec.factory)
 
     for prop in props:
         t0, c0 = time.monotonic(), time.process_time()
@@ -974,8 +992,9 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   raise _BudgetSpent()
               lattice = loaded[scn.lattice]
               algo_n = spec.build(n_robots=scn.n)
+              extra = {**dict(params.get("extra") or {}), **dict(scn.extra)} if scn.extra else params.get("extra")
               p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v") if scn.v is None else scn.v,
-                               omega=params.get("omega"), dt=params.get("dt"), extra=params.get("extra"))
+                               omega=params.get("omega"), dt=params.get("dt"), extra=extra)
               fm = scn.faults if scn.faults is not None else fault_model
               algo_run, result, r = run_and_judge(
                   spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=max_steps,

@@ -747,6 +747,53 @@ class LeeChongLeader:
                         robots=12, seeds=(0, 1, 2), explore=True, rank=40)
 
     @staticmethod
+    def explore_start(draw, lo: int, hi: int, phi: float):
+        """The explorer's starts of 003's kind (Sec. 2.1, Fig. 3): besides the generic connected
+        construction (None), symmetric ones where Alg. 1 meets ties -- a regular polygon (every
+        vertex a leader candidate), the same with a robot at the centre, a mirror-symmetric spread
+        (robots on the axis v = 0 and pairs across it) -- and near-symmetric ones (a regular
+        polygon with one vertex moved by 1e-12..1e-3, below or above the tie tolerance)."""
+        from hypothesis import strategies as st
+
+        kind = draw(st.sampled_from(["generic", "polygon", "polygon+centre", "mirror", "near-polygon"]))
+        if kind == "generic":
+            return None
+        n = draw(st.integers(max(lo, 2), max(hi, 2)))
+        head = st.floats(-math.pi, math.pi)
+        rot = draw(st.floats(-math.pi, math.pi))
+        if kind == "mirror":
+            pairs = draw(st.integers(1, max(1, n // 2)))
+            on_axis = n - 2 * pairs
+            pts = [(0.6 * k, 0.0) for k in range(on_axis)]
+            for j in range(pairs):
+                pts += [(0.6 * j + 0.3, 0.5 + 0.4 * j), (0.6 * j + 0.3, -0.5 - 0.4 * j)]
+        else:
+            m = n - 1 if kind == "polygon+centre" else n
+            radius = max(1.0, 0.3 / math.sin(math.pi / max(m, 2)))
+            pts = [(radius * math.cos(2 * math.pi * k / m), radius * math.sin(2 * math.pi * k / m)) for k in range(m)]
+            if kind == "polygon+centre":
+                pts.append((0.0, 0.0))
+            if kind == "near-polygon":
+                eps = draw(st.sampled_from([1e-12, 1e-9, 1e-6, 1e-3]))
+                pts[0] = (pts[0][0] * (1 + eps), pts[0][1] * (1 + eps))
+        c, s = math.cos(rot), math.sin(rot)
+        return [(c * x - s * y, s * x + c * y, draw(head)) for x, y in pts]
+
+    @staticmethod
+    def explore_extra(draw, n: int) -> dict:
+        """Failures of the leader or of a follower at any step (Sec. 3.5, Figs. 12-13), or none.
+        (Positioning errors, Sec. 5.2's observation errors, are the explorer's ``--fault noise``.)"""
+        from hypothesis import strategies as st
+
+        who = draw(st.sampled_from(["none", "leader", "follower"]))
+        if who == "none" or n < 3:
+            return {}
+        step = draw(st.integers(0, 80))
+        if who == "leader":
+            return {"fail": f"leader@{step}"}
+        return {"fail": f"{draw(st.integers(1, n - 1))}@{step}"}
+
+    @staticmethod
     def default_params(range: float, n: int) -> Params:
         """003 Sec. 6.2's ratio (interval 1000 mm, 200 mm/s): v = 0.2 intervals per unit time, dt = 0.5;
         holonomic robots turn freely (omega unused)."""

@@ -160,3 +160,34 @@ def test_cli_simulate_wedge_with_plot_gif_then_and_fail(capsys, tmp_path):
     assert code == 2 and "does not take --then" in err
     code, out, err = _cli(capsys, *base, "--fail", "3@soon")
     assert code == 2 and "STEP='soon'" in err
+
+
+def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path):
+    """003's own scenarios: symmetric starts make ties happen; a counterexample keeps the drawn
+    failure in its params and replays."""
+    from hypothesis import given, settings, strategies as st
+
+    from swarmproof.checkers.explore import explore
+    from swarmproof.checkers.replay import replay_file
+    from swarmproof.reference_impl.leechong import LeeChongLeader
+
+    kinds, fails = set(), set()
+
+    @settings(max_examples=60, derandomize=True, database=None)
+    @given(st.data())
+    def draws(data):
+        start = LeeChongLeader.explore_start(data.draw, 3, 8, 2.0)
+        extra = LeeChongLeader.explore_extra(data.draw, 6)
+        if start is not None:
+            xy = np.array([p[:2] for p in start])
+            d = np.hypot(*(xy - xy.mean(axis=0)).T)
+            kinds.add("tie" if np.sum(np.isclose(d, d.max(), rtol=1e-9)) > 1 else "no tie")
+        fails.add(extra.get("fail", "none").split("@")[0] if extra else "none")
+
+    draws()
+    assert kinds == {"tie", "no tie"} and {"leader", "none"} <= fails
+    rep = explore("leechong-leader-prose", ["invariants"], max_examples=25, robots=(3, 6), seed=0,
+                  budget=None, out_dir=str(tmp_path))
+    v = rep.properties["invariants"]
+    assert v.status == "violated" and "ids_unique" in v.message      # a robot on the axis: two half planes
+    assert replay_file(v.counterexample_path).reproduced
