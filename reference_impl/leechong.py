@@ -247,6 +247,7 @@ class LeeChongController:
         self.i_failed = False
         self.labels: dict = {}                 # F-team: sensed row -> fixed label heard
         self.rebuilds = 0
+        self.flocking = False                  # the leader drives to its goal (Sec. 3.3)
 
     # -- frames ---------------------------------------------------------------------------------
 
@@ -474,9 +475,9 @@ class LeeChongController:
                 self.done = False
                 return Command(message=("pattern", self.pattern_k, self._pattern()))
         if self.formed and last and self.goal is not None and float(np.hypot(*(self.goal - me))) > ARRIVE:
-            self.done = False
+            self.done, self.flocking = False, True
             return self._move_to(self.goal)                                # Sec. 3.3: the leader flocks
-        self.done = self.formed and last
+        self.done, self.flocking = self.formed and last, False
         return Command()
 
     def _act_follower(self, me) -> Command:
@@ -505,6 +506,22 @@ class LeeChongController:
         self.y += fwd * math.sin(self.th)
         return Command(turn=turn, forward=fwd)
 
+    def _reference(self):
+        """(reference ID, the offset from this robot to it in its body frame) that flocking keeps:
+        the leader (Sec. 3.3) or N_id (Sec. 4.3); None for the leader or without one."""
+        if self.id in (None, 0) or self.i_failed or self.phase == "agree" or self.span is None:
+            return None
+        try:
+            if self.mode == "leader":
+                ref = 0
+            else:
+                kind, k = self.target.line_kind(self._pattern(), len(self.pos_of))
+                ref = neighbor_id(self.id, kind, k)
+            off = _rot(-self.th) @ (self._target_of(ref) - self._target_of(self.id))
+        except (KeyError, UsageError, ZeroDivisionError):
+            return None
+        return ref, (round(float(off[0]), 9), round(float(off[1]), 9))
+
     def state(self):
         view = None
         if self.origin is not None and 0 in self.pos_of:
@@ -514,7 +531,11 @@ class LeeChongController:
             view = tuple(round(float(x), 9) for x in (o[0], o[1], ua, lead[0], lead[1]))
         return (("phase", self.phase), ("id", self.id), ("failed", self.i_failed), ("done", self.done),
                 ("pattern", self._pattern()), ("view", view), ("alive", len(self.pos_of)),
-                ("rebuilds", self.rebuilds), ("epoch", (self.pattern_k, self.rebuilds)))
+                ("rebuilds", self.rebuilds), ("epoch", (self.pattern_k, self.rebuilds)),
+                ("span", None if self.span is None else round(float(self.span), 9)),
+                ("d_u", None if self.d_u is None else round(float(self.d_u), 9)),
+                ("flocking", self.flocking), ("reference", self._reference()),
+                ("lag", self.params.v * self.params.dt))
 
 
 def _as_list(x):
@@ -671,11 +692,58 @@ def _ids_unique(t, ids, poses, states) -> str | None:
     return None
 
 
+def _flock_rigid(t, ids, poses, states) -> str | None:
+    """003 Secs. 3.3/4.3: while the leader flocks, every follower keeps its distance and angle to its
+    reference (the leader, or N_id) as in the pattern, up to the one step it lags (v dt)."""
+    by_id = {}
+    flocking = False
+    for pose, s in zip(poses, states):
+        d = dict(s)
+        if d["failed"] or d["id"] is None or d["phase"] == "agree":
+            continue
+        by_id[d["id"]] = (pose, d)
+        flocking |= d["id"] == 0 and d["flocking"]
+    if not flocking:
+        return None
+    for rid, (pose, d) in sorted(by_id.items()):
+        ref = d["reference"]
+        if ref is None or ref[0] not in by_id:
+            continue
+        c, s_ = math.cos(pose[2]), math.sin(pose[2])
+        want = (c * ref[1][0] - s_ * ref[1][1], s_ * ref[1][0] + c * ref[1][1])
+        rp = by_id[ref[0]][0]
+        have = (rp[0] - pose[0], rp[1] - pose[1])
+        err = math.hypot(want[0] - have[0], want[1] - have[1])
+        if err > d["lag"] * (1 + 1e-9) + 1e-9:
+            return (f"ID {rid} is {err:.6g} off its place relative to ID {ref[0]} while the leader flocks "
+                    f"(allowed: one step's lag, v dt = {d['lag']:.6g})")
+    return None
+
+
+def _same_span(t, ids, poses, states) -> str | None:
+    """003 Sec. 3.5: the team keeps its span: every live robot past Alg. 1 holds one span, and
+    d_u (n - 1) = span over the robots it counts alive."""
+    spans = set()
+    for rid, s in zip(ids.tolist(), states):
+        d = dict(s)
+        if d["failed"] or d["span"] is None or d["phase"] == "agree":
+            continue
+        spans.add(d["span"])
+        if abs(d["d_u"] * max(d["alive"] - 1, 1) - d["span"]) > 1e-6 * max(d["span"], 1.0):
+            return f"robot {rid}: d_u={d['d_u']} over {d['alive']} robots does not keep span={d['span']}"
+    if len(spans) > 1:
+        return f"the robots hold different spans {sorted(spans)}"
+    return None
+
+
 INVARIANTS = (
     Invariant("agreement", "all robots agree on the common origin, leader and direction",
               "003 Sec. 2.1, Alg. 1 (lines 1-5)", _agreement),
     Invariant("ids_unique", "the IDs are a bijection onto 0 (the leader) and 1..n-1",
               "003 Sec. 2.1, Alg. 1 (lines 8-16)", _ids_unique),
+    Invariant("flock_rigid", "while the leader flocks, each follower keeps its place relative to its reference",
+              "003 Secs. 3.3, 4.3", _flock_rigid),
+    Invariant("same_span", "the team keeps one span, d_u (n - 1) = span", "003 Secs. 3.1, 3.5", _same_span),
 )
 
 

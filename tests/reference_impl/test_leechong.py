@@ -191,3 +191,28 @@ def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path)
     v = rep.properties["invariants"]
     assert v.status == "violated" and "ids_unique" in v.message      # a robot on the axis: two half planes
     assert replay_file(v.counterexample_path).reproduced
+
+
+def test_flock_rigid_fires_when_followers_do_not_keep_pace():
+    """The rigid-formation invariant is not vacuous: followers that ignore the leader's motion break it."""
+    from swarmproof.reference_impl import leechong as lc
+
+    class Lazy(lc.LeeChongController):
+        def _shift(self):
+            return np.zeros(2) if self.id != 0 else super()._shift()
+
+    class LazyLeader(lc.LeeChongLeaderProse):
+        def controller(self, robot_id, params, target, rng):
+            return Lazy(self, params, lc._Patterns(target, params), rng, robot_id)
+
+    rng = np.random.default_rng(2)
+    xy = rng.uniform(0, 3, (6, 2))
+    init = InitialConfiguration(list(range(6)), np.column_stack((xy, np.zeros(6))))
+    alg = LazyLeader()
+    params = alg.default_params(range=2.0, n=6)
+    params = type(params)(range=params.range, v=params.v, omega=params.omega, dt=params.dt, extra={"flock_to": "3,0"})
+    r = simulate(alg, resolve_target("lines:circle"), init, params, seed=0)
+    assert LazyLeader.metrics(r)["flock_rigid"] is False
+    good = simulate(lc.LeeChongLeaderProse(), resolve_target("lines:circle"), init, params, seed=0)
+    assert lc.LeeChongLeaderProse.metrics(good)["flock_rigid"] is True
+    assert lc.LeeChongLeaderProse.metrics(good)["same_span"] is True
