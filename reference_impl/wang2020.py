@@ -740,7 +740,8 @@ class Wang2020:
     }
     own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
     explore_targets = ("shape:letter-l", "shape:square-9")
-    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
+    #: No exploration rows yet: the explorer must first draw exactly |Q| robots on cells (issue 15).
+    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=False, rank=30,
                         more=(("shape:square-9", 9, (0, 1, 2)),))
 
     def __init__(self, then=()) -> None:

@@ -200,14 +200,13 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
     monkeypatch.setattr(explore_mod, "explore", fake_explore)
     rows = section_exploration(max_examples=7)
     assert calls == [(a, (p,), 7, (3, 8), 0, None)
-                     for a in ("song2016", "song2014", "jiang", "wang2020", "leechong-leader", "leechong-neighbor",
+                     for a in ("song2016", "song2014", "jiang", "leechong-leader", "leechong-neighbor",
                                "example-anonymous-line", "example-grid-goals")
                      for p in ("connectivity", "termination")]
     assert [(r.subject, r.property, r.claimed) for r in rows] == [
         ("song2016 n=3..8", "connectivity", True), ("song2016 n=3..8", "termination", True),
         ("song2014 n=3..8", "connectivity", False), ("song2014 n=3..8", "termination", False),
         ("jiang n=3..8", "connectivity", False), ("jiang n=3..8", "termination", True),
-        ("wang2020 n=3..8", "connectivity", False), ("wang2020 n=3..8", "termination", True),
         ("leechong-leader n=3..8", "connectivity", False), ("leechong-leader n=3..8", "termination", True),
         ("leechong-neighbor n=3..8", "connectivity", False), ("leechong-neighbor n=3..8", "termination", True),
         ("example-anonymous-line n=3..8", "connectivity", False),
