@@ -116,3 +116,43 @@ def check_all(max_n: int = MAX_N) -> dict:
                                           "status": "violated" if bad else "held", "violated_n": bad,
                                           "first": first})
     return out
+
+
+def verify_rows(max_n: int = MAX_N) -> list:
+    """The checks as ``swarmproof verify`` rows (section ``formulas``): ``{subject, property,
+    status ("proved" | "violated" | "inconclusive"), detail, cites, data}``.  Exhaustive over
+    n = 2..max_n, so "proved" means proved for exactly those n (the subject says so)."""
+    from swarmproof.checkers.leechong_patterns_check import check_all as distinct_all, summarize
+
+    res = check_all(max_n)
+    rows = []
+    span = f"n=2..{max_n}"
+    for numbering, label in (("formula", "Alg. 1 ID formula"), ("prose", "Alg. 1 ID prose numbering")):
+        r = res["id_formula"][numbering]
+        first = r["first_failures"][0] if r["first_failures"] else None
+        detail = (f"a bijection onto 1..n-1 for every split of the followers between the half planes, {span}"
+                  if first is None else
+                  f"not a bijection for some splits [upper, lower] of the followers, e.g. n={first['n']}: "
+                  f"{first['non_bijective_splits'][:4]}; a bijection only when upper = lower or lower = upper + 1")
+        rows.append({"subject": f"003 {label} ({span})", "property": "ids_bijective",
+                     "status": "proved" if first is None else "violated", "detail": detail,
+                     "cites": "003 Sec. 2.1, Alg. 1 lines 8-16", "data": {"numbering": numbering}})
+    for r in res["neighbor_links"]:
+        cx = r["first"]
+        detail = (f"0 <= N_id < ID and N_id allocated, for every allocated ID and split, {span}" if cx is None else
+                  f"n={cx['n']}, split {cx['split']}: ID {cx['id']} -> {cx['why']} (violated for n in "
+                  f"{r['violated_n'][:6]}{'...' if len(r['violated_n']) > 6 else ''})")
+        rows.append({"subject": f"003 Alg. 4 N_id, {r['pattern']}, {r['numbering']} IDs ({span})",
+                     "property": "neighbor_tree", "status": "proved" if cx is None else "violated",
+                     "detail": detail, "cites": "003 Alg. 4, Sec. 4.1", "data": {"counterexample": cx}})
+    for s in summarize(distinct_all(max_n)):
+        bad = s["violated"]
+        und = s["undefined"] + s["inconclusive"]
+        status = "violated" if bad else ("inconclusive" if und else "proved")
+        detail = (f"targets pairwise distinct for every {span}" if status == "proved" else
+                  f"two robots share a target for n in {bad[:6]}" if bad else
+                  f"undefined or not decided exactly for n in {und[:6]}")
+        rows.append({"subject": f"003 targets of {s['pattern']} ({span})", "property": "targets_distinct",
+                     "status": status, "detail": detail, "cites": "003 Table 1, Algs. 2-3",
+                     "data": {"params": s["params"]}})
+    return rows

@@ -49,7 +49,7 @@ from swarmproof.models.errors import UsageError
 from swarmproof.models.verdict import Verdict
 
 __all__ = ["Row", "Report", "SECTIONS", "run_report", "lemma_rows", "exploration_row",
-           "section_lattices", "section_algorithms", "section_lemmas", "section_exploration"]
+           "section_lattices", "section_algorithms", "section_lemmas", "section_formulas", "section_exploration"]
 
 #: A progress callback: receives one short status text (what runs now).
 Progress = Callable[[str], None]
@@ -626,7 +626,9 @@ def section_exploration(*, algorithms=None, properties=None,
     for subj in subjects:
         algo, claims = subj.label, subj.claims
         for prop in props:
-            kw = dict(max_examples=max_examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
+            own = getattr(subj.plan, "explore_examples", None) if subj.plan is not None else None
+            examples = int(own) if own and max_examples == VERIFY_EXPLORE_MAX_EXAMPLES else max_examples
+            kw = dict(max_examples=examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
             left = deadline - time.monotonic()
             if left <= 0:
                 rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw,
@@ -637,9 +639,9 @@ def section_exploration(*, algorithms=None, properties=None,
             if progress:
                 def show(_p, k, total, algo=algo, prop=prop):
                     progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
-                show(prop, 0, max_examples)
+                show(prop, 0, examples)
             used = None if budget is None and math.isinf(left) else min(math.inf if budget is None else budget, left)
-            rep = explore(subj.ref, [prop], budget=used, max_examples=max_examples,
+            rep = explore(subj.ref, [prop], budget=used, max_examples=examples,
                           robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
             doc = rep.as_dict()
             assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
@@ -650,10 +652,33 @@ def section_exploration(*, algorithms=None, properties=None,
     return rows
 
 
+def section_formulas(*, progress: Progress | None = None) -> list[Row]:
+    """Exact checks of the published formulas an algorithm declares (its class's ``exact_checks``:
+    a callable returning rows ``{subject, property, status, detail, cites, data}``; 003's ID,
+    neighbor and pattern formulas, exhaustively for n = 2..64).  One row per check, claimed with the
+    paper's citation; each check runs once even when several registered variants share it."""
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names
+
+    rows: list[Row] = []
+    seen = set()
+    for name in algorithm_names():
+        fn = getattr(algorithm_factory(name), "exact_checks", None)
+        if not callable(fn) or fn in seen:
+            continue
+        seen.add(fn)
+        if progress:
+            progress(name)
+        for r in fn():
+            rows.append(Row("formulas", r["subject"], r["property"], Verdict(r["status"]), r["detail"],
+                            dict(r.get("data") or {}), claim=r["cites"]))
+    return rows
+
+
 SECTIONS: dict[str, Callable[..., list[Row]]] = {
     "lattices": section_lattices,
     "algorithms": section_algorithms,
     "lemmas": section_lemmas,
+    "formulas": section_formulas,
     "exploration": section_exploration,
 }
 

@@ -812,7 +812,15 @@ class LeeChongLeader:
     #: simulate's --then (pattern switching, Secs. 3.4/3.6) and --fail (Sec. 3.5) become these params.
     options = ("then", "fail")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=40)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=40, explore_examples=25)
+
+    @staticmethod
+    def exact_checks() -> list:
+        """``swarmproof verify``'s ``formulas`` rows: Alg. 1's numbering, Alg. 4's N_id and the pattern
+        targets, checked exactly for n = 2..64 (:func:`swarmproof.checkers.leechong_checks.verify_rows`)."""
+        from swarmproof.checkers.leechong_checks import verify_rows
+
+        return verify_rows()
 
     @staticmethod
     def explore_start(draw, lo: int, hi: int, phi: float):
@@ -939,7 +947,7 @@ class LeeChongNeighbor(LeeChongLeader):
     mode = "neighbor"
     claims = dict(LeeChongLeader.claims, formation="003 Sec. 4.2 (Function 1 by neighbor reference)")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=41)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=41, explore_examples=25)
 
 
 class LeeChongLeaderProse(LeeChongLeader):

@@ -239,4 +239,37 @@ def test_run_report_passes_progress_and_sections_in_order():
     assert texts == ["lemmas", "lemmas: relocate_stays_in_range", "lemmas: safe_region_nonempty"]
     assert [r.subject for r in rep.rows] == ["relocate_stays_in_range", "safe_region_nonempty"]
     assert list(rep.seconds) == ["lemmas"]
-    assert list(report.SECTIONS) == ["lattices", "algorithms", "lemmas", "exploration"]
+    assert list(report.SECTIONS) == ["lattices", "algorithms", "lemmas", "formulas", "exploration"]
+
+
+def test_formulas_section_reports_the_exact_checks_of_003():
+    from swarmproof.checkers.report import section_formulas
+
+    rows = section_formulas()
+    by = {(r.subject, r.property): r for r in rows}
+    assert by[("003 Alg. 1 ID formula (n=2..64)", "ids_bijective")].verdict.value == "violated"
+    assert by[("003 Alg. 1 ID prose numbering (n=2..64)", "ids_bijective")].verdict.value == "proved"
+    assert by[("003 Alg. 4 N_id, two-row, formula IDs (n=2..64)", "neighbor_tree")].verdict.value == "violated"
+    assert by[("003 Alg. 4 N_id, two-row, prose IDs (n=2..64)", "neighbor_tree")].verdict.value == "proved"
+    assert by[("003 targets of wedge (n=2..64)", "targets_distinct")].verdict.value == "proved"
+    assert all(r.section == "formulas" and r.claimed for r in rows)
+    assert len({r.subject for r in rows}) == len(rows)          # one check per row, variants not repeated
+
+
+def test_a_plan_may_explore_fewer_examples(monkeypatch):
+    from swarmproof.checkers import explore as explore_mod
+    from swarmproof.checkers.report import section_exploration
+
+    monkeypatch.setattr(explore_mod, "explore_properties", lambda: ("collision",))
+    seen = []
+
+    class _Rep:
+        properties = {}
+
+        def as_dict(self):
+            return {"kept_assumptions": [], "broken_assumptions": [], "properties": {"collision": dict(_ENTRY)}}
+
+    monkeypatch.setattr(explore_mod, "explore", lambda algo, props, **kw: seen.append((algo, kw["max_examples"])) or _Rep())
+    rows = section_exploration(algorithms=["leechong-leader", "song2014"])
+    assert seen == [("leechong-leader", 25), ("song2014", 300)]
+    assert "--max-examples 25" in rows[0].data["reproduce"]
