@@ -102,8 +102,10 @@ def planner_one_moment(neighbours: int = 3, rule: str = "paper", conclusion: str
     when it has nothing to do), a priority ``q_k`` (any pair of reals, pairwise distinct,
     compared lexicographically: 004 uses the position, "arbitrary priorities" is more
     general), and a free Boolean ``ready_k`` (line 30's clock condition).  Agent ``k`` hears
-    ``j`` when ``||c_k - c_j|| <= R`` (Sec. II-B's ``N``).  It moves (``wp <- next_step``,
-    line 31) only if it is ready, ``n_k != c_k``, and no heard agent triggers line 26
+    ``j`` when ``|c_k - c_j|_1 <= R`` (inside Sec. II-B's disc ``N``: hearing more only
+    makes agents wait more, so this is the stronger statement; the neighbours are within
+    the square ``|x|, |y| <= R`` around agent 0, a weaker premise than the disc, which keeps
+    the encoding linear).  It moves (``wp <- next_step``, line 31) exactly when it is ready, ``n_k != c_k``, and no heard agent triggers line 26
     (``c_j == n_k``) or line 28 (``n_j == n_k`` and ``q_j > q_k``).  The waypoints are any
     real points (distinct), which includes the grid's integer points.
 
@@ -119,7 +121,7 @@ def planner_one_moment(neighbours: int = 3, rule: str = "paper", conclusion: str
     --------
     >>> enc = planner_one_moment(neighbours=1)
     >>> [name for name, _ in enc.premises]
-    ['grid_length_at_most_half_R', 'agent_0_intent_is_a_neighbouring_waypoint', 'agent_1_intent_is_a_neighbouring_waypoint', 'neighbour_1_within_R', 'distinct_waypoints', 'distinct_priorities', 'agent_0_follows_alg2', 'agent_1_follows_alg2']
+    ['grid_length_at_most_half_R', 'agent_0_intent_is_a_neighbouring_waypoint', 'agent_1_intent_is_a_neighbouring_waypoint', 'neighbour_1_within_R', 'distinct_waypoints', 'distinct_priorities']
     >>> [name for name, _ in enc.parts]
     ['no_two_agents_move_to_one_waypoint', 'no_move_onto_a_claimed_waypoint']
     """
