@@ -630,7 +630,7 @@ def lookup(ids: Iterable[str] | None = None) -> list:
     >>> lookup(["lemma7"])
     Traceback (most recent call last):
     ...
-    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
+    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region, wang2020_time_normalisation, wang2020_planner_vertex_one_moment, wang2020_planner_edge_one_moment, wang2020_lemma_iv_a_1, wang2020_theorem_iv_a_2, wang2020_separation_equal_speeds (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
     """
     if ids is None:
         return list(LEMMAS.values())
@@ -658,11 +658,17 @@ def _configure() -> None:
 def _solver(timeout_ms: int, params: Sequence = ()) -> z3.Solver:
     # Nonlinear real arithmetic: the nlsat procedure directly (measured: the
     # default combined solver answered `unknown` after 10 s on bounded_range,
-    # nlsat proves it in about 0.15 s).
-    s = z3.Tactic("qfnra-nlsat").solver()
+    # nlsat proves it in about 0.15 s).  A lemma in linear real arithmetic with
+    # Boolean structure asks for z3's default SMT solver with the pseudo-parameter
+    # ("solver", "smt") (measured on 004's planner rule: nlsat timed out at 30 s
+    # where the SMT solver's simplex decides in 0.06 s; docs/proofs.md).
+    params = tuple(params)
+    smt = ("solver", "smt") in params
+    s = z3.Solver() if smt else z3.Tactic("qfnra-nlsat").solver()
     s.set("timeout", max(1, int(timeout_ms)))
     for k, v in params:
-        s.set(k, v)
+        if k != "solver":
+            s.set(k, v)
     return s
 
 
@@ -1130,3 +1136,8 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     if res == z3.sat:
         return "refuted", f"{model_to_numbers(s.model(), x)} is in the region and nearer the target"
     return "inconclusive", s.reason_unknown()
+
+
+# Wang & Rubenstein 2020's collision theorems (issue 15): the module adds its lemmas to LEMMAS
+# when it is imported, whichever of the two modules is imported first.
+from . import proofs_wang2020 as _proofs_wang2020  # noqa: E402,F401

@@ -68,7 +68,9 @@ from .result import InvariantResult, state_value
 
 __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range",
            "descendants_in_parent_bounded_ranges", "check_premises", "params_of", "MONITORS",
-           "MONITOR_LEMMAS", "premise_monitors_of", "tree_links_in_proved_cases", "TREE_LINK_CASES", "TreeLinkCases"]
+           "MONITOR_LEMMAS", "premise_monitors_of", "tree_links_in_proved_cases", "TREE_LINK_CASES", "TreeLinkCases",
+           "grid_claims_distinct", "grid_priorities_distinct", "grid_spacing_bound", "grid_spacing_of_trace",
+           "grid_waited_window", "grid_heard_neighbours"]
 
 _MISSING = object()
 
@@ -525,6 +527,279 @@ class TreeLinkCases:
                                applicable=checked > 0, detail=detail)
 
 
+# ------------------------------------------------- grid waypoints (004, issue 15)
+
+#: Cites of the grid monitors: the lemmas of :mod:`swarmproof.checkers.proofs_wang2020`.
+_GRID_CITES = {
+    "claims": "wang2020_separation_equal_speeds, wang2020_theorem_iv_a_2 (004 Thms. IV-A.1/IV-A.2, Constraints III-A.1/2)",
+    "priorities": "wang2020_planner_vertex_one_moment, wang2020_lemma_iv_a_1 (004 Alg. 2 line 28, Sec. II-B)",
+    "spacing": "wang2020_separation_equal_speeds, wang2020_planner_vertex_one_moment (004 Sec. III-A: 2 sqrt(2) r <= l <= R/2)",
+    "waited": "wang2020_lemma_iv_a_1 (004 Alg. 2 line 30: waited longer than Delta t)",
+    "heard": "wang2020_lemma_iv_a_1 (004 Sec. II-A c, e: every neighbour within R heard in the window)",
+}
+
+
+def _cell(value):
+    """A waypoint from a state value: a pair of integers as a tuple, None stays None."""
+    return None if value is None else tuple(int(c) for c in value)
+
+
+def _grid_states(trace, t, keys):
+    """``{slot: {key: value}}`` for the robots present at ``t``; ``(slot, key)`` of the first
+    state that lacks a key instead, as ``("missing", slot, key)``."""
+    out = {}
+    pres = trace.present_at(t)
+    for k in range(trace.n):
+        if not pres[k]:
+            continue
+        st = trace.states[t][k]
+        row = {}
+        for key in keys:
+            val = state_value(st, key, _MISSING)
+            if val is _MISSING:
+                return ("missing", k, key)
+            row[key] = val
+        out[k] = row
+    return out
+
+
+def _grid_steps(trace):
+    """The recorded states a grid monitor reads: after every examined step (and the start)."""
+    r = _steps(trace)
+    return ([r.start] if r.start == 0 else []) + [t + 1 for t in r]
+
+
+def grid_claims_distinct(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """Claims distinct and no edge swap, in every recorded state (004 Constraints III-A.1/2, the
+    conclusions of Thms. IV-A.1/IV-A.2 and premises of ``wang2020_separation_equal_speeds``).
+
+    A robot's claim (Alg. 2's ``wp``) is its state's ``"next"`` when that is not None (the
+    waypoint it moves or decided to move to), else its ``"cell"``.  Violated when two robots
+    share a cell or a claim, or when one's ``next`` is the other's ``cell`` and the other way
+    round (opposite travel on one edge).  A state without ``cell`` and ``next`` is
+    ``inconclusive``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> st = ((("cell", (0, 0)), ("next", (1, 1))), (("cell", (1, 0)), ("next", (1, 1))))
+    >>> r = grid_claims_distinct(Trace(ids=[1, 2], poses=poses, states=[st, st]))
+    >>> r.status, r.witness["robots"], r.witness["waypoint"], r.witness["lemma"]
+    ('violated', [1, 2], [1, 1], 'wang2020_separation_equal_speeds')
+    """
+    name, cites = "premise:grid_claims", _GRID_CITES["claims"]
+    checked = 0
+    for t in _grid_steps(trace):
+        rows = _grid_states(trace, t, ("cell", "next"))
+        if isinstance(rows, tuple):
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[rows[1]])} has no {rows[2]!r} in its state at step {t}")
+        cells, claims, nxt = {}, {}, {}
+        for k, row in sorted(rows.items()):
+            cell, n = _cell(row["cell"]), _cell(row["next"])
+            checked += 1
+            nxt[k] = n
+            for what, key, table in (("cell", cell, cells), ("claim", n if n is not None else cell, claims)):
+                if key in table:
+                    a, b = int(trace.ids[table[key]]), int(trace.ids[k])
+                    return InvariantResult(
+                        name, "violated", cites,
+                        {"step": t, "robots": [a, b], "waypoint": list(key), "kind": f"shared_{what}",
+                         "lemma": "wang2020_separation_equal_speeds"},
+                        f"robots {a} and {b} share the {what} {key} at step {t} (Constraint III-A.1)")
+                table[key] = k
+        for k, n in nxt.items():
+            if n is None:
+                continue
+            j = cells.get(n)
+            if j is not None and j != k and nxt.get(j) == _cell(rows[k]["cell"]):
+                a, b = sorted((int(trace.ids[k]), int(trace.ids[j])))
+                return InvariantResult(
+                    name, "violated", cites,
+                    {"step": t, "robots": [a, b], "waypoint": list(n), "kind": "edge_swap",
+                     "lemma": "wang2020_theorem_iv_a_2"},
+                    f"robots {a} and {b} travel one edge in opposite directions at step {t} (Constraint III-A.2)")
+    return InvariantResult(name, "held", cites, None, f"{checked} robot-states with distinct cells and claims",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def grid_priorities_distinct(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """Robots within ``phi`` (= ``R``) of each other have distinct ``"priority"`` values in every
+    recorded state (the lexicographic priority of distinct waypoints, 004 Sec. II-B; premise
+    ``distinct_priorities`` of ``wang2020_planner_vertex_one_moment``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> st = ((("priority", (0, 0)),), (("priority", (0, 0)),))
+    >>> grid_priorities_distinct(Trace(ids=[1, 2], poses=poses, states=[st, st]), 0.6).witness["robots"]
+    [1, 2]
+    """
+    name, cites = "premise:grid_priorities", _GRID_CITES["priorities"]
+    checked = 0
+    for t in _grid_steps(trace):
+        rows = _grid_states(trace, t, ("priority",))
+        if isinstance(rows, tuple):
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[rows[1]])} has no 'priority' in its state at step {t}")
+        p = trace.poses[t]
+        ks = sorted(rows)
+        for x, k in enumerate(ks):
+            for j in ks[x + 1:]:
+                if math.hypot(*(p[k, :2] - p[j, :2])) > phi * (1 + 1e-9):
+                    continue
+                checked += 1
+                if tuple(rows[k]["priority"]) == tuple(rows[j]["priority"]):
+                    a, b = int(trace.ids[k]), int(trace.ids[j])
+                    return InvariantResult(
+                        name, "violated", cites,
+                        {"step": t, "robots": [a, b], "priority": list(rows[k]["priority"]),
+                         "lemma": "wang2020_planner_vertex_one_moment"},
+                        f"robots {a} and {b}, within R, have the same priority at step {t}")
+    return InvariantResult(name, "held", cites, None, f"{checked} pairs within R with distinct priorities",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def grid_spacing_bound(l: float, r: float, R: float) -> InvariantResult:
+    """``2 sqrt(2) r <= l <= R / 2`` (004 Sec. III-A), the grid-length premise of
+    ``wang2020_separation_equal_speeds`` (lower bound) and of the planner lemmas (upper bound:
+    agents that can conflict, at most ``2l`` apart, hear each other).  Sec. V's values pass:
+
+    >>> grid_spacing_bound(0.20, 0.05, 0.6).status
+    'held'
+    >>> grid_spacing_bound(0.14, 0.05, 0.6).witness["bound"]
+    'l >= 2 sqrt(2) r'
+    """
+    name, cites = "premise:grid_spacing", _GRID_CITES["spacing"]
+    vals = {"l": l, "r": r, "R": R}
+    for key, val in vals.items():
+        if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+            return InvariantResult(name, "inconclusive", cites, None, f"{key}={val!r} is not a positive number")
+    low = 2 * math.sqrt(2) * r
+    for ok, bound in ((l >= low * (1 - 1e-12), "l >= 2 sqrt(2) r"), (l <= R / 2 * (1 + 1e-12), "l <= R/2")):
+        if not ok:
+            return InvariantResult(name, "violated", cites,
+                                   {"step": 0, **vals, "bound": bound, "lemma": "wang2020_separation_equal_speeds"
+                                    if bound.startswith("l >=") else "wang2020_planner_vertex_one_moment"},
+                                   f"grid length l={l!r} breaks {bound} (r={r!r}, R={R!r})")
+    return InvariantResult(name, "held", cites, None, f"2 sqrt(2) r = {low:.6g} <= l = {l:g} <= R/2 = {R / 2:g}")
+
+
+def _grid_params(trace, phi: float):
+    """``(l, r)`` from the trace's meta (``grid_spacing``; ``params.extra`` ``grid_spacing`` and
+    ``robot_radius`` or ``radius``), None where absent."""
+    meta = getattr(trace, "meta", None) or {}
+    extra = (meta.get("params") or {}).get("extra") or {}
+    l = meta.get("grid_spacing", extra.get("grid_spacing"))
+    r = extra.get("robot_radius", extra.get("radius"))
+    return l, r
+
+
+def grid_spacing_of_trace(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """:func:`grid_spacing_bound` with ``l`` and ``r`` from ``trace.meta`` (``inconclusive``,
+    never held, when the trace does not record them, e.g. a one-step streaming window)."""
+    l, r = _grid_params(trace, phi)
+    if l is None or r is None:
+        return InvariantResult("premise:grid_spacing", "inconclusive", _GRID_CITES["spacing"], None,
+                               "the trace records no grid_spacing and robot_radius (params.extra)")
+    return grid_spacing_bound(float(l), float(r), phi)
+
+
+def _decided(trace, t, k):
+    """Robot slot ``k`` set off in step ``t``: ``next`` None before the step, not None after."""
+    before = state_value(trace.states[t][k], "next", _MISSING)
+    after = state_value(trace.states[t + 1][k], "next", _MISSING)
+    if before is _MISSING or after is _MISSING:
+        return _MISSING
+    return before is None and after is not None
+
+
+def grid_waited_window(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """A robot that sets off in step ``t`` (its ``"next"`` None before, not None after) had waited
+    at its waypoint longer than the window: state keys ``"waited"`` (time since ``last_check``
+    when it decided) and ``"window"`` (its ``Delta t``), from the state after the step
+    (004 Alg. 2 line 30; premise ``i_waited_longer_than_window`` of ``wang2020_lemma_iv_a_1``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 1, 3))
+    >>> before = ((("next", None), ("waited", 1.0), ("window", 2.0)),)
+    >>> after = ((("next", (1, 0)), ("waited", 1.5), ("window", 2.0)),)
+    >>> r = grid_waited_window(Trace(ids=[7], poses=poses, states=[before, after]))
+    >>> r.status, r.witness["robot"], r.witness["waited"]
+    ('violated', 7, 1.5)
+    """
+    name, cites = "premise:grid_waited", _GRID_CITES["waited"]
+    checked = 0
+    for t, k, before, after, *_ in _present_robot_steps(trace):
+        went = _decided(trace, t, k)
+        if went is _MISSING:
+            return InvariantResult(name, "inconclusive", cites, None, f"robot {int(trace.ids[k])} has no 'next' in its state")
+        if not went:
+            continue
+        waited, window = state_value(after[k], "waited", _MISSING), state_value(after[k], "window", _MISSING)
+        if waited is _MISSING or window is _MISSING:
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[k])} set off in step {t} without 'waited' and 'window' in its state")
+        checked += 1
+        if not float(waited) > float(window):
+            rid = int(trace.ids[k])
+            return InvariantResult(name, "violated", cites,
+                                   {"step": t, "robot": rid, "waited": float(waited), "window": float(window),
+                                    "lemma": "wang2020_lemma_iv_a_1"},
+                                   f"robot {rid} set off in step {t} after waiting {float(waited):g} <= Delta t = {float(window):g}")
+    return InvariantResult(name, "held", cites, None, f"{checked} departures after waiting longer than the window",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def grid_heard_neighbours(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """A robot that sets off in step ``t`` had heard, within its window, every robot within
+    ``phi`` (= ``R``) of it at ``t``: state key ``"heard"`` (the ids it received a message from
+    in the last ``Delta t``), from the state after the step (004 Sec. II-A c, e; premise
+    ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> before = ((("next", None), ("heard", ())), (("next", None), ("heard", ())))
+    >>> after = ((("next", (1, 1)), ("heard", ())), (("next", None), ("heard", ())))
+    >>> r = grid_heard_neighbours(Trace(ids=[1, 2], poses=poses, states=[before, after]), 0.6)
+    >>> r.status, r.witness["robot"], r.witness["unheard"]
+    ('violated', 1, [2])
+    """
+    name, cites = "premise:grid_heard", _GRID_CITES["heard"]
+    checked = 0
+    for t, k, before, after, p0, p1, pres0, pres1 in _present_robot_steps(trace):
+        went = _decided(trace, t, k)
+        if went is _MISSING:
+            return InvariantResult(name, "inconclusive", cites, None, f"robot {int(trace.ids[k])} has no 'next' in its state")
+        if not went:
+            continue
+        heard = state_value(after[k], "heard", _MISSING)
+        if heard is _MISSING:
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[k])} set off in step {t} without 'heard' in its state")
+        checked += 1
+        near = [int(trace.ids[j]) for j in range(trace.n)
+                if j != k and pres0[j] and math.hypot(*(p0[j, :2] - p0[k, :2])) <= phi * (1 + 1e-9)]
+        unheard = sorted(set(near) - {int(h) for h in heard})
+        if unheard:
+            rid = int(trace.ids[k])
+            return InvariantResult(name, "violated", cites,
+                                   {"step": t, "robot": rid, "unheard": unheard, "lemma": "wang2020_lemma_iv_a_1"},
+                                   f"robot {rid} set off in step {t} without having heard {unheard}, within R")
+    return InvariantResult(name, "held", cites, None, f"{checked} departures with every neighbour heard",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
 def check_premises(trace, phi: float | None = None, v: float | None = None,
                    dt: float | None = None, monitors=None) -> list:
     """The premise monitors of the trace's algorithm over one trace.
@@ -592,12 +867,22 @@ MONITORS = {
     "parent_bounded_range": lambda trace, phi, v, dt: descendants_in_parent_bounded_ranges(trace, phi, v, dt),
     "child_toward_parent": lambda trace, phi, v, dt: children_toward_still_parents(trace, phi, v, dt),
     "tree_link_cases": lambda trace, phi, v, dt: tree_links_in_proved_cases(trace, phi, v, dt),
+    # 004's grid waypoints (issue 15): the premises of checkers/proofs_wang2020.py's lemmas
+    "grid_claims": grid_claims_distinct,
+    "grid_priorities": grid_priorities_distinct,
+    "grid_spacing": grid_spacing_of_trace,
+    "grid_waited": grid_waited_window,
+    "grid_heard": grid_heard_neighbours,
 }
 
 #: The proof-suite lemma (``swarmproof prove`` id) whose premise each monitor checks.
 MONITOR_LEMMAS = {"step_bounded": "bounded_range", "nclb": "nclb_link_kept",
                   "relocate": "relocate_stays_in_range", "parent_bounded_range": "bounded_range",
-                  "child_toward_parent": "spanning_tree_kept", "tree_link_cases": "spanning_tree_kept"}
+                  "child_toward_parent": "spanning_tree_kept", "tree_link_cases": "spanning_tree_kept",
+                  "grid_claims": "wang2020_separation_equal_speeds",
+                  "grid_priorities": "wang2020_planner_vertex_one_moment",
+                  "grid_spacing": "wang2020_separation_equal_speeds",
+                  "grid_waited": "wang2020_lemma_iv_a_1", "grid_heard": "wang2020_lemma_iv_a_1"}
 
 def premise_monitors_of(algorithm) -> tuple:
     """The monitor names that apply to ``algorithm``: its class's ``premise_monitors``

@@ -16,6 +16,9 @@ from swarmproof.models.errors import UsageError
 
 pytestmark = pytest.mark.proofs
 
+#: The lemmas that encode a paper's numbered result with its premises (DESIGN.md section 5).
+PAPER_LEMMAS = {"bounded_range", "wang2020_lemma_iv_a_1", "wang2020_theorem_iv_a_2"}
+
 REQUIRED_IDS = ["bounded_range", "nclb_link_kept", "spanning_tree_kept", "relocate_stays_in_range",
                 "safe_region_nonempty", "intermediate_goal_in_region"]
 
@@ -36,7 +39,8 @@ def test_required_ids_and_normalisation_lemmas_are_in_the_suite():
         assert lem.cites and lem.statement
         for n in lem.normalisations:  # every normalisation used names its own lemma
             assert any(k in n for k in ("translation_invariance", "scale_invariance",
-                                        "rotation_invariance", "composition")), n
+                                        "rotation_invariance", "composition")) \
+                or any(f"({lid})" in n for lid in LEMMAS), n
 
 
 @pytest.mark.parametrize("lemma_id", list(LEMMAS))
@@ -304,7 +308,7 @@ def test_every_suite_lemma_passes_its_vacuity_controls_and_says_its_kind(lemma_i
     if r.vacuity["verdict"] == "ok":
         assert "counterexample" in r.vacuity["dropped"].values()
         assert r.vacuity["all_dropped"] == "counterexample"
-    assert r.kind == ("paper lemma" if lemma_id == "bounded_range" else "auxiliary")
+    assert r.kind == ("paper lemma" if lemma_id in PAPER_LEMMAS else "auxiliary")
     d = r.to_dict()
     assert {"kind", "vacuity", "not_proved"} <= set(d)
 

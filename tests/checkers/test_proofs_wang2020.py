@@ -1,0 +1,235 @@
+"""Wang & Rubenstein 2020's collision theorems in z3 (checkers/proofs_wang2020.py, issue 15) and
+the runtime monitors of their premises (invariants/premises.py, grid_* monitors)."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+import z3
+
+from swarmproof.checkers import proofs, proofs_wang2020 as w
+from swarmproof.checkers.proofs import LEMMAS, prove
+from swarmproof.invariants import premises
+from swarmproof.models.trace import Trace
+
+pytestmark = pytest.mark.proofs
+
+IDS = list(w.LEMMAS)
+
+
+def _holds(enc, values: dict) -> tuple:
+    """Exact numbers into an encoding without cases: (all premises true, conclusion true)."""
+    subs = [(v, z3.RealVal(str(values[str(v)]))) for v in enc.variables]
+    prem = all(z3.is_true(z3.simplify(z3.substitute(t, *subs))) for _, t in enc.premises)
+    return prem, z3.is_true(z3.simplify(z3.substitute(enc.conclusion, *subs)))
+
+
+def test_registered_in_the_suite_in_order_with_unique_ids():
+    assert IDS == ["wang2020_time_normalisation", "wang2020_planner_vertex_one_moment",
+                   "wang2020_planner_edge_one_moment", "wang2020_lemma_iv_a_1", "wang2020_theorem_iv_a_2",
+                   "wang2020_separation_equal_speeds"]
+    assert list(LEMMAS)[-len(IDS):] == IDS
+    assert all(LEMMAS[i] is w.LEMMAS[i] for i in IDS)
+
+
+@pytest.mark.parametrize("lemma_id", IDS)
+def test_lemma_proved_control_refuted_vacuity_ok(lemma_id):
+    lem = LEMMAS[lemma_id]
+    r = prove(lem, timeout_s=10)
+    assert r.status == "proved", r.reason
+    assert r.premises_satisfiable is True
+    assert r.negative_control["status"] == "counterexample"
+    assert r.vacuity["verdict"] == "ok" and r.vacuity["all_dropped"] == "counterexample"
+    assert r.seconds < 15, r.seconds     # measured well under 4 s each (docs/proofs.md); catches hangs
+    if lemma_id != "wang2020_time_normalisation":
+        assert any("004" in c for c in lem.cites) and lem.not_proved
+
+
+def test_kinds_follow_design_section_5():
+    kinds = {i: LEMMAS[i].kind for i in IDS}
+    assert {i for i, k in kinds.items() if k == "paper lemma"} == {"wang2020_lemma_iv_a_1",
+                                                                  "wang2020_theorem_iv_a_2"}
+    assert "Lemma IV-A.1" in LEMMAS["wang2020_lemma_iv_a_1"].cites[0]
+    assert "Thm. IV-A.2" in LEMMAS["wang2020_theorem_iv_a_2"].cites[0]
+    # the one-moment rule and the equal-speed geometry never carry the theorems' names
+    for i in ("wang2020_planner_vertex_one_moment", "wang2020_planner_edge_one_moment"):
+        assert "is not proved here" in LEMMAS[i].cites[0]
+    assert "equal speeds only" in " ".join(LEMMAS["wang2020_separation_equal_speeds"].not_proved)
+
+
+def test_ignoring_priority_sends_two_agents_to_one_waypoint():
+    r = prove(LEMMAS["wang2020_planner_vertex_one_moment"], timeout_s=10)
+    cex = r.negative_control["counterexample"]
+    ags = [(0.0, 0.0)] + [(cex[f"c{k}_x"], cex[f"c{k}_y"]) for k in range(1, 4)]
+    nxt = [(c[0] + cex[f"d{k}_x"], c[1] + cex[f"d{k}_y"]) for k, c in enumerate(ags)]
+    ready = [cex[f"ready{k}"] == 1 for k in range(4)]
+    # the control's counterexample: two ready agents with one next waypoint, both stepping
+    same = lambda p, q: math.dist(p, q) < 1e-9  # noqa: E731  (the model's rationals as floats)
+    pairs = [(a, b) for a in range(4) for b in range(a + 1, 4)
+             if ready[a] and ready[b] and same(nxt[a], nxt[b]) and not same(nxt[a], ags[a])
+             and not same(nxt[b], ags[b])]
+    assert pairs
+
+
+def test_optimistic_planner_swaps_along_an_edge():
+    ctrl = proofs._solve_encoding(w.planner_one_moment(rule="optimistic", conclusion="edge"),
+                                  time.perf_counter() + 10, (("solver", "smt"),))
+    assert ctrl["status"] == "counterexample" and "no_swap_along_an_edge" in ctrl["reason"]
+
+
+@pytest.mark.parametrize("build", [w.lemma_iv_a_1, w.theorem_iv_a_2], ids=["lemma_iv_a_1", "theorem_iv_a_2"])
+def test_timing_control_counterexample_breaks_only_the_weakened_window(build):
+    # The model itself, exactly (its thirds do not survive a round trip through floats).
+    window = 1 if build is w.lemma_iv_a_1 else 0.5
+    weak = build(window)
+    res, model, _ = proofs._check(weak.premises, weak.conclusion, time.perf_counter() + 10, (("solver", "smt"),))
+    assert res == z3.sat
+    holds = lambda t: z3.is_true(model.eval(t, model_completion=True))  # noqa: E731
+    assert all(holds(t) for _, t in weak.premises) and not holds(weak.conclusion)
+    # the paper's window Delta t = 2/f_comm excludes it: some premise fails, and it is a window premise
+    failing = [n for n, t in build().premises if not holds(t)]
+    assert failing and all("window" in n or "alg2_line30" in n for n in failing), failing
+
+
+def test_lemma_iv_a_1_needs_two_periods_theorem_iv_a_2_one():
+    deadline = lambda: time.perf_counter() + 10  # noqa: E731
+    smt = (("solver", "smt"),)
+    assert proofs._solve_encoding(w.lemma_iv_a_1(1), deadline(), smt)["status"] == "counterexample"
+    assert proofs._solve_encoding(w.lemma_iv_a_1(2), deadline(), smt)["status"] == "proved"
+    assert proofs._solve_encoding(w.theorem_iv_a_2(1), deadline(), smt)["status"] == "proved"
+    assert proofs._solve_encoding(w.theorem_iv_a_2(0.5), deadline(), smt)["status"] == "counterexample"
+
+
+def test_separation_control_is_the_orthogonal_hand_over_below_the_bound():
+    cex = prove(LEMMAS["wang2020_separation_equal_speeds"], timeout_s=10).negative_control["counterexample"]
+    r = cex["r"]
+    assert 1 / (2 * math.sqrt(2)) < r <= 1 / (2 * math.sqrt(2) * 0.99) + 1e-12   # l = 1 below 2 sqrt(2) r
+    pi = np.array([cex["lam_i"] * cex["D_i_x"], cex["lam_i"] * cex["D_i_y"]])
+    pj = np.array([cex["A_j_x"] + cex["lam_j"] * cex["D_j_x"], cex["A_j_y"] + cex["lam_j"] * cex["D_j_y"]])
+    assert np.hypot(*(pi - pj)) < 2 * r
+
+
+def test_time_normalisation_control_is_a_negative_period():
+    r = prove(LEMMAS["wang2020_time_normalisation"], timeout_s=10)
+    assert r.negative_control["counterexample"]["T"] < 0
+
+
+# ------------------------------------------------------------------------ monitors
+
+def _trace(cells_nexts, poses=None, extra=None, ids=None):
+    """A trace of grid states: one (cell, next) list per recorded step; poses at cell * 0.2."""
+    states, ps = [], []
+    for k, row in enumerate(cells_nexts):
+        st = []
+        for i, (c, n) in enumerate(row):
+            keys = [("cell", c), ("next", n), ("goal", c), ("priority", (c[0] * 0.2, c[1] * 0.2))]
+            keys += list((extra or {}).get((k, i), ()))
+            st.append(tuple(keys))
+        states.append(tuple(st))
+        ps.append([[0.2 * c[0], 0.2 * c[1], 0.0] for c, _ in row])
+    return Trace(ids=ids or list(range(1, len(cells_nexts[0]) + 1)),
+                 poses=np.array(ps if poses is None else poses, dtype=float), states=states)
+
+
+GOOD = [[((0, 0), None), ((1, 0), None), ((0, 1), None)],
+        [((0, 0), (-1, 0)), ((1, 0), (2, 0)), ((0, 1), None)],
+        [((0, 0), (-1, 0)), ((1, 0), (2, 0)), ((0, 1), (0, 0))]]   # 3 follows 1 into (0, 0)
+
+
+def test_claims_monitor_quiet_on_distinct_claims_and_a_follower():
+    r = premises.grid_claims_distinct(_trace(GOOD))
+    assert r.status == "held" and r.detail["checked"] == 9
+
+
+@pytest.mark.parametrize("row, kind, robots", [
+    ([((0, 0), (1, 1)), ((1, 0), (1, 1)), ((0, 1), None)], "shared_claim", [1, 2]),
+    ([((0, 0), (0, 1)), ((1, 0), None), ((0, 1), None)], "shared_claim", [1, 3]),
+    ([((0, 0), None), ((0, 0), None), ((0, 1), None)], "shared_cell", [1, 2]),
+    ([((0, 0), (1, 0)), ((1, 0), (0, 0)), ((0, 1), None)], "edge_swap", [1, 2]),
+], ids=["two-to-one-waypoint", "onto-a-resting-robot", "one-cell", "swap"])
+def test_claims_monitor_fires(row, kind, robots):
+    r = premises.grid_claims_distinct(_trace([GOOD[0], row]))
+    assert r.status == "violated" and r.witness["kind"] == kind and r.witness["robots"] == robots
+    lemma = "wang2020_theorem_iv_a_2" if kind == "edge_swap" else "wang2020_separation_equal_speeds"
+    assert r.witness["step"] == 1 and r.witness["lemma"] == lemma
+
+
+def test_grid_monitors_without_their_keys_are_inconclusive():
+    poses = np.zeros((2, 1, 3))
+    tr = Trace(ids=[1], poses=poses, states=[((("goal", (0, 0)),),)] * 2)
+    for fn in (premises.grid_claims_distinct, premises.grid_waited_window):
+        assert fn(tr).status == "inconclusive"
+    assert premises.grid_priorities_distinct(tr, 0.6).status == "inconclusive"
+    assert premises.grid_heard_neighbours(tr, 0.6).status == "inconclusive"
+    assert premises.grid_spacing_of_trace(tr, 0.6).status == "inconclusive"
+
+
+def test_priorities_monitor():
+    assert premises.grid_priorities_distinct(_trace(GOOD), 0.6).status == "held"
+    tr = _trace(GOOD)
+    states = [tuple(tuple(kv for kv in st if kv[0] != "priority") + (("priority", (9, 9)),) for st in row)
+              for row in tr.states]
+    tr = Trace(ids=[1, 2, 3], poses=tr.poses, states=states)
+    r = premises.grid_priorities_distinct(tr, 0.6)
+    assert r.status == "violated" and r.witness["robots"] == [1, 2] and r.witness["step"] == 0
+    # the same priorities out of range R are no conflict
+    far = premises.grid_priorities_distinct(tr, 0.1)
+    assert far.status == "held" and not far.applicable
+
+
+def test_spacing_bound_at_sec_v_values_and_just_outside():
+    assert premises.grid_spacing_bound(0.20, 0.05, 0.6).status == "held"
+    low = premises.grid_spacing_bound(0.99 * 2 * math.sqrt(2) * 0.05, 0.05, 0.6)
+    assert low.status == "violated" and low.witness["bound"] == "l >= 2 sqrt(2) r"
+    high = premises.grid_spacing_bound(0.31, 0.05, 0.6)
+    assert high.status == "violated" and high.witness["bound"] == "l <= R/2"
+    assert premises.grid_spacing_bound(float("nan"), 0.05, 0.6).status == "inconclusive"
+    tr = _trace(GOOD)
+    tr.meta["params"] = {"range": 0.6, "v": 0.05, "dt": 1.0, "extra": {"grid_spacing": 0.2, "robot_radius": 0.05}}
+    assert premises.grid_spacing_of_trace(tr, 0.6).status == "held"
+
+
+def _timing_trace(waited, heard_by_1):
+    extra = {}
+    for k in range(3):
+        for i in range(3):
+            extra[(k, i)] = [("waited", waited if k == 1 and i == 0 else 5.0), ("window", 2.0),
+                             ("heard", heard_by_1 if i == 0 else (1, 2, 3))]
+    return _trace(GOOD, extra=extra)
+
+
+def test_waited_monitor():
+    assert premises.grid_waited_window(_timing_trace(2.5, (2, 3))).status == "held"
+    r = premises.grid_waited_window(_timing_trace(2.0, (2, 3)))   # not longer than Delta t
+    assert r.status == "violated" and (r.witness["robot"], r.witness["step"]) == (1, 0)
+    assert r.witness["lemma"] == "wang2020_lemma_iv_a_1"
+
+
+def test_heard_monitor():
+    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2, 3)), 0.6).status == "held"
+    r = premises.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.6)
+    assert r.status == "violated" and r.witness["unheard"] == [3] and r.witness["robot"] == 1
+    # robot 3 is 0.2 away: with R = 0.1 it is no neighbour, so nobody is missing
+    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.1).status == "held"
+
+
+def test_monitors_registered_with_their_lemmas_and_run_by_check_premises():
+    names = ["grid_claims", "grid_priorities", "grid_waited", "grid_heard"]
+    for n in names + ["grid_spacing"]:
+        assert premises.MONITOR_LEMMAS[n] in LEMMAS
+    tr = _timing_trace(3.0, (2, 3))
+    out = premises.check_premises(tr, phi=0.6, v=0.05, dt=1.0, monitors=names)
+    assert [r.status for r in out] == ["held"] * 4
+
+
+def test_streaming_monitor_finds_the_same_violation():
+    tr = _trace([GOOD[0], GOOD[1], [((0, 0), (1, 1)), ((1, 0), (1, 1)), ((0, 1), None)]])
+    mon = premises.PremisesMonitor(["grid_claims"], 0.6, 0.05, 1.0)
+    mon.start(tr.ids)
+    for t in range(3):
+        mon.observe(t, tr.poses[t], tr.states[t], np.ones(3, dtype=bool))
+    (_, r), = mon.results()
+    assert r.status == "violated" and r.witness["step"] == 2
