@@ -64,6 +64,8 @@ import math
 
 import numpy as np
 
+from swarmproof.models.sensing import INCLUSIVE_SLACK
+
 from .result import InvariantResult, state_value
 
 __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range",
@@ -598,10 +600,13 @@ def grid_claims_distinct(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.
                                    f"robot {int(trace.ids[rows[1]])} has no {rows[2]!r} in its state at step {t}")
         cells, claims, nxt = {}, {}, {}
         for k, row in sorted(rows.items()):
-            cell, n = _cell(row["cell"]), _cell(row["next"])
+            cell, n = _cell(row["cell"]), _claim_of(trace.states[t][k], row)
+            if cell is None:                    # not started yet (no waypoint before its first tick)
+                continue
             checked += 1
             nxt[k] = n
-            for what, key, table in (("cell", cell, cells), ("claim", n if n is not None else cell, claims)):
+            claim = _cell(state_value(trace.states[t][k], "wp", None)) or (n if n is not None else cell)
+            for what, key, table in (("cell", cell, cells), ("claim", claim, claims)):
                 if key in table:
                     a, b = int(trace.ids[table[key]]), int(trace.ids[k])
                     return InvariantResult(
@@ -650,8 +655,10 @@ def grid_priorities_distinct(trace, phi: float, v: float = 0.0, dt: float = 1.0)
         ks = sorted(rows)
         for x, k in enumerate(ks):
             for j in ks[x + 1:]:
-                if math.hypot(*(p[k, :2] - p[j, :2])) > phi * (1 + 1e-9):
+                if math.hypot(*(p[k, :2] - p[j, :2])) > phi * INCLUSIVE_SLACK:
                     continue
+                if rows[k]["priority"] is None or rows[j]["priority"] is None:
+                    continue                    # not started yet
                 checked += 1
                 if tuple(rows[k]["priority"]) == tuple(rows[j]["priority"]):
                     a, b = int(trace.ids[k]), int(trace.ids[j])
@@ -709,8 +716,23 @@ def grid_spacing_of_trace(trace, phi: float, v: float = 0.0, dt: float = 1.0) ->
     return grid_spacing_bound(float(l), float(r), phi)
 
 
+def _claim_of(state, row):
+    """The waypoint a robot travels to: with a ``"moving"`` key (the wang2020 controller), its
+    ``"wp"`` while it moves and None while it waits (its ``"next"`` is then only an intent);
+    without one, its ``"next"``."""
+    moving = state_value(state, "moving", _MISSING)
+    if moving is _MISSING:
+        return _cell(row["next"])
+    return _cell(state_value(state, "wp", None)) if moving else None
+
+
 def _decided(trace, t, k):
-    """Robot slot ``k`` set off in step ``t``: ``next`` None before the step, not None after."""
+    """Robot slot ``k`` set off in step ``t``: ``moving`` False before the step and True after when
+    the state has that key (the wang2020 controller), else ``next`` None before, not None after."""
+    m0 = state_value(trace.states[t][k], "moving", _MISSING)
+    m1 = state_value(trace.states[t + 1][k], "moving", _MISSING)
+    if m0 is not _MISSING and m1 is not _MISSING:
+        return (not m0) and bool(m1)
     before = state_value(trace.states[t][k], "next", _MISSING)
     after = state_value(trace.states[t + 1][k], "next", _MISSING)
     if before is _MISSING or after is _MISSING:
@@ -789,7 +811,7 @@ def grid_heard_neighbours(trace, phi: float, v: float = 0.0, dt: float = 1.0) ->
                                    f"robot {int(trace.ids[k])} set off in step {t} without 'heard' in its state")
         checked += 1
         near = [int(trace.ids[j]) for j in range(trace.n)
-                if j != k and pres0[j] and math.hypot(*(p0[j, :2] - p0[k, :2])) <= phi * (1 + 1e-9)]
+                if j != k and pres0[j] and math.hypot(*(p0[j, :2] - p0[k, :2])) <= phi * INCLUSIVE_SLACK]
         unheard = sorted(set(near) - {int(h) for h in heard})
         if unheard:
             rid = int(trace.ids[k])

@@ -64,6 +64,11 @@ def pair_distances(xy: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     return np.hypot(d[:, 0], d[:, 1])
 
 
+#: ``inclusive`` ("at most phi") admits a relative rounding slack of 1e-12: grid robots exactly R apart
+#: (004: 3 cells of l = 0.2 m at R = 0.6 m) are neighbours although 0.4 - (-0.2) = 0.6000000000000001.
+INCLUSIVE_SLACK = 1.0 + 1e-12
+
+
 def neighbor_pairs(xy, phi: float, inclusive: bool = False):
     """All unordered neighbor pairs ``i < j`` with distance strictly below ``phi``
     (``inclusive``: at most ``phi``, for models that declare ``neighbor_rule="inclusive"``,
@@ -95,7 +100,7 @@ def neighbor_pairs(xy, phi: float, inclusive: bool = False):
         # the exact filter below makes the result identical to the tree's.
         iu, ju = _triu(n)
         d = pair_distances(xy, iu, ju)
-        keep = d <= phi if inclusive else d < phi
+        keep = d <= phi * INCLUSIVE_SLACK if inclusive else d < phi
         return iu[keep], ju[keep], d[keep]
     pairs = cKDTree(xy).query_pairs(r=float(phi) * _INFLATE, output_type="ndarray")
     if len(pairs) == 0:
@@ -105,7 +110,7 @@ def neighbor_pairs(xy, phi: float, inclusive: bool = False):
     order = np.lexsort((pairs[:, 1], pairs[:, 0]))
     pairs = pairs[order]
     d = pair_distances(xy, pairs[:, 0], pairs[:, 1])
-    keep = d <= phi if inclusive else d < phi
+    keep = d <= phi * INCLUSIVE_SLACK if inclusive else d < phi
     return pairs[keep, 0], pairs[keep, 1], d[keep]
 
 

@@ -163,6 +163,7 @@ class Wang2020Controller:
         self.hop = math.inf
         self.T = self.q_u = None
         self.last_check = 0.0
+        self.waited_at_departure = 0.0
         self.now = 0.0
         self.swaps = 0                   # successful handshakes (either role)
         # lines 26/28 inline unless a subclass redefines them (mutation tests)
@@ -295,6 +296,7 @@ class Wang2020Controller:
                 return None
             self.wp = target                                                    # line 31
             self.moving = True                                                  # line 32 (blocks)
+            self.waited_at_departure = float(now - self.last_check)             # premise monitor grid_waited
             return (target[0] - self.cell[0], target[1] - self.cell[1])
         return None                                                             # line 35
 
@@ -383,7 +385,8 @@ class Wang2020Controller:
         if not self.started:
             return (("cell", None), ("next", None), ("goal", None), ("priority", None), ("wp", None),
                     ("moving", False), ("shape", 0), ("completed", 0), ("done", False), ("hop", None),
-                    ("q_u", None), ("handshake", None), ("ack", None), ("waited", False), ("heard", ()),
+                    ("q_u", None), ("handshake", None), ("ack", None), ("waited", 0.0), ("window", self.delta_t),
+                    ("heard", ()),
                     ("n_goals", len(self.Q)), ("shape_box", self.boxes[0]), ("spacing", self.l))
         hs = None if self.hs is None else (self.hs.role, self.hs.peer, self.hs.seq)
         return (("cell", self.cell), ("next", nxt), ("goal", self.T), ("priority", self.p),
@@ -391,7 +394,7 @@ class Wang2020Controller:
                 ("completed", self.completed), ("done", self.completed >= len(self.shapes)),
                 ("hop", None if self.hop == math.inf else int(self.hop)), ("q_u", self.q_u),
                 ("handshake", hs), ("ack", None if self.ack is None else self.ack[:3]),
-                ("waited", bool(self.now - self.last_check > self.delta_t)),
+                ("waited", self.waited_at_departure), ("window", float(self.delta_t)),
                 ("heard", tuple(sorted({e[1] for e in self.buff}))),
                 ("n_goals", len(self.Q)), ("shape_box", self.boxes[self.shape]), ("spacing", self.l))
 
@@ -740,6 +743,10 @@ class Wang2020:
     }
     own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
     explore_targets = ("shape:letter-l", "shape:square-9")
+    #: The premises of the z3 lemmas (checkers/proofs_wang2020.py) monitored on every step (the
+    #: ``premises`` property): claims distinct and no swap, distinct priorities within R, waited
+    #: longer than the window, every neighbour within R heard (invariants/premises.py).
+    premise_monitors = ("grid_claims", "grid_priorities", "grid_waited", "grid_heard")
     #: No exploration rows yet: the explorer must first draw exactly |Q| robots on cells (issue 15).
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=False, rank=30,
                         more=(("shape:square-9", 9, (0, 1, 2)),))

@@ -12,6 +12,7 @@ from collections.abc import Mapping as _MappingABC
 
 import numpy as np
 
+from swarmproof.models.sensing import INCLUSIVE_SLACK
 from swarmproof.models.trace import Event
 
 
@@ -122,7 +123,7 @@ class Delivery:
         elif anonymous:
             # anonymous robots sense everyone; they hear the ones in range
             d = np.hypot(nb_rel[:, 0], nb_rel[:, 1])
-            near = (d <= self.phi) if self.inclusive else (d < self.phi)
+            near = (d <= self.phi * INCLUSIVE_SLACK) if self.inclusive else (d < self.phi)
             heard = [(self.ids_list[s], s) for s, ok in zip(nb_slots, near.tolist()) if ok]
         elif not self.drops and not self.silent and not late:
             heard = None

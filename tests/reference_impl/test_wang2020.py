@@ -312,3 +312,27 @@ def test_sixty_four_agents_form_an_eight_by_eight_square():
     took = time.monotonic() - t0
     assert r.status == "finished" and square.satisfied(r.final_ids, r.final_poses).status == "held"
     assert took < 60, took
+
+
+def test_the_z3_lemmas_premises_hold_on_a_run_through_the_premises_property():
+    """wang2020 declares the premise monitors of its lemmas; on a 9-robot run each one judges
+    departures (not vacuous) and holds -- robots exactly R = 3 l apart hear each other."""
+    from swarmproof.checkers.runs import run_and_check
+    from swarmproof.invariants.premises import MONITORS
+    from swarmproof.models.targets import resolve_target
+
+    c = run_and_check("wang2020", resolve_target("shape:square-9"), seed=0, robots=9)
+    p = c.params
+    for name in type(c.algorithm).premise_monitors:
+        r = MONITORS[name](c.result.trace, p.range, p.v, p.dt)
+        assert r.status == "held" and r.applicable, (name, r.message)
+
+
+def test_inclusive_neighbours_at_exactly_R_on_the_grid():
+    import numpy as np
+
+    from swarmproof.models.sensing import neighbor_pairs
+
+    xy = np.array([[2 * 0.2, -0.2], [-1 * 0.2, -0.2]])      # 3 cells apart: 0.6000000000000001 in floats
+    assert len(neighbor_pairs(xy, 0.6, inclusive=True)[0]) == 1
+    assert len(neighbor_pairs(xy, 0.6, inclusive=False)[0]) == 0
