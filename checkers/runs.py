@@ -146,6 +146,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         initial = None
     algorithm = spec.build(n_robots=initial.n if initial is not None else robots)
     n = initial.n if initial is not None else robots
+    from swarmproof.reference_impl.engine.run import check_team_size
+
+    check_team_size(algorithm, n)          # before drawing a start: bounded on any input
     params = build_params(algorithm, phi, n, v=v, omega=omega, dt=dt, extra=extra)
     if initial is None:
         if getattr(algorithm.model, "motion", None) == "grid":

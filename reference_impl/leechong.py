@@ -805,6 +805,11 @@ class LeeChongLeader:
     invariants = INVARIANTS
     explore_targets = ("lines:wedge", "lines:circle", "lines:two-row", "lines:diamond")
     pattern_kind = "lines"
+    #: 003 is about "small-scale robot teams" (title; Sec. 3.7 and 4.6 use 12 robots, Fig. 7 up to
+    #: 15): each robot re-identifies every other one by an optimal matching each step (O(n^3) per
+    #: robot and step), so the engine refuses more than this many robots (exit 2).
+    max_robots = 128
+    max_robots_reason = "003's small-scale teams; every robot matches all n robots every step (O(n^3))"
     #: The robots sense every robot (Sec. 2.1); a range only draws the random connected starts: 2
     #: intervals, so starts are about as dense as the patterns, at least range/4 = 0.5 apart
     #: (Sec. 6.1: 600 mm apart at a 1000 mm interval).

@@ -106,6 +106,30 @@ ENGINE_ASSUMPTIONS = ("unique_ids",)
 PROGRESS_EVERY = 50
 
 
+#: Anonymous sensing gives every robot every other robot's position: n^2 rows per step.
+ANONYMOUS_MAX_ROBOTS = 2000
+
+
+def check_team_size(algorithm, n: int) -> None:
+    """Refuse a team larger than the algorithm runs (its ``max_robots``; anonymous sensing at most
+    :data:`ANONYMOUS_MAX_ROBOTS`): a usage error naming n, the limit and why, before any work.
+
+    >>> check_team_size(type("A", (), {"name": "a", "max_robots": 3, "model": None}), 4)
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: robots=4 is more than algorithm 'a' runs (at most 3); fix: run at most 3 robots
+    """
+    cap = getattr(algorithm, "max_robots", None)
+    if getattr(getattr(algorithm, "model", None), "sensing", None) == "anonymous":
+        cap = ANONYMOUS_MAX_ROBOTS if cap is None else min(int(cap), ANONYMOUS_MAX_ROBOTS)
+    if cap is not None and int(n) > int(cap):
+        why = getattr(algorithm, "max_robots_reason", None)
+        if why is None and getattr(getattr(algorithm, "model", None), "sensing", None) == "anonymous":
+            why = "anonymous robots sense every robot: n^2 positions per step"
+        raise UsageError(f"robots={int(n)} is more than algorithm {getattr(algorithm, 'name', '?')!r} runs "
+                         f"(at most {int(cap)}{': ' + why if why else ''})", fix=f"run at most {int(cap)} robots")
+
+
 def default_max_steps(n: int, params: Params) -> int:
     """The step cap when the caller and the algorithm give none.
 
@@ -370,6 +394,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
     events: list[Event] = []
     broken: list[str] = []
+
+    check_team_size(algorithm, n0)     # memory and time bounded on any input
 
     # -- assumptions -----------------------------------------------------
     ids0 = initial.ids.tolist()

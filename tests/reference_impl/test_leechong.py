@@ -216,3 +216,8 @@ def test_flock_rigid_fires_when_followers_do_not_keep_pace():
     good = simulate(lc.LeeChongLeaderProse(), resolve_target("lines:circle"), init, params, seed=0)
     assert lc.LeeChongLeaderProse.metrics(good)["flock_rigid"] is True
     assert lc.LeeChongLeaderProse.metrics(good)["same_span"] is True
+
+
+def test_teams_larger_than_the_algorithm_runs_are_refused_before_any_work():
+    with pytest.raises(UsageError, match=r"robots=100000 is more than algorithm 'leechong-leader' runs \(at most 128"):
+        run("leechong-leader", "wedge", robots=100000)
