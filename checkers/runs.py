@@ -64,6 +64,11 @@ class CheckedRun:
     metrics: dict = dataclasses.field(default_factory=dict)
 
 
+#: The largest team a seeded start is drawn for (memory and time bounded on any input; 004's runs
+#: are 1,024 robots).
+MAX_ROBOTS = 20000
+
+
 def build_params(algorithm, phi: float, n: int, *, v: float | None = None, omega: float | None = None,
                  dt: float | None = None, extra: Mapping[str, Any] | None = None):
     """Params from the algorithm's defaults (if it offers ``default_params(range, n)``) and overrides."""
@@ -143,6 +148,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                              fix="e.g. --robots 10")
         if robots < 1:
             raise UsageError(f"robots={robots!r} must be >= 1")
+        if robots > MAX_ROBOTS:
+            raise UsageError(f"robots={robots!r} is more than swarmproof draws a start for (at most {MAX_ROBOTS})",
+                             fix=f"run at most {MAX_ROBOTS} robots, or give an --initial file")
         initial = None
     algorithm = spec.build(n_robots=initial.n if initial is not None else robots)
     n = initial.n if initial is not None else robots

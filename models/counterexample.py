@@ -314,7 +314,10 @@ class Counterexample:
         active = _fault_phrases(self.faults or {})
         fault_text = "no faults" if not active else "faults: " + "; ".join(active)
         cap = "" if self.max_steps is None else f" for at most {self.max_steps} steps"
-        lines.append(f"{k + 1}. run {self.algorithm} with seed {self.seed}{cap} ({sched}, {fault_text})")
+        extra = dict(p.get("extra") or {})
+        with_params = ("" if not extra else
+                       " with params " + ", ".join(f"{key}={extra[key]!r}" for key in sorted(extra)))
+        lines.append(f"{k + 1}. run {self.algorithm} with seed {self.seed}{cap}{with_params} ({sched}, {fault_text})")
         if self.broken_assumptions:
             lines[-1] += f" -- broken assumptions: {', '.join(self.broken_assumptions)}"
         step = self.violation.get("step")

@@ -196,6 +196,84 @@ def _rot(th: float):
     return np.array([[c, -s], [s, c]])
 
 
+#: The ``Params.extra`` keys 003's algorithms read (``--param KEY=VALUE``; ``--then``/``--fail``),
+#: besides the pattern parameters of :mod:`swarmproof.models.line_patterns` (``alpha_star``, ``m``,
+#: ``k``, ``rotation``, ``radius``, ``center``, ``index``, ``noline``), which apply to every pattern.
+OPTION_KEYS = ("then", "fail", "flock_to", "position_errors", "error_size", "perturbation", "arrive_tol", "id_order")
+PATTERN_PARAM_KEYS = ("alpha_star", "m", "k", "rotation", "radius", "center", "index", "noline")
+#: engine keys of ``Params.extra`` that any algorithm may see
+_ENGINE_KEYS = ("grid_spacing", "clock_rate_min", "clock_rate_max", "broadcast_every", "robot_radius")
+
+
+def _positive(name: str, value, example: str, *, zero: bool = False) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise UsageError(f"{name}={value!r} is not a number", fix=f"e.g. --param {name}={example}") from None
+    if not math.isfinite(x) or x < 0 or (x == 0 and not zero):
+        raise UsageError(f"{name}={value!r} must be a finite number {'>=' if zero else '>'} 0",
+                         fix=f"e.g. --param {name}={example}")
+    return x
+
+
+def options_of(extra, *, target_shape: str | None = None, n: int | None = None) -> dict:
+    """003's options from ``Params.extra``, checked: a usage error names the key, the value and the
+    fix.  With ``n``, a ``fail`` naming an ID no robot of ``n`` can hold (above 2 (n - 1), the
+    printed formula's largest) is refused too.
+
+    >>> options_of({"fail": "leader@5,3@9", "then": "circle"})["fail"]
+    {'leader': {5}, 3: {9}}
+    >>> options_of({"position_errors": 3})["position_errors"]
+    (3,)
+    >>> options_of({"nosuch": 1})
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: params.extra nosuch=1 is not an option of 003's algorithms; fix: use one of ['then', 'fail', 'flock_to', 'position_errors', 'error_size', 'perturbation', 'arrive_tol', 'id_order', 'alpha_star', 'm', 'k', 'rotation', 'radius', 'center', 'index', 'noline']
+    """
+    from swarmproof.models import line_patterns as lp
+
+    ex = dict(extra or {})
+    for key in ex:
+        if key not in OPTION_KEYS + PATTERN_PARAM_KEYS + _ENGINE_KEYS:
+            raise UsageError(f"params.extra {key}={ex[key]!r} is not an option of 003's algorithms",
+                             fix=f"use one of {list(OPTION_KEYS + PATTERN_PARAM_KEYS)!r}")
+    order = str(ex.get("id_order", "u-increasing"))
+    if order not in ID_ORDERS:
+        raise UsageError(f"id_order={order!r} is not one of {list(ID_ORDERS)!r}",
+                         fix="--param id_order=u-increasing (Alg. 1 as printed) or leader-first (Sec. 3.2)")
+    then = tuple(str(p).strip() for p in _as_list(ex.get("then", ())))
+    pattern_params = {k: ex[k] for k in PATTERN_PARAM_KEYS if k in ex}
+    for name in ((target_shape,) if target_shape else ()) + then:
+        if name not in lp.PATTERN_NAMES:
+            raise UsageError(f"pattern={name!r} is not a pattern of 003", fix=f"use one of {list(lp.PATTERN_NAMES)!r}")
+        if pattern_params:
+            lp._params(name, {k: v for k, v in pattern_params.items()
+                              if k in lp.pattern_info(name)["params"]})       # checks the values
+    errors = []
+    for x in _as_list(ex.get("position_errors", ())):
+        try:
+            errors.append(int(str(x).strip()))
+        except ValueError:
+            raise UsageError(f"position_errors={ex['position_errors']!r}: {x!r} is not an ID",
+                             fix="--param position_errors=3,6,9 (003 Sec. 5.2)") from None
+        if errors[-1] < 1:
+            raise UsageError(f"position_errors={ex['position_errors']!r}: ID {errors[-1]} is not a follower's",
+                             fix="IDs 1, 2, ... (the leader, 0, computes no target)")
+    fail = _failures(ex.get("fail", ()))
+    if n is not None:
+        for who in fail:
+            if who != "leader" and who > 2 * max(n - 1, 1):
+                raise UsageError(f"fail={who}@...: no robot of {n} can hold ID {who} (Alg. 1 hands out at most "
+                                 f"2 (n - 1) = {2 * max(n - 1, 1)})", fix="name an ID the team allocates, or 'leader'")
+    flock = ex.get("flock_to")
+    return {"id_order": order, "then": then, "pattern_params": pattern_params,
+            "arrive_tol": _positive("arrive_tol", ex.get("arrive_tol", 1e-6), "1e-6"),
+            "fail": fail, "position_errors": tuple(errors),
+            "error_size": _positive("error_size", ex.get("error_size", 0.3), "0.3", zero=True),
+            "flock_to": None if flock in (None, "", ()) else _flock(flock),
+            "perturbation": _positive("perturbation", ex.get("perturbation", 0.05), "0.05")}
+
+
 class LeeChongController:
     """One robot of 003 (leader- or neighbor-referenced); see the module docstring.
 
@@ -212,24 +290,21 @@ class LeeChongController:
         self.params = params
         self.rng = rng
         self.fixed_id = fixed_id
-        ex = params.extra
+        opts = options_of(params.extra, target_shape=target.shape)
         self.numbering = alg.numbering
-        self.order = str(ex.get("id_order", "u-increasing"))
-        if self.order not in ID_ORDERS:
-            raise UsageError(f"id_order={self.order!r} is not one of {list(ID_ORDERS)!r}",
-                             fix="--param id_order=u-increasing (Alg. 1 as printed) or leader-first (Sec. 3.2)")
+        self.order = opts["id_order"]
         self.mode = alg.mode
-        self.patterns = [target.shape] + [str(p).strip() for p in _as_list(ex.get("then", ()))]
+        self.patterns = [target.shape] + list(opts["then"])
         self.pattern_k = 0
         self.target = target
         self.span = None
-        self.tol = float(ex.get("arrive_tol", 1e-6))
-        self.fail_at = _failures(ex.get("fail", ()))
-        self.errors = {int(x) for x in _as_list(ex.get("position_errors", ()))}
-        self.error_size = float(ex.get("error_size", 0.3))
-        flock = ex.get("flock_to")
-        self.flock = None if flock in (None, "", ()) else _flock(flock)
-        self.perturb = float(ex.get("perturbation", 0.05))
+        self.tol = opts["arrive_tol"]
+        self.fail_at = opts["fail"]
+        self.errors = set(opts["position_errors"])
+        self.error_size = opts["error_size"]
+        self.flock = opts["flock_to"]
+        self.perturb = opts["perturbation"]
+        self.label_of: dict = {}               # F-team: ID -> fixed label (tracked with pos_of)
         self.x = self.y = self.th = 0.0        # odometry: the private pose
         self.phase = "agree"
         self.id = None
@@ -245,6 +320,7 @@ class LeeChongController:
         self.error_vec = None
         self.done = False
         self.i_failed = False
+        self.failed_at = None
         self.labels: dict = {}                 # F-team: sensed row -> fixed label heard
         self.rebuilds = 0
         self.flocking = False                  # the leader drives to its goal (Sec. 3.3)
@@ -282,6 +358,8 @@ class LeeChongController:
         if a.tie:
             return a.tie
         ids = list(a.ids) if self.alg.team == "A" else _rank_labels(labels)
+        if self.alg.team == "F":
+            self.label_of = {ids[k]: labels[k] for k in range(len(ids))}
         self.origin, self.u = a.origin, a.u
         self.u_l = float(a.common[a.leader, 0])
         self.id = ids[0]
@@ -322,8 +400,12 @@ class LeeChongController:
         me = np.array([self.x, self.y])
         if self.i_failed:
             return Command(message=("failed", self.id))                   # Sec. 3.5
-        if self.id is not None and obs.step in self.fail_at.get("leader" if self.id == 0 else self.id, ()):
-            self.i_failed, self.done = True, True                          # it stops and says so
+        due = self.fail_at.get("leader" if self.id == 0 else self.id, ()) if self.id is not None else ()
+        if any(obs.step >= when for when in due):
+            # --fail ID@STEP: the robot holding that ID at the first step >= STEP (IDs exist once
+            # Alg. 1 has run) stops and says so (Sec. 3.5)
+            self.i_failed, self.done = True, True
+            self.failed_at = obs.step
             return Command(message=("failed", self.id))
         failed_rows, command = [], None
         for row, msg in obs.messages.items():
@@ -331,6 +413,7 @@ class LeeChongController:
                 continue
             if msg[0] == "failed":
                 failed_rows.append(row)
+                self._consume_failure(msg[1])
             elif msg[0] == "pattern":
                 command = msg
             elif msg[0] == "label":
@@ -344,6 +427,19 @@ class LeeChongController:
         if command is not None and self.id != 0 and int(command[1]) != self.pattern_k:
             self._switch(int(command[1]))
         return self._act(me)
+
+    def _consume_failure(self, rid) -> None:
+        """A ``--fail`` entry fires once: the robots that hear it drop it (the failed robot's ID may be
+        re-issued to another robot, Sec. 3.5)."""
+        key = "leader" if rid == 0 else rid
+        steps = self.fail_at.get(key)
+        if steps:
+            steps = set(steps)
+            steps.discard(min(steps))
+            if steps:
+                self.fail_at[key] = steps
+            else:
+                del self.fail_at[key]
 
     def _step_agree(self, obs, me, others) -> Command:
         rows = self._live_rows(others)
@@ -409,7 +505,9 @@ class LeeChongController:
 
     def _on_failures(self, others, failed_rows) -> None:
         """Sec. 3.5: a failure heard.  The leader's: Alg. 1 again over the survivors.  A
-        follower's: origin at p_l, u kept, IDs re-issued (the leader keeps 0), span kept."""
+        follower's: origin at p_l, u kept, IDs re-issued (the leader keeps 0), span kept.
+        F-team (Sec. 3.7, fixed IDs): the survivors keep their labels; the smallest label leads and
+        the IDs are the labels' ranks (a leader's failure: origin, direction again from there)."""
         new = []
         for row in failed_rows:
             p = others[row]
@@ -419,11 +517,15 @@ class LeeChongController:
             if self.pos_of:
                 rid = min(self.pos_of, key=lambda k: float(np.hypot(*(self.pos_of[k] - p))))
                 del self.pos_of[rid]
+                self.label_of.pop(rid, None)
                 new.append(rid)
         if not new:
             return
         self.rebuilds += 1
         self.formed, self.done = False, False
+        if self.alg.team == "F" and self.phase != "agree":
+            self._reagree_fixed_labels(leader_failed=0 in new)
+            return
         if 0 in new or self.phase == "agree":
             self.phase, self.id, self.pos_of = "agree", None, {}
             return
@@ -438,6 +540,28 @@ class LeeChongController:
         self.pos_of = {ids[k]: pts[k] for k in range(len(alive))}
         self.id = ids[alive.index(me)]
         self._set_origin_at_leader()
+        self._new_interval()
+
+    def _reagree_fixed_labels(self, leader_failed: bool) -> None:
+        """F-team after a failure, from the tracked survivors: IDs = ranks of the fixed labels; a
+        follower's failure keeps u and puts the origin at p_l; the leader's runs Alg. 1's origin and
+        direction again with the smallest surviving label as the leader."""
+        alive = sorted(self.pos_of)
+        pts = np.array([self.pos_of[i] for i in alive])
+        labels = [self.label_of[i] for i in alive]
+        ids = _rank_labels(labels)
+        me = self.id
+        if leader_failed:
+            a = agree(pts, numbering=self.numbering, order=self.order, leader=labels.index(min(labels)))
+            self.origin, self.u = a.origin, a.u
+            self.u_l = float(a.common[a.leader, 0])
+        self.pos_of = {ids[k]: pts[k].copy() for k in range(len(alive))}
+        self.label_of = {ids[k]: labels[k] for k in range(len(alive))}
+        self.id = ids[alive.index(me)]
+        if leader_failed:
+            self.lead0 = self.pos_of[0].copy()
+        else:
+            self._set_origin_at_leader()
         self._new_interval()
 
     def _switch(self, k: int) -> None:
@@ -539,11 +663,17 @@ class LeeChongController:
 
 
 def _as_list(x):
+    """A list from a comma-separated string, a sequence, or one number (``--param position_errors=3``)."""
     if x is None or x == "":
         return []
     if isinstance(x, str):
         return [p for p in x.replace(";", ",").split(",") if p.strip()]
-    return list(x)
+    if isinstance(x, (int, float)) and not isinstance(x, bool):
+        return [x]
+    try:
+        return list(x)
+    except TypeError:
+        raise UsageError(f"value={x!r} is not a list", fix="give comma-separated values, e.g. 3,6,9") from None
 
 
 def _failures(spec) -> dict:
@@ -555,8 +685,10 @@ def _failures(spec) -> dict:
             if not sep:
                 raise UsageError(f"fail={item!r} must be ROBOT@STEP", fix="e.g. --fail leader@40 or --fail 3@25")
             who = who.strip()
-        else:
+        elif isinstance(item, (tuple, list)) and len(item) == 2:
             who, when = item
+        else:
+            raise UsageError(f"fail={item!r} must be ROBOT@STEP", fix="e.g. --fail leader@40 or --fail 3@25")
         try:
             step = int(when)
         except (TypeError, ValueError):
@@ -569,6 +701,8 @@ def _failures(spec) -> dict:
                                  fix="e.g. --fail leader@40 or --fail 3@25") from None
             if who == 0:
                 who = "leader"
+            elif who < 0:
+                raise UsageError(f"fail={item!r}: ROBOT={who} is not an ID", fix="IDs are 0 (the leader), 1, 2, ...")
         if step < 0:
             raise UsageError(f"fail={item!r}: STEP={step} must be >= 0")
         out.setdefault(who, set()).add(step)
@@ -578,6 +712,8 @@ def _failures(spec) -> dict:
 def _flock(spec):
     if isinstance(spec, str):
         parts = spec.replace("@", ",").split(",")
+    elif isinstance(spec, (int, float)):
+        parts = [spec]
     else:
         parts = list(spec)
     try:
@@ -603,6 +739,17 @@ def _rank_labels(labels) -> list:
 # the patterns (003 Table 1, Algs. 2-3: swarmproof.models.line_patterns)
 # ---------------------------------------------------------------------------------------------
 
+def pattern_params_for(name: str, target, extra) -> dict:
+    """The parameters pattern ``name`` is computed with: the target's own (for its shape), then the
+    pattern parameters of ``--param`` (``alpha_star``, ``radius``, ...) that this pattern takes."""
+    from swarmproof.models import line_patterns as lp
+
+    out = dict(target.params) if name == target.shape else {}
+    takes = lp.pattern_info(name)["params"]
+    out.update({k: v for k, v in dict(extra or {}).items() if k in PATTERN_PARAM_KEYS and k in takes})
+    return out
+
+
 class _Patterns:
     """What a controller needs of the target: its first pattern and the formulas of every pattern
     it may switch to (any name of :mod:`swarmproof.models.line_patterns`)."""
@@ -612,25 +759,22 @@ class _Patterns:
 
         self.lp = lp
         self.shape = target.shape
-        self.options = dict(target.params)
         self.base = target
-        for name in [self.shape] + [str(p).strip() for p in _as_list(params.extra.get("then", ()))]:
-            if name not in lp.PATTERN_NAMES:
-                raise UsageError(f"pattern={name!r} is not a pattern of 003", fix=f"use one of {list(lp.PATTERN_NAMES)!r}")
+        names = [self.shape] + list(options_of(params.extra, target_shape=target.shape)["then"])
+        self.params_of = {name: pattern_params_for(name, target, params.extra) for name in names}
 
     def interval_for(self, n: int) -> float:
         return self.base.interval_for(n)
 
     def target_of(self, name: str, rid: int, n: int, d_u: float, u_l: float):
-        opts = self.options if name == self.shape else {}
-        return self.lp.target_of(name, rid, n, d_u, u_l, **opts)
+        return self.lp.target_of(name, rid, n, d_u, u_l, **self.params_of[name])
 
     def line_kind(self, name: str, n: int):
         """("uni", None) or ("multi", NoLine of Alg. 4 line 7)."""
         info = self.lp.pattern_info(name)
         if info["type"] == "uni":
             return "uni", None
-        return "multi", self.lp.line_count(name, n, reading="alg4")
+        return "multi", self.lp.line_count(name, n, reading="alg4", **self.params_of[name])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -869,7 +1013,7 @@ class LeeChongLeader:
         who = draw(st.sampled_from(["none", "leader", "follower"]))
         if who == "none" or n < 3:
             return {}
-        step = draw(st.integers(0, 80))
+        step = draw(st.integers(1, 80))
         if who == "leader":
             return {"fail": f"leader@{step}"}
         return {"fail": f"{draw(st.integers(1, n - 1))}@{step}"}
@@ -925,24 +1069,32 @@ class LeeChongLeader:
     @staticmethod
     def judging_target(target, n_start: int, params=None):
         """The pattern a run ends in: the last one of a switching sequence (``then``, Secs. 3.4,
-        3.6), with the span of the start (Sec. 3.5: ``d_u = span / (n - 1)``, so the survivors of a
-        failure stand at a wider interval)."""
+        3.6), with the pattern parameters the robots used (``--param alpha_star=...``) and the
+        span of the start (Sec. 3.5: ``d_u = span / (n - 1)``, so the survivors of a failure stand
+        at a wider interval)."""
         import dataclasses
 
-        if not hasattr(target, "interval_for"):
+        if not hasattr(target, "interval_for") or getattr(target, "shape", "line") == "line":
             return target
-        seq = _as_list(dict(getattr(params, "extra", None) or {}).get("then", ()))
+        extra = dict(getattr(params, "extra", None) or {})
+        seq = _as_list(extra.get("then", ()))
         span = target.span if target.span is not None else target.interval_for(n_start) * max(n_start - 1, 1)
         last = str(seq[-1]).strip() if seq else target.shape
-        params_of = target.params if last == target.shape else ()
         name = target.name if last == target.shape else last
-        return dataclasses.replace(target, name=name, shape=last, interval=None, span=span, params=params_of,
+        return dataclasses.replace(target, name=name, shape=last, interval=None, span=span,
+                                   params=pattern_params_for(last, target, extra),
                                    cites=LineCites.get(last, target.cites))
+
+    @staticmethod
+    def check_params(params: Params, n: int, target) -> None:
+        """Before a run (the engine calls it): 003's options checked against the team size (a
+        ``--fail`` ID no robot can hold, an unknown key, a bad value: exit 2)."""
+        options_of(params.extra, target_shape=getattr(target, "shape", None), n=n)
 
     @staticmethod
     def out_of_formation(state) -> bool:
         """A failed robot stands where it stopped; the pattern is judged on the others (Sec. 3.5)."""
-        return bool(dict(state)["failed"])
+        return state is not None and bool(dict(state)["failed"])
 
 
 class LeeChongNeighbor(LeeChongLeader):

@@ -396,6 +396,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     broken: list[str] = []
 
     check_team_size(algorithm, n0)     # memory and time bounded on any input
+    own_check = getattr(algorithm, "check_params", None)
+    if callable(own_check):
+        own_check(params, n0, lattice)   # an algorithm's own options (usage errors, before any step)
 
     # -- assumptions -----------------------------------------------------
     ids0 = initial.ids.tolist()

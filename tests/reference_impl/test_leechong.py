@@ -219,5 +219,45 @@ def test_flock_rigid_fires_when_followers_do_not_keep_pace():
 
 
 def test_teams_larger_than_the_algorithm_runs_are_refused_before_any_work():
-    with pytest.raises(UsageError, match=r"robots=100000 is more than algorithm 'leechong-leader' runs \(at most 128"):
-        run("leechong-leader", "wedge", robots=100000)
+    with pytest.raises(UsageError, match=r"robots=1000 is more than algorithm 'leechong-leader' runs \(at most 128"):
+        run("leechong-leader", "wedge", robots=1000)
+
+
+@pytest.mark.parametrize("param, message", [
+    ("position_errors=x", "position_errors='x'"), ("fail=3", "fail=3 must be ROBOT@STEP"),
+    ("flock_to=10", "flock_to=10 must be DISTANCE"), ("error_size=abc", "error_size='abc' is not a number"),
+    ("arrive_tol=-1", "arrive_tol=-1 must be"), ("alpha_star=95", "alpha_star=95"),
+    ("nosuch=1", "nosuch=1 is not an option"), ("perturbation=-1", "perturbation=-1 must be"),
+    ("fail=99@5", "no robot of 12 can hold ID 99"), ("fail=-1@5", "ROBOT=-1 is not an ID"),
+])
+def test_bad_params_exit_2_naming_the_value(capsys, param, message):
+    code, _, err = _cli(capsys, "leechong-leader", "--pattern", "wedge", "--robots", "12", "--seed", "0",
+                        "--param", param)
+    assert code == 2 and message in err and "Traceback" not in err and "internal" not in err
+
+
+def test_pattern_params_reach_the_robots_and_the_judge():
+    a = run("leechong-leader-prose", "wedge", alpha_star=30)
+    b = run("leechong-leader-prose", "wedge", alpha_star=60)
+    assert a.doc["satisfied"] and b.doc["satisfied"] and a.doc["total_distance"] != b.doc["total_distance"]
+    c = run("leechong-leader-prose", "circle", radius="printed")
+    assert c.doc["satisfied"] and c.doc["total_distance"] != run("leechong-leader-prose", "circle").doc["total_distance"]
+
+
+def test_a_failure_fires_once_at_the_first_step_the_id_is_held():
+    c = run("leechong-leader-prose", "wedge", then="circle", fail="3@0")     # IDs exist after step 0
+    assert len(c.doc["metrics"]["failed"]) == 1 and c.doc["satisfied"] is True
+
+
+@pytest.mark.parametrize("alg", ["leechong-leader-fteam", "leechong-neighbor-fteam"])
+@pytest.mark.parametrize("who", ["leader@30", "3@40"])
+def test_f_team_keeps_its_labels_through_failures(alg, who):
+    c = run(alg, "wedge", fail=who)
+    m = c.doc["metrics"]
+    assert c.doc["status"] == "finished" and c.doc["satisfied"] is True
+    assert m["agreement"] is True and m["ids_unique"] is True and len(m["failed"]) == 1
+
+
+def test_huge_teams_exit_2(capsys):
+    code, _, err = _cli(capsys, "song2016", "--lattice", "square", "--robots", "99999999999999999999", "--seed", "0")
+    assert code == 2 and "at most 20000" in err
