@@ -113,3 +113,20 @@ def test_main_rejects_bad_arguments(capsys):
     assert T.main(["--patterns", "blob", "--paper-only"]) == 2
     assert T.main(["--paper-only"]) == 0
     assert "Table 3 (leader, time): wedge, testbed-1: A 12.15 vs F 12.11" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", ["leechong_tables", "leechong_figures"])
+def test_the_benchmark_modules_doctests(name):
+    """tests/test_doctests.py covers the swarmproof packages only; the two scripts' examples here."""
+    import doctest
+
+    if name == "leechong_tables":
+        mod = T
+    else:
+        spec = importlib.util.spec_from_file_location("swarmproof_bench_" + name,
+                                                      os.path.join(ROOT, "benchmarks", name + ".py"))
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules.setdefault(spec.name, mod)
+        spec.loader.exec_module(mod)
+    res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    assert res.attempted >= 5 and res.failed == 0
