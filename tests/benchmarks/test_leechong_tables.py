@@ -122,11 +122,13 @@ def test_the_benchmark_modules_doctests(name):
 
     if name == "leechong_tables":
         mod = T
+    elif "swarmproof_bench_" + name in sys.modules:      # loaded by test_leechong_figures.py
+        mod = sys.modules["swarmproof_bench_" + name]
     else:
         spec = importlib.util.spec_from_file_location("swarmproof_bench_" + name,
                                                       os.path.join(ROOT, "benchmarks", name + ".py"))
         mod = importlib.util.module_from_spec(spec)
-        sys.modules.setdefault(spec.name, mod)
+        sys.modules[spec.name] = mod
         spec.loader.exec_module(mod)
     res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert res.attempted >= 5 and res.failed == 0
