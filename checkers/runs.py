@@ -179,6 +179,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
     ids, poses = result.final_ids, result.final_poses
     is_lattice = kind == "lattice"
+    judged = lattice
     if is_lattice:
         sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
         q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
@@ -224,7 +225,10 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
         **({"record_every": int(record_every), "recorded_steps": len(trace.times)} if trace.times else {}),
         **({"warnings": warnings} if warnings else {}),
-        "target": {"kind": kind, "name": lattice.name},
+        "target": {"kind": kind, "name": lattice.name,
+                   # the target the final configuration was judged against, when the algorithm restates
+                   # it (003: the last pattern of a switching sequence, at the start's span)
+                   **({"judged_as": judged.describe()} if not is_lattice and judged is not lattice else {})},
         "satisfied": satisfied,
         "metrics": metrics,
     }

@@ -34,6 +34,7 @@ anonymity", Mechatronics (/work/shared/seeds/003_8f3001202a798af8.txt), Secs. 2.
 
 from __future__ import annotations
 
+import functools
 import math
 from fractions import Fraction
 from typing import Any
@@ -392,6 +393,23 @@ def target_of(name: str, i: int, n: int, d_u: float, u_l: float = 0.0, **params)
     >>> target_of("wedge", 2, 3, 1.0) == tuple(target_points("wedge", 3, 1.0)[2])
     True
     """
+    try:
+        key = (name, int(i), n, float(d_u), float(u_l), tuple(sorted(params.items())))
+        hash(key)
+    except (TypeError, ValueError):
+        return _target_of(name, i, n, d_u, u_l, **params)
+    return _target_of_cached(key)
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _target_of_cached(key) -> tuple[float, float]:
+    """:func:`target_of` remembered: a robot asks for the same targets every step (003's robots
+    recompute f_i for every robot they track), and exact angles (Fractions) are slow."""
+    name, i, n, d_u, u_l, items = key
+    return _target_of(name, i, n, d_u, u_l, **dict(items))
+
+
+def _target_of(name: str, i: int, n: int, d_u: float, u_l: float = 0.0, **params) -> tuple[float, float]:
     _check_name(name)
     n = _check_n(n)
     if _PATTERNS[name][0] == "multi":

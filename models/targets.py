@@ -441,9 +441,12 @@ class LinePattern:
             return TargetCheck("held", f"{len(xy)} robots form the {self.shape} at interval "
                                        f"{d_u:g} (largest error {err:.3g})", self.cites,
                                detail={"max_error": err})
-        return TargetCheck("violated", f"{len(xy)} robots are not a {self.shape} at interval {d_u:g}: "
-                                       f"the best rigid fit leaves a robot {err:.4g} from its slot (tol {tol:.3g})",
-                           self.cites, {"max_error": err}, {"max_error": err})
+        why = (f"the best rigid fit leaves a robot {err:.4g} from its slot (tol {tol:.3g})" if math.isfinite(err)
+               else "no two robots stand at (within 10 % of) the distance between the pattern's anchor points, "
+                    "so no rigid motion brings them onto it")
+        return TargetCheck("violated", f"{len(xy)} robots are not a {self.shape} at interval {d_u:g}: {why}",
+                           self.cites, {"max_error": None if not math.isfinite(err) else err},
+                           {"max_error": None if not math.isfinite(err) else err})
 
     def progress(self, ids, poses, *, phi: float | None = None) -> float:
         """Minus the largest slot error of the best rigid fit, in intervals (0 at the goal)."""

@@ -46,9 +46,10 @@ def add_arguments(p) -> None:
                    help="sensing/communication range phi (default: the lattice file's range)")
     p.add_argument("--max-steps", type=int, metavar="K", help="step cap (default: the algorithm's)")
     p.add_argument("--initial", metavar="FILE", help="start from a swarmproof-initial/1 file instead")
-    p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default 0.05)")
-    p.add_argument("--omega", type=float, metavar="W", help="maximum angular speed, rad per time (default pi/4)")
-    p.add_argument("--dt", type=float, metavar="DT", help="step length (default 1)")
+    p.add_argument("--v", type=float, metavar="V", help="maximum linear speed (default: the algorithm's, else 0.05)")
+    p.add_argument("--omega", type=float, metavar="W",
+                   help="maximum angular speed, rad per time (default: the algorithm's, else pi/4)")
+    p.add_argument("--dt", type=float, metavar="DT", help="step length (default: the algorithm's, else 1)")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="algorithm parameter (Params.extra), repeatable; numbers are parsed")
     p.add_argument("--min-separation", type=float, metavar="D",
@@ -260,11 +261,17 @@ def plot_run(trace, lattice, roles, path, phi) -> str:
         ci = role_names.index(role) if role in role_names else None
         color = ROLE_COLORS[ci % len(ROLE_COLORS)] if ci is not None else "#999999"
         x, y, th = final[k]
-        ax.scatter([x], [y], s=40, color=color, edgecolors="black", linewidths=0.5, zorder=3)
+        alloc = state_value(trace.states[-1][k], "id")          # an allocated ID (003's anonymous robots)
+        failed = bool(state_value(trace.states[-1][k], "failed"))
+        marker = "x" if failed else ("*" if alloc == 0 else "o")
+        ax.scatter([x], [y], s=140 if marker == "*" else 40, marker=marker, color="#d62828" if failed else color,
+                   edgecolors=None if marker == "x" else "black", linewidths=1.5 if failed else 0.5, zorder=3)
         if (trace.meta.get("model") or {}).get("motion") != "grid":   # grid robots have no heading
             ax.arrow(x, y, 0.15 * phi * np.cos(th), 0.15 * phi * np.sin(th), width=0.005 * phi,
                      color="black", zorder=4, length_includes_head=True)
-        ax.annotate(str(ids[k]), (x, y), xytext=(3, 3), textcoords="offset points", fontsize=7)
+        text = str(ids[k]) if alloc is None else f"{ids[k]}:ID{alloc}" + (" leader" if alloc == 0 else "") + (
+            " failed" if failed else "")
+        ax.annotate(text, (x, y), xytext=(3, 3), textcoords="offset points", fontsize=7)
     goals = getattr(lattice, "positions", None)
     if callable(goals):
         g = goals()
