@@ -222,14 +222,23 @@ def testbed(k: int):
     0.5 intervals from the others, 003 Sec. 6.1's 600 mm at a 1000 mm interval).
 
     >>> t = testbed(1)
-    >>> t.n, testbed(1).poses.tolist() == t.poses.tolist()
-    (12, True)
+    >>> t.n, testbed(1).poses.tolist() == t.poses.tolist(), sorted(t.ids.tolist()) == list(range(12))
+    (12, True, True)
     """
     from swarmproof.reference_impl.initial import random_connected
 
+    import numpy as np
+
+    from swarmproof.models.trace import InitialConfiguration
+
     if int(k) != k or k < 0:
         raise UsageError(f"testbed={k!r} must be an integer >= 0", fix="e.g. 1 (testbeds 1..5)")
-    return random_connected(N_ROBOTS, int(k), range=START_RANGE)
+    start = random_connected(N_ROBOTS, int(k), range=START_RANGE)
+    # The F-team's fixed labels are the robots' IDs: a seeded permutation, so that they owe nothing
+    # to the start's construction order (random_connected places each robot next to an earlier
+    # one, so its order is spatially coherent).  The A-team never sees them (anonymous).
+    labels = np.random.default_rng(np.random.SeedSequence(int(k), spawn_key=(7,))).permutation(N_ROBOTS)
+    return InitialConfiguration(labels.tolist(), start.poses)
 
 
 def run_cell(approach: str, column: str, pattern: str, k: int) -> dict:
