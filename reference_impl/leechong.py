@@ -324,6 +324,7 @@ class LeeChongController:
         self.labels: dict = {}                 # F-team: sensed row -> fixed label heard
         self.rebuilds = 0
         self.flocking = False                  # the leader drives to its goal (Sec. 3.3)
+        self.my_target = None                  # this follower's f_i now (private frame)
 
     # -- frames ---------------------------------------------------------------------------------
 
@@ -614,6 +615,7 @@ class LeeChongController:
             self.done = False
             return Command()
         tgt = tgt + err
+        self.my_target = tgt
         self.done = float(np.hypot(*(tgt - me))) <= self.tol
         return self._move_to(tgt)
 
@@ -659,7 +661,9 @@ class LeeChongController:
                 ("span", None if self.span is None else round(float(self.span), 9)),
                 ("d_u", None if self.d_u is None else round(float(self.d_u), 9)),
                 ("flocking", self.flocking), ("reference", self._reference()),
-                ("lag", self.params.v * self.params.dt))
+                ("lag", self.params.v * self.params.dt),
+                ("target", None if self.my_target is None or self.id in (None, 0) or self.i_failed
+                 or self.phase == "agree" else tuple(round(float(c), 9) for c in self._to_body(self.my_target))))
 
 
 def _as_list(x):
@@ -880,6 +884,37 @@ def _same_span(t, ids, poses, states) -> str | None:
     return None
 
 
+def _distinct_targets(t, ids, poses, states) -> str | None:
+    """003 Algs. 2-3 (and Sec. 3.2: a robot "computes its f_i"): no two live followers head for one
+    target, and none for the leader's place (within 1e-6 intervals)."""
+    pts = []
+    lead = None
+    for rid, pose, s in zip(ids.tolist(), poses, states):
+        d = dict(s)
+        if d["failed"] or d["phase"] == "agree":
+            continue
+        if d["id"] == 0:
+            lead = (rid, (float(pose[0]), float(pose[1])))
+            continue
+        if d["target"] is None:
+            continue
+        c, s_ = math.cos(pose[2]), math.sin(pose[2])
+        tx, ty = d["target"]
+        pts.append((rid, d["id"], d["epoch"], (pose[0] + c * tx - s_ * ty, pose[1] + s_ * tx + c * ty), d["d_u"] or 1.0))
+    for a in range(len(pts)):
+        for b in range(a + 1, len(pts)):
+            ra, ia, ea, pa, du = pts[a]
+            rb, ib, eb, pb, _ = pts[b]
+            if ea == eb and math.hypot(pa[0] - pb[0], pa[1] - pb[1]) <= 1e-6 * du:
+                return (f"robots {ra} (ID {ia}) and {rb} (ID {ib}) head for one target "
+                        f"({pa[0]:.6g}, {pa[1]:.6g})")
+    if lead is not None:
+        for r, i, e, p_, du in pts:
+            if math.hypot(p_[0] - lead[1][0], p_[1] - lead[1][1]) <= 1e-6 * du:
+                return f"robot {r} (ID {i}) heads for the leader's place ({p_[0]:.6g}, {p_[1]:.6g})"
+    return None
+
+
 INVARIANTS = (
     Invariant("agreement", "all robots agree on the common origin, leader and direction",
               "003 Sec. 2.1, Alg. 1 (lines 1-5)", _agreement),
@@ -888,6 +923,8 @@ INVARIANTS = (
     Invariant("flock_rigid", "while the leader flocks, each follower keeps its place relative to its reference",
               "003 Secs. 3.3, 4.3", _flock_rigid),
     Invariant("same_span", "the team keeps one span, d_u (n - 1) = span", "003 Secs. 3.1, 3.5", _same_span),
+    Invariant("distinct_targets", "no two followers head for one target, none for the leader's place",
+              "003 Table 1, Algs. 2-3", _distinct_targets),
 )
 
 

@@ -189,7 +189,8 @@ def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path)
     rep = explore("leechong-leader-prose", ["invariants"], max_examples=25, robots=(3, 6), seed=0,
                   budget=None, out_dir=str(tmp_path))
     v = rep.properties["invariants"]
-    assert v.status == "violated" and "ids_unique" in v.message      # a robot on the axis: two half planes
+    # a robot on the axis: two robots put it in different half planes, so two hold ID 1 (and its target)
+    assert v.status == "violated" and ("both hold ID 1" in v.message or "(ID 1) and 3 (ID 1)" in v.message)
     assert replay_file(v.counterexample_path).reproduced
 
 
@@ -261,3 +262,21 @@ def test_f_team_keeps_its_labels_through_failures(alg, who):
 def test_huge_teams_exit_2(capsys):
     code, _, err = _cli(capsys, "song2016", "--lattice", "square", "--robots", "99999999999999999999", "--seed", "0")
     assert code == 2 and "at most 20000" in err
+
+
+def test_distinct_targets_invariant_on_hand_made_states():
+    from swarmproof.reference_impl.leechong import _distinct_targets
+
+    def st(i, target, failed=False):
+        return (("failed", failed), ("phase", "form"), ("id", i), ("target", target), ("epoch", (0, 0)),
+                ("d_u", 1.0))
+
+    ids = np.array([1, 2, 3])
+    poses = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, math.pi / 2], [5.0, 5.0, 0.0]])
+    # robot 1 heads for (2, 1); robot 2 (turned 90 deg) for its body (1, -1) = world (2, 1)
+    clash = (st(1, (2.0, 1.0)), st(2, (1.0, -1.0)), st(0, None))
+    assert "head for one target" in _distinct_targets(0, ids, poses, clash)
+    fine = (st(1, (2.0, 1.0)), st(2, (1.0, -2.0)), st(0, None))
+    assert _distinct_targets(0, ids, poses, fine) is None
+    to_leader = (st(1, (5.0, 5.0)), st(2, (1.0, -2.0)), st(0, None))
+    assert "leader's place" in _distinct_targets(0, ids, poses, to_leader)
