@@ -59,7 +59,7 @@ from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
 
 __all__ = ["Wang2020", "Wang2020Controller", "WangMsg", "manhattan", "lex_greater", "default_params",
-           "J1", "J2", "INVARIANT_NAMES"]
+           "J1", "J2", "INVARIANT_NAMES", "window_bound"]
 
 #: Alg. 2 lines 9 and 11: the surroundings in the printed order (x - l, y), (x, y - l), (x + l, y), (x, y + l).
 SURROUNDINGS = ((-1, 0), (0, -1), (1, 0), (0, 1))
@@ -452,14 +452,31 @@ def _same_clock_rate(params: Params, n, ids):
     return None if lo == hi else f"clock_rate_min={lo!r} != clock_rate_max={hi!r}"
 
 
+def window_bound(params: Params) -> float:
+    """004 Sec. V-B3's least Delta t, in local clock units: ``(2 m / f_comm) (f_max / f_min)`` with
+    ``1 / f_comm = broadcast_every``, ``m = loss_repeats`` (a message sent m times in a row reaches
+    every neighbour; default 1, no loss) and the clock rates ``clock_rate_min`` / ``clock_rate_max``.
+
+    >>> window_bound(default_params()), window_bound(Params(range=0.6, extra={"broadcast_every": 2,
+    ...     "clock_rate_min": 1.0, "clock_rate_max": 2.0, "loss_repeats": 3}))
+    (4.0, 24.0)
+    """
+    ex = params.extra
+    every = float(ex.get("broadcast_every", 1.0))
+    lo = float(ex.get("clock_rate_min", 1.0))
+    hi = float(ex.get("clock_rate_max", lo))
+    m = float(ex.get("loss_repeats", 1))
+    return 2.0 * m * every * (hi / lo)
+
+
 def _window(params: Params, n, ids):
-    every = float(params.extra.get("broadcast_every", 1.0))
-    lo = float(params.extra.get("clock_rate_min", 1.0))
-    hi = float(params.extra.get("clock_rate_max", lo))
-    need = 2.0 * every * (hi / lo)
+    need = window_bound(params)
     dt = delta_t_of(params)
-    return None if dt >= need - 1e-12 else (f"delta_t={dt!r} < 2/f_comm * f_max/f_min = {need:.6g} "
-                                            f"(broadcast_every={every!r})")
+    ex = params.extra
+    return None if dt >= need - 1e-12 else (
+        f"delta_t={dt!r} < 2/f_comm * f_max/f_min * m = {need:.6g} (broadcast_every="
+        f"{ex.get('broadcast_every', 1.0)!r}, loss_repeats={ex.get('loss_repeats', 1)!r}, clock_rate_min="
+        f"{ex.get('clock_rate_min', 1.0)!r}, clock_rate_max={ex.get('clock_rate_max', ex.get('clock_rate_min', 1.0))!r})")
 
 
 def _beta(params: Params, n, ids):
@@ -537,7 +554,7 @@ ASSUMPTIONS = (
     Assumption("grid_spacing_bounds", "2 sqrt(2) r <= l <= R / 2", "004 Sec. III-A", _spacing_bounds),
     Assumption("same_clock_frequency", "every agent has the same clock frequency (phases arbitrary)",
                "004 Sec. II-A a)", _same_clock_rate),
-    Assumption("message_window", "Delta t >= 2 / f_comm (x f_max / f_min when rates differ)",
+    Assumption("message_window", "Delta t >= (2 m / f_comm) (f_max / f_min) (m = 1, equal rates: 2 / f_comm)",
                "004 Alg. 2 line 6, Lemma IV-A.1, Sec. V-B3", _window),
     Assumption("beta_in_unit_interval", "0 < beta < 1", "004 Alg. 2 input, Alg. 4 line 16", _beta),
     Assumption("own_waypoint", "each agent starts on its own waypoint", "004 Theorems IV-A.1/IV-A.2",
@@ -740,8 +757,10 @@ class Wang2020:
     }
     own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
     explore_targets = ("shape:letter-l", "shape:square-9")
+    # exploration rows: 100 examples each (a scenario is hundreds of asynchronous ticks; 300 would
+    # add about 4 minutes to `swarmproof verify`, docs/wang2020.md)
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
-                        more=(("shape:square-9", 9, (0, 1, 2)),))
+                        more=(("shape:square-9", 9, (0, 1, 2)),), explore_max_examples=100)
 
     def __init__(self, then=()) -> None:
         if then is None:
@@ -759,6 +778,23 @@ class Wang2020:
     def invariants(self) -> tuple:
         """Fresh runtime invariants (every access: a new J memory)."""
         return make_invariants()
+
+    @staticmethod
+    def progress_measure(ids, poses, states) -> float:
+        """The omniscient observer's goal measure for the ``oscillation`` property's no-progress rule
+        (deadlock / livelock): ``-(J1 + J2)`` (004 Sec. IV-B; higher is closer, 0 once formed).
+        Lemma IV-B.4 says the swarm is never stuck, Theorem IV-B.1 that J1 and J2 reach 0 almost
+        surely; a window in which the best ``-(J1 + J2)`` so far does not rise is a stall.  Before
+        every agent has chosen a goal (the start) the measure is ``-inf``.
+
+        >>> st = lambda cell, goal: (("cell", cell), ("wp", cell), ("goal", goal), ("spacing", 0.2))
+        >>> Wang2020.progress_measure([1, 2], [[0, 0, 0], [0.2, 0, 0]], [st((0, 0), (0, 2)), st((1, 0), (0, 2))])
+        -6.0
+        """
+        if not states or any(s is None or dict(s).get("goal") is None for s in states):
+            return float("-inf")
+        l = float(dict(states[0])["spacing"])
+        return -float(J1(poses, states, l) + J2(states))
 
     @staticmethod
     def team_multiple(target) -> int:
