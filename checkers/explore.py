@@ -549,9 +549,9 @@ def free_start_box(n: int, goals=None) -> list:
     in row order from its lower left corner (Hypothesis's smallest draws are its first cells).
 
     >>> free_start_box(4)[:3], len(free_start_box(4))
-    ([(-2, -2), (-1, -2), (0, -2)], 16)
-    >>> min(free_start_box(2, {(10, 10), (11, 10)}))
-    (9, 9)
+    ([(-1, -1), (0, -1), (1, -1)], 16)
+    >>> min(free_start_box(2, {(10, 10), (11, 10)})), max(free_start_box(2, {(10, 10), (11, 10)}))
+    ((10, 9), (12, 11))
     """
     side = max(2, int(math.ceil(math.sqrt(FREE_START_CELLS_PER_ROBOT * n))))
     if goals:
