@@ -116,3 +116,14 @@ def test_message_loss_and_delay_break_collision_freedom():
     late = _run(FaultModel(message_delay=4), row4, 0)
     assert late.violated and "overlap" in late.message
     assert not _run(None, row3, 0).violated and not _run(None, row4, 0).violated
+
+
+GRID_MULTIPLE = scenario_strategy((2, 8), ["shape:square-9"], {"shape:square-9": 0.6}, grid_spacing=0.2,
+                                  team_multiple={"shape:square-9": 3})
+
+
+@settings(max_examples=25, derandomize=True, database=None, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(GRID_MULTIPLE)
+def test_the_grid_branch_honours_team_multiple(scn):
+    assert scn.n in (3, 6) and len({(round(x / 0.2), round(y / 0.2)) for x, y, _ in scn.poses}) == scn.n
