@@ -48,7 +48,7 @@ from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
 __all__ = ["explore_properties", "PERIODIC_LATTICES", "ExploreReport", "PropertyVerdict", "Scenario",
-           "explore", "judge", "run_and_judge", "run_scenario"]
+           "explore", "judge", "run_and_judge", "run_scenario", "free_start_box"]
 
 def explore_properties() -> tuple[str, ...]:
     """The properties the explorer judges by default: every registered one, in
@@ -541,10 +541,37 @@ def place_robot(pts: Sequence[tuple], parent: int, dist: float, ang: float, min_
     return None
 
 
+#: Free starts (an algorithm with its own ``initial``): robots stand on distinct cells of a square box
+#: of about ``FREE_START_CELLS_PER_ROBOT`` cells per robot around the goals (docs/decisions.md).
+FREE_START_CELLS_PER_ROBOT = 4
+
+
+def free_start_box(n: int, goals=None) -> list:
+    """The cells a free start of ``n`` grid robots is drawn from: a square of side
+    ``ceil(sqrt(4 n))`` cells centred on the goal cells' centre of mass (on (0, 0) without goals),
+    in row order from its lower left corner (Hypothesis's smallest draws are its first cells).
+
+    >>> free_start_box(4)[:3], len(free_start_box(4))
+    ([(-1, -1), (0, -1), (1, -1)], 16)
+    >>> min(free_start_box(2, {(10, 10), (11, 10)})), max(free_start_box(2, {(10, 10), (11, 10)}))
+    ((10, 9), (12, 11))
+    """
+    side = max(2, int(math.ceil(math.sqrt(FREE_START_CELLS_PER_ROBOT * n))))
+    if goals:
+        cx = sum(c[0] for c in goals) / len(goals)
+        cy = sum(c[1] for c in goals) / len(goals)
+    else:
+        cx = cy = 0.0
+    ox = int(math.floor(cx - (side - 1) / 2.0 + 0.5))
+    oy = int(math.floor(cy - (side - 1) / 2.0 + 0.5))
+    return [(ox + i, oy + j) for j in range(side) for i in range(side)]
+
+
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
                       fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None,
                       grid_spacing: float | None = None, team_multiple: Mapping[str, int] | None = None,
-                      algorithm=None):
+                      targets: Mapping[str, Any] | None = None, scale_target: Callable | None = None,
+                      free_starts: bool = False, algorithm=None):
     """A Hypothesis strategy of connected :class:`Scenario` objects.
 
     Robot 0 of the construction sits at the origin with a drawn heading;
@@ -569,12 +596,19 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
     (robots are placed in order, so the start stays connected), and a team below k is redrawn.
     ``grid_spacing``: for ``motion="grid"`` algorithms, robots stand on distinct
     cells; each further robot is ``(parent, dx, dy)``, a cell offset within
-    the range of an earlier robot (the start is connected), heading 0.
+    the range of an earlier robot (the start is connected), heading 0; ``team_multiple``
+    drops the last ones down to a multiple of k here too.
+    ``free_starts`` (grid only; an algorithm whose paper starts from any distinct cells, e.g. 004
+    Sec. V-A): n is drawn from ``robots`` and the n robots stand on distinct cells drawn from
+    :func:`free_start_box` around the goals (not necessarily connected).
+    ``scale_target`` (with ``targets``, label -> target): the algorithm's
+    ``scale_target(target, n)``; the scenario's robots run toward the target scaled to n (004:
+    |Q| = |A|), and the free-start box is centred on that goal set.
     ``algorithm``: its class may draw scenarios of its own kind: ``explore_start(draw, lo, hi,
     phi)`` returns start poses (or None for the construction above: 003's symmetric and
     near-symmetric starts, where leader ties really happen), and ``explore_extra(draw, n)``
-    returns a dict of parameters for ``Params.extra`` (003's failures at any step, positioning
-    errors), kept in the scenario and in its counterexample file, so a replay runs them again.
+    returns a dict of parameters for ``Params.extra`` (003's failures at any step), kept in the
+    scenario and in its counterexample file, so a replay runs them again.
     """
     from hypothesis import assume
     from hypothesis import strategies as st
@@ -592,6 +626,26 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
         # draws, tried first and shrunk toward, are the most stretched links
         longest = MAX_LINK_FRACTION * phi
         dist = st.floats(0.0, longest - min_sep).map(lambda slack: longest - slack)
+        if grid_spacing is not None and free_starts:
+            n = draw(st.integers(lo, hi))
+            goals = None
+            if targets is not None and lat in targets:
+                tgt = targets[lat]
+                if scale_target is not None:
+                    tgt = scale_target(tgt, n)
+                cells_of = getattr(tgt, "cells", None)
+                if cells_of is not None:
+                    origin = getattr(tgt, "origin", (0.0, 0.0))
+                    oi, oj = int(round(origin[0] / grid_spacing)), int(round(origin[1] / grid_spacing))
+                    goals = [(oi + i, oj + j) for i, j in cells_of]
+            box = free_start_box(n, goals)
+            picks = draw(st.lists(st.integers(0, len(box) - 1), unique=True, min_size=n, max_size=n))
+            cells = [box[k] for k in picks]
+            perm = draw(st.permutations(list(range(n))))
+            seed = draw(st.integers(0, 1000))
+            poses = tuple((cx * grid_spacing, cy * grid_spacing, 0.0) for cx, cy in cells)
+            faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
+            return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
         if grid_spacing is not None:
             reach = max(1, int(math.floor(MAX_LINK_FRACTION * phi / grid_spacing)))
             offs = st.integers(-reach, reach)
@@ -603,6 +657,11 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
                 c = (cells[parent % k][0] + dx, cells[parent % k][1] + dy)
                 assume(c not in cells)
                 cells.append(c)
+            k_mult = (team_multiple or {}).get(lat, 1)
+            if k_mult > 1:
+                keep = len(cells) - len(cells) % k_mult
+                assume(keep >= k_mult)
+                cells = cells[:keep]
             n = len(cells)
             perm = draw(st.permutations(list(range(n))))
             seed = draw(st.integers(0, 1000))
@@ -971,9 +1030,14 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         first = build_params(algo, phi_of[lats[0]], rng_robots[1], extra=params.get("extra"))
         grid_spacing = float((first.extra or {}).get("grid_spacing", 1.0))
     multiple = getattr(spec.factory, "team_multiple", None)
-    team_multiple = {name: int(multiple(g)) for name, g in loaded.items()} if callable(multiple) else None
+    scale = getattr(algo, "scale_target", None)
+    scale = scale if callable(scale) else None
+    # an algorithm with its own start (004: any distinct waypoints) gets free starts on the grid
+    free = grid_spacing is not None and callable(getattr(algo, "initial", None))
+    team_multiple = ({name: int(multiple(g)) for name, g in loaded.items()}
+                     if callable(multiple) and scale is None else None)
     strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing, team_multiple,
-                                 algorithm=spec.factory)
+                                 targets=loaded, scale_target=scale, free_starts=free, algorithm=spec.factory)
 
     for prop in props:
         t0, c0 = time.monotonic(), time.process_time()
@@ -991,6 +1055,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                   stats["hit"] = True
                   raise _BudgetSpent()
               lattice = loaded[scn.lattice]
+              if scale is not None:
+                  lattice = scale(lattice, scn.n)     # the algorithm's target for n robots (004: |Q| = |A|)
               algo_n = spec.build(n_robots=scn.n)
               extra = {**dict(params.get("extra") or {}), **dict(scn.extra)} if scn.extra else params.get("extra")
               p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v") if scn.v is None else scn.v,

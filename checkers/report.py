@@ -601,8 +601,8 @@ def section_exploration(*, algorithms=None, properties=None,
     exploration, :func:`verify_subjects`; ``algorithms`` names them, or
     ``subjects`` gives them) and each property (default every registered one
     when this runs, :func:`~swarmproof.checkers.explore.explore_properties`) one
-    :func:`~swarmproof.checkers.explore.explore` run with ``max_examples``,
-    ``robots`` and ``seed``.  No wall-clock limit by default
+    :func:`~swarmproof.checkers.explore.explore` run with ``max_examples`` (or fewer: the
+    plan's ``explore_max_examples``), ``robots`` and ``seed``.  No wall-clock limit by default
     (:data:`VERIFY_EXPLORE_BUDGET`, read when the section runs, as is
     :data:`VERIFY_EXPLORE_SECTION_BUDGET`): a ``budget`` per property or a
     ``section_budget`` may be given; once ``section_budget`` seconds are
@@ -625,10 +625,10 @@ def section_exploration(*, algorithms=None, properties=None,
     rows = []
     for subj in subjects:
         algo, claims = subj.label, subj.claims
+        cap = getattr(subj.plan, "explore_max_examples", None)
+        n_examples = max_examples if cap is None else min(int(max_examples), int(cap))
         for prop in props:
-            own = getattr(subj.plan, "explore_examples", None) if subj.plan is not None else None
-            examples = int(own) if own and max_examples == VERIFY_EXPLORE_MAX_EXAMPLES else max_examples
-            kw = dict(max_examples=examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
+            kw = dict(max_examples=n_examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
             left = deadline - time.monotonic()
             if left <= 0:
                 rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw,
@@ -639,9 +639,9 @@ def section_exploration(*, algorithms=None, properties=None,
             if progress:
                 def show(_p, k, total, algo=algo, prop=prop):
                     progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
-                show(prop, 0, examples)
+                show(prop, 0, n_examples)
             used = None if budget is None and math.isinf(left) else min(math.inf if budget is None else budget, left)
-            rep = explore(subj.ref, [prop], budget=used, max_examples=examples,
+            rep = explore(subj.ref, [prop], budget=used, max_examples=n_examples,
                           robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
             doc = rep.as_dict()
             assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),

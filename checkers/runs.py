@@ -97,6 +97,11 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
+    Two optional hooks of the algorithm come first: ``scale_target(target, n)`` gives the target
+    it runs toward with ``n`` robots (004: the shape scaled to n goal cells), and
+    ``initial(n, seed, params, target)`` its own seeded start instead of the connected one
+    (004: distinct random waypoints of an arena).  ``CheckedRun.lattice`` is the target run.
+
     The JSON document keeps every field it had for lattices and adds
     ``target{kind, name}``, ``satisfied`` (the target's verdict on the final
     configuration: true, false, or null when inconclusive) and ``metrics{}``
@@ -157,7 +162,15 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     from swarmproof.reference_impl.engine.run import check_team_size
 
     check_team_size(algorithm, n)          # before drawing a start: bounded on any input
+    scale = getattr(algorithm, "scale_target", None)
+    if callable(scale):
+        # the algorithm's own target for n robots (004 Sec. V-A: the figure scaled to |A| goals)
+        lattice = scale(lattice, n)
     params = build_params(algorithm, phi, n, v=v, omega=omega, dt=dt, extra=extra)
+    start = getattr(algorithm, "initial", None)
+    if initial is None and callable(start):
+        # the algorithm's own start (004 Sec. V-A: distinct random waypoints of an arena)
+        initial = start(n, seed, params, lattice)
     if initial is None:
         if getattr(algorithm.model, "motion", None) == "grid":
             initial = initial_mod.random_grid_connected(robots, seed, range=phi,

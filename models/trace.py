@@ -398,8 +398,10 @@ class Trace:
             d = self.as_dict()
             rest = {k: v for k, v in d.items() if k not in ("poses", "present")}
             buf = io.BytesIO()
+            # the JSON header as UTF-8 bytes: a numpy string array holds at most 2**31 bytes, which
+            # the states of a few hundred agents over thousands of steps exceed (004 at n = 256)
             arrays = {"poses": self.poses, "ids": self.ids,
-                      "header": np.array(dumps_json(rest))}
+                      "header": np.frombuffer(dumps_json(rest).encode("utf-8"), dtype=np.uint8)}
             if self.present is not None:
                 arrays["present"] = self.present
             np.savez_compressed(buf, **arrays)
@@ -415,7 +417,9 @@ class Trace:
         if path.endswith(".npz"):
             try:
                 with np.load(path, allow_pickle=False) as z:
-                    rest = json.loads(str(z["header"]))
+                    head = z["header"]
+                    # UTF-8 bytes (current) or a numpy string (files written before)
+                    rest = json.loads(head.tobytes().decode("utf-8") if head.dtype == np.uint8 else str(head))
                     rest["poses"] = z["poses"]
                     rest["present"] = z["present"] if "present" in z.files else None
             except (OSError, ValueError, KeyError) as exc:

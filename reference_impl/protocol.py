@@ -311,10 +311,10 @@ class VerifyPlan:
     more : tuple of (target, robots, seeds)
         Further ``algorithms`` rows at other sizes: a finding that only shows there
         (song2016: the one-step-lag tree-link break of square n = 20, seed 1).
-    explore_examples : int or None
-        Examples per exploration row for this algorithm (default: verify's 300): an
-        algorithm whose runs are long (003: agreement, switching and failures per scenario)
-        explores fewer, so ``make verify`` stays under 10 minutes; the row says how many.
+    explore_max_examples : int, optional
+        At most this many Hypothesis examples per ``exploration`` row of this algorithm
+        (fewer than the gate's when its runs are long: 004's asynchronous agents take
+        hundreds of ticks; still a count, never a clock).  None: the gate's number.
 
     >>> VerifyPlan(("square",)).robots
     10
@@ -328,7 +328,7 @@ class VerifyPlan:
     explore: bool = True
     rank: int = 100
     more: tuple = ()
-    explore_examples: int | None = None
+    explore_max_examples: int | None = None
 
     def runs(self) -> tuple:
         """``(target, robots, seeds)`` of every ``algorithms`` row group, in report order."""

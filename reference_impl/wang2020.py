@@ -59,7 +59,7 @@ from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
 
 __all__ = ["Wang2020", "Wang2020Controller", "WangMsg", "manhattan", "lex_greater", "default_params",
-           "J1", "J2", "INVARIANT_NAMES"]
+           "J1", "J2", "INVARIANT_NAMES", "window_bound"]
 
 #: Alg. 2 lines 9 and 11: the surroundings in the printed order (x - l, y), (x, y - l), (x + l, y), (x, y + l).
 SURROUNDINGS = ((-1, 0), (0, -1), (1, 0), (0, 1))
@@ -455,14 +455,31 @@ def _same_clock_rate(params: Params, n, ids):
     return None if lo == hi else f"clock_rate_min={lo!r} != clock_rate_max={hi!r}"
 
 
+def window_bound(params: Params) -> float:
+    """004 Sec. V-B3's least Delta t, in local clock units: ``(2 m / f_comm) (f_max / f_min)`` with
+    ``1 / f_comm = broadcast_every``, ``m = loss_repeats`` (a message sent m times in a row reaches
+    every neighbour; default 1, no loss) and the clock rates ``clock_rate_min`` / ``clock_rate_max``.
+
+    >>> window_bound(default_params()), window_bound(Params(range=0.6, extra={"broadcast_every": 2,
+    ...     "clock_rate_min": 1.0, "clock_rate_max": 2.0, "loss_repeats": 3}))
+    (4.0, 24.0)
+    """
+    ex = params.extra
+    every = float(ex.get("broadcast_every", 1.0))
+    lo = float(ex.get("clock_rate_min", 1.0))
+    hi = float(ex.get("clock_rate_max", lo))
+    m = float(ex.get("loss_repeats", 1))
+    return 2.0 * m * every * (hi / lo)
+
+
 def _window(params: Params, n, ids):
-    every = float(params.extra.get("broadcast_every", 1.0))
-    lo = float(params.extra.get("clock_rate_min", 1.0))
-    hi = float(params.extra.get("clock_rate_max", lo))
-    need = 2.0 * every * (hi / lo)
+    need = window_bound(params)
     dt = delta_t_of(params)
-    return None if dt >= need - 1e-12 else (f"delta_t={dt!r} < 2/f_comm * f_max/f_min = {need:.6g} "
-                                            f"(broadcast_every={every!r})")
+    ex = params.extra
+    return None if dt >= need - 1e-12 else (
+        f"delta_t={dt!r} < 2/f_comm * f_max/f_min * m = {need:.6g} (broadcast_every="
+        f"{ex.get('broadcast_every', 1.0)!r}, loss_repeats={ex.get('loss_repeats', 1)!r}, clock_rate_min="
+        f"{ex.get('clock_rate_min', 1.0)!r}, clock_rate_max={ex.get('clock_rate_max', ex.get('clock_rate_min', 1.0))!r})")
 
 
 def _beta(params: Params, n, ids):
@@ -540,7 +557,7 @@ ASSUMPTIONS = (
     Assumption("grid_spacing_bounds", "2 sqrt(2) r <= l <= R / 2", "004 Sec. III-A", _spacing_bounds),
     Assumption("same_clock_frequency", "every agent has the same clock frequency (phases arbitrary)",
                "004 Sec. II-A a)", _same_clock_rate),
-    Assumption("message_window", "Delta t >= 2 / f_comm (x f_max / f_min when rates differ)",
+    Assumption("message_window", "Delta t >= (2 m / f_comm) (f_max / f_min) (m = 1, equal rates: 2 / f_comm)",
                "004 Alg. 2 line 6, Lemma IV-A.1, Sec. V-B3", _window),
     Assumption("beta_in_unit_interval", "0 < beta < 1", "004 Alg. 2 input, Alg. 4 line 16", _beta),
     Assumption("own_waypoint", "each agent starts on its own waypoint", "004 Theorems IV-A.1/IV-A.2",
@@ -747,9 +764,10 @@ class Wang2020:
     #: ``premises`` property): claims distinct and no swap, distinct priorities within R, waited
     #: longer than the window, every neighbour within R heard (invariants/premises.py).
     premise_monitors = ("grid_claims", "grid_priorities", "grid_waited", "grid_heard")
-    #: No exploration rows yet: the explorer must first draw exactly |Q| robots on cells (issue 15).
-    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=False, rank=30,
-                        more=(("shape:square-9", 9, (0, 1, 2)),))
+    # exploration rows: 100 examples each (a scenario is hundreds of asynchronous ticks; 300 would
+    # add about 4 minutes to `swarmproof verify`, docs/wang2020.md)
+    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
+                        more=(("shape:square-9", 9, (0, 1, 2)),), explore_max_examples=100)
 
     def __init__(self, then=()) -> None:
         if then is None:
@@ -769,6 +787,23 @@ class Wang2020:
         return make_invariants()
 
     @staticmethod
+    def progress_measure(ids, poses, states) -> float:
+        """The omniscient observer's goal measure for the ``oscillation`` property's no-progress rule
+        (deadlock / livelock): ``-(J1 + J2)`` (004 Sec. IV-B; higher is closer, 0 once formed).
+        Lemma IV-B.4 says the swarm is never stuck, Theorem IV-B.1 that J1 and J2 reach 0 almost
+        surely; a window in which the best ``-(J1 + J2)`` so far does not rise is a stall.  Before
+        every agent has chosen a goal (the start) the measure is ``-inf``.
+
+        >>> st = lambda cell, goal: (("cell", cell), ("wp", cell), ("goal", goal), ("spacing", 0.2))
+        >>> Wang2020.progress_measure([1, 2], [[0, 0, 0], [0.2, 0, 0]], [st((0, 0), (0, 2)), st((1, 0), (0, 2))])
+        -6.0
+        """
+        if not states or any(s is None or dict(s).get("goal") is None for s in states):
+            return float("-inf")
+        l = float(dict(states[0])["spacing"])
+        return -float(J1(poses, states, l) + J2(states))
+
+    @staticmethod
     def team_multiple(target) -> int:
         """004 Sec. II-C: |A| = |Q|."""
         return len(getattr(target, "cells", ()) or (0,))
@@ -785,7 +820,139 @@ class Wang2020:
                              fix="e.g. --target shape:letter-l")
         l = float(params.extra.get("grid_spacing", 1.0))
         shapes = (goal_cells(target, l),) + tuple(goal_cells(g, l) for g in self.then)
+        self._goals = shapes[0]           # metrics(): the centralized optimum toward the run's target
         return self.controller_class(robot_id, params, shapes, rng)
+
+    # -- hooks of the checkers: the target and the start of a run (004 Sec. V-A) ----------------
+
+    @staticmethod
+    def scale_target(target, n: int):
+        """The goal set for ``n`` agents: 004 Sec. V-A, "the figure is scaled such that the number
+        of goal pixels on the figure equals the number of agents" (|Q| = |A|, Sec. II-C).
+
+        A goal set that already has ``n`` cells is returned as it is (the bundled ``square-9`` at
+        9 agents); any other is rescaled by :func:`swarmproof.models.shapes.scale_to` (connected,
+        exactly ``n`` cells, deterministic), keeping its name, spacing, origin and range.
+
+        >>> from swarmproof.models.targets import resolve_target
+        >>> g = Wang2020.scale_target(resolve_target("shape:letter-l"), 12)
+        >>> g.name, len(g.cells), Wang2020.scale_target(g, 12) is g
+        ('letter-l', 12, True)
+        """
+        cells = getattr(target, "cells", None)
+        if cells is None or len(cells) == int(n):
+            return target
+        import dataclasses
+
+        from swarmproof.models.shapes import scale_to
+
+        return dataclasses.replace(target, cells=scale_to(cells, int(n)))
+
+    @staticmethod
+    def arena_size(params: Params) -> tuple:
+        """``(width, height)`` in waypoints of the arena starts are drawn from: ``params.extra
+        ["arena"]`` (an int side, ``"WxH"`` or a pair), default
+        :data:`swarmproof.models.shapes.DEFAULT_ARENA` (32 x 32; 004 Sec. V-A's "fixed-size arena"
+        has no stated size: docs/decisions.md).
+
+        >>> Wang2020.arena_size(default_params()), Wang2020.arena_size(Params(range=0.6, extra={"arena": "40x20"}))
+        ((32, 32), (40, 20))
+        """
+        from swarmproof.models.errors import UsageError
+        from swarmproof.models.shapes import DEFAULT_ARENA
+
+        a = params.extra.get("arena", DEFAULT_ARENA)
+        try:
+            if isinstance(a, str):
+                w, _, h = a.lower().partition("x")
+                size = (int(w), int(h or w))
+            elif isinstance(a, (int, np.integer)) and not isinstance(a, bool):
+                size = (int(a), int(a))
+            else:
+                size = (int(a[0]), int(a[1]))
+        except (TypeError, ValueError, IndexError):
+            size = None
+        if size is None or min(size) < 1:
+            raise UsageError(f"arena={a!r} is not an arena size", fix="give --param arena=SIDE or --param arena=WxH "
+                             "(waypoints), e.g. arena=32")
+        return size
+
+    def initial(self, n: int, seed: int, params: Params, target):
+        """The start of a run (the checkers' hook, used instead of a connected start): ``n``
+        distinct waypoints drawn uniformly from the arena centred on the goal set's centre of mass
+        (004 Sec. V-A: "a random initialization" in "a fixed-size arena"; Fig. 11: "a uniform
+        random distribution centered at the shape's center of mass"), from
+        ``numpy.random.default_rng(seed)``.
+
+        Raises
+        ------
+        UsageError
+            More agents than the arena holds, naming ``n`` and the arena.
+
+        >>> from swarmproof.models.targets import resolve_target
+        >>> init = Wang2020().initial(5, 0, default_params(), resolve_target("shape:letter-l"))
+        >>> init.n, len({tuple(p[:2]) for p in init.poses.tolist()})
+        (5, 5)
+        """
+        from swarmproof.models.errors import UsageError
+        from swarmproof.models.shapes import centered_arena, random_start_cells
+        from swarmproof.models.trace import InitialConfiguration
+
+        l = float(params.extra.get("grid_spacing", 1.0))
+        w, h = self.arena_size(params)
+        arena = centered_arena(goal_cells(target, l), w, h)
+        try:
+            cells = random_start_cells(int(n), arena, np.random.default_rng(seed))
+        except UsageError as exc:
+            raise UsageError(exc.message, fix=f"give at most {w * h} robots (--robots), or a larger arena "
+                                 f"(--param arena=SIDE or WxH, now {w}x{h})") from None
+        return InitialConfiguration(list(range(int(n))), [[l * i, l * j, 0.0] for i, j in cells])
+
+    def metrics(self, result) -> dict:
+        """004's figures of a finished run (Sec. IV-B, V-A, Fig. 10):
+
+        * ``J1``, ``J2``: the final values (:func:`J1`, :func:`J2`; both 0 once the shape formed);
+        * ``optimal_distance``: the centralized optimum, the distance-optimal assignment of the
+          start waypoints to the run's goal set (:func:`swarmproof.models.assignment.optimal_assignment`),
+          in metres (cells x grid length);
+        * ``distance_ratio``: ``total_distance / optimal_distance`` (Sec. V-A: "only around 20%
+          more"); None when the optimum is 0;
+        * ``constraint_violations``: how many recorded steps broke Constraint III-A.1 or III-A.2
+          (the ``constraint_vertex`` / ``constraint_edge`` invariants; 0 is what Theorems
+          IV-A.1/2 claim), and ``constraint_steps_checked``, how many steps were looked at (a
+          sparse trace, ``--record-every K``, is counted on what it kept).
+        """
+        from swarmproof.invariants.metrics import total_distance
+        from swarmproof.models.assignment import optimal_assignment
+
+        trace = result.trace
+        states = tuple(result.final_states)
+        l = float(dict(states[0])["spacing"]) if states and states[0] is not None else 1.0
+        live = [(p, s) for p, s in zip(result.final_poses, states) if s is not None and dict(s)["goal"] is not None]
+        j1 = J1([p for p, _ in live], [s for _, s in live], l) if live else None
+        j2 = J2([s for _, s in live]) if live else None
+        starts = [(int(round(x / l)), int(round(y / l))) for x, y in np.asarray(trace.poses[0])[:, :2].tolist()]
+        goals = list(getattr(self, "_goals", ()) or ())
+        opt = ratio = None
+        if goals and len(goals) == len(starts):
+            opt = float(optimal_assignment(starts, goals, spacing=l).total)
+            ratio = None if opt == 0 else float(total_distance(trace)) / opt
+        checks = {inv.name: inv for inv in make_invariants()}
+        vertex, edge = checks["constraint_vertex"].check, checks["constraint_edge"].check
+        present = trace.present
+        ids = np.asarray(trace.ids)
+        bad = 0
+        for k in range(len(trace.poses)):
+            mask = np.ones(len(ids), bool) if present is None else np.asarray(present[k], bool)
+            sts = tuple(s for s, m in zip(trace.states[k], mask) if m)
+            if not sts or any(s is None or dict(s)["cell"] is None for s in sts):
+                continue
+            t = int(trace.times[k]) if getattr(trace, "times", None) else k
+            pos = np.asarray(trace.poses[k])[mask]
+            if vertex(t, ids[mask], pos, sts) is not None or edge(t, ids[mask], pos, sts) is not None:
+                bad += 1
+        return {"J1": j1, "J2": j2, "optimal_distance": opt, "distance_ratio": ratio,
+                "constraint_violations": bad, "constraint_steps_checked": len(trace.poses)}
 
     def finished(self, states) -> bool:
         live = [dict(s) for s in states if s is not None]

@@ -178,6 +178,7 @@ def run(args) -> int:
     trace, result, sat, conn, links, term = (checked.result.trace, checked.result, checked.satisfaction,
                                              checked.connectivity, checked.tree_links, checked.termination)
     algorithm, init, phi, q = checked.algorithm, checked.initial, doc["range"], doc["fulfillment_ratio"]
+    lattice = checked.lattice   # the target as run (an algorithm may scale a shape to --robots)
     if args.trace is not None:
         doc["trace"] = trace.save(args.trace)
     if args.plot is not None:

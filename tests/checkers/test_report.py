@@ -200,13 +200,14 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
     monkeypatch.setattr(explore_mod, "explore", fake_explore)
     rows = section_exploration(max_examples=7)
     assert calls == [(a, (p,), 7, (3, 8), 0, None)
-                     for a in ("song2016", "song2014", "jiang", "leechong-leader", "leechong-neighbor",
+                     for a in ("song2016", "song2014", "jiang", "wang2020", "leechong-leader", "leechong-neighbor",
                                "example-anonymous-line", "example-grid-goals")
                      for p in ("connectivity", "termination")]
     assert [(r.subject, r.property, r.claimed) for r in rows] == [
         ("song2016 n=3..8", "connectivity", True), ("song2016 n=3..8", "termination", True),
         ("song2014 n=3..8", "connectivity", False), ("song2014 n=3..8", "termination", False),
         ("jiang n=3..8", "connectivity", False), ("jiang n=3..8", "termination", True),
+        ("wang2020 n=3..8", "connectivity", False), ("wang2020 n=3..8", "termination", True),
         ("leechong-leader n=3..8", "connectivity", False), ("leechong-leader n=3..8", "termination", True),
         ("leechong-neighbor n=3..8", "connectivity", False), ("leechong-neighbor n=3..8", "termination", True),
         ("example-anonymous-line n=3..8", "connectivity", False),
@@ -271,5 +272,5 @@ def test_a_plan_may_explore_fewer_examples(monkeypatch):
 
     monkeypatch.setattr(explore_mod, "explore", lambda algo, props, **kw: seen.append((algo, kw["max_examples"])) or _Rep())
     rows = section_exploration(algorithms=["leechong-leader", "song2014"])
-    assert seen == [("leechong-leader", 25), ("song2014", 300)]
+    assert seen == [("leechong-leader", 25), ("song2014", 300)]     # VerifyPlan.explore_max_examples
     assert "--max-examples 25" in rows[0].data["reproduce"]

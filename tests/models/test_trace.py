@@ -41,6 +41,19 @@ def test_round_trip(tmp_path, name):
     assert back.messages == [{5: ("hi", (1, 2))}] and back.events == t.events
 
 
+def test_npz_header_is_utf8_bytes_and_old_string_headers_still_load(tmp_path):
+    """The NPZ header is UTF-8 bytes (a numpy string array stops at 2**31 bytes: a 256-agent 004
+    trace crashed there); files written with a string header still load."""
+    t = _trace()
+    path = t.save(tmp_path / "t.npz")
+    with np.load(path) as z:
+        assert z["header"].dtype == np.uint8
+        old = {k: z[k] for k in z.files}
+    old["header"] = np.array(old["header"].tobytes().decode("utf-8"))
+    np.savez_compressed(tmp_path / "old.npz", **old)
+    assert Trace.load(tmp_path / "old.npz").to_json() == t.to_json()
+
+
 BAD = [
     ("not-json", "{", r"t\.json:1: not valid JSON"),
     ("wrong-format", json.dumps({"format": "swarmproof-trace/9", "ids": [], "poses": [], "states": []}),

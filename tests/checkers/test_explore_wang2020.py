@@ -1,0 +1,129 @@
+"""The explorer on wang2020 (004 = Wang & Rubenstein 2020, issue 15): its scenarios, a small
+counterexample and its replay, and the negative control of Sec. V-B3's bound on Delta t."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+
+from swarmproof.checkers.explore import explore, free_start_box, scenario_strategy
+from swarmproof.models.shapes import connected
+from swarmproof.models.targets import resolve_target
+from swarmproof.reference_impl.wang2020 import Wang2020, window_bound
+
+TARGETS = {"shape:letter-l": resolve_target("shape:letter-l"), "shape:square-9": resolve_target("shape:square-9")}
+STRATEGY = scenario_strategy((3, 8), list(TARGETS), {k: 0.6 for k in TARGETS}, grid_spacing=0.2,
+                             targets=TARGETS, scale_target=Wang2020.scale_target, free_starts=True)
+
+
+@settings(max_examples=40, derandomize=True, database=None, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(STRATEGY)
+def test_scenarios_put_one_agent_per_goal_on_distinct_cells(scn):
+    """|A| = |Q| (Sec. II-C): n drawn in 3..8, the target scaled to n (connected), distinct start
+    waypoints drawn from the box around the goals."""
+    goals = Wang2020.scale_target(TARGETS[scn.lattice], scn.n)
+    assert 3 <= scn.n <= 8 and len(goals.cells) == scn.n and connected(goals.cells)
+    cells = [(round(x / 0.2), round(y / 0.2)) for x, y, _ in scn.poses]
+    assert len(set(cells)) == scn.n
+    assert set(cells) <= set(free_start_box(scn.n, sorted(goals.cells)))
+    assert sorted(scn.ids) == list(range(scn.n))
+
+
+def test_explore_finds_the_non_atomic_handshake_and_replays_it(tmp_path, capsys):
+    """Lemma IV-B.2 (J2 never rises) breaks on a 3-agent scenario: the server takes the client's
+    goal first, so for a moment two agents hold one goal.  The file replays (exit 1)."""
+    rep = explore("wang2020", ["invariants"], budget=None, max_examples=10, robots=(3, 8), seed=0,
+                  out_dir=tmp_path)
+    v = rep.properties["invariants"]
+    assert v.status == "violated" and len(v.counterexample.robots) == 3
+    assert "j_monotone" in v.message and "J2 rose from 0 to 1" in v.message and "'server'" in v.message
+    from swarmproof.cli import main
+
+    code = main(["replay", v.counterexample_path, "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 1 and doc["reproduced"] is True and doc["property"] == "invariants"
+    assert doc["step"] == v.counterexample.violation["step"]
+    cx = json.load(open(v.counterexample_path))
+    assert cx["target"]["kind"] == "shape" and len(cx["target"]["cells"]) == 3   # the scaled goal set
+
+
+def test_explore_claims_and_no_progress_measure():
+    rep = explore("wang2020", ["collision"], budget=None, max_examples=5, robots=(3, 4), seed=1)
+    assert rep.properties["collision"].status == "held" and rep.claims["collision"].startswith("004")
+    assert rep.broken_assumptions == [] and "message_window" in rep.kept_assumptions
+    # J1 + J2 as the oscillation property's no-progress measure (deadlock / livelock)
+    st = (("cell", (0, 0)), ("wp", (0, 0)), ("goal", (3, 0)), ("spacing", 0.2))
+    assert Wang2020.progress_measure([1], np.zeros((1, 3)), (st,)) == -3.0
+
+
+SPREAD = {"clock_rate_min": 1.0, "clock_rate_max": 2.0}
+
+
+def test_window_bound_negative_control_below_the_bound_collides():
+    """Sec. V-B3: Delta t >= (2 m / f_comm)(f_max / f_min) = 2 * 2 * 2 = 8 here; at Delta t = 1 (below
+    it, allowed on purpose) the explorer finds two agents' discs overlapping."""
+    params = {"extra": {**SPREAD, "delta_t": 1}}
+    from swarmproof.reference_impl.protocol import Params
+
+    assert window_bound(Params(range=0.6, extra={"broadcast_every": 2.0, **SPREAD})) == 8.0
+    rep = explore("wang2020", ["collision"], budget=None, max_examples=20, robots=(3, 8), seed=0,
+                  params=params, allow_violations=True)
+    v = rep.properties["collision"]
+    assert set(rep.broken_assumptions) == {"same_clock_frequency", "message_window"}
+    assert v.status == "violated" and "overlap" in v.message and len(v.counterexample.robots) <= 4
+
+
+def test_window_bound_at_the_bound_holds_over_what_it_ran():
+    params = {"extra": {**SPREAD, "delta_t": 8}}
+    rep = explore("wang2020", ["collision"], budget=None, max_examples=15, robots=(3, 6), seed=0,
+                  params=params, allow_violations=True)
+    assert rep.broken_assumptions == ["same_clock_frequency"]     # Sec. II-A; V-B3 relaxes it
+    assert rep.properties["collision"].status == "held"
+
+
+def test_the_explorer_refuses_a_broken_window_unless_allowed():
+    from swarmproof.models.errors import UsageError
+
+    with pytest.raises(UsageError, match=r"break the assumptions \['message_window'\] of 'wang2020'"):
+        explore("wang2020", ["collision"], budget=None, max_examples=2, params={"extra": {"delta_t": 1}})
+
+
+def _run(faults, n_cells, seed):
+    from swarmproof.checkers.explore import run_and_judge
+    from swarmproof.checkers.runs import build_params
+
+    target = Wang2020.scale_target(TARGETS["shape:letter-l"], len(n_cells))
+    params = build_params(Wang2020(), 0.6, len(n_cells))
+    poses = [(0.2 * i, 0.2 * j, 0.0) for i, j in n_cells]
+    return run_and_judge("wang2020", "collision", target, list(range(len(poses))), poses, params, seed=seed,
+                         allow_violations=True, faults=faults)[2]
+
+
+def test_message_loss_and_delay_break_collision_freedom():
+    """Counterexamples the explorer found (docs/wang2020.md): with half the deliveries lost (m = 1
+    assumed by Delta t = 4) or deliveries up to 4 steps late (Sec. V-B3 does not relax delay),
+    two agents head for one waypoint.  Without the fault the same scenarios hold."""
+    from swarmproof.reference_impl.engine import FaultModel
+
+    row3 = [(-1, -1), (0, -1), (1, -1)]
+    row4 = [(-1, -1), (0, -1), (1, -1), (2, -1)]
+    lost = _run(FaultModel(message_loss=0.5), row3, 0)
+    assert lost.violated and "overlap in step 14" in lost.message
+    late = _run(FaultModel(message_delay=4), row4, 0)
+    assert late.violated and "overlap" in late.message
+    assert not _run(None, row3, 0).violated and not _run(None, row4, 0).violated
+
+
+GRID_MULTIPLE = scenario_strategy((2, 8), ["shape:square-9"], {"shape:square-9": 0.6}, grid_spacing=0.2,
+                                  team_multiple={"shape:square-9": 3})
+
+
+@settings(max_examples=25, derandomize=True, database=None, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(GRID_MULTIPLE)
+def test_the_grid_branch_honours_team_multiple(scn):
+    assert scn.n in (3, 6) and len({(round(x / 0.2), round(y / 0.2)) for x, y, _ in scn.poses}) == scn.n

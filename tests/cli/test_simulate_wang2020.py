@@ -1,0 +1,144 @@
+"""`swarmproof simulate wang2020`: the shape scaled to --robots, the arena start, 004's metrics, and
+the bad inputs that exit 2 (issue 15; 004 = Wang & Rubenstein 2020)."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from swarmproof.cli import main
+from swarmproof.models.shapes import shape_for
+from swarmproof.models.trace import Trace
+
+METRICS = {"J1", "J2", "optimal_distance", "distance_ratio", "constraint_violations"}
+
+
+def run(capsys, *argv):
+    code = main(["simulate", "wang2020", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_json_trace_and_plot_with_the_shape_scaled_to_the_robots(capsys, tmp_path):
+    code, out, _ = run(capsys, "--shape", "letter-l", "--robots", "8", "--seed", "0", "--json",
+                       "--trace", str(tmp_path / "t.npz"), "--plot", str(tmp_path / "p.png"))
+    doc = json.loads(out)
+    assert code == 0, doc
+    assert {"satisfied", "min_separation", "total_distance", "metrics", "target"} <= set(doc)
+    m = doc["metrics"]
+    assert METRICS <= set(m)
+    assert doc["satisfied"] is True and doc["robots"] == 8 and m["cells"] == 8     # letter-l (5) scaled to 8
+    assert m["J1"] == 0 and m["J2"] == 0 and m["constraint_violations"] == 0
+    # every agent walks at least its Manhattan distance to its final goal: the optimum is a lower bound
+    assert m["optimal_distance"] > 0 and m["distance_ratio"] >= 1.0
+    assert doc["total_distance"] == pytest.approx(m["distance_ratio"] * m["optimal_distance"])
+    assert doc["min_separation"] >= 0.2 - 1e-9                      # 004 Theorems IV-A.1/2: l apart at rest
+    t = Trace.load(doc["trace"])
+    assert t.steps == doc["steps"] and t.n == 8
+    assert (tmp_path / "p.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # the start: distinct waypoints (not the connected start of other grid algorithms), seeded
+    cells = {tuple(c) for c in np.rint(t.poses[0][:, :2] / 0.2).astype(int).tolist()}
+    assert len(cells) == 8
+
+
+def test_the_start_is_the_seeded_arena_start():
+    from swarmproof.models.shapes import centered_arena
+    from swarmproof.models.targets import resolve_target
+    from swarmproof.reference_impl.wang2020 import Wang2020, default_params
+
+    g = Wang2020.scale_target(resolve_target("shape:letter-l"), 30)
+    a = Wang2020().initial(30, 4, default_params(), g)
+    b = Wang2020().initial(30, 4, default_params(), g)
+    c = Wang2020().initial(30, 5, default_params(), g)
+    assert np.array_equal(a.poses, b.poses) and not np.array_equal(a.poses, c.poses)
+    arena = centered_arena(g.cells, 32)
+    cells = [tuple(x) for x in np.rint(a.poses[:, :2] / 0.2).astype(int).tolist()]
+    assert len(set(cells)) == 30 and set(cells) <= arena
+
+
+def test_scaled_target_equals_shape_for(tmp_path):
+    from swarmproof.models.targets import resolve_target
+    from swarmproof.reference_impl.wang2020 import Wang2020
+
+    p = tmp_path / "t.txt"
+    p.write_text("###\n.#.\n.#.\n")
+    for text, name in ((str(p), str(p)), ("shape:letter-n", "letter-n"), ("shape:square-9", "square-9")):
+        for n in (9, 40):
+            assert Wang2020.scale_target(resolve_target(text), n).cells == shape_for(name, n).cells
+    sq = resolve_target("shape:square-9")
+    assert Wang2020.scale_target(sq, 9) is sq                    # kept as bundled at its own size
+
+
+@pytest.mark.parametrize("suffix", ["txt", "png"])
+def test_shape_files(capsys, tmp_path, suffix):
+    path = tmp_path / f"bar.{suffix}"
+    if suffix == "txt":
+        path.write_text("##\n##\n##\n")
+    else:
+        from PIL import Image
+
+        a = np.full((6, 6), 255, np.uint8)
+        a[1:5, 2:4] = 0
+        Image.fromarray(a).save(path)
+    code, out, _ = run(capsys, "--shape", str(path), "--robots", "6", "--seed", "0", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["satisfied"] is True and doc["metrics"]["cells"] == 6
+    assert doc["target"] == {"kind": "shape", "name": "bar"}
+
+
+def test_finding_shape_complete_detected_before_the_shape_formed(capsys, tmp_path):
+    """A finding (docs/wang2020.md): Sec. III-B's detection (a hop-count above |A|: no anchor left)
+    fires while a goal is free and no agent stands next to it, so every agent stops with J2 = 1."""
+    path = tmp_path / "bar.txt"
+    path.write_text("##\n##\n##\n")
+    code, out, _ = run(capsys, "--shape", str(path), "--robots", "6", "--seed", "1", "--json")
+    doc = json.loads(out)
+    assert code == 1 and doc["status"] == "finished" and doc["satisfied"] is False
+    assert doc["metrics"]["J2"] == 1 and doc["metrics"]["J1"] > 0 and doc["metrics"]["off_shape"] == 2
+
+
+def _disconnected(tmp_path):
+    p = tmp_path / "two.txt"
+    p.write_text("##..\n##.#\n")
+    return [str(p)]
+
+
+def _blank_png(tmp_path):
+    from PIL import Image
+
+    p = tmp_path / "blank.png"
+    Image.fromarray(np.full((5, 5), 255, np.uint8)).save(p)
+    return [str(p)]
+
+
+BAD = [
+    (lambda tp: ["--shape", *_disconnected(tp), "--robots", "6"],
+     r"two\.txt: the shape is not connected: 2 separate parts .*; fix: join the parts"),
+    (lambda tp: ["--shape", *_blank_png(tp), "--robots", "6"],
+     r"blank\.png: the shape has no dark pixel .*there is no goal cell; fix: draw the shape"),
+    (lambda tp: ["--shape", "letter-n", "--robots", "1025"],
+     r"n=1025 robots is more than the arena=32x32 holds \(1024 free cells\); fix: give at most 1024 robots "
+     r"\(--robots\), or a larger arena \(--param arena="),
+    (lambda tp: ["--shape", "letter-l", "--robots", "10", "--param", "arena=3"],
+     r"n=10 robots is more than the arena=3x3 holds"),
+    (lambda tp: ["--shape", "letter-l", "--robots", "5", "--param", "grid_spacing=0.05"],
+     r"assumption 'grid_spacing_bounds' broken: grid_spacing=0.05 is outside .*; fix: "),
+    (lambda tp: ["--shape", "letter-l", "--robots", "5", "--param", "delta_t=1"],
+     r"assumption 'message_window' broken: delta_t=1.0 < 2/f_comm \* f_max/f_min \* m = 4 \(broadcast_every=2.0, "
+     r"loss_repeats=1"),
+    (lambda tp: ["--shape", "letter-l", "--robots", "5", "--param", "arena=big"],
+     r"arena='big' is not an arena size; fix: give --param arena=SIDE"),
+]
+
+
+@pytest.mark.parametrize("argv, match", BAD, ids=["disconnected-txt", "png-no-filled-cell", "more-than-arena",
+                                                  "more-than-small-arena", "grid-spacing-too-small",
+                                                  "window-below-bound", "bad-arena"])
+def test_bad_input_exits_2_naming_the_value_and_the_fix(capsys, tmp_path, argv, match):
+    code, out, _ = run(capsys, *argv(tmp_path), "--seed", "0", "--json")
+    doc = json.loads(out)
+    assert code == 2 and doc["exit_code"] == 2
+    assert re.search(match, doc["error"]["message"]), doc["error"]["message"]
