@@ -1,0 +1,89 @@
+"""The centralized method 004 compares against ([12], Yu & LaValle 2013) and the Fig. 10-12 trial
+runner (reference_impl/wang2020_experiments.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmproof.models.assignment import optimal_assignment
+from swarmproof.models.errors import UsageError
+from swarmproof.models.shapes import centered_arena, random_shape, random_start_cells
+from swarmproof.reference_impl.wang2020_experiments import centralized_schedule, shortest_path
+
+
+def _check_schedule(starts, goals, s):
+    """Every step: distinct cells, each agent stays or moves one grid edge, no two agents swap
+    across an edge; at the end every goal is occupied."""
+    pos = s.positions
+    assert pos[0] == [tuple(c) for c in starts]
+    moves = 0
+    for a, b in zip(pos, pos[1:]):
+        assert len(set(b)) == len(b), "two agents on one vertex"
+        where = {c: k for k, c in enumerate(a)}
+        for k, (u, v) in enumerate(zip(a, b)):
+            d = abs(u[0] - v[0]) + abs(u[1] - v[1])
+            assert d in (0, 1)
+            moves += d
+            if d and v in where and where[v] != k:
+                j = where[v]
+                assert b[j] != u, f"agents {k} and {j} swap across an edge"
+    assert set(pos[-1]) == {tuple(g) for g in goals}
+    assert moves == s.total_cells
+    assert len(pos) == s.steps + 1
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_instances_are_optimal_collision_free_and_within_the_bound(seed):
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 60))
+    goals = sorted(random_shape(n, rng).cells)
+    starts = random_start_cells(n, centered_arena(goals, 12), rng)
+    s = centralized_schedule(starts, goals, keep_positions=True)
+    _check_schedule(starts, goals, s)
+    assert s.total_cells == s.optimal_cells == optimal_assignment(starts, goals).cells
+    assert s.steps <= s.bound_steps                     # [12]: |A| + d_max - 1
+    assert s.reached[-1] == n and s.travelled[-1] == s.total_cells
+    assert all(x <= y for x, y in zip(s.travelled, s.travelled[1:]))
+
+
+def test_train_and_handoff():
+    # a column of agents that must pass through goals already occupied at the start
+    starts = [(0, 0), (0, 1), (0, 2)]
+    goals = [(0, 2), (0, 3), (0, 4)]
+    s = centralized_schedule(starts, goals, keep_positions=True)
+    _check_schedule(starts, goals, s)
+    assert s.total_cells == 6 and s.steps == 2             # the column moves as a train
+    starts = [(0, 0), (1, 0)]
+    goals = [(1, 0), (2, 0)]
+    s = centralized_schedule(starts, goals, goal_of=[1, 0], keep_positions=True)
+    _check_schedule(starts, goals, s)
+    assert s.total_cells == 2                              # 0 -> (2, 0) through (1, 0): the rest handed over
+    assert s.handoffs == 1
+
+
+def test_everyone_already_home():
+    s = centralized_schedule([(0, 0), (0, 1)], [(0, 1), (0, 0)])
+    assert (s.steps, s.bound_steps, s.total_cells, s.reached) == (0, 0, 0, [2])
+
+
+def test_shortest_path_is_x_then_y():
+    assert shortest_path((2, 2), (0, 3)) == [(1, 2), (0, 2), (0, 3)]
+    assert len(shortest_path((-3, 5), (4, -1))) == 13
+
+
+@pytest.mark.parametrize("starts, goals, kw, match", [
+    ([(0, 0), (0, 0)], [(1, 0), (2, 0)], {}, "start_cells has a repeated cell"),
+    ([(0, 0)], [(1, 0), (2, 0)], {}, "start_cells has 1 cells and goal_cells 2"),
+    ([(0, 0), (1, 0)], [(3, 0), (4, 0)], {"goal_of": [0, 0]}, r"goal_of=\[0, 0\] is not a permutation"),
+], ids=["repeated-start", "sizes-differ", "goal-of-not-permutation"])
+def test_bad_input(starts, goals, kw, match):
+    with pytest.raises(UsageError, match=match):
+        centralized_schedule(starts, goals, **kw)
+
+
+def test_a_non_optimal_assignment_with_crossing_paths_is_refused():
+    # agent 0 at (0, 0) -> (3, 0), agent 1 at (3, 0)... walk through each other's start in
+    # opposite directions: the induced vertex order has a cycle
+    with pytest.raises(UsageError, match="cyclic vertex order"):
+        centralized_schedule([(0, 0), (3, 0)], [(0, 0), (3, 0)], goal_of=[1, 0])
