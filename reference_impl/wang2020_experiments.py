@@ -34,7 +34,8 @@ import numpy as np
 from swarmproof.models.assignment import _check_cells, _check_sizes, optimal_assignment
 from swarmproof.models.errors import UsageError
 
-__all__ = ["CentralizedSchedule", "centralized_schedule", "shortest_path"]
+__all__ = ["CentralizedSchedule", "centralized_schedule", "shortest_path", "experiment_params", "start_cells",
+           "ProgressObserver", "wang_trial", "EXPERIMENT_DT", "EXPERIMENT_BROADCAST_EVERY", "ARENA"]
 
 
 def shortest_path(start, goal) -> list:
@@ -253,3 +254,120 @@ def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: in
     return CentralizedSchedule(steps=steps, bound_steps=bound, total_cells=travelled[-1], optimal_cells=opt.cells,
                                reached=reached, travelled=travelled, final=pos, handoffs=handoffs,
                                positions=positions)
+
+
+# -- the decentralized runs (004 Sec. V-A) ---------------------------------------------------------
+
+#: Our time step and f_comm for the experiments (docs/decisions.md, "Wang & Rubenstein 2020
+#: experiments (issue 15)"): dt = 0.1 s, a broadcast every tick (f_comm = 10 Hz), so Delta t =
+#: 2 / f_comm = 0.2 s (Alg. 2 line 6); an edge (l / v = 4 s) takes 40 ticks.
+EXPERIMENT_DT = 0.1
+EXPERIMENT_BROADCAST_EVERY = 1.0
+#: 004 Sec. V-A's arena is "fixed-size" but not given: 32 x 32 waypoints (1,024, the largest swarm).
+ARENA = 32
+
+
+def experiment_params(n: int, **extra):
+    """:func:`~swarmproof.reference_impl.wang2020.default_params` with the experiments' time step and
+    f_comm (:data:`EXPERIMENT_DT`, :data:`EXPERIMENT_BROADCAST_EVERY`); ``extra`` overrides
+    ``params.extra`` (e.g. ``p_random=1.0`` for the random selector of Fig. 11).
+
+    >>> p = experiment_params(16)
+    >>> p.dt, p.extra["broadcast_every"], p.v
+    (0.1, 1.0, 0.05)
+    """
+    import dataclasses
+
+    from swarmproof.reference_impl.wang2020 import default_params
+
+    p = dataclasses.replace(default_params(0.6, n), dt=EXPERIMENT_DT)
+    p.extra.update({"broadcast_every": EXPERIMENT_BROADCAST_EVERY, **extra})
+    return p
+
+
+def start_cells(goals, n: int, rng: np.random.Generator, *, arena: int = ARENA) -> list:
+    """n start cells drawn uniformly from an ``arena x arena`` square centred on the goals' centre
+    of mass (004 Sec. V-A: "a random initialization" in a fixed-size arena; Fig. 11: "a uniform
+    random distribution centered at the shape's center of mass")."""
+    from swarmproof.models.shapes import centered_arena, random_start_cells
+
+    return random_start_cells(n, centered_arena(goals, arena), rng)
+
+
+class ProgressObserver:
+    """A streaming monitor (engine ``observers``) of one run toward a goal set, seeing every step:
+    goals occupied by an agent resting on them, the distance travelled by all agents (metres, exact:
+    grid motion is one straight segment per step), and the first step at which every goal is
+    occupied (the shape is formed).  ``every``: keep the series every k steps (and the last)."""
+
+    name = "wang2020_progress"
+
+    def __init__(self, goal_cells, spacing: float, every: int = 10) -> None:
+        self.goals = np.array(sorted(tuple(c) for c in goal_cells), dtype=np.int64)
+        self.l = float(spacing)
+        self.every = int(every)
+        self._key = self.goals[:, 0] * 1_000_003 + self.goals[:, 1]
+
+    def start(self, ids) -> None:
+        self.prev = None
+        self.distance = 0.0
+        self.formed_step = None
+        self.series = []          # (step, goals occupied, distance)
+        self.last = None
+
+    def occupied(self, poses) -> int:
+        xy = poses[:, :2] / self.l
+        cells = np.rint(xy)
+        rest = np.abs(xy - cells).max(axis=1) <= 1e-9
+        c = cells[rest].astype(np.int64)
+        return int(np.isin(self._key, c[:, 0] * 1_000_003 + c[:, 1]).sum())
+
+    def observe(self, t, poses, states, present) -> None:
+        if self.prev is not None:
+            d = poses[:, :2] - self.prev
+            self.distance += float(np.sqrt((d * d).sum(axis=1)).sum())
+        self.prev = np.array(poses[:, :2])
+        occ = None
+        if self.formed_step is None or t % self.every == 0:
+            occ = self.occupied(poses)
+            if self.formed_step is None and occ == len(self.goals):
+                self.formed_step = t
+        if t % self.every == 0:
+            self.series.append((t, occ, self.distance))
+        self.last = (t, occ, self.distance)
+
+    def result(self) -> dict:
+        series = list(self.series)
+        if self.last is not None and (not series or series[-1][0] != self.last[0]):
+            t, occ, d = self.last
+            series.append((t, self.occupied(self.prev) if occ is None else occ, d))
+        return {"formed_step": self.formed_step, "distance": self.distance, "series": series}
+
+
+def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_formed: bool = True,
+               record_every: int = 1000, every: int = 10, max_steps: int | None = None) -> dict:
+    """One run of ``wang2020`` toward ``goals`` (a GoalSet) from ``starts`` (cells), seeded.
+
+    Returns a dict: ``status``, ``steps``, ``formed_step`` (first step with every goal occupied, or
+    None), ``formed_s`` (that times dt), ``distance_m`` (all agents), ``series`` ((step, goals
+    occupied, distance) every ``every`` steps), ``result`` (the SimulationResult; sparse trace).
+    With ``stop_when_formed`` the run stops once the shape is formed (the convergence time of
+    Fig. 10); otherwise it runs until every agent detects completion (Sec. III-B) or the cap.
+    """
+    from swarmproof.models.trace import InitialConfiguration
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.wang2020 import Wang2020, goal_cells
+
+    n = len(starts)
+    params = params if params is not None else experiment_params(n)
+    l = float(params.extra["grid_spacing"])
+    alg = Wang2020(then=then)
+    init = InitialConfiguration(list(range(n)), [[l * x, l * y, 0.0] for x, y in starts])
+    ob = ProgressObserver(goal_cells(goals, l), l, every=every)
+    stop = (lambda t, poses, states, present: ob.formed_step is not None) if stop_when_formed else None
+    r = simulate(alg, goals, init, params, seed=seed, record_every=record_every, observers=[ob],
+                 stop_when=stop, max_steps=max_steps)
+    res = ob.result()
+    return {"status": r.status, "steps": r.steps, "formed_step": res["formed_step"],
+            "formed_s": None if res["formed_step"] is None else res["formed_step"] * params.dt,
+            "distance_m": res["distance"], "series": res["series"], "dt": params.dt, "result": r}

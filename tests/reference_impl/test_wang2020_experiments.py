@@ -87,3 +87,68 @@ def test_a_non_optimal_assignment_with_crossing_paths_is_refused():
     # opposite directions: the induced vertex order has a cycle
     with pytest.raises(UsageError, match="cyclic vertex order"):
         centralized_schedule([(0, 0), (3, 0)], [(0, 0), (3, 0)], goal_of=[1, 0])
+
+
+# -- the decentralized trial runner ---------------------------------------------------------------
+
+def test_wang_trial_stops_when_formed_and_measures_the_distance():
+    from swarmproof.reference_impl.wang2020_experiments import start_cells, wang_trial
+
+    rng = np.random.default_rng(3)
+    goals = random_shape(9, rng)
+    starts = start_cells(goals.cells, 9, rng, arena=6)
+    w = wang_trial(goals, starts, 3, every=5)
+    r = w["result"]
+    assert w["status"] == "stopped" and w["formed_step"] == w["steps"]
+    assert goals.satisfied(r.final_ids, r.final_poses).status == "held"
+    edges = w["distance_m"] / 0.2                 # every agent rests at the end: whole edges
+    assert abs(edges - round(edges)) < 1e-6 and round(edges) >= optimal_assignment(starts, sorted(goals.cells)).cells
+    steps = [s for s, _, _ in w["series"]]
+    assert steps[0] == 0 and steps[-1] == w["steps"] and w["series"][-1][1] == 9
+    assert all(b[2] >= a[2] for a, b in zip(w["series"], w["series"][1:]))
+    assert w["formed_s"] == pytest.approx(w["steps"] * 0.1)
+
+
+def test_sparse_grid_trace_keeps_edge_events_but_not_their_frames():
+    from swarmproof.reference_impl.wang2020_experiments import start_cells, wang_trial
+
+    rng = np.random.default_rng(4)
+    goals = random_shape(9, rng)
+    starts = start_cells(goals.cells, 9, rng, arena=6)
+    w = wang_trial(goals, starts, 4, record_every=50)
+    tr = w["result"].trace
+    assert any(e.kind == "edge" for e in tr.events)
+    assert all(t % 50 == 0 or t == w["steps"] for t in tr.times)
+
+
+# -- the per-robot hot path: traces pinned to the implementation before it was optimised (13d8e4b) --
+
+PINNED = {
+    (12, 0, True, True): ("finished", 1051, "ed5ca6ddcfa182bda8c7f12153159267bbec458a86bb250e1fcad0f2a0bfc591"),
+    (20, 1, False, False): ("finished", 271, "c30a78983d6a73c2b3349a05b5b30a9c4b5571d73a3d7fdd9e61c5dc1e32ff2b"),
+    (16, 2, True, False): ("finished", 869, "d32b5ead80543e84f781d2980170a9e10304a260f7c4d919fb35799590e64de5"),
+}
+
+
+@pytest.mark.parametrize("case", list(PINNED), ids=lambda c: f"n={c[0]}-seed={c[1]}-then={c[2]}-msgs={c[3]}")
+def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
+    import importlib.util
+    import pathlib
+
+    from swarmproof.models.shapes import shape_for
+    from swarmproof.models.trace import InitialConfiguration
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.wang2020 import Wang2020
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location("trace_hashes", root / "benchmarks" / "trace_hashes.py")
+    th = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(th)
+    n, seed, then, msgs = case
+    rng = np.random.default_rng(seed)
+    goals = random_shape(n, rng)
+    cells = random_start_cells(n, centered_arena(goals.cells, 8), rng)
+    init = InitialConfiguration(list(range(n)), [[0.2 * x, 0.2 * y, 0.0] for x, y in cells])
+    alg = Wang2020(then=shape_for("letter-u", n) if then else ())
+    r = simulate(alg, goals, init, alg.default_params(0.6, n), seed=seed, record_messages=msgs)
+    assert (r.status, r.steps, th.digest(r)) == PINNED[case]
