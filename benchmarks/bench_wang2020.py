@@ -104,14 +104,15 @@ def fig10_trial(n: int, seed: int, arena: int = 32) -> dict:
     rng = np.random.default_rng([n, seed])
     goals = random_shape(n, rng)
     starts = start_cells(goals.cells, n, rng, arena=arena)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     w = wang_trial(goals, starts, seed)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     c = centralized_schedule(starts, sorted(goals.cells))
     return {"n": n, "seed": seed, "status": w["status"], "formed_s": w["formed_s"], "steps": w["steps"],
             "distance_m": w["distance_m"], "central_distance_m": c.total_cells * L,
             "central_s": c.steps * EDGE_S, "central_bound_s": c.bound_steps * EDGE_S,
-            "ratio": w["distance_m"] / (c.total_cells * L) if c.total_cells else None, "wall_s": wall}
+            "ratio": w["distance_m"] / (c.total_cells * L) if c.total_cells else None, "wall_s": wall, "cpu_s": cpu,
+            "load_avg": list(__import__("os").getloadavg())}
 
 
 def perf(n_big: int = 1024, n_trial: int = 529) -> dict:
@@ -119,7 +120,7 @@ def perf(n_big: int = 1024, n_trial: int = 529) -> dict:
     t0 = time.perf_counter()
     tr = fig10_trial(n_trial, 0)
     out["trial"] = {**tr, "wall_total_s": time.perf_counter() - t0}
-    print(f"fig10 trial n={n_trial}: {tr['wall_s']:.1f} s wall for the run ({tr['status']}, {tr['steps']} steps, "
+    print(f"fig10 trial n={n_trial}: {tr['wall_s']:.1f} s wall, {tr['cpu_s']:.1f} s CPU for the run ({tr['status']}, {tr['steps']} steps, "
           f"formed at {tr['formed_s']} s simulated), peak RSS {_peak_mib():.0f} MiB", flush=True)
     big = fig9_run(n_big)
     out["big"] = {k: v for k, v in big.items() if not k.startswith("_")}
@@ -136,15 +137,35 @@ def _box(ax, data, pos, color):
         patch.set_alpha(0.5)
 
 
-def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None) -> dict:
+def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None, jsonl: str | None = None,
+          run: bool = True) -> dict:
+    done = {}
+    if jsonl:
+        try:
+            with open(jsonl) as f:
+                for line in f:
+                    if line.strip():
+                        tr = json.loads(line)
+                        done[(tr["n"], tr["seed"])] = tr
+        except FileNotFoundError:
+            pass
     rows = []
     for n in sizes:
         for s in range(trials if trials_large is None or n < 200 else trials_large):
+            if (n, s) in done:
+                rows.append(done[(n, s)])
+                continue
+            if not run:
+                continue
             tr = fig10_trial(n, s)
             rows.append(tr)
+            if jsonl:
+                with open(jsonl, "a") as f:
+                    f.write(json.dumps(tr) + "\n")
             print(f"n={n} seed={s}: {tr['status']} formed {tr['formed_s']} s (centralized {tr['central_s']:.0f} s, "
                   f"bound {tr['central_bound_s']:.0f} s), distance {tr['distance_m']:.1f} m vs {tr['central_distance_m']:.1f} m "
-                  f"(ratio {tr['ratio']:.3f}); {tr['wall_s']:.1f} s wall", flush=True)
+                  f"(ratio {tr['ratio']:.3f}); {tr['wall_s']:.1f} s wall, {tr['cpu_s']:.1f} s CPU", flush=True)
+    sizes = [n for n in sizes if any(r["n"] == n for r in rows)]
     print("\n| n | trials | formed | time, ours (s) | time, centralized (s) | [12] bound (s) | distance per robot, ours (m) | centralized (m) | ratio |")
     print("|---|---|---|---|---|---|---|---|---|")
     summary = []
@@ -318,6 +339,8 @@ def main(argv=None) -> int:
     p.add_argument("--sizes", default="16,64,144,256,400,529")
     p.add_argument("--trials", type=int, default=3)
     p.add_argument("--trials-large", type=int, default=None, help="trials for n >= 200 (default: --trials)")
+    p.add_argument("--jsonl", default=None, help="append each trial here; trials already there are not re-run")
+    p.add_argument("--no-run", action="store_true", help="only table and plot the trials in --jsonl")
     p = sub.add_parser("fig9")
     p.add_argument("--robots", type=int, default=1024)
     p.add_argument("--seed", type=int, default=0)
@@ -336,7 +359,7 @@ def main(argv=None) -> int:
     if a.cmd == "perf":
         out = perf(a.robots, a.trial_robots)
     elif a.cmd == "fig10":
-        out = fig10([int(x) for x in a.sizes.split(",")], a.trials, a.plot, a.trials_large)
+        out = fig10([int(x) for x in a.sizes.split(",")], a.trials, a.plot, a.trials_large, a.jsonl, not a.no_run)
     elif a.cmd == "fig9":
         out = fig9(a.robots, a.seed, a.plot, a.max_steps)
     elif a.cmd == "fig11":

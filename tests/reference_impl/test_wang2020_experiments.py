@@ -152,3 +152,26 @@ def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
     alg = Wang2020(then=shape_for("letter-u", n) if then else ())
     r = simulate(alg, goals, init, alg.default_params(0.6, n), seed=seed, record_messages=msgs)
     assert (r.status, r.steps, th.digest(r)) == PINNED[case]
+
+
+def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
+    import importlib.util
+    import json
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location("bench_wang2020", root / "benchmarks" / "bench_wang2020.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    log = tmp_path / "t.jsonl"
+    out = bench.fig10([4, 6], 1, str(tmp_path / "f10.png"), jsonl=str(log))
+    assert [r["n"] for r in out["rows"]] == [4, 6] and (tmp_path / "f10.png").stat().st_size > 0
+    assert len(log.read_text().splitlines()) == 2
+    for r in out["rows"]:
+        assert r["central_distance_m"] <= r["distance_m"] + 1e-9        # the optimum is a lower bound
+        assert r["central_s"] <= r["central_bound_s"]
+    again = bench.fig10([4, 6], 1, None, jsonl=str(log), run=False)     # read back, not re-run
+    assert json.dumps(again["rows"], sort_keys=True) == json.dumps(out["rows"], sort_keys=True)
+    assert "| 4 | 1 | 1 |" in capsys.readouterr().out
+    res = bench.fig12(5, 1, str(tmp_path / "f12.png"))
+    assert len(res["ours_formed_s"]) == 1 and (tmp_path / "f12.png").stat().st_size > 0
