@@ -220,12 +220,21 @@ class Wang2020Controller:
             self.moving = False                 # line 32 returns: the agent arrived
             self.cell = c
             self.last_check = now               # line 33
-        new = [(s, m) for s, m in obs.inbox if isinstance(m, WangMsg)]
+        # The timeouts first, then one pass over the tick's messages: buffer each and run the
+        # goal manager on it.  Alg. 4 reads neither msg_buff nor anything buffering changes, so
+        # this equals buffering all, expiring old ones, then running Alg. 4 on each in order.
+        if self.hs is not None and now > self.hs.deadline:
+            self.hs = None                      # handshake timeout (Sec. III-A)
+        if self.ack is not None and now > self.ack[3]:
+            self.ack = None
         last = self._last
         buff = self.buff
         append = buff.append
         senders = self._senders
-        for s, m in new:
+        gm = self._goal_manager
+        for s, m in obs.inbox:
+            if not isinstance(m, WangMsg):
+                continue
             mc = m.completed
             append((now, s, m, mc if mc < last else last))
             k = senders.get(s)
@@ -234,6 +243,7 @@ class Wang2020Controller:
                 self._heard_cache = None
             else:
                 senders[s] = k + 1
+            gm(now, s, m)                       # Alg. 4: every message received
         cutoff = now - self.delta_t            # msg_buff: received since clock() - Delta t
         while buff and buff[0][0] < cutoff:
             s = buff.popleft()[1]
@@ -243,13 +253,6 @@ class Wang2020Controller:
             else:
                 del senders[s]
                 self._heard_cache = None
-        if self.hs is not None and now > self.hs.deadline:
-            self.hs = None                      # handshake timeout (Sec. III-A)
-        if self.ack is not None and now > self.ack[3]:
-            self.ack = None
-        gm = self._goal_manager
-        for s, m in new:                        # Alg. 4: every message received
-            gm(now, s, m)
         move = None if self.moving else self._main(now)
         return Command(message=self.message(), move=move)
 
