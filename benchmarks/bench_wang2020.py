@@ -79,13 +79,20 @@ def fig9_run(n: int = 1024, seed: int = 0, arena: int = 48, max_steps: int | Non
     p = experiment_params(n)
     alg = Wang2020(then=U)
     init = InitialConfiguration(list(range(n)), [[L * x, L * y, 0.0] for x, y in starts])
-    obN = ProgressObserver(goal_cells(N, L), L, every=100)
-    obU = ProgressObserver(goal_cells(U, L), L, every=100)
+    obN = ProgressObserver(goal_cells(N, L), L, every=1000)
+    obU = ProgressObserver(goal_cells(U, L), L, every=1000)
     obU.name = "u_progress"
     t0 = time.perf_counter()
     c0 = time.process_time()
+    def progress(t, cap):
+        if t % 1000 == 0:
+            print(f"  step {t} ({t * p.dt:.0f} s): N goals occupied {obN.last and obN.last[1]}, "
+                  f"N formed at {obN.formed_step}, switched at {snap.get('N', (None,))[0]}, U formed at "
+                  f"{obU.formed_step}; {time.perf_counter() - t0:.0f} s wall, {time.process_time() - c0:.0f} s CPU, "
+                  f"peak RSS {_peak_mib():.0f} MiB", flush=True)
+
     r = simulate(alg, N, init, p, seed=seed, record_every=2000, observers=[obN, obU, Snap()],
-                 max_steps=max_steps)
+                 max_steps=max_steps, progress=progress)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     rn, ru = obN.result(), obU.result()
     return {"n": n, "seed": seed, "arena": arena, "status": r.status, "steps": r.steps, "dt": p.dt,
