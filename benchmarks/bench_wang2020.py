@@ -230,8 +230,8 @@ def _draw(ax, cells_xy, goals, title):
     ax.set_yticks([])
 
 
-def fig9(n: int, seed: int, plot: str | None, max_steps: int | None) -> dict:
-    r = fig9_run(n, seed, max_steps=max_steps)
+def fig9(n: int, seed: int, plot: str | None, max_steps: int | None, arena: int = 48) -> dict:
+    r = fig9_run(n, seed, arena=arena, max_steps=max_steps)
     print({k: v for k, v in r.items() if not k.startswith("_")})
     if plot:
         import matplotlib.pyplot as plt
@@ -241,7 +241,7 @@ def fig9(n: int, seed: int, plot: str | None, max_steps: int | None) -> dict:
         if r["_N"] is not None:
             _draw(axes[0], r["_N"], gN, f"N detected complete, T = {r['N_detected_s']:.0f} s")
         _draw(axes[1], r["_final"], gU, f"end ({r['status']}), T = {r['end_s']:.0f} s")
-        fig.suptitle(f"004 Fig. 9 reproduced: {n} agents form N, then U (seed {seed})")
+        fig.suptitle(f"004 Fig. 9 reproduced: {n} agents form N, then U (seed {seed}, {r['arena']} x {r['arena']} start arena)")
         fig.tight_layout()
         fig.savefig(plot, dpi=90)
         print(f"wrote {plot}")
@@ -352,6 +352,7 @@ def main(argv=None) -> int:
     p.add_argument("--robots", type=int, default=1024)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--max-steps", type=int, default=None)
+    p.add_argument("--arena", type=int, default=48, help="side of the start arena, centred on the N")
     p = sub.add_parser("fig11")
     p.add_argument("--robots", type=int, default=100)
     p.add_argument("--shapes", type=int, default=3)
@@ -368,7 +369,7 @@ def main(argv=None) -> int:
     elif a.cmd == "fig10":
         out = fig10([int(x) for x in a.sizes.split(",")], a.trials, a.plot, a.trials_large, a.jsonl, not a.no_run)
     elif a.cmd == "fig9":
-        out = fig9(a.robots, a.seed, a.plot, a.max_steps)
+        out = fig9(a.robots, a.seed, a.plot, a.max_steps, a.arena)
     elif a.cmd == "fig11":
         out = fig11(a.robots, a.shapes, a.runs, a.plot)
     else:
