@@ -268,7 +268,7 @@ def _bands(ax_pair, runs, n, dt, color, label):
         ax.fill_between(t * dt, (m - 2 * sd) * scale, (m + 2 * sd) * scale, color=color, alpha=0.2)
 
 
-def fig11(n: int, shapes: int, runs: int, plot: str | None) -> dict:
+def fig11(n: int, shapes: int, runs: int, plot: str | None, max_steps: int | None = 6000) -> dict:
     """004 Fig. 11 at reduced scale: gradient-based (p_random = 0.1, Alg. 4) vs random selector
     (p_random = 1)."""
     out = {"gradient": [], "random": []}
@@ -278,13 +278,18 @@ def fig11(n: int, shapes: int, runs: int, plot: str | None) -> dict:
         for run in range(runs):
             starts = start_cells(goals.cells, n, rng)
             for name, pr in (("gradient", 0.1), ("random", 1.0)):
-                w = wang_trial(goals, starts, 1000 * k + run, params=experiment_params(n, p_random=pr))
+                w = wang_trial(goals, starts, 1000 * k + run, params=experiment_params(n, p_random=pr),
+                               max_steps=max_steps)
                 out[name].append(w["series"])
                 print(f"shape {k} run {run} {name}: formed {w['formed_s']} s, {w['distance_m']:.1f} m", flush=True)
-    summary = {name: {"formed_s": [s[-1][0] * 0.1 for s in out[name]]} for name in out}
+    summary = {name: {"end_s": [s[-1][0] * 0.1 for s in out[name]],
+                      "formed": [s[-1][1] == n for s in out[name]],
+                      "distance_m": [s[-1][2] for s in out[name]]} for name in out}
     for name in out:
-        xs = summary[name]["formed_s"]
-        print(f"{name}: formed in {statistics.mean(xs):.0f} s mean (min {min(xs):.0f}, max {max(xs):.0f})")
+        xs = summary[name]["end_s"]
+        print(f"{name}: {sum(summary[name]['formed'])} of {len(xs)} formed within {max_steps} ticks; end at "
+              f"{statistics.mean(xs):.0f} s mean (min {min(xs):.0f}, max {max(xs):.0f}); distance "
+              f"{statistics.mean(summary[name]['distance_m']):.0f} m mean")
     if plot:
         import matplotlib.pyplot as plt
 
@@ -296,7 +301,8 @@ def fig11(n: int, shapes: int, runs: int, plot: str | None) -> dict:
         for ax in axes:
             ax.set_xlabel("time (s)")
             ax.legend()
-        fig.suptitle(f"004 Fig. 11 at reduced scale: {n} agents, {shapes} shapes x {runs} runs (mean, 2 sigma)")
+        fig.suptitle(f"004 Fig. 11 at reduced scale: {n} agents, {shapes} shapes x {runs} runs (mean, 2 sigma; "
+                     f"cap {max_steps} ticks)")
         fig.tight_layout()
         fig.savefig(plot, dpi=90)
         print(f"wrote {plot}")
@@ -357,6 +363,7 @@ def main(argv=None) -> int:
     p.add_argument("--robots", type=int, default=100)
     p.add_argument("--shapes", type=int, default=3)
     p.add_argument("--runs", type=int, default=2)
+    p.add_argument("--max-steps", type=int, default=6000, help="cap per run (ticks of 0.1 s)")
     p = sub.add_parser("fig12")
     p.add_argument("--robots", type=int, default=100)
     p.add_argument("--shapes", type=int, default=6)
@@ -371,7 +378,7 @@ def main(argv=None) -> int:
     elif a.cmd == "fig9":
         out = fig9(a.robots, a.seed, a.plot, a.max_steps, a.arena)
     elif a.cmd == "fig11":
-        out = fig11(a.robots, a.shapes, a.runs, a.plot)
+        out = fig11(a.robots, a.shapes, a.runs, a.plot, a.max_steps)
     else:
         out = fig12(a.robots, a.shapes, a.plot)
     if a.json:
