@@ -149,10 +149,13 @@ class Wang2020Controller:
         self.p_random = float(ex.get("p_random", 0.1))
         self.timeout = float(ex.get("handshake_timeout", 3.0 * self.delta_t))
         self.ack_hold = float(ex.get("ack_hold", self.delta_t))
+        self._last = len(self.shapes) - 1
         self.completed = 0
         self.shape = 0                   # index of the shape being formed (the last once all are complete)
         self.started = False
         self.buff: deque = deque()       # (receipt clock, sender, WangMsg): msg_buff (Alg. 2 line 15)
+        self._senders: dict = {}         # sender -> its messages in msg_buff
+        self._heard_cache: tuple | None = ()
         self.hs: _Handshake | None = None
         self.seq = 0
         self.ack: tuple | None = None    # (client, seq, old goal, until)
@@ -201,12 +204,15 @@ class Wang2020Controller:
     # -- the tick -----------------------------------------------------------------------
 
     def step(self, obs: Observation) -> Command:
-        now = float(obs.clock) if obs.clock is not None else float(obs.step)
+        clock = obs.clock
+        now = float(clock) if clock is not None else float(obs.step)
         self.now = now
-        x, y = float(obs.own_pose[0]), float(obs.own_pose[1])
+        x, y = obs.own_pose.tolist()[:2]
+        x, y = float(x), float(y)
         self.p = (x, y)
-        c = (int(round(x / self.l)), int(round(y / self.l)))
-        at_cell = abs(x - c[0] * self.l) <= _EPS * self.l and abs(y - c[1] * self.l) <= _EPS * self.l
+        l = self.l
+        c = (int(round(x / l)), int(round(y / l)))
+        at_cell = abs(x - c[0] * l) <= _EPS * l and abs(y - c[1] * l) <= _EPS * l
         if not self.started:                    # Alg. 2 line 1: wp <- current waypoint
             self.started = True
             self.cell = self.wp = c
@@ -215,19 +221,39 @@ class Wang2020Controller:
             self.moving = False                 # line 32 returns: the agent arrived
             self.cell = c
             self.last_check = now               # line 33
-        new = [(s, m) for s, m in obs.inbox if isinstance(m, WangMsg)]
-        last = len(self.shapes) - 1
-        for s, m in new:
-            self.buff.append((now, s, m, m.completed if m.completed < last else last))
-        cutoff = now - self.delta_t            # msg_buff: received since clock() - Delta t
-        while self.buff and self.buff[0][0] < cutoff:
-            self.buff.popleft()
+        # The timeouts first, then one pass over the tick's messages: buffer each and run the
+        # goal manager on it.  Alg. 4 reads neither msg_buff nor anything buffering changes, so
+        # this equals buffering all, expiring old ones, then running Alg. 4 on each in order.
         if self.hs is not None and now > self.hs.deadline:
             self.hs = None                      # handshake timeout (Sec. III-A)
         if self.ack is not None and now > self.ack[3]:
             self.ack = None
-        for s, m in new:                        # Alg. 4: every message received
-            self._goal_manager(now, s, m)
+        last = self._last
+        buff = self.buff
+        append = buff.append
+        senders = self._senders
+        gm = self._goal_manager
+        for s, m in obs.inbox:
+            if not isinstance(m, WangMsg):
+                continue
+            mc = m.completed
+            append((now, s, m, mc if mc < last else last))
+            k = senders.get(s)
+            if k is None:
+                senders[s] = 1
+                self._heard_cache = None
+            else:
+                senders[s] = k + 1
+            gm(now, s, m)                       # Alg. 4: every message received
+        cutoff = now - self.delta_t            # msg_buff: received since clock() - Delta t
+        while buff and buff[0][0] < cutoff:
+            s = buff.popleft()[1]
+            k = senders[s] - 1
+            if k:
+                senders[s] = k
+            else:
+                del senders[s]
+                self._heard_cache = None
         move = None if self.moving else self._main(now)
         return Command(message=self.message(), move=move)
 
@@ -236,35 +262,50 @@ class Wang2020Controller:
     def _greedy_next(self) -> tuple:
         """004 Alg. 2 lines 9-14: the first of the surroundings that reduces the Manhattan
         distance to T; none (the agent is at its goal) -> the current waypoint (Sec. III-A's
-        "wait"; docs/decisions.md)."""
-        d = manhattan(self.wp, self.T)
-        for dx, dy in SURROUNDINGS:
-            i = (self.wp[0] + dx, self.wp[1] + dy)
-            if manhattan(i, self.T) < d:
-                return i
+        "wait"; docs/decisions.md).
+
+        (Hot path: with W, S, E, N in that order, the first that reduces the distance is W if
+        T is to the west, else S if T is to the south, else E, else N.)"""
+        wx, wy = self.wp
+        tx, ty = self.T
+        if tx < wx:
+            return (wx - 1, wy)
+        if ty < wy:
+            return (wx, wy - 1)
+        if tx > wx:
+            return (wx + 1, wy)
+        if ty > wy:
+            return (wx, wy + 1)
         return self.wp
 
     def _gradient(self) -> None:
-        """004 Alg. 2 lines 15-24 over this shape's messages in msg_buff."""
+        """004 Alg. 2 lines 15-24 over this shape's messages in msg_buff.
+
+        (Hot path: the goals held in msg_buff are collected only when a surrounding waypoint is
+        in Q, the only case lines 21-22 read them.)"""
         shape = self.shape
         best = None
         low = math.inf
-        held = set()
-        for _, _, m, ms in self.buff:
-            if ms != shape:
+        for e in self.buff:
+            if e[3] != shape:
                 continue
-            held.add(m.T)
-            if best is None or (m.hop is not None and m.hop < low):
+            m = e[2]
+            h = m.hop
+            if best is None or (h is not None and h < low):
                 best = m                                                        # line 18 (first of ties)
-                low = math.inf if m.hop is None else m.hop
+                low = math.inf if h is None else h
         if best is None:
             return
         self.hop = math.inf if best.hop is None else 1 + best.hop               # line 19
         self.q_u = best.q_u                                                     # line 20
-        Q = self.shape_sets[self.shape]
-        for dx, dy in SURROUNDINGS:                                             # lines 21-24
-            i = (self.wp[0] + dx, self.wp[1] + dy)
-            if i in Q and i not in held:
+        Q = self.shape_sets[shape]
+        wx, wy = self.wp
+        near = [i for i in ((wx - 1, wy), (wx, wy - 1), (wx + 1, wy), (wx, wy + 1)) if i in Q]
+        if not near:
+            return
+        held = {e[2].T for e in self.buff if e[3] == shape}
+        for i in near:                                                          # lines 21-24
+            if i not in held:
                 self.q_u, self.hop = i, 0
                 break
 
@@ -286,7 +327,12 @@ class Wang2020Controller:
             self.next_step = self._greedy_next()
         if self._plain:                                                         # lines 25-29
             ns, p = self.next_step, self.p
-            wait_flag = any(m.wp == ns or (m.next_step == ns and m.p > p) for _, _, m, _ in self.buff)
+            wait_flag = False
+            for e in self.buff:
+                m = e[2]
+                if m.wp == ns or (m.next_step == ns and m.p > p):
+                    wait_flag = True
+                    break
         else:
             wait_flag = any(self.occupied(m) or self.yields_to(m) for _, _, m, _ in self.buff)
         if not wait_flag and now - self.last_check > self.delta_t:             # line 30
@@ -303,22 +349,29 @@ class Wang2020Controller:
     # -- Algorithm 4 -------------------------------------------------------------------
 
     def _goal_manager(self, now: float, sender: int, m: WangMsg) -> None:
-        """004 Alg. 4 for one received message, with the handshake of Sec. III-A."""
+        """004 Alg. 4 for one received message, with the handshake of Sec. III-A.
+
+        (Hot path: ``manhattan`` and ``lex_greater`` are written out inline; ``m.p > self.p``
+        compares two ``(x, y)`` tuples, which is :func:`lex_greater`.)"""
         if m.request is not None and m.request[0] == self.id:
             self._on_request(now, sender, m.request)
         if m.ack is not None and m.ack[0] == self.id:
             self._on_ack(now, sender, m.ack)
-        while m.completed > self.completed:                                     # Sec. III-B propagation
+        mc = m.completed
+        while mc > self.completed:                                              # Sec. III-B propagation
             self._switch(now)
-        if min(m.completed, len(self.shapes) - 1) != self.shape:
+        if (mc if mc < self._last else self._last) != self.shape:
             return                                                              # another shape's goals
         if self.hs is not None:
             return                                                              # blocked in a handshake
-        if m.T == self.T and lex_greater(m.p, self.p):                          # lines 3-5
-            self.T = self.select_new_goal()                                     # lines 6-9
+        T = self.T
+        mT = m.T
+        if mT == T and m.p > self.p:                                            # lines 3-5
+            T = self.T = self.select_new_goal()                                 # lines 6-9
             self.last_check = now                                               # lines 7, 10
-        now_cost = manhattan(self.wp, self.T) + manhattan(m.wp, m.T)
-        swap_cost = manhattan(self.wp, m.T) + manhattan(m.wp, self.T)
+        (wx, wy), (mx, my) = self.wp, m.wp
+        now_cost = abs(wx - T[0]) + abs(wy - T[1]) + abs(mx - mT[0]) + abs(my - mT[1])
+        swap_cost = abs(wx - mT[0]) + abs(wy - mT[1]) + abs(mx - T[0]) + abs(my - T[1])
         if swap_cost < now_cost:                                                # line 11
             self._begin_handshake(now, sender, m)                               # line 12
         elif swap_cost == now_cost and self.rng.random() < self.beta:           # lines 16-17
@@ -376,6 +429,13 @@ class Wang2020Controller:
         return WangMsg(self.p, self.wp, self.next_step, self.T, self.q_u,
                        None if self.hop == math.inf else int(self.hop), self.completed, req, ack)
 
+    def _heard(self) -> tuple:
+        """The senders in msg_buff, sorted (kept as a count per sender as msg_buff changes)."""
+        h = self._heard_cache
+        if h is None:
+            h = self._heard_cache = tuple(sorted(self._senders))
+        return h
+
     def state(self):
         """The keys other monitors read: ``cell`` (the waypoint the agent is at, or left),
         ``next`` (the waypoint it moves to, or its next_step while waiting; None at its goal),
@@ -395,7 +455,7 @@ class Wang2020Controller:
                 ("hop", None if self.hop == math.inf else int(self.hop)), ("q_u", self.q_u),
                 ("handshake", hs), ("ack", None if self.ack is None else self.ack[:3]),
                 ("waited", self.waited_at_departure), ("window", float(self.delta_t)),
-                ("heard", tuple(sorted({e[1] for e in self.buff}))),
+                ("heard", self._heard()),
                 ("n_goals", len(self.Q)), ("shape_box", self.boxes[self.shape]), ("spacing", self.l))
 
 
@@ -955,8 +1015,17 @@ class Wang2020:
                 "constraint_violations": bad, "constraint_steps_checked": len(trace.poses)}
 
     def finished(self, states) -> bool:
-        live = [dict(s) for s in states if s is not None]
-        return bool(live) and all(s["done"] for s in live)
+        """Every agent knows the last shape complete (Sec. III-B); stops at the first that does not."""
+        live = False
+        for s in states:
+            if s is None:
+                continue
+            live = True
+            e = s[8] if len(s) > 8 else None
+            done = e[1] if e is not None and e[0] == "done" else dict(s)["done"]
+            if not done:
+                return False
+        return live
 
     @staticmethod
     def default_max_steps(params: Params, n: int) -> int:

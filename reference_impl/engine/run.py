@@ -232,9 +232,15 @@ class SimulationResult:
         return False
 
 
+#: Events too routine to keep a sparse trace's frame for (they stay in ``trace.events``): a clamp,
+#: and a grid robot starting along an edge (004: nearly every step has one).
+ROUTINE_EVENTS = frozenset({"clamp", "edge"})
+
+
 class Recording:
     """What the trace keeps: every step (dense, ``record_every=1``), or step 0, every k-th step,
-    every step with an event other than a clamp, and the last step (sparse; ``times``)."""
+    every step with an event other than a routine one (:data:`ROUTINE_EVENTS`: a clamp, a grid
+    edge start), and the last step (sparse; ``times``)."""
 
     def __init__(self, record_every: int, poses, present, record_messages: bool) -> None:
         self.every = record_every
@@ -247,7 +253,8 @@ class Recording:
 
     def keeps(self, t: int, events: list, n_events: int) -> bool:
         """Whether step ``t`` (just run; its events from index ``n_events``) is kept."""
-        return self.times is None or t % self.every == 0 or any(e.kind != "clamp" for e in events[n_events:])
+        return self.times is None or t % self.every == 0 or any(e.kind not in ROUTINE_EVENTS
+                                                                for e in events[n_events:])
 
     def frame(self, t: int, poses, present) -> None:
         self.poses.append(poses.copy())
@@ -354,7 +361,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     record_every : int
         1 (default): record every step (dense).  k > 1: a sparse trace that
         keeps step 0, every k-th step, every step with an event other than a
-        clamp, and the last step (``trace.times`` lists them), so a long run
+        clamp or a grid edge start, and the last step (``trace.times`` lists them), so a long run
         of many robots fits in memory.
     observers : sequence of streaming monitors
         Objects with ``start(ids)``, ``observe(t, poses, states, present)``

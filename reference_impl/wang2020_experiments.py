@@ -1,0 +1,373 @@
+"""The experiments of Wang & Rubenstein 2020 (004 Sec. V-A, Figs. 9-12) and the centralized method
+they compare against ([12], Yu & LaValle 2013), as functions.
+
+* :func:`centralized_schedule` -- 004 Sec. V: "every agent is initially assigned a unique goal
+  [...] this assignment minimizes the total traveling distance. It is shown in [12] that with
+  such optimal initial assignment, the agents' paths will form a acyclic direct graph, and each
+  agent's motion can be then scheduled via vertex ordering."  Our reading (docs/decisions.md,
+  "Wang & Rubenstein 2020 experiments (issue 15)"): the distance-optimal assignment
+  (:func:`~swarmproof.models.assignment.optimal_assignment`), one shortest grid path per agent
+  (x first, then y), the vertex order those paths induce (checked acyclic), and a synchronous
+  schedule in unit steps (one grid edge per step, l / v seconds): an agent advances when its next
+  vertex is free or is being vacated in the same step by an agent moving on (a "train"); agents
+  competing for one vertex go in order of the longest remaining path, then the smaller index;
+  an agent that reaches a vertex where an agent rests at its goal hands its remaining path over
+  (the agents are indistinguishable, [12]'s unlabeled setting), so the total distance stays the
+  optimum.  [12]'s bound on the number of steps, ``|A| + d_max - 1`` (004 Sec. V-A), is reported
+  beside the schedule's makespan.
+* :func:`wang_trial` -- one run of the reference implementation (``wang2020``) toward a goal set
+  from seeded start cells, with the per-step series Figs. 11/12 plot (goals reached, distance
+  travelled), measured by a streaming observer at every step.
+
+>>> s = centralized_schedule([(0, 0), (1, 0)], [(3, 0), (4, 0)])
+>>> s.total_cells, s.optimal_cells, s.steps, s.bound_steps
+(6, 6, 3, 4)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swarmproof.models.assignment import _check_cells, _check_sizes, optimal_assignment
+from swarmproof.models.errors import UsageError
+
+__all__ = ["CentralizedSchedule", "centralized_schedule", "shortest_path", "experiment_params", "start_cells",
+           "ProgressObserver", "wang_trial", "EXPERIMENT_DT", "EXPERIMENT_BROADCAST_EVERY", "ARENA"]
+
+
+def shortest_path(start, goal) -> list:
+    """One shortest 4-connected grid path from ``start`` to ``goal`` (x first, then y), without
+    the start cell.
+
+    >>> shortest_path((0, 0), (2, -1))
+    [(1, 0), (2, 0), (2, -1)]
+    >>> shortest_path((1, 1), (1, 1))
+    []
+    """
+    (x, y), (gx, gy) = (int(start[0]), int(start[1])), (int(goal[0]), int(goal[1]))
+    out = []
+    sx = 1 if gx > x else -1
+    while x != gx:
+        x += sx
+        out.append((x, y))
+    sy = 1 if gy > y else -1
+    while y != gy:
+        y += sy
+        out.append((x, y))
+    return out
+
+
+def _topological_rank(paths, starts) -> dict:
+    """Rank of every vertex in the order the paths induce (u before v when a path visits u and then
+    v: [12]'s vertex ordering); raises if the relation has a cycle (then the path set was not
+    distance-optimal)."""
+    succ: dict = {}
+    indeg: dict = {}
+    for s, p in zip(starts, paths):
+        prev = s
+        indeg.setdefault(prev, 0)
+        for v in p:
+            indeg.setdefault(v, 0)
+            if v not in succ.setdefault(prev, set()):
+                succ[prev].add(v)
+                indeg[v] += 1
+            prev = v
+    todo = sorted(v for v, d in indeg.items() if d == 0)
+    rank = {}
+    while todo:
+        nxt = []
+        for v in todo:
+            rank[v] = len(rank)
+            for w in sorted(succ.get(v, ())):
+                indeg[w] -= 1
+                if indeg[w] == 0:
+                    nxt.append(w)
+        todo = sorted(nxt)
+    if len(rank) != len(indeg):
+        raise UsageError("the shortest paths of the assignment induce a cyclic vertex order; the assignment "
+                         "is not distance-optimal", fix="pass the optimal assignment (goal_of=None)")
+    return rank
+
+
+@dataclass
+class CentralizedSchedule:
+    """The centralized method of 004 Sec. V ([12]) on one instance.
+
+    Attributes
+    ----------
+    steps : int
+        Makespan in grid steps (one edge per step): the convergence time is ``steps * l / v``.
+    bound_steps : int
+        [12]'s worst case ``|A| + d_max - 1`` (004 Sec. V-A), d_max the longest assigned distance
+        (0 when every agent starts on its goal).
+    total_cells, optimal_cells : int
+        Edges travelled by all agents, and the optimal assignment's total (equal by construction;
+        both reported so a test can compare them).
+    reached : list of int
+        Goals occupied after each step (index 0: at the start).
+    travelled : list of int
+        Edges travelled by all agents up to each step (index 0: 0).
+    final : list of (int, int)
+        Every agent's cell at the end.
+    handoffs : int
+        How often a moving agent handed its remaining path to an agent resting at its goal.
+    positions : list of lists of (int, int), or None
+        Every agent's cell after each step (index 0: the start), with ``keep_positions=True``.
+    """
+
+    steps: int
+    bound_steps: int
+    total_cells: int
+    optimal_cells: int
+    reached: list = field(repr=False)
+    travelled: list = field(repr=False)
+    final: list = field(repr=False)
+    handoffs: int = 0
+    positions: list | None = field(default=None, repr=False)
+
+
+def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: int | None = None,
+                         keep_positions: bool = False) -> CentralizedSchedule:
+    """Schedule the distance-optimal assignment along shortest paths by vertex ordering (004 Sec. V,
+    [12]); see the module docstring for what is implemented.
+
+    Parameters
+    ----------
+    start_cells, goal_cells : sequences of (i, j)
+        Distinct start cells and distinct goal cells, equally many (004 Sec. II-C).
+    goal_of : sequence of int, optional
+        Agent k's goal index; default the optimal assignment.
+    max_steps : int, optional
+        Safety cap (default ``4 * (|A| + d_max) + 10``); reaching it raises (a bug, never a result).
+    keep_positions : bool
+        Keep every step's cells (``positions``), for checks and pictures.
+
+    Returns
+    -------
+    CentralizedSchedule
+
+    Raises
+    ------
+    UsageError
+        Unequal sizes, repeated start or goal cells, non-integer cells, or a ``goal_of`` whose paths
+        induce a cyclic vertex order.
+
+    Examples
+    --------
+    Two agents in a row, the front one's goal behind the back one's: the optimal assignment sends
+    each to the nearer goal and the schedule moves them as a train.
+
+    >>> s = centralized_schedule([(0, 0), (1, 0)], [(2, 0), (3, 0)])
+    >>> s.steps, s.total_cells, s.reached
+    (2, 4, [0, 1, 2])
+    """
+    s = _check_cells("start_cells", start_cells)
+    g = _check_cells("goal_cells", goal_cells)
+    n = _check_sizes(s, g)
+    starts = [tuple(int(v) for v in c) for c in s.tolist()]
+    goals = [tuple(int(v) for v in c) for c in g.tolist()]
+    if len(set(starts)) != n:
+        raise UsageError("start_cells has a repeated cell", fix="give every agent its own start cell")
+    opt = optimal_assignment(starts, goals)
+    if goal_of is None:
+        goal_of = [j for _, j in opt.pairs]
+    goal_of = [int(j) for j in goal_of]
+    if sorted(goal_of) != list(range(n)):
+        raise UsageError(f"goal_of={goal_of!r} is not a permutation of 0..{n - 1}",
+                         fix="give each agent its own goal index")
+    paths = [shortest_path(starts[k], goals[goal_of[k]]) for k in range(n)]
+    rank = _topological_rank(paths, starts)
+    d_max = max((len(p) for p in paths), default=0)
+    bound = n + d_max - 1 if d_max > 0 else 0
+    cap = int(max_steps) if max_steps is not None else 4 * (n + d_max) + 10
+    goal_set = set(goals)
+    pos = list(starts)
+    todo = [list(reversed(p)) for p in paths]          # remaining path, next vertex last
+    at = {c: k for k, c in enumerate(pos)}
+    reached = [sum(1 for c in pos if c in goal_set)]
+    travelled = [0]
+    handoffs = 0
+    steps = 0
+    positions = [list(pos)] if keep_positions else None
+    while any(todo):
+        if steps >= cap:
+            raise RuntimeError(f"centralized schedule did not finish in {cap} steps (a bug)")
+        # hand-offs: the next vertex holds an agent at rest (at its goal): it takes the rest of the path
+        for k0 in range(n):
+            k = k0
+            while todo[k]:
+                j = at.get(todo[k][-1])
+                if j is None or todo[j]:
+                    break
+                rest = todo[k]
+                v = rest.pop()
+                todo[j], todo[k] = rest, [v]
+                handoffs += 1
+                k = j
+        # who moves: next vertex free, or vacated by a mover (trains); the longest remaining path first
+        want: dict = {}
+        for k in range(n):
+            if todo[k]:
+                want.setdefault(todo[k][-1], []).append(k)
+        winner = {v: min(ks, key=lambda k: (-len(todo[k]), rank[pos[k]], k)) for v, ks in want.items()}
+        moves: dict = {}
+        for k in range(n):
+            if not todo[k] or k in moves:
+                continue
+            chain, on, cur = [], set(), k
+            while True:            # k waits on the agent in its next vertex, that one on the next ...
+                if cur in moves:
+                    ok = moves[cur]
+                    break
+                if cur in on:      # a rotation (impossible with an acyclic order): nobody on it moves
+                    ok = False
+                    break
+                chain.append(cur)
+                on.add(cur)
+                v = todo[cur][-1]
+                j = at.get(v)
+                if winner[v] != cur or (j is not None and not todo[j]):
+                    ok = False
+                    break
+                if j is None:
+                    ok = True
+                    break
+                cur = j
+            for c in chain:
+                moves[c] = ok
+        moved = [k for k, ok in moves.items() if ok]
+        if not moved:
+            raise RuntimeError("centralized schedule is stuck (a bug: the vertex order is acyclic)")
+        for k in moved:
+            del at[pos[k]]
+        for k in moved:
+            pos[k] = todo[k].pop()
+            at[pos[k]] = k
+        steps += 1
+        reached.append(sum(1 for c in pos if c in goal_set))
+        travelled.append(travelled[-1] + len(moved))
+        if positions is not None:
+            positions.append(list(pos))
+    return CentralizedSchedule(steps=steps, bound_steps=bound, total_cells=travelled[-1], optimal_cells=opt.cells,
+                               reached=reached, travelled=travelled, final=pos, handoffs=handoffs,
+                               positions=positions)
+
+
+# -- the decentralized runs (004 Sec. V-A) ---------------------------------------------------------
+
+#: Our time step and f_comm for the experiments (docs/decisions.md, "Wang & Rubenstein 2020
+#: experiments (issue 15)"): dt = 0.1 s, a broadcast every tick (f_comm = 10 Hz), so Delta t =
+#: 2 / f_comm = 0.2 s (Alg. 2 line 6); an edge (l / v = 4 s) takes 40 ticks.
+EXPERIMENT_DT = 0.1
+EXPERIMENT_BROADCAST_EVERY = 1.0
+#: 004 Sec. V-A's arena is "fixed-size" but not given: 32 x 32 waypoints (1,024, the largest swarm).
+ARENA = 32
+
+
+def experiment_params(n: int, **extra):
+    """:func:`~swarmproof.reference_impl.wang2020.default_params` with the experiments' time step and
+    f_comm (:data:`EXPERIMENT_DT`, :data:`EXPERIMENT_BROADCAST_EVERY`); ``extra`` overrides
+    ``params.extra`` (e.g. ``p_random=1.0`` for the random selector of Fig. 11).
+
+    >>> p = experiment_params(16)
+    >>> p.dt, p.extra["broadcast_every"], p.v
+    (0.1, 1.0, 0.05)
+    """
+    import dataclasses
+
+    from swarmproof.reference_impl.wang2020 import default_params
+
+    p = dataclasses.replace(default_params(0.6, n), dt=EXPERIMENT_DT)
+    p.extra.update({"broadcast_every": EXPERIMENT_BROADCAST_EVERY, **extra})
+    return p
+
+
+def start_cells(goals, n: int, rng: np.random.Generator, *, arena: int = ARENA) -> list:
+    """n start cells drawn uniformly from an ``arena x arena`` square centred on the goals' centre
+    of mass (004 Sec. V-A: "a random initialization" in a fixed-size arena; Fig. 11: "a uniform
+    random distribution centered at the shape's center of mass")."""
+    from swarmproof.models.shapes import centered_arena, random_start_cells
+
+    return random_start_cells(n, centered_arena(goals, arena), rng)
+
+
+class ProgressObserver:
+    """A streaming monitor (engine ``observers``) of one run toward a goal set, seeing every step:
+    goals occupied by an agent resting on them, the distance travelled by all agents (metres, exact:
+    grid motion is one straight segment per step), and the first step at which every goal is
+    occupied (the shape is formed).  ``every``: keep the series every k steps (and the last)."""
+
+    name = "wang2020_progress"
+
+    def __init__(self, goal_cells, spacing: float, every: int = 10) -> None:
+        self.goals = np.array(sorted(tuple(c) for c in goal_cells), dtype=np.int64)
+        self.l = float(spacing)
+        self.every = int(every)
+        self._key = self.goals[:, 0] * 1_000_003 + self.goals[:, 1]
+
+    def start(self, ids) -> None:
+        self.prev = None
+        self.distance = 0.0
+        self.formed_step = None
+        self.series = []          # (step, goals occupied, distance)
+        self.last = None
+
+    def occupied(self, poses) -> int:
+        xy = poses[:, :2] / self.l
+        cells = np.rint(xy)
+        rest = np.abs(xy - cells).max(axis=1) <= 1e-9
+        c = cells[rest].astype(np.int64)
+        return int(np.isin(self._key, c[:, 0] * 1_000_003 + c[:, 1]).sum())
+
+    def observe(self, t, poses, states, present) -> None:
+        if self.prev is not None:
+            d = poses[:, :2] - self.prev
+            self.distance += float(np.sqrt((d * d).sum(axis=1)).sum())
+        self.prev = np.array(poses[:, :2])
+        occ = None
+        if self.formed_step is None or t % self.every == 0:
+            occ = self.occupied(poses)
+            if self.formed_step is None and occ == len(self.goals):
+                self.formed_step = t
+        if t % self.every == 0:
+            self.series.append((t, occ, self.distance))
+        self.last = (t, occ, self.distance)
+
+    def result(self) -> dict:
+        series = list(self.series)
+        if self.last is not None and (not series or series[-1][0] != self.last[0]):
+            t, occ, d = self.last
+            series.append((t, self.occupied(self.prev) if occ is None else occ, d))
+        return {"formed_step": self.formed_step, "distance": self.distance, "series": series}
+
+
+def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_formed: bool = True,
+               record_every: int = 1000, every: int = 10, max_steps: int | None = None) -> dict:
+    """One run of ``wang2020`` toward ``goals`` (a GoalSet) from ``starts`` (cells), seeded.
+
+    Returns a dict: ``status``, ``steps``, ``formed_step`` (first step with every goal occupied, or
+    None), ``formed_s`` (that times dt), ``distance_m`` (all agents), ``series`` ((step, goals
+    occupied, distance) every ``every`` steps), ``result`` (the SimulationResult; sparse trace).
+    With ``stop_when_formed`` the run stops once the shape is formed (the convergence time of
+    Fig. 10); otherwise it runs until every agent detects completion (Sec. III-B) or the cap.
+    """
+    from swarmproof.models.trace import InitialConfiguration
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.wang2020 import Wang2020, goal_cells
+
+    n = len(starts)
+    params = params if params is not None else experiment_params(n)
+    l = float(params.extra["grid_spacing"])
+    alg = Wang2020(then=then)
+    init = InitialConfiguration(list(range(n)), [[l * x, l * y, 0.0] for x, y in starts])
+    ob = ProgressObserver(goal_cells(goals, l), l, every=every)
+    stop = (lambda t, poses, states, present: ob.formed_step is not None) if stop_when_formed else None
+    r = simulate(alg, goals, init, params, seed=seed, record_every=record_every, observers=[ob],
+                 stop_when=stop, max_steps=max_steps)
+    res = ob.result()
+    return {"status": r.status, "steps": r.steps, "formed_step": res["formed_step"],
+            "formed_s": None if res["formed_step"] is None else res["formed_step"] * params.dt,
+            "distance_m": res["distance"], "series": res["series"], "dt": params.dt, "result": r}

@@ -1,0 +1,177 @@
+"""The centralized method 004 compares against ([12], Yu & LaValle 2013) and the Fig. 10-12 trial
+runner (reference_impl/wang2020_experiments.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmproof.models.assignment import optimal_assignment
+from swarmproof.models.errors import UsageError
+from swarmproof.models.shapes import centered_arena, random_shape, random_start_cells
+from swarmproof.reference_impl.wang2020_experiments import centralized_schedule, shortest_path
+
+
+def _check_schedule(starts, goals, s):
+    """Every step: distinct cells, each agent stays or moves one grid edge, no two agents swap
+    across an edge; at the end every goal is occupied."""
+    pos = s.positions
+    assert pos[0] == [tuple(c) for c in starts]
+    moves = 0
+    for a, b in zip(pos, pos[1:]):
+        assert len(set(b)) == len(b), "two agents on one vertex"
+        where = {c: k for k, c in enumerate(a)}
+        for k, (u, v) in enumerate(zip(a, b)):
+            d = abs(u[0] - v[0]) + abs(u[1] - v[1])
+            assert d in (0, 1)
+            moves += d
+            if d and v in where and where[v] != k:
+                j = where[v]
+                assert b[j] != u, f"agents {k} and {j} swap across an edge"
+    assert set(pos[-1]) == {tuple(g) for g in goals}
+    assert moves == s.total_cells
+    assert len(pos) == s.steps + 1
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_instances_are_optimal_collision_free_and_within_the_bound(seed):
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 60))
+    goals = sorted(random_shape(n, rng).cells)
+    starts = random_start_cells(n, centered_arena(goals, 12), rng)
+    s = centralized_schedule(starts, goals, keep_positions=True)
+    _check_schedule(starts, goals, s)
+    assert s.total_cells == s.optimal_cells == optimal_assignment(starts, goals).cells
+    assert s.steps <= s.bound_steps                     # [12]: |A| + d_max - 1
+    assert s.reached[-1] == n and s.travelled[-1] == s.total_cells
+    assert all(x <= y for x, y in zip(s.travelled, s.travelled[1:]))
+
+
+def test_train_and_handoff():
+    # a column of agents that must pass through goals already occupied at the start
+    starts = [(0, 0), (0, 1), (0, 2)]
+    goals = [(0, 2), (0, 3), (0, 4)]
+    s = centralized_schedule(starts, goals, keep_positions=True)
+    _check_schedule(starts, goals, s)
+    assert s.total_cells == 6 and s.steps == 2             # the column moves as a train
+    starts = [(0, 0), (1, 0)]
+    goals = [(1, 0), (2, 0)]
+    s = centralized_schedule(starts, goals, goal_of=[1, 0], keep_positions=True)
+    _check_schedule(starts, goals, s)
+    assert s.total_cells == 2                              # 0 -> (2, 0) through (1, 0): the rest handed over
+    assert s.handoffs == 1
+
+
+def test_everyone_already_home():
+    s = centralized_schedule([(0, 0), (0, 1)], [(0, 1), (0, 0)])
+    assert (s.steps, s.bound_steps, s.total_cells, s.reached) == (0, 0, 0, [2])
+
+
+def test_shortest_path_is_x_then_y():
+    assert shortest_path((2, 2), (0, 3)) == [(1, 2), (0, 2), (0, 3)]
+    assert len(shortest_path((-3, 5), (4, -1))) == 13
+
+
+@pytest.mark.parametrize("starts, goals, kw, match", [
+    ([(0, 0), (0, 0)], [(1, 0), (2, 0)], {}, "start_cells has a repeated cell"),
+    ([(0, 0)], [(1, 0), (2, 0)], {}, "start_cells has 1 cells and goal_cells 2"),
+    ([(0, 0), (1, 0)], [(3, 0), (4, 0)], {"goal_of": [0, 0]}, r"goal_of=\[0, 0\] is not a permutation"),
+], ids=["repeated-start", "sizes-differ", "goal-of-not-permutation"])
+def test_bad_input(starts, goals, kw, match):
+    with pytest.raises(UsageError, match=match):
+        centralized_schedule(starts, goals, **kw)
+
+
+def test_a_non_optimal_assignment_with_crossing_paths_is_refused():
+    # agent 0 at (0, 0) -> (3, 0), agent 1 at (3, 0)... walk through each other's start in
+    # opposite directions: the induced vertex order has a cycle
+    with pytest.raises(UsageError, match="cyclic vertex order"):
+        centralized_schedule([(0, 0), (3, 0)], [(0, 0), (3, 0)], goal_of=[1, 0])
+
+
+# -- the decentralized trial runner ---------------------------------------------------------------
+
+def test_wang_trial_stops_when_formed_and_measures_the_distance():
+    from swarmproof.reference_impl.wang2020_experiments import start_cells, wang_trial
+
+    rng = np.random.default_rng(3)
+    goals = random_shape(9, rng)
+    starts = start_cells(goals.cells, 9, rng, arena=6)
+    w = wang_trial(goals, starts, 3, every=5)
+    r = w["result"]
+    assert w["status"] == "stopped" and w["formed_step"] == w["steps"]
+    assert goals.satisfied(r.final_ids, r.final_poses).status == "held"
+    edges = w["distance_m"] / 0.2                 # every agent rests at the end: whole edges
+    assert abs(edges - round(edges)) < 1e-6 and round(edges) >= optimal_assignment(starts, sorted(goals.cells)).cells
+    steps = [s for s, _, _ in w["series"]]
+    assert steps[0] == 0 and steps[-1] == w["steps"] and w["series"][-1][1] == 9
+    assert all(b[2] >= a[2] for a, b in zip(w["series"], w["series"][1:]))
+    assert w["formed_s"] == pytest.approx(w["steps"] * 0.1)
+
+
+def test_sparse_grid_trace_keeps_edge_events_but_not_their_frames():
+    from swarmproof.reference_impl.wang2020_experiments import start_cells, wang_trial
+
+    rng = np.random.default_rng(4)
+    goals = random_shape(9, rng)
+    starts = start_cells(goals.cells, 9, rng, arena=6)
+    w = wang_trial(goals, starts, 4, record_every=50)
+    tr = w["result"].trace
+    assert any(e.kind == "edge" for e in tr.events)
+    assert all(t % 50 == 0 or t == w["steps"] for t in tr.times)
+
+
+# -- the per-robot hot path: traces pinned to the implementation before it was optimised (13d8e4b) --
+
+PINNED = {
+    (12, 0, True, True): ("finished", 1051, "ed5ca6ddcfa182bda8c7f12153159267bbec458a86bb250e1fcad0f2a0bfc591"),
+    (20, 1, False, False): ("finished", 271, "c30a78983d6a73c2b3349a05b5b30a9c4b5571d73a3d7fdd9e61c5dc1e32ff2b"),
+    (16, 2, True, False): ("finished", 869, "d32b5ead80543e84f781d2980170a9e10304a260f7c4d919fb35799590e64de5"),
+}
+
+
+@pytest.mark.parametrize("case", list(PINNED), ids=lambda c: f"n={c[0]}-seed={c[1]}-then={c[2]}-msgs={c[3]}")
+def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
+    import importlib.util
+    import pathlib
+
+    from swarmproof.models.shapes import shape_for
+    from swarmproof.models.trace import InitialConfiguration
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.wang2020 import Wang2020
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location("trace_hashes", root / "benchmarks" / "trace_hashes.py")
+    th = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(th)
+    n, seed, then, msgs = case
+    rng = np.random.default_rng(seed)
+    goals = random_shape(n, rng)
+    cells = random_start_cells(n, centered_arena(goals.cells, 8), rng)
+    init = InitialConfiguration(list(range(n)), [[0.2 * x, 0.2 * y, 0.0] for x, y in cells])
+    alg = Wang2020(then=shape_for("letter-u", n) if then else ())
+    r = simulate(alg, goals, init, alg.default_params(0.6, n), seed=seed, record_messages=msgs)
+    assert (r.status, r.steps, th.digest(r)) == PINNED[case]
+
+
+def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
+    import importlib.util
+    import json
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    spec = importlib.util.spec_from_file_location("bench_wang2020", root / "benchmarks" / "bench_wang2020.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    log = tmp_path / "t.jsonl"
+    out = bench.fig10([4, 6], 1, str(tmp_path / "f10.png"), jsonl=str(log))
+    assert [r["n"] for r in out["rows"]] == [4, 6] and (tmp_path / "f10.png").stat().st_size > 0
+    assert len(log.read_text().splitlines()) == 2
+    for r in out["rows"]:
+        assert r["central_distance_m"] <= r["distance_m"] + 1e-9        # the optimum is a lower bound
+        assert r["central_s"] <= r["central_bound_s"]
+    again = bench.fig10([4, 6], 1, None, jsonl=str(log), run=False)     # read back, not re-run
+    assert json.dumps(again["rows"], sort_keys=True) == json.dumps(out["rows"], sort_keys=True)
+    assert "| 4 | 1 | 1 |" in capsys.readouterr().out
+    res = bench.fig12(5, 1, str(tmp_path / "f12.png"))
+    assert len(res["ours_formed_s"]) == 1 and (tmp_path / "f12.png").stat().st_size > 0
