@@ -121,12 +121,15 @@ def test_sparse_grid_trace_keeps_edge_events_but_not_their_frames():
     assert all(t % 50 == 0 or t == w["steps"] for t in tr.times)
 
 
-# -- the per-robot hot path: traces pinned to the implementation before it was optimised (13d8e4b) --
+# -- the per-robot hot path: traces pinned to the implementation before it was optimised.  First
+# pinned at 13d8e4b; re-pinned at f6c6410 (main just before the optimisation was merged), whose engine
+# lets grid robots exactly R apart hear each other (inclusive rounding) and whose states carry the
+# premise monitors' keys: the optimised code gives these same traces bit for bit.
 
 PINNED = {
-    (12, 0, True, True): ("finished", 1051, "ed5ca6ddcfa182bda8c7f12153159267bbec458a86bb250e1fcad0f2a0bfc591"),
-    (20, 1, False, False): ("finished", 271, "c30a78983d6a73c2b3349a05b5b30a9c4b5571d73a3d7fdd9e61c5dc1e32ff2b"),
-    (16, 2, True, False): ("finished", 869, "d32b5ead80543e84f781d2980170a9e10304a260f7c4d919fb35799590e64de5"),
+    (12, 0, True, True): ("finished", 544, "c684f7fa9f18df9fae770e23d17987afbb7f32d6835fc514538bebdc03518980"),
+    (20, 1, False, False): ("finished", 276, "30d366b630452a955aa4e92f35d957892325f642957189fc156809c1b448df72"),
+    (16, 2, True, False): ("finished", 869, "56b3dbdd9433eda00209b2ae2b49e69fae82ba52425fc59624186bd0df5c636c"),
 }
 
 
@@ -172,6 +175,6 @@ def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
         assert r["central_s"] <= r["central_bound_s"]
     again = bench.fig10([4, 6], 1, None, jsonl=str(log), run=False)     # read back, not re-run
     assert json.dumps(again["rows"], sort_keys=True) == json.dumps(out["rows"], sort_keys=True)
-    assert "| 4 | 1 | 1 |" in capsys.readouterr().out
+    assert "| 4 | 1 |" in capsys.readouterr().out        # n, trials (this 4-agent trial ends unformed: the early-detection finding)
     res = bench.fig12(5, 1, str(tmp_path / "f12.png"))
     assert len(res["ours_formed_s"]) == 1 and (tmp_path / "f12.png").stat().st_size > 0
