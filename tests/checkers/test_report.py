@@ -272,5 +272,5 @@ def test_a_plan_may_explore_fewer_examples(monkeypatch):
 
     monkeypatch.setattr(explore_mod, "explore", lambda algo, props, **kw: seen.append((algo, kw["max_examples"])) or _Rep())
     rows = section_exploration(algorithms=["leechong-leader", "song2014"])
-    assert seen == [("leechong-leader", 25), ("song2014", 300)]     # VerifyPlan.explore_max_examples
-    assert "--max-examples 25" in rows[0].data["reproduce"]
+    assert seen == [("leechong-leader", 15), ("song2014", 300)]     # VerifyPlan.explore_max_examples
+    assert "--max-examples 15" in rows[0].data["reproduce"]
