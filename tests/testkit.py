@@ -64,3 +64,20 @@ def write_mutant(folder) -> str:
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(src)
     return path
+
+
+def load_benchmark(name: str):
+    """The script ``benchmarks/NAME.py`` as a module (benchmarks/ is not a package), loaded once per
+    process under ``swarmproof_bench_NAME``: tests of a benchmark's pieces share one copy."""
+    import importlib.util
+    import sys
+
+    mod_name = f"swarmproof_bench_{name}"
+    if mod_name in sys.modules:
+        return sys.modules[mod_name]
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    spec = importlib.util.spec_from_file_location(mod_name, os.path.join(root, "benchmarks", f"{name}.py"))
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[mod_name] = mod
+    spec.loader.exec_module(mod)
+    return mod

@@ -3,10 +3,8 @@ and one cell of the re-run (the full re-run is ``make``-free, by hand; docs/leec
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import re
-import sys
 
 import pytest
 
@@ -17,14 +15,9 @@ SEED_TEXT = os.path.join(os.path.dirname(ROOT), "shared", "seeds", "003_8f300120
 
 
 def _load():
-    name = "swarmproof_bench_leechong_tables"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "benchmarks", "leechong_tables.py"))
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    from testkit import load_benchmark
+
+    return load_benchmark("leechong_tables")
 
 
 T = _load()
@@ -120,15 +113,8 @@ def test_the_benchmark_modules_doctests(name):
     """tests/test_doctests.py covers the swarmproof packages only; the two scripts' examples here."""
     import doctest
 
-    if name == "leechong_tables":
-        mod = T
-    elif "swarmproof_bench_" + name in sys.modules:      # loaded by test_leechong_figures.py
-        mod = sys.modules["swarmproof_bench_" + name]
-    else:
-        spec = importlib.util.spec_from_file_location("swarmproof_bench_" + name,
-                                                      os.path.join(ROOT, "benchmarks", name + ".py"))
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[spec.name] = mod
-        spec.loader.exec_module(mod)
+    from testkit import load_benchmark
+
+    mod = load_benchmark(name)
     res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert res.attempted >= 5 and res.failed == 0

@@ -11,9 +11,7 @@ docs/performance.md.
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import json
-import math
 import os
 import sys
 
@@ -33,14 +31,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def _load_bench():
-    name = "swarmproof_bench_mutations"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "benchmarks", "bench_mutations.py"))
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    from testkit import load_benchmark
+
+    return load_benchmark("bench_mutations")
 
 
 bench = _load_bench()

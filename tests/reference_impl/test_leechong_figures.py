@@ -10,10 +10,8 @@ fewer and takes about a second or two; the 12-robot switching runs are marked sl
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import os
-import sys
 
 import numpy as np
 import pytest
@@ -25,14 +23,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 
 def _load(name):
-    mod_name = f"swarmproof_bench_{name}"
-    if mod_name in sys.modules:
-        return sys.modules[mod_name]
-    spec = importlib.util.spec_from_file_location(mod_name, os.path.join(ROOT, "benchmarks", f"{name}.py"))
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[mod_name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    from testkit import load_benchmark
+
+    return load_benchmark(name)
 
 
 F = _load("leechong_figures")
