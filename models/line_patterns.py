@@ -136,7 +136,7 @@ def interval_for_span(span: float, n: int) -> float:
 def _check_n(n, least: int = 1, what: str = "") -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < least:
         raise UsageError(f"n={n!r} must be an integer >= {least}" + (f" ({what})" if what else ""),
-                         fix=f"give the number of robots, e.g. n=12")
+                         fix="give the number of robots, e.g. n=12")
     return int(n)
 
 

@@ -495,12 +495,18 @@ class LeeChongController:
         step = self.params.v * self.params.dt
         return p + (d if dist <= step else d * (step / dist))
 
+    def _reference_id(self, rid: int) -> int:
+        """Whom follower ``rid`` is placed relative to: the leader (Sec. 3.2) or N_id (Alg. 4)."""
+        if self.mode == "leader":
+            return 0
+        kind, k = self.target.line_kind(self._pattern(), len(self.pos_of))
+        return neighbor_id(rid, kind, k)
+
     def _rule_target(self, rid):
         """The target the rules give the follower ``rid`` now (without its own positioning error)."""
         if self.mode == "leader":
             return self._target_of(rid) + self._shift()                        # Secs. 3.2-3.3
-        kind, k = self.target.line_kind(self._pattern(), len(self.pos_of))
-        nid = neighbor_id(rid, kind, k)                                         # Alg. 4
+        nid = self._reference_id(rid)                                           # Alg. 4
         ref = self.pos_of.get(nid)
         return None if ref is None else ref + (self._target_of(rid) - self._target_of(nid))   # Sec. 4.2
 
@@ -638,11 +644,7 @@ class LeeChongController:
         if self.id in (None, 0) or self.i_failed or self.phase == "agree" or self.span is None:
             return None
         try:
-            if self.mode == "leader":
-                ref = 0
-            else:
-                kind, k = self.target.line_kind(self._pattern(), len(self.pos_of))
-                ref = neighbor_id(self.id, kind, k)
+            ref = self._reference_id(self.id)
             off = _rot(-self.th) @ (self._target_of(ref) - self._target_of(self.id))
         except (KeyError, UsageError, ZeroDivisionError):
             return None
@@ -785,12 +787,17 @@ class _Patterns:
 # runtime invariants (the ``invariants`` property)
 # ---------------------------------------------------------------------------------------------
 
+def _to_world(pose, x: float, y: float, *, offset: bool = False) -> tuple:
+    """A point (or, with ``offset``, a vector) given in the body frame of a robot at ``pose``, in the world."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    dx, dy = c * x - s * y, s * x + c * y
+    return (dx, dy) if offset else (pose[0] + dx, pose[1] + dy)
+
+
 def _world_view(pose, view):
     """A robot's (origin, direction angle, leader position) from its body-frame view, in the world."""
-    c, s = math.cos(pose[2]), math.sin(pose[2])
     ox, oy, ua, lx, ly = view
-    return ((pose[0] + c * ox - s * oy, pose[1] + s * ox + c * oy), math.remainder(pose[2] + ua, 2 * math.pi),
-            (pose[0] + c * lx - s * ly, pose[1] + s * lx + c * ly))
+    return _to_world(pose, ox, oy), math.remainder(pose[2] + ua, 2 * math.pi), _to_world(pose, lx, ly)
 
 
 AGREE_TOL = 1e-6
@@ -857,8 +864,7 @@ def _flock_rigid(t, ids, poses, states) -> str | None:
         ref = d["reference"]
         if ref is None or ref[0] not in by_id:
             continue
-        c, s_ = math.cos(pose[2]), math.sin(pose[2])
-        want = (c * ref[1][0] - s_ * ref[1][1], s_ * ref[1][0] + c * ref[1][1])
+        want = _to_world(pose, ref[1][0], ref[1][1], offset=True)
         rp = by_id[ref[0]][0]
         have = (rp[0] - pose[0], rp[1] - pose[1])
         err = math.hypot(want[0] - have[0], want[1] - have[1])
@@ -898,9 +904,7 @@ def _distinct_targets(t, ids, poses, states) -> str | None:
             continue
         if d["target"] is None:
             continue
-        c, s_ = math.cos(pose[2]), math.sin(pose[2])
-        tx, ty = d["target"]
-        pts.append((rid, d["id"], d["epoch"], (pose[0] + c * tx - s_ * ty, pose[1] + s_ * tx + c * ty), d["d_u"] or 1.0))
+        pts.append((rid, d["id"], d["epoch"], _to_world(pose, *d["target"]), d["d_u"] or 1.0))
     for a in range(len(pts)):
         for b in range(a + 1, len(pts)):
             ra, ia, ea, pa, du = pts[a]
@@ -948,19 +952,14 @@ def _fixed_labels(params: Params, n: int, ids) -> str | None:
     return None if len(set(ids)) == len(ids) else f"ids={list(ids)!r} are not distinct labels"
 
 
-class _LineCites:
-    """Citation of a pattern by name (for a restated target)."""
+def _citation_of(name: str, default: str) -> str:
+    """The citation of pattern ``name`` (for a restated target), else ``default``."""
+    from swarmproof.models import line_patterns as lp
 
-    def get(self, name, default):
-        from swarmproof.models import line_patterns as lp
-
-        try:
-            return lp.pattern_info(name)["citation"]
-        except UsageError:
-            return default
-
-
-LineCites = _LineCites()
+    try:
+        return lp.pattern_info(name)["citation"]
+    except UsageError:
+        return default
 
 
 class LeeChongLeader:
@@ -1120,7 +1119,7 @@ class LeeChongLeader:
         name = target.name if last == target.shape else last
         return dataclasses.replace(target, name=name, shape=last, interval=None, span=span,
                                    params=pattern_params_for(last, target, extra),
-                                   cites=LineCites.get(last, target.cites))
+                                   cites=_citation_of(last, target.cites))
 
     @staticmethod
     def check_params(params: Params, n: int, target) -> None:
