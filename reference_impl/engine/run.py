@@ -289,6 +289,58 @@ class Recording:
                      times=self.times)
 
 
+def run_caps(algorithm, params: Params, n0: int, max_steps, stop_when_static) -> tuple:
+    """``(max_steps, static window)`` of a run from the caller's arguments (checked) and the
+    algorithm's ``default_max_steps`` (shared with an algorithm's vectorised path)."""
+    if max_steps is None:
+        f = getattr(algorithm, "default_max_steps", None)
+        max_steps = int(f(params, n0)) if callable(f) else default_max_steps(n0, params)
+    check_type("max_steps", max_steps, (int, np.integer))
+    max_steps = int(max_steps)
+    if max_steps < 0:
+        raise UsageError(f"max_steps={max_steps!r} must be >= 0")
+    if stop_when_static is True:
+        window = default_static_window(n0)
+    elif stop_when_static is False or stop_when_static is None:
+        window = 0
+    else:
+        check_type("stop_when_static", stop_when_static, (int, np.integer))
+        window = int(stop_when_static)
+        if window < 1:
+            raise UsageError(f"stop_when_static={stop_when_static!r} must be True, False or an int >= 1")
+    return max_steps, window
+
+
+def run_meta(algorithm, lattice, params: Params, seed: int, status: str, t: int, max_steps: int, window: int,
+             broken, faults, clocks, grid_spacing, record_every: int, crash) -> dict:
+    """``trace.meta`` of a run (shared with an algorithm's vectorised path)."""
+    model = algorithm.model
+    return {
+        "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
+        "premise_monitors": list(getattr(algorithm, "premise_monitors", None) or ()),
+        "lattice": (None if lattice is None or getattr(lattice, "kind", "lattice") != "lattice"
+                    else getattr(lattice, "name", None)),
+        "target": None if lattice is None else {"kind": getattr(lattice, "kind", "lattice"),
+                                                 "name": getattr(lattice, "name", None)},
+        "params": {"range": params.range, "v": params.v, "omega": params.omega, "dt": params.dt,
+                   "extra": to_jsonable(dict(params.extra))},
+        "seed": seed,
+        "status": status,
+        "steps": t,
+        "max_steps": max_steps,
+        "static_window": window,
+        "broken_assumptions": list(broken),
+        "faults": faults.describe(),
+        **clocks.describe(),
+        **({"grid_spacing": grid_spacing} if grid_spacing is not None else {}),
+        **({"record_every": record_every} if record_every > 1 else {}),
+        **({"crash": crash} if crash is not None else {}),
+        "model": {"sensing": model.sensing, "communication": model.communication,
+                  "motion": model.motion, "clocks": model.clocks,
+                  "neighbor_rule": getattr(model, "neighbor_rule", "strict")},
+    }
+
+
 def _crash_record(exc: BaseException, calling: int, t: int, ids_list, anonymous: bool) -> dict:
     """What the algorithm under test raised, for the result, the trace and the explorer."""
     import traceback
@@ -314,6 +366,66 @@ def _check_params(params: Params) -> None:
 
 def _robot_rng(seed: int, slot: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
+
+
+def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
+              faults: FaultModel | None):
+    """The checks before a run's first step (shared by :func:`simulate` and an algorithm's
+    vectorised path, e.g. :mod:`swarmproof.reference_impl.wang2020_fast`): the seed, the start,
+    the parameters, the team size, the algorithm's own options and every assumption (the
+    engine's ``unique_ids`` and the algorithm's).  Returns ``(seed, faults, events, broken)``:
+    the seed as an int, the fault model (a plain one if None), the ``assumption_broken``
+    events and the names of the assumptions broken on purpose."""
+    check_type("seed", seed, (int, np.integer))
+    seed = int(seed)
+    if seed < 0:
+        raise UsageError(f"seed={seed!r} must be >= 0", fix="pass a non-negative integer seed")
+    if not isinstance(initial, InitialConfiguration):
+        raise UsageError(f"initial={initial!r} must be an InitialConfiguration",
+                         fix="build one with reference_impl.initial.random_connected or from_file")
+    _check_params(params)
+    n0 = initial.n
+    if n0 < 1:
+        raise UsageError("initial configuration has n=0 robots", fix="give at least one robot")
+    faults = faults if faults is not None else FaultModel()
+    model = algorithm.model
+    anonymous = model.sensing == "anonymous"
+    hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
+    events: list[Event] = []
+    broken: list[str] = []
+
+    check_team_size(algorithm, n0)     # memory and time bounded on any input
+    own_check = getattr(algorithm, "check_params", None)
+    if callable(own_check):
+        own_check(params, n0, lattice)   # an algorithm's own options (usage errors, before any step)
+
+    # -- assumptions -----------------------------------------------------
+    ids0 = initial.ids.tolist()
+    if len(set(ids0)) != len(ids0):
+        dup = sorted({i for i in ids0 if ids0.count(i) > 1})
+        msg = f"ids contain duplicates {dup!r} (001 Sec. III-A: unique comparable IDs)"
+        if not allow_violations:
+            raise AssumptionError("unique_ids", msg,
+                                  fix="give every robot its own ID, or pass allow_violations=True "
+                                      "(--allow-violations on the command line)")
+        broken.append("unique_ids")
+    for a in algorithm.assumptions:
+        msg = a.check(params, n0, None if hide_ids else ids0)
+        if msg is None and a.check_start is not None:
+            msg = a.check_start(params, None if hide_ids else ids0, initial.poses.copy())
+        if msg is None and getattr(a, "check_target", None) is not None:
+            msg = a.check_target(params, n0, lattice)
+        if msg is not None:
+            if not allow_violations:
+                raise AssumptionError(a.name, f"{msg} ({a.statement}; {a.cites})",
+                                      fix="change the value, or pass allow_violations=True "
+                                          "(--allow-violations on the command line) to break "
+                                          "the assumption on purpose")
+            broken.append(a.name)
+    for name in broken:
+        events.append(Event(0, "assumption_broken", (), (("assumption", name),)))
+    broken.extend(faults.broken_model_assumptions(model))
+    return seed, faults, events, broken
 
 
 def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, *, seed: int,
@@ -384,55 +496,12 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     ProtocolError
         A controller returned something that is not a valid Command.
     """
-    check_type("seed", seed, (int, np.integer))
-    seed = int(seed)
-    if seed < 0:
-        raise UsageError(f"seed={seed!r} must be >= 0", fix="pass a non-negative integer seed")
-    if not isinstance(initial, InitialConfiguration):
-        raise UsageError(f"initial={initial!r} must be an InitialConfiguration",
-                         fix="build one with reference_impl.initial.random_connected or from_file")
-    _check_params(params)
+    seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
     n0 = initial.n
-    if n0 < 1:
-        raise UsageError("initial configuration has n=0 robots", fix="give at least one robot")
-    faults = faults if faults is not None else FaultModel()
+    ids0 = initial.ids.tolist()
     model = algorithm.model
     anonymous = model.sensing == "anonymous"
     hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
-    events: list[Event] = []
-    broken: list[str] = []
-
-    check_team_size(algorithm, n0)     # memory and time bounded on any input
-    own_check = getattr(algorithm, "check_params", None)
-    if callable(own_check):
-        own_check(params, n0, lattice)   # an algorithm's own options (usage errors, before any step)
-
-    # -- assumptions -----------------------------------------------------
-    ids0 = initial.ids.tolist()
-    if len(set(ids0)) != len(ids0):
-        dup = sorted({i for i in ids0 if ids0.count(i) > 1})
-        msg = f"ids contain duplicates {dup!r} (001 Sec. III-A: unique comparable IDs)"
-        if not allow_violations:
-            raise AssumptionError("unique_ids", msg,
-                                  fix="give every robot its own ID, or pass allow_violations=True "
-                                      "(--allow-violations on the command line)")
-        broken.append("unique_ids")
-    for a in algorithm.assumptions:
-        msg = a.check(params, n0, None if hide_ids else ids0)
-        if msg is None and a.check_start is not None:
-            msg = a.check_start(params, None if hide_ids else ids0, initial.poses.copy())
-        if msg is None and getattr(a, "check_target", None) is not None:
-            msg = a.check_target(params, n0, lattice)
-        if msg is not None:
-            if not allow_violations:
-                raise AssumptionError(a.name, f"{msg} ({a.statement}; {a.cites})",
-                                      fix="change the value, or pass allow_violations=True "
-                                          "(--allow-violations on the command line) to break "
-                                          "the assumption on purpose")
-            broken.append(a.name)
-    for name in broken:
-        events.append(Event(0, "assumption_broken", (), (("assumption", name),)))
-    broken.extend(faults.broken_model_assumptions(model))
 
     # -- slots -----------------------------------------------------------
     add_rows = []
@@ -491,22 +560,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 controllers[k].know_start(known_ids, known_xy)
             calling = None
 
-        if max_steps is None:
-            f = getattr(algorithm, "default_max_steps", None)
-            max_steps = int(f(params, n0)) if callable(f) else default_max_steps(n0, params)
-        check_type("max_steps", max_steps, (int, np.integer))
-        max_steps = int(max_steps)
-        if max_steps < 0:
-            raise UsageError(f"max_steps={max_steps!r} must be >= 0")
-        if stop_when_static is True:
-            window = default_static_window(n0)
-        elif stop_when_static is False or stop_when_static is None:
-            window = 0
-        else:
-            check_type("stop_when_static", stop_when_static, (int, np.integer))
-            window = int(stop_when_static)
-            if window < 1:
-                raise UsageError(f"stop_when_static={stop_when_static!r} must be True, False or an int >= 1")
+        max_steps, window = run_caps(algorithm, params, n0, max_steps, stop_when_static)
 
         def _states() -> tuple:
             return tuple(None if c is None or not present[k] else c.state()
@@ -799,30 +853,8 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             max_steps = 0
     rec.finish(t, poses, present, states)
 
-    meta = {
-        "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
-        "premise_monitors": list(getattr(algorithm, "premise_monitors", None) or ()),
-        "lattice": (None if lattice is None or getattr(lattice, "kind", "lattice") != "lattice"
-                    else getattr(lattice, "name", None)),
-        "target": None if lattice is None else {"kind": getattr(lattice, "kind", "lattice"),
-                                                 "name": getattr(lattice, "name", None)},
-        "params": {"range": params.range, "v": params.v, "omega": params.omega, "dt": params.dt,
-                   "extra": to_jsonable(dict(params.extra))},
-        "seed": seed,
-        "status": status,
-        "steps": t,
-        "max_steps": max_steps,
-        "static_window": window,
-        "broken_assumptions": list(broken),
-        "faults": faults.describe(),
-        **clocks.describe(),
-        **({"grid_spacing": mover.spacing} if grid else {}),
-        **({"record_every": record_every} if record_every > 1 else {}),
-        **({"crash": crash} if crash is not None else {}),
-        "model": {"sensing": model.sensing, "communication": model.communication,
-                  "motion": model.motion, "clocks": model.clocks,
-                  "neighbor_rule": getattr(model, "neighbor_rule", "strict")},
-    }
+    meta = run_meta(algorithm, lattice, params, seed, status, t, max_steps, window, broken, faults, clocks,
+                    mover.spacing if grid else None, record_every, crash)
     trace = rec.trace(ids, events, meta)
     return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
                             seed=seed, static_window=window, max_steps=max_steps, observers=observers,
