@@ -1,0 +1,700 @@
+"""wang2020's vectorised path: the same run as the engine with the per-robot controller, in numpy.
+
+Issue 15 asks for 1,024 agents forming a shape in minutes; the per-robot path
+(:class:`~swarmproof.reference_impl.wang2020.Wang2020Controller` driven by
+:func:`~swarmproof.reference_impl.engine.simulate`) costs about 100 us of CPU per
+agent and tick there (docs/performance.md).  :func:`simulate_fast` runs every
+agent's Algorithms 2-4 at once on arrays and gives the **bit-identical** trace:
+the same poses, states, events, meta and status, tested against the reference at
+small n (tests/reference_impl/test_wang2020_fast.py).  The per-robot controller
+stays the reference: this module follows it rule for rule, not the paper, and a
+difference between the two is a bug of this module.
+
+How the sequential parts stay exact
+-----------------------------------
+* **Algorithm 4 runs per received message, in order** (each may change the goal,
+  start a handshake or draw a random number).  Here a round computes, for every
+  receiver's pending messages at once, whether the message can change anything
+  (a request or ACK addressed to a waiting handshake, a higher shape count, or,
+  outside a handshake, the same goal held by a lexically larger agent, or a swap
+  that does not raise the pairwise cost).  Messages that cannot are no-ops in the
+  reference too; the first that can is processed by a scalar copy of
+  ``_goal_manager`` and the receiver's scan resumes after it.  Every random
+  number is drawn from the agent's own generator, in the reference's order.
+* **msg_buff** (Alg. 2 line 15) is a list of per-tick blocks (every receipt of a
+  tick, sorted by receiver then sender ID, as the deque holds them); an entry
+  expires by the reference's own float test, ``time < clock() - Delta t``.
+  Line 18's "first of the smallest hop" is found per block and combined oldest
+  first, which is the deque's order.
+* The engine's grid motion, sensing (:func:`~swarmproof.models.sensing.neighbor_pairs`),
+  clocks (:class:`~swarmproof.reference_impl.engine.clocks.AsyncClocks`), recording
+  (:class:`~swarmproof.reference_impl.engine.run.Recording`) and checks before the
+  run (:func:`~swarmproof.reference_impl.engine.run.preflight`) are the engine's own
+  objects or the same float operations in the same order.
+
+What it covers (:func:`unsupported` names anything else): the plain model of
+004's analysis -- no fault model, every clock at rate 1 (arbitrary phases), one
+speed, no recorded messages, the controller class :class:`Wang2020Controller`
+itself (a mutated planner runs on the reference).  Observers and ``stop_when``
+get the states as a lazy sequence, valid during the call that received it.
+
+>>> from swarmproof.reference_impl.engine import simulate
+>>> from swarmproof.reference_impl.wang2020 import Wang2020
+>>> from swarmproof.models.targets import resolve_target
+>>> alg, shape = Wang2020(), resolve_target("shape:square-9")
+>>> p = alg.default_params(0.6, 9)
+>>> init = alg.initial(9, 3, p, shape)
+>>> a = simulate(alg, shape, init, p, seed=3)
+>>> b = simulate_fast(alg, shape, init, p, seed=3)
+>>> (a.status, a.steps) == (b.status, b.steps), trace_json(a) == trace_json(b)
+(True, True)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from swarmproof.models.errors import UsageError
+from swarmproof.models.sensing import neighbor_pairs
+from swarmproof.models.trace import Event
+
+from .engine.clocks import AsyncClocks
+from .engine.common import _ro
+from .engine.motion import GridMotion
+from .engine.run import (PROGRESS_EVERY, Recording, SimulationResult, _robot_rng, preflight, run_caps,
+                         run_meta)
+
+__all__ = ["simulate_fast", "unsupported", "trace_json"]
+
+#: hop-count infinity (Alg. 2 line 2) in the integer arrays
+INF = np.int64(1) << 60
+_EPS = 1e-9
+_ROLE = {0: None, 1: "client", 2: "server"}
+
+
+def trace_json(result) -> str:
+    """The trace of a result as canonical JSON text (what the tests compare byte for byte)."""
+    import json
+
+    from swarmproof.models.trace import to_jsonable
+
+    t = result.trace
+    return json.dumps(to_jsonable({"ids": t.ids, "poses": t.poses, "states": t.states, "events": t.events,
+                                   "meta": t.meta, "times": t.times, "present": t.present,
+                                   "messages": t.messages, "status": result.status, "steps": result.steps}),
+                      sort_keys=True)
+
+
+def unsupported(algorithm, params, *, faults=None, record_messages: bool = False) -> str | None:
+    """Why this run cannot take the vectorised path (None: it can)."""
+    from .wang2020 import Wang2020Controller
+
+    if getattr(algorithm, "name", None) != "wang2020" or getattr(algorithm, "controller_class", None) \
+            is not Wang2020Controller:
+        return f"algorithm {getattr(algorithm, 'name', algorithm)!r} is not wang2020 with its reference controller"
+    m = algorithm.model
+    if (m.sensing, m.communication, m.motion, m.clocks) != ("global", "neighbors", "grid", "async"):
+        return "the robot model is not wang2020's"
+    if faults is not None and (faults.describe() != type(faults)().describe()):
+        return "a fault model is given"
+    if record_messages:
+        return "record_messages=True"
+    ex = params.extra or {}
+    lo, hi = ex.get("clock_rate_min", 1.0), ex.get("clock_rate_max", ex.get("clock_rate_min", 1.0))
+    if lo != 1.0 or hi != 1.0:
+        return f"clock rates clock_rate_min={lo!r}, clock_rate_max={hi!r} (the vectorised path runs rate 1)"
+    for key in ("speed_min", "speed_max"):
+        if key in ex and ex[key] != params.v:
+            return f"{key}={ex[key]!r} differs from v={params.v!r}"
+    return None
+
+
+class _StaleStates(UsageError):
+    pass
+
+
+class _States(Sequence):
+    """The agents' ``state()`` tuples of one step, built on demand (observers, ``stop_when``)."""
+
+    def __init__(self, run, step: int) -> None:
+        self._run, self._step, self._cache = run, step, {}
+
+    def __len__(self) -> int:
+        return self._run.n
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return tuple(self[i] for i in range(*k.indices(self._run.n)))
+        if self._run.t != self._step:
+            raise _StaleStates(f"states of step {self._step} read at step {self._run.t}",
+                               fix="copy what an observer needs during observe()")
+        k = int(k)
+        if k < 0:
+            k += self._run.n
+        got = self._cache.get(k)
+        if got is None:
+            got = self._cache[k] = self._run.state(k)
+        return got
+
+
+class _Run:
+    """Every agent of one run as arrays (the fields of :class:`Wang2020Controller`)."""
+
+    def __init__(self, ctrl, ids, poses, params, seed: int, clocks: AsyncClocks) -> None:
+        n = len(ids)
+        self.n = n
+        self.t = 0
+        self.ids = np.asarray(ids, dtype=np.int64)
+        self.ids_l = self.ids.tolist()
+        self.rngs = [_robot_rng(seed, k) for k in range(n)]
+        self.l = ctrl.l
+        self.shapes = ctrl.shapes
+        self.shape_sets = ctrl.shape_sets
+        self.boxes = ctrl.boxes
+        self.nshapes = len(self.shapes)
+        self.last = self.nshapes - 1
+        self.delta_t = ctrl.delta_t
+        self.beta, self.p_random = ctrl.beta, ctrl.p_random
+        self.timeout, self.ack_hold = ctrl.timeout, ctrl.ack_hold
+        self.clocks = clocks
+        # dense membership grids of the shapes (Q lookups of whole arrays)
+        self.qgrid = []
+        for s in self.shapes:
+            a = np.array(s, dtype=np.int64)
+            lo = a.min(axis=0)
+            g = np.zeros(tuple(a.max(axis=0) - lo + 1), dtype=bool)
+            g[a[:, 0] - lo[0], a[:, 1] - lo[1]] = True
+            self.qgrid.append((lo, g))
+        i64 = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
+        self.started = np.zeros(n, dtype=bool)
+        self.completed, self.shape = i64(), i64()
+        self.moving = np.zeros(n, dtype=bool)
+        self.cx, self.cy, self.wx, self.wy, self.nx, self.ny = i64(), i64(), i64(), i64(), i64(), i64()
+        self.Tx, self.Ty, self.qx, self.qy = i64(), i64(), i64(), i64()
+        self.hop = np.full(n, INF, dtype=np.int64)
+        self.last_check, self.waited = np.zeros(n), np.zeros(n)
+        self.px, self.py = np.zeros(n), np.zeros(n)
+        self.role, self.peer, self.hseq, self.hgx, self.hgy = i64(), i64(), i64(), i64(), i64()
+        self.deadline = np.zeros(n)
+        self.seq = i64()
+        self.ack_on = np.zeros(n, dtype=bool)
+        self.acl, self.aseq, self.agx, self.agy = i64(), i64(), i64(), i64()
+        self.until = np.zeros(n)
+        self.answered = [set() for _ in range(n)]
+        self.swaps = i64()
+        self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
+        self._heard = self._heard_R = self._prev_heard = None
+        self.prev_blocks: list = []
+        self.grid_poses = poses
+
+    # -- scalar pieces: copies of the reference's methods, on slot k ---------------------
+
+    def _random_goal(self, k):
+        Q = self.shapes[int(self.shape[k])]
+        return Q[int(self.rngs[k].integers(len(Q)))]
+
+    def _begin_shape(self, k, now):
+        self.hop[k] = INF
+        self.qx[k], self.qy[k] = self._random_goal(k)        # line 3
+        self.Tx[k], self.Ty[k] = self._random_goal(k)        # line 4
+        self.nx[k], self.ny[k] = self.wx[k], self.wy[k]      # line 5
+        self.last_check[k] = now                             # line 7
+        self.role[k] = 0
+        self.ack_on[k] = False
+
+    def _switch(self, k, now):
+        self.completed[k] += 1
+        self.shape[k] = min(int(self.completed[k]), self.nshapes - 1)
+        if self.completed[k] < self.nshapes:
+            self._begin_shape(k, now)
+
+    def _greedy(self, k):
+        wx, wy, tx, ty = int(self.wx[k]), int(self.wy[k]), int(self.Tx[k]), int(self.Ty[k])
+        if tx < wx:
+            return wx - 1, wy
+        if ty < wy:
+            return wx, wy - 1
+        if tx > wx:
+            return wx + 1, wy
+        if ty > wy:
+            return wx, wy + 1
+        return wx, wy
+
+    def _gm(self, k, e, now, P):
+        """``Wang2020Controller._goal_manager`` for receiver slot k and received message e."""
+        sid = P["sid"][e]
+        me = self.ids_l[k]
+        if P["req_on"][e] and P["req_peer"][e] == me:
+            key = (sid, P["req_seq"][e])
+            if self.role[k] == 2 and self.peer[k] == sid and key not in self.answered[k]:
+                ox, oy = int(self.Tx[k]), int(self.Ty[k])
+                self.Tx[k], self.Ty[k] = P["req_gx"][e], P["req_gy"][e]
+                self.last_check[k] = now
+                self.ack_on[k] = True
+                self.acl[k], self.aseq[k], self.agx[k], self.agy[k] = sid, key[1], ox, oy
+                self.until[k] = now + self.ack_hold
+                self.answered[k].add(key)
+                self.role[k] = 0
+                self.swaps[k] += 1
+        if P["ack_on"][e] and P["ack_cl"][e] == me:
+            if self.role[k] == 1 and self.peer[k] == sid and P["ack_seq"][e] == self.hseq[k]:
+                self.Tx[k], self.Ty[k] = P["ack_gx"][e], P["ack_gy"][e]
+                self.last_check[k] = now
+                self.role[k] = 0
+                self.swaps[k] += 1
+        mc = P["comp"][e]
+        while mc > self.completed[k]:
+            self._switch(k, now)
+        if min(mc, self.last) != self.shape[k] or self.role[k] != 0:
+            return
+        T = (int(self.Tx[k]), int(self.Ty[k]))
+        mT = (P["Tx"][e], P["Ty"][e])
+        mp = (P["px"][e], P["py"][e])
+        p = (float(self.px[k]), float(self.py[k]))
+        if mT == T and mp > p:                                    # Alg. 4 lines 3-5
+            rng = self.rngs[k]
+            if rng.random() > self.p_random:                      # lines 6-9
+                T = (int(self.qx[k]), int(self.qy[k]))
+            else:
+                T = self._random_goal(k)
+            self.Tx[k], self.Ty[k] = T
+            self.last_check[k] = now
+        wx, wy = int(self.wx[k]), int(self.wy[k])
+        mx, my = P["wpx"][e], P["wpy"][e]
+        now_cost = abs(wx - T[0]) + abs(wy - T[1]) + abs(mx - mT[0]) + abs(my - mT[1])
+        swap_cost = abs(wx - mT[0]) + abs(wy - mT[1]) + abs(mx - T[0]) + abs(my - T[1])
+        if swap_cost < now_cost or (swap_cost == now_cost and self.rngs[k].random() < self.beta):
+            if mp > p:                                            # client (Sec. III-A)
+                self.seq[k] += 1
+                self.role[k], self.hseq[k] = 1, self.seq[k]
+            else:
+                self.role[k], self.hseq[k] = 2, -1
+            self.peer[k] = sid
+            self.deadline[k] = now + self.timeout
+            self.hgx[k], self.hgy[k] = T
+
+    # -- the state of slot k, as Wang2020Controller.state() builds it ------------------------
+
+    def state(self, k):
+        if not self.started[k]:
+            return (("cell", None), ("next", None), ("goal", None), ("priority", None), ("wp", None),
+                    ("moving", False), ("shape", 0), ("completed", 0), ("done", False), ("hop", None),
+                    ("q_u", None), ("handshake", None), ("ack", None), ("waited", 0.0), ("window", self.delta_t),
+                    ("heard", ()), ("n_goals", len(self.shapes[0])), ("shape_box", self.boxes[0]),
+                    ("spacing", self.l))
+        wp = (int(self.wx[k]), int(self.wy[k]))
+        ns = (int(self.nx[k]), int(self.ny[k]))
+        moving = bool(self.moving[k])
+        nxt = wp if moving else (None if ns == wp else ns)
+        role = int(self.role[k])
+        hs = None if role == 0 else (_ROLE[role], int(self.peer[k]), int(self.hseq[k]))
+        ack = (None if not self.ack_on[k] else
+               (int(self.acl[k]), int(self.aseq[k]), (int(self.agx[k]), int(self.agy[k]))))
+        hop = int(self.hop[k])
+        shape = int(self.shape[k])
+        completed = int(self.completed[k])
+        return (("cell", (int(self.cx[k]), int(self.cy[k]))), ("next", nxt),
+                ("goal", (int(self.Tx[k]), int(self.Ty[k]))), ("priority", (float(self.px[k]), float(self.py[k]))),
+                ("wp", wp), ("moving", moving), ("shape", shape),
+                ("completed", completed), ("done", completed >= self.nshapes),
+                ("hop", None if hop == INF else hop), ("q_u", (int(self.qx[k]), int(self.qy[k]))),
+                ("handshake", hs), ("ack", ack),
+                ("waited", float(self.waited[k])), ("window", float(self.delta_t)),
+                ("heard", self._heard_of(k)),
+                ("n_goals", len(self.shapes[shape])), ("shape_box", self.boxes[shape]), ("spacing", self.l))
+
+    def heard_keys(self, previous: bool = False) -> np.ndarray:
+        """``receiver * n + sender`` of every sender in msg_buff, sorted, unique (state key "heard");
+        ``previous``: the same of the tick before."""
+        if previous:
+            if self._prev_heard is None:
+                self._prev_heard = self._keys(self.prev_blocks)
+            return self._prev_heard
+        if self._heard is None:
+            self._heard = self._keys(self.blocks)
+            self._heard_R = self._heard // self.n
+        return self._heard
+
+    def _keys(self, blocks) -> np.ndarray:
+        n = self.n
+        return np.unique(np.concatenate([b["R"] * n + b["S"] for b in blocks])) if blocks else np.zeros(0, np.int64)
+
+    def _heard_of(self, k) -> tuple:
+        keys = self.heard_keys()
+        lo, hi = np.searchsorted(self._heard_R, [k, k + 1])
+        return tuple(sorted(self.ids_l[s] for s in (keys[lo:hi] % self.n).tolist()))
+
+    def signature(self):
+        """Everything a state holds but "heard", as arrays (with :meth:`heard_keys`: a step changed
+        no state iff these are equal)."""
+        ints = np.stack((self.started, self.cx, self.cy, self.nx, self.ny, self.Tx, self.Ty, self.wx, self.wy,
+                         self.moving, self.shape, self.completed, self.hop, self.qx, self.qy, self.role,
+                         np.where(self.role != 0, self.peer, 0), np.where(self.role != 0, self.hseq, 0),
+                         self.ack_on, np.where(self.ack_on, self.acl, 0), np.where(self.ack_on, self.aseq, 0),
+                         np.where(self.ack_on, self.agx, 0), np.where(self.ack_on, self.agy, 0)))
+        floats = np.stack((self.px, self.py, self.waited))
+        return ints, floats
+
+    def outbox(self):
+        """Algorithm 3's message of every agent (``Wang2020Controller.message``), as arrays."""
+        client = self.role == 1
+        return {"px": self.px.copy(), "py": self.py.copy(), "wpx": self.wx.copy(), "wpy": self.wy.copy(),
+                "nsx": self.nx.copy(), "nsy": self.ny.copy(), "Tx": self.Tx.copy(), "Ty": self.Ty.copy(),
+                "qx": self.qx.copy(), "qy": self.qy.copy(), "hop": self.hop.copy(), "comp": self.completed.copy(),
+                "req_on": client, "req_peer": np.where(client, self.peer, 0),
+                "req_seq": np.where(client, self.hseq, 0), "req_gx": np.where(client, self.hgx, 0),
+                "req_gy": np.where(client, self.hgy, 0), "ack_on": self.ack_on.copy(),
+                "ack_cl": np.where(self.ack_on, self.acl, 0), "ack_seq": np.where(self.ack_on, self.aseq, 0),
+                "ack_gx": np.where(self.ack_on, self.agx, 0), "ack_gy": np.where(self.ack_on, self.agy, 0)}
+
+    # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
+
+    def tick(self, poses, now, last_msgs, last_valid, phi):
+        n, l = self.n, self.l
+        x, y = poses[:, 0].copy(), poses[:, 1].copy()
+        self.px, self.py = x, y
+        cx, cy = np.rint(x / l), np.rint(y / l)
+        at_cell = (np.abs(x - cx * l) <= _EPS * l) & (np.abs(y - cy * l) <= _EPS * l)
+        cx, cy = cx.astype(np.int64), cy.astype(np.int64)
+        fresh = ~self.started
+        if fresh.any():                                           # Alg. 2 line 1, lines 2-7
+            for k in np.flatnonzero(fresh).tolist():
+                self.started[k] = True
+                self.cx[k] = self.wx[k] = cx[k]
+                self.cy[k] = self.wy[k] = cy[k]
+                self._begin_shape(k, float(now[k]))
+        arrived = self.moving & at_cell & (cx == self.wx) & (cy == self.wy)
+        self.moving[arrived] = False                              # line 32 returns
+        self.cx[arrived], self.cy[arrived] = cx[arrived], cy[arrived]
+        self.last_check[arrived] = now[arrived]                   # line 33
+        self.role[(self.role != 0) & (now > self.deadline)] = 0   # handshake timeout (Sec. III-A)
+        self.ack_on[self.ack_on & (now > self.until)] = False
+
+        # this tick's receipts: every neighbour within R that broadcast last tick, by sender ID
+        i, j, _ = neighbor_pairs(poses[:, :2], phi, True)
+        R = np.concatenate((i, j))
+        S = np.concatenate((j, i))
+        keep = last_valid[S]
+        R, S = R[keep], S[keep]
+        order = np.lexsort((self.ids[S], R))
+        R, S = R[order], S[order]
+        P = {k: v[S] for k, v in last_msgs.items()}
+        P["R"], P["S"], P["sid"] = R, S, self.ids[S]
+        self._goal_managers(R, P, now)
+        block = {k: P[k] for k in ("R", "S", "px", "py", "wpx", "wpy", "nsx", "nsy", "Tx", "Ty", "qx", "qy", "hop")}
+        block["mcc"] = np.minimum(P["comp"], self.last)
+        block["time"] = now[R]
+        self.blocks.append(block)
+        cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
+        kept = []
+        for b in self.blocks:
+            alive = b["time"] >= cutoff[b["R"]]
+            if alive.all():
+                kept.append(b)
+            elif alive.any():
+                kept.append({k: v[alive] for k, v in b.items()})
+        self.prev_blocks, self.blocks = self.blocks, kept
+        self._prev_heard, self._heard = self._heard, None
+        return self._mains(now)
+
+    def _goal_managers(self, R, P, now):
+        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module docstring)."""
+        total = len(R)
+        if total == 0:
+            return
+        lists = None
+        n = self.n
+        start = np.searchsorted(R, np.arange(n))
+        pos = start.copy()
+        cand = np.arange(total)
+        ids = self.ids
+        while len(cand):
+            r = R[cand]
+            hs_r = self.role[r]
+            sid = P["sid"][cand]
+            trig = P["comp"][cand] > self.completed[r]
+            trig |= P["req_on"][cand] & (P["req_peer"][cand] == ids[r]) & (hs_r == 2) & (self.peer[r] == sid)
+            trig |= (P["ack_on"][cand] & (P["ack_cl"][cand] == ids[r]) & (hs_r == 1) & (self.peer[r] == sid)
+                     & (P["ack_seq"][cand] == self.hseq[r]))
+            free = (hs_r == 0) & (np.minimum(P["comp"][cand], self.last) == self.shape[r])
+            if free.any():
+                f = cand[free]
+                rf = r[free]
+                Tx, Ty = self.Tx[rf], self.Ty[rf]
+                mTx, mTy = P["Tx"][f], P["Ty"][f]
+                mpx, mpy = P["px"][f], P["py"][f]
+                px, py = self.px[rf], self.py[rf]
+                same = (mTx == Tx) & (mTy == Ty) & ((mpx > px) | ((mpx == px) & (mpy > py)))
+                wx, wy, mx, my = self.wx[rf], self.wy[rf], P["wpx"][f], P["wpy"][f]
+                now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
+                swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
+                trig[free] |= same | (swap_c <= now_c)
+            hit = cand[trig]
+            if not len(hit):
+                break
+            rh = R[hit]
+            first = np.ones(len(hit), dtype=bool)
+            first[1:] = rh[1:] != rh[:-1]
+            if lists is None:
+                lists = {k: (v.tolist() if k != "R" and k != "S" else v) for k, v in P.items()}
+            firsts = hit[first].tolist()
+            for e in firsts:
+                k = int(R[e])
+                self._gm(k, e, float(now[k]), lists)
+                pos[k] = e + 1
+            # next round: the receipts after each processed one, of those receivers
+            rr = R[hit[first]]
+            ends = np.searchsorted(R, rr, side="right")
+            lens = ends - pos[rr]
+            if lens.sum() == 0:
+                break
+            cand = np.repeat(pos[rr] - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(lens.sum())
+
+    def _mains(self, now):
+        """Algorithm 2 lines 9-35 for every agent at a waypoint; returns (movers, dx, dy)."""
+        n = self.n
+        M = ~self.moving
+        # lines 9-14: greedy next_step (W, S, E, N)
+        wx, wy, Tx, Ty = self.wx, self.wy, self.Tx, self.Ty
+        nx = np.where(Tx < wx, wx - 1, np.where(Ty < wy, wx, np.where(Tx > wx, wx + 1, wx)))
+        ny = np.where(Tx < wx, wy, np.where(Ty < wy, wy - 1, np.where(Tx > wx, wy, np.where(Ty > wy, wy + 1, wy))))
+        self.nx = np.where(M, nx, self.nx)
+        self.ny = np.where(M, ny, self.ny)
+        # lines 15-24: the gradient over this shape's entries of msg_buff
+        best_hop = np.full(n, -1, dtype=np.int64)      # -1: no entry yet
+        best_qx, best_qy = np.zeros(n, np.int64), np.zeros(n, np.int64)
+        have = np.zeros(n, dtype=bool)
+        sel_blocks = []
+        for b in self.blocks:
+            Rb = b["R"]
+            m = M[Rb] & (b["mcc"] == self.shape[Rb])
+            s = np.flatnonzero(m)
+            sel_blocks.append((b, s))
+            if not len(s):
+                continue
+            Rs, hs = Rb[s], b["hop"][s]
+            starts = np.flatnonzero(np.r_[True, Rs[1:] != Rs[:-1]])
+            mins = np.minimum.reduceat(hs, starts)
+            counts = np.diff(np.r_[starts, len(s)])
+            eq = np.flatnonzero(hs == np.repeat(mins, counts))
+            g = np.searchsorted(starts, eq, side="right") - 1
+            firsts = eq[np.r_[True, g[1:] != g[:-1]]]        # first entry with the group's min
+            rr = Rs[firsts]
+            ch, cq = hs[firsts], s[firsts]
+            take = ~have[rr] | ((ch != INF) & ((best_hop[rr] == INF) | (ch < best_hop[rr])))
+            rr, ch, cq = rr[take], ch[take], cq[take]
+            best_hop[rr] = ch
+            best_qx[rr], best_qy[rr] = b["qx"][cq], b["qy"][cq]
+            have[rr] = True
+        g = have
+        self.hop = np.where(g, np.where(best_hop == INF, INF, best_hop + 1), self.hop)   # line 19
+        self.qx = np.where(g, best_qx, self.qx)                                            # line 20
+        self.qy = np.where(g, best_qy, self.qy)
+        if g.any():                                                                          # lines 21-24
+            near = ((wx - 1, wy), (wx, wy - 1), (wx + 1, wy), (wx, wy + 1))
+            inq = []
+            for cxa, cya in near:
+                q = np.zeros(n, dtype=bool)
+                for si, (lo, grid) in enumerate(self.qgrid):
+                    on = g & (self.shape == si)
+                    if not on.any():
+                        continue
+                    ix, iy = cxa - lo[0], cya - lo[1]
+                    inside = on & (ix >= 0) & (iy >= 0) & (ix < grid.shape[0]) & (iy < grid.shape[1])
+                    q[inside] = grid[ix[inside], iy[inside]]
+                inq.append(q)
+            anyq = inq[0] | inq[1] | inq[2] | inq[3]
+            if anyq.any():
+                held = [np.zeros(n, dtype=bool) for _ in range(4)]
+                for b, s in sel_blocks:
+                    if not len(s):
+                        continue
+                    Rs = b["R"][s]
+                    sq = anyq[Rs]
+                    if not sq.any():
+                        continue
+                    Rs, bTx, bTy = Rs[sq], b["Tx"][s][sq], b["Ty"][s][sq]
+                    for d, (cxa, cya) in enumerate(near):
+                        hit = (bTx == cxa[Rs]) & (bTy == cya[Rs])
+                        if hit.any():
+                            held[d][Rs[hit]] = True
+                done = np.zeros(n, dtype=bool)
+                for d, (cxa, cya) in enumerate(near):
+                    pick = anyq & ~done & inq[d] & ~held[d]
+                    if pick.any():
+                        self.qx[pick], self.qy[pick] = cxa[pick], cya[pick]
+                        self.hop[pick] = 0
+                        done |= pick
+        # Sec. III-B: hop-count above |A| -> the shape is complete
+        qlen = np.array([len(s) for s in self.shapes], dtype=np.int64)[self.shape]
+        sw = M & (self.completed < self.nshapes) & (self.hop != INF) & (self.hop > qlen)
+        for k in np.flatnonzero(sw).tolist():
+            self._switch(k, float(now[k]))
+            self.nx[k], self.ny[k] = self._greedy(k)
+        # lines 25-29: wait_flag over every entry of msg_buff
+        wait = np.zeros(n, dtype=bool)
+        nx, ny = self.nx, self.ny
+        for b in self.blocks:
+            Rb = b["R"]
+            mb = M[Rb]
+            if not mb.any():
+                continue
+            rnx, rny = nx[Rb], ny[Rb]
+            h = (b["wpx"] == rnx) & (b["wpy"] == rny)
+            gt = (b["px"] > self.px[Rb]) | ((b["px"] == self.px[Rb]) & (b["py"] > self.py[Rb]))
+            h |= (b["nsx"] == rnx) & (b["nsy"] == rny) & gt
+            h &= mb
+            if h.any():
+                wait[Rb[h]] = True
+        # line 30: move when no flag and waited more than Delta t
+        go = M & ~wait & ((now - self.last_check) > self.delta_t)
+        stay = go & (nx == self.wx) & (ny == self.wy)
+        self.last_check[stay] = now[stay]
+        mv = go & ~stay
+        self.wx = np.where(mv, nx, self.wx)
+        self.wy = np.where(mv, ny, self.wy)
+        self.moving |= mv
+        self.waited = np.where(mv, now - self.last_check, self.waited)
+        k = np.flatnonzero(mv)
+        return k, nx[k] - self.cx[k], ny[k] - self.cy[k]
+
+
+def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: int | None = None,
+                  allow_violations: bool = False, stop_when_static: bool | int = True,
+                  progress=None, stop_when=None, record_every: int = 1, observers=(),
+                  faults=None, record_messages: bool = False, record_clamps: bool = True) -> SimulationResult:
+    """:func:`~swarmproof.reference_impl.engine.simulate` for ``wang2020``, vectorised (module
+    docstring): the same arguments and the same result, bit for bit.
+
+    Raises
+    ------
+    UsageError
+        The run is outside what the vectorised path covers (:func:`unsupported` says why), or
+        any error :func:`~swarmproof.reference_impl.engine.simulate` raises for bad input.
+    """
+    why = unsupported(algorithm, params, faults=faults, record_messages=record_messages)
+    if why is not None:
+        raise UsageError(f"the vectorised wang2020 path does not cover this run: {why}",
+                         fix="run it with swarmproof.reference_impl.engine.simulate (the per-robot reference)")
+    seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
+    n = initial.n
+    model = algorithm.model
+    broken = list(broken)
+    ids = np.asarray(initial.ids, dtype=np.int64)
+    ids_list = ids.tolist()
+    poses = np.zeros((n, 3))
+    poses[:] = initial.poses
+    from swarmproof.models.se2 import wrap_angle
+
+    poses[:, 2] = wrap_angle(poses[:, 2])
+    present = np.ones(n, dtype=bool)
+    mover = GridMotion(params, n)
+    mover.start(poses, n, ids_list)
+    clocks = AsyncClocks(params, n, seed)
+    ctrl = algorithm.controller(ids_list[0], params, lattice, _robot_rng(seed, 0))
+    run = _Run(ctrl, ids, poses, params, seed, clocks)
+    max_steps, window = run_caps(algorithm, params, n, max_steps, stop_when_static)
+    if not isinstance(record_every, (int, np.integer)) or int(record_every) < 1:
+        raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
+    record_every = int(record_every)
+    observers = tuple(observers or ())
+    for ob in observers:
+        if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
+            raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
+                             fix="use a streaming monitor such as ConnectivityMonitor")
+    rec = Recording(record_every, poses, None, False)
+    states = tuple(run.state(k) for k in range(n))
+    rec.states.append(states)
+    phi = float(params.range)
+    status = "step_cap"
+    quiet = 0
+    t = 0
+    idx = np.arange(n)
+    for ob in observers:
+        ob.start(ids.copy())
+        ob.observe(0, _ro(poses), _States(run, 0), _ro(present))
+    finished = False
+    if stop_when is not None and stop_when(0, poses, _States(run, 0), present):
+        status, finished = "stopped", True
+    last_msgs = run.outbox()
+    last_valid = np.zeros(n, dtype=bool)
+    outbox = None
+    sig = run.signature()
+    cells, edge, frac, gstep, spacing = mover.cells, mover.edge, mover.frac, mover.step, mover.spacing
+    while not finished and t < max_steps:
+        n_events = len(events)
+        decide, bcast, tau0 = clocks.ticks(t, idx)
+        if not decide.all():
+            raise AssertionError("a rate-1 clock skipped a tick")   # unsupported() rules this out
+        movers, dx, dy = run.tick(poses, tau0, last_msgs, last_valid, phi)
+        new_outbox = run.outbox()
+        # 5. grid motion (engine/motion.py _grid_motion, vectorised)
+        if len(movers):
+            free = ~(edge[movers].any(axis=1))
+            st = movers[free]
+            edge[st, 0], edge[st, 1] = dx[free], dy[free]
+            frac[st] = 0.0
+            if len(st):
+                events.append(Event(t, "edge", tuple(ids[st].tolist())))
+        on = np.flatnonzero(edge.any(axis=1))
+        same_poses = len(on) == 0
+        if len(on):
+            f = frac[on] + gstep
+            arr = f >= 1.0
+            a, b = on[arr], on[~arr]
+            cells[a] += edge[a]
+            edge[a] = 0
+            frac[a] = 0.0
+            poses[a, 0], poses[a, 1] = cells[a, 0] * spacing, cells[a, 1] * spacing
+            fb = f[~arr]
+            frac[b] = fb
+            poses[b, 0] = (cells[b, 0] + fb * edge[b, 0]) * spacing
+            poses[b, 1] = (cells[b, 1] + fb * edge[b, 1]) * spacing
+        t += 1
+        run.t = t
+        record = rec.keeps(t, events, n_events)
+        if record:
+            rec.frame(t, poses, present)
+        new_sig = run.signature()
+        changed = not (np.array_equal(new_sig[0], sig[0]) and np.array_equal(new_sig[1], sig[1])
+                       and np.array_equal(run.heard_keys(), run.heard_keys(previous=True)))
+        sig = new_sig
+        if changed:
+            states = None
+        if record:
+            if states is None:
+                states = tuple(run.state(k) for k in range(n))
+            rec.states.append(states)
+        lazy = _States(run, t)
+        for ob in observers:
+            ob.observe(t, _ro(poses), lazy, _ro(present))
+        quiet_step = (not changed and same_poses and outbox is not None
+                      and all(np.array_equal(new_outbox[k], outbox[k]) for k in new_outbox))
+        outbox = new_outbox
+        last_msgs, last_valid = new_outbox, bcast
+        quiet = quiet + 1 if quiet_step else 0
+        if progress is not None and t % PROGRESS_EVERY == 0:
+            progress(t, max_steps)
+        if bool((run.completed >= run.nshapes).all()):
+            status = "finished"
+            break
+        if window and quiet >= window:
+            status = "static"
+            break
+        if stop_when is not None and stop_when(t, poses, lazy, present):
+            status = "stopped"
+            break
+    if progress is not None:
+        progress(t, max_steps)
+    if states is None:
+        states = tuple(run.state(k) for k in range(n))
+    rec.finish(t, poses, None, states)
+    meta = run_meta(algorithm, lattice, params, seed, status, t, max_steps, window, broken, faults, clocks,
+                    mover.spacing, record_every, None)
+    trace = rec.trace(ids, events, meta)
+    return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
+                            seed=seed, static_window=window, max_steps=max_steps, observers=observers,
+                            crash=None)
