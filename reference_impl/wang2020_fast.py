@@ -73,6 +73,10 @@ __all__ = ["simulate_fast", "unsupported", "trace_json"]
 INF = np.int64(1) << 60
 _EPS = 1e-9
 _ROLE = {0: None, 1: "client", 2: "server"}
+#: columns of a message's integer row (Alg. 3's fields and the handshake's); px, py are a float row
+(WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP, REQ_ON, REQ_PEER, REQ_SEQ, REQ_GX, REQ_GY,
+ ACK_ON, ACK_CL, ACK_SEQ, ACK_GX, ACK_GY) = range(20)
+_NI = 20
 
 
 def trace_json(result) -> str:
@@ -149,6 +153,8 @@ class _Run:
         self.t = 0
         self.ids = np.asarray(ids, dtype=np.int64)
         self.ids_l = self.ids.tolist()
+        self.id_rank = np.empty(n, dtype=np.int64)
+        self.id_rank[np.argsort(self.ids, kind="stable")] = np.arange(n)
         self.rngs = [_robot_rng(seed, k) for k in range(n)]
         self.l = ctrl.l
         self.shapes = ctrl.shapes
@@ -223,15 +229,15 @@ class _Run:
             return wx, wy + 1
         return wx, wy
 
-    def _gm(self, k, e, now, P):
-        """``Wang2020Controller._goal_manager`` for receiver slot k and received message e."""
-        sid = P["sid"][e]
+    def _gm(self, k, now, sid, m, mf):
+        """``Wang2020Controller._goal_manager`` for receiver slot k and one received message from
+        ``sid`` (``m``: its integer row, ``mf``: (px, py))."""
         me = self.ids_l[k]
-        if P["req_on"][e] and P["req_peer"][e] == me:
-            key = (sid, P["req_seq"][e])
+        if m[REQ_ON] and m[REQ_PEER] == me:
+            key = (sid, m[REQ_SEQ])
             if self.role[k] == 2 and self.peer[k] == sid and key not in self.answered[k]:
                 ox, oy = int(self.Tx[k]), int(self.Ty[k])
-                self.Tx[k], self.Ty[k] = P["req_gx"][e], P["req_gy"][e]
+                self.Tx[k], self.Ty[k] = m[REQ_GX], m[REQ_GY]
                 self.last_check[k] = now
                 self.ack_on[k] = True
                 self.acl[k], self.aseq[k], self.agx[k], self.agy[k] = sid, key[1], ox, oy
@@ -239,20 +245,20 @@ class _Run:
                 self.answered[k].add(key)
                 self.role[k] = 0
                 self.swaps[k] += 1
-        if P["ack_on"][e] and P["ack_cl"][e] == me:
-            if self.role[k] == 1 and self.peer[k] == sid and P["ack_seq"][e] == self.hseq[k]:
-                self.Tx[k], self.Ty[k] = P["ack_gx"][e], P["ack_gy"][e]
+        if m[ACK_ON] and m[ACK_CL] == me:
+            if self.role[k] == 1 and self.peer[k] == sid and m[ACK_SEQ] == self.hseq[k]:
+                self.Tx[k], self.Ty[k] = m[ACK_GX], m[ACK_GY]
                 self.last_check[k] = now
                 self.role[k] = 0
                 self.swaps[k] += 1
-        mc = P["comp"][e]
+        mc = m[COMP]
         while mc > self.completed[k]:
             self._switch(k, now)
         if min(mc, self.last) != self.shape[k] or self.role[k] != 0:
             return
         T = (int(self.Tx[k]), int(self.Ty[k]))
-        mT = (P["Tx"][e], P["Ty"][e])
-        mp = (P["px"][e], P["py"][e])
+        mT = (m[TX], m[TY])
+        mp = (mf[0], mf[1])
         p = (float(self.px[k]), float(self.py[k]))
         if mT == T and mp > p:                                    # Alg. 4 lines 3-5
             rng = self.rngs[k]
@@ -263,7 +269,7 @@ class _Run:
             self.Tx[k], self.Ty[k] = T
             self.last_check[k] = now
         wx, wy = int(self.wx[k]), int(self.wy[k])
-        mx, my = P["wpx"][e], P["wpy"][e]
+        mx, my = m[WPX], m[WPY]
         now_cost = abs(wx - T[0]) + abs(wy - T[1]) + abs(mx - mT[0]) + abs(my - mT[1])
         swap_cost = abs(wx - mT[0]) + abs(wy - mT[1]) + abs(mx - T[0]) + abs(my - T[1])
         if swap_cost < now_cost or (swap_cost == now_cost and self.rngs[k].random() < self.beta):
@@ -339,16 +345,24 @@ class _Run:
         return ints, floats
 
     def outbox(self):
-        """Algorithm 3's message of every agent (``Wang2020Controller.message``), as arrays."""
+        """Algorithm 3's message of every agent (``Wang2020Controller.message``): an integer row
+        (columns WPX ... ACK_GY) and a float row (px, py) per agent."""
         client = self.role == 1
-        return {"px": self.px.copy(), "py": self.py.copy(), "wpx": self.wx.copy(), "wpy": self.wy.copy(),
-                "nsx": self.nx.copy(), "nsy": self.ny.copy(), "Tx": self.Tx.copy(), "Ty": self.Ty.copy(),
-                "qx": self.qx.copy(), "qy": self.qy.copy(), "hop": self.hop.copy(), "comp": self.completed.copy(),
-                "req_on": client, "req_peer": np.where(client, self.peer, 0),
-                "req_seq": np.where(client, self.hseq, 0), "req_gx": np.where(client, self.hgx, 0),
-                "req_gy": np.where(client, self.hgy, 0), "ack_on": self.ack_on.copy(),
-                "ack_cl": np.where(self.ack_on, self.acl, 0), "ack_seq": np.where(self.ack_on, self.aseq, 0),
-                "ack_gx": np.where(self.ack_on, self.agx, 0), "ack_gy": np.where(self.ack_on, self.agy, 0)}
+        ack = self.ack_on
+        I = np.empty((self.n, _NI), dtype=np.int64)
+        I[:, WPX], I[:, WPY], I[:, NSX], I[:, NSY] = self.wx, self.wy, self.nx, self.ny
+        I[:, TX], I[:, TY], I[:, QX], I[:, QY] = self.Tx, self.Ty, self.qx, self.qy
+        I[:, HOP], I[:, COMP], I[:, REQ_ON] = self.hop, self.completed, client
+        I[:, REQ_PEER] = np.where(client, self.peer, 0)
+        I[:, REQ_SEQ] = np.where(client, self.hseq, 0)
+        I[:, REQ_GX] = np.where(client, self.hgx, 0)
+        I[:, REQ_GY] = np.where(client, self.hgy, 0)
+        I[:, ACK_ON] = ack
+        I[:, ACK_CL] = np.where(ack, self.acl, 0)
+        I[:, ACK_SEQ] = np.where(ack, self.aseq, 0)
+        I[:, ACK_GX] = np.where(ack, self.agx, 0)
+        I[:, ACK_GY] = np.where(ack, self.agy, 0)
+        return I, np.column_stack((self.px, self.py))
 
     # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
 
@@ -374,20 +388,11 @@ class _Run:
         self.ack_on[self.ack_on & (now > self.until)] = False
 
         # this tick's receipts: every neighbour within R that broadcast last tick, by sender ID
-        i, j, _ = neighbor_pairs(poses[:, :2], phi, True)
-        R = np.concatenate((i, j))
-        S = np.concatenate((j, i))
-        keep = last_valid[S]
-        R, S = R[keep], S[keep]
-        order = np.lexsort((self.ids[S], R))
-        R, S = R[order], S[order]
-        P = {k: v[S] for k, v in last_msgs.items()}
-        P["R"], P["S"], P["sid"] = R, S, self.ids[S]
-        self._goal_managers(R, P, now)
-        block = {k: P[k] for k in ("R", "S", "px", "py", "wpx", "wpy", "nsx", "nsy", "Tx", "Ty", "qx", "qy", "hop")}
-        block["mcc"] = np.minimum(P["comp"], self.last)
-        block["time"] = now[R]
-        self.blocks.append(block)
+        R, S = self._receipts(poses, phi, last_valid)
+        I, F = last_msgs[0][S], last_msgs[1][S]
+        self._goal_managers(R, S, I, F, now)
+        self.blocks.append({"R": R, "S": S, "I": I, "F": F, "mcc": np.minimum(I[:, COMP], self.last),
+                            "time": now[R]})
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
         kept = []
         for b in self.blocks:
@@ -400,58 +405,79 @@ class _Run:
         self._prev_heard, self._heard = self._heard, None
         return self._mains(now)
 
-    def _goal_managers(self, R, P, now):
+    def _receipts(self, poses, phi, last_valid):
+        """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
+        sender ID: the engine's neighbours within R (:func:`~swarmproof.models.sensing.neighbor_pairs`,
+        inclusive) that broadcast in the previous tick."""
+        i, j, _ = neighbor_pairs(poses[:, :2], phi, True)
+        R = np.concatenate((i, j))
+        S = np.concatenate((j, i))
+        keep = last_valid[S]
+        R, S = R[keep], S[keep]
+        order = np.argsort(R * self.n + self.id_rank[S], kind="stable")
+        return R[order], S[order]
+
+    def _goal_managers(self, R, S, I, F, now):
         """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module docstring)."""
         total = len(R)
         if total == 0:
             return
-        lists = None
         n = self.n
-        start = np.searchsorted(R, np.arange(n))
-        pos = start.copy()
-        cand = np.arange(total)
+        pos = np.searchsorted(R, np.arange(n))
+        cand = None
         ids = self.ids
-        while len(cand):
-            r = R[cand]
+        sid_all = ids[S]
+        comp, req_on, req_peer = I[:, COMP], I[:, REQ_ON], I[:, REQ_PEER]
+        ack_on, ack_cl, ack_seq = I[:, ACK_ON], I[:, ACK_CL], I[:, ACK_SEQ]
+        mTx_all, mTy_all, mx_all, my_all = I[:, TX], I[:, TY], I[:, WPX], I[:, WPY]
+        mpx_all, mpy_all = F[:, 0], F[:, 1]
+        while True:
+            if cand is None:
+                r, sid, c = R, sid_all, slice(None)
+            else:
+                r, sid, c = R[cand], sid_all[cand], cand
             hs_r = self.role[r]
-            sid = P["sid"][cand]
-            trig = P["comp"][cand] > self.completed[r]
-            trig |= P["req_on"][cand] & (P["req_peer"][cand] == ids[r]) & (hs_r == 2) & (self.peer[r] == sid)
-            trig |= (P["ack_on"][cand] & (P["ack_cl"][cand] == ids[r]) & (hs_r == 1) & (self.peer[r] == sid)
-                     & (P["ack_seq"][cand] == self.hseq[r]))
-            free = (hs_r == 0) & (np.minimum(P["comp"][cand], self.last) == self.shape[r])
-            if free.any():
-                f = cand[free]
-                rf = r[free]
+            ccomp = comp[c]
+            trig = ccomp > self.completed[r]
+            trig |= (req_on[c] == 1) & (req_peer[c] == ids[r]) & (hs_r == 2) & (self.peer[r] == sid)
+            trig |= ((ack_on[c] == 1) & (ack_cl[c] == ids[r]) & (hs_r == 1) & (self.peer[r] == sid)
+                     & (ack_seq[c] == self.hseq[r]))
+            free = (hs_r == 0) & (np.minimum(ccomp, self.last) == self.shape[r])
+            if cand is None:
+                f, rf = np.flatnonzero(free), R[free]
+            else:
+                f, rf = cand[free], r[free]
+            if len(f):
                 Tx, Ty = self.Tx[rf], self.Ty[rf]
-                mTx, mTy = P["Tx"][f], P["Ty"][f]
-                mpx, mpy = P["px"][f], P["py"][f]
+                mTx, mTy = mTx_all[f], mTy_all[f]
+                mpx, mpy = mpx_all[f], mpy_all[f]
                 px, py = self.px[rf], self.py[rf]
                 same = (mTx == Tx) & (mTy == Ty) & ((mpx > px) | ((mpx == px) & (mpy > py)))
-                wx, wy, mx, my = self.wx[rf], self.wy[rf], P["wpx"][f], P["wpy"][f]
+                wx, wy, mx, my = self.wx[rf], self.wy[rf], mx_all[f], my_all[f]
                 now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
                 swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
                 trig[free] |= same | (swap_c <= now_c)
-            hit = cand[trig]
+            hit = np.flatnonzero(trig) if cand is None else cand[trig]
             if not len(hit):
-                break
+                return
             rh = R[hit]
             first = np.ones(len(hit), dtype=bool)
             first[1:] = rh[1:] != rh[:-1]
-            if lists is None:
-                lists = {k: (v.tolist() if k != "R" and k != "S" else v) for k, v in P.items()}
-            firsts = hit[first].tolist()
-            for e in firsts:
-                k = int(R[e])
-                self._gm(k, e, float(now[k]), lists)
-                pos[k] = e + 1
+            fe = hit[first]
+            rr = rh[first]
+            rows = zip(rr.tolist(), fe.tolist(), sid_all[fe].tolist(), I[fe].tolist(), F[fe].tolist(),
+                       now[rr].tolist())
+            gm = self._gm
+            for k, e, sid_e, row, frow, now_k in rows:
+                gm(k, now_k, sid_e, row, frow)
+            pos[rr] = fe + 1
             # next round: the receipts after each processed one, of those receivers
-            rr = R[hit[first]]
             ends = np.searchsorted(R, rr, side="right")
             lens = ends - pos[rr]
-            if lens.sum() == 0:
-                break
-            cand = np.repeat(pos[rr] - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(lens.sum())
+            total = int(lens.sum())
+            if total == 0:
+                return
+            cand = np.repeat(pos[rr] - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(total)
 
     def _mains(self, now):
         """Algorithm 2 lines 9-35 for every agent at a waypoint; returns (movers, dx, dy)."""
@@ -475,7 +501,7 @@ class _Run:
             sel_blocks.append((b, s))
             if not len(s):
                 continue
-            Rs, hs = Rb[s], b["hop"][s]
+            Rs, hs = Rb[s], b["I"][s, HOP]
             starts = np.flatnonzero(np.r_[True, Rs[1:] != Rs[:-1]])
             mins = np.minimum.reduceat(hs, starts)
             counts = np.diff(np.r_[starts, len(s)])
@@ -487,7 +513,7 @@ class _Run:
             take = ~have[rr] | ((ch != INF) & ((best_hop[rr] == INF) | (ch < best_hop[rr])))
             rr, ch, cq = rr[take], ch[take], cq[take]
             best_hop[rr] = ch
-            best_qx[rr], best_qy[rr] = b["qx"][cq], b["qy"][cq]
+            best_qx[rr], best_qy[rr] = b["I"][cq, QX], b["I"][cq, QY]
             have[rr] = True
         g = have
         self.hop = np.where(g, np.where(best_hop == INF, INF, best_hop + 1), self.hop)   # line 19
@@ -516,7 +542,8 @@ class _Run:
                     sq = anyq[Rs]
                     if not sq.any():
                         continue
-                    Rs, bTx, bTy = Rs[sq], b["Tx"][s][sq], b["Ty"][s][sq]
+                    ss = s[sq]
+                    Rs, bTx, bTy = Rs[sq], b["I"][ss, TX], b["I"][ss, TY]
                     for d, (cxa, cya) in enumerate(near):
                         hit = (bTx == cxa[Rs]) & (bTy == cya[Rs])
                         if hit.any():
@@ -543,9 +570,11 @@ class _Run:
             if not mb.any():
                 continue
             rnx, rny = nx[Rb], ny[Rb]
-            h = (b["wpx"] == rnx) & (b["wpy"] == rny)
-            gt = (b["px"] > self.px[Rb]) | ((b["px"] == self.px[Rb]) & (b["py"] > self.py[Rb]))
-            h |= (b["nsx"] == rnx) & (b["nsy"] == rny) & gt
+            bI, bpx, bpy = b["I"], b["F"][:, 0], b["F"][:, 1]
+            h = (bI[:, WPX] == rnx) & (bI[:, WPY] == rny)
+            rpx = self.px[Rb]
+            gt = (bpx > rpx) | ((bpx == rpx) & (bpy > self.py[Rb]))
+            h |= (bI[:, NSX] == rnx) & (bI[:, NSY] == rny) & gt
             h &= mb
             if h.any():
                 wait[Rb[h]] = True
@@ -672,7 +701,7 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
         for ob in observers:
             ob.observe(t, _ro(poses), lazy, _ro(present))
         quiet_step = (not changed and same_poses and outbox is not None
-                      and all(np.array_equal(new_outbox[k], outbox[k]) for k in new_outbox))
+                      and np.array_equal(new_outbox[0], outbox[0]) and np.array_equal(new_outbox[1], outbox[1]))
         outbox = new_outbox
         last_msgs, last_valid = new_outbox, bcast
         quiet = quiet + 1 if quiet_step else 0
