@@ -58,7 +58,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from swarmproof.models.errors import UsageError
-from swarmproof.models.sensing import neighbor_pairs
+from scipy.spatial import cKDTree
+
+from swarmproof.models.sensing import _BRUTE_MAX, _INFLATE, INCLUSIVE_SLACK, neighbor_pairs
 from swarmproof.models.trace import Event
 
 from .engine.clocks import AsyncClocks
@@ -409,12 +411,20 @@ class _Run:
         """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
         sender ID: the engine's neighbours within R (:func:`~swarmproof.models.sensing.neighbor_pairs`,
         inclusive) that broadcast in the previous tick."""
-        i, j, _ = neighbor_pairs(poses[:, :2], phi, True)
+        xy = poses[:, :2]
+        if self.n <= _BRUTE_MAX:
+            i, j, _ = neighbor_pairs(xy, phi, True)
+        else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
+            pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
+            i, j = pr[:, 0], pr[:, 1]
+            d = xy[j] - xy[i]
+            ok = np.hypot(d[:, 0], d[:, 1]) <= phi * INCLUSIVE_SLACK
+            i, j = i[ok], j[ok]
         R = np.concatenate((i, j))
         S = np.concatenate((j, i))
         keep = last_valid[S]
         R, S = R[keep], S[keep]
-        order = np.argsort(R * self.n + self.id_rank[S], kind="stable")
+        order = np.argsort(R * self.n + self.id_rank[S])   # unique keys
         return R[order], S[order]
 
     def _goal_managers(self, R, S, I, F, now):

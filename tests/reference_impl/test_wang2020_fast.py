@@ -1,0 +1,174 @@
+"""wang2020's vectorised path (reference_impl/wang2020_fast.py) against the per-robot reference:
+the same trace bit for bit (poses, states, events, meta, status), over asynchronous clock phases,
+both time steps in use, handshakes, a second shape, sparse recording, step caps and the
+k-d-tree neighbour search above 50 agents; and the runs it refuses."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from swarmproof.models.errors import UsageError
+from swarmproof.models.shapes import shape_for
+from swarmproof.models.targets import resolve_target
+from swarmproof.reference_impl.engine import FaultModel, simulate
+from swarmproof.reference_impl.wang2020 import Wang2020, Wang2020Controller
+from swarmproof.reference_impl.wang2020_experiments import experiment_params
+from swarmproof.reference_impl.wang2020_fast import simulate_fast, trace_json, unsupported
+
+
+def _pair(shape, n, seed, **kw):
+    """(reference result, vectorised result) of one run, computed once per module."""
+    key = (shape, n, seed, tuple(sorted(kw.items())))
+    if key not in _RUNS:
+        _RUNS[key] = _run_both(shape, n, seed, **kw)
+    return _RUNS[key]
+
+
+_RUNS: dict = {}
+
+
+def _run_both(shape, n, seed, *, experiment=False, then=False, **kw):
+    alg = Wang2020(then=shape_for("letter-u", n) if then else ())
+    goals = alg.scale_target(resolve_target(shape), n)
+    p = experiment_params(n) if experiment else alg.default_params(0.6, n)
+    init = alg.initial(n, seed, p, goals)
+    ref = simulate(alg, goals, init, p, seed=seed, **kw)
+    fast = simulate_fast(Wang2020(then=shape_for("letter-u", n) if then else ()), goals, init, p, seed=seed, **kw)
+    return ref, fast
+
+
+CASES = [
+    ("shape:letter-l", 5, 0, {}),
+    ("shape:square-9", 9, 1, {}),
+    ("shape:letter-l", 12, 2, {}),
+    ("shape:letter-n", 16, 0, {"experiment": True, "max_steps": 700}),
+    ("shape:letter-n", 20, 1, {"then": True, "record_every": 50}),
+    ("shape:square-9", 9, 3, {"max_steps": 120}),
+    pytest.param("shape:letter-n", 24, 2, {"experiment": True, "then": True}, marks=pytest.mark.slow),
+    pytest.param("shape:letter-n", 30, 0, {"experiment": True, "then": True}, marks=pytest.mark.slow),
+]
+
+
+@pytest.mark.parametrize("shape,n,seed,kw", CASES, ids=lambda c: str(c))
+def test_the_vectorised_path_gives_the_reference_trace_bit_for_bit(shape, n, seed, kw):
+    ref, fast = _pair(shape, n, seed, **kw)
+    assert (fast.status, fast.steps) == (ref.status, ref.steps)
+    assert trace_json(fast) == trace_json(ref)
+    # the runs are not trivial: agents moved along many edges
+    assert ref.steps >= 120 and len(ref.trace.events) > 5
+
+
+def test_above_fifty_agents_the_kd_tree_search_gives_the_same_trace():
+    """64 agents (the neighbour search switches to a k-d tree above 50), 600 ticks of the
+    experiments' time step: every recorded frame identical."""
+    ref, fast = _pair("shape:letter-n", 64, 0, experiment=True, max_steps=600, record_every=7)
+    assert (fast.status, fast.steps) == (ref.status, ref.steps) == ("step_cap", 600)
+    assert trace_json(fast) == trace_json(ref)
+
+
+def test_handshakes_happen_in_the_compared_runs():
+    """The goal manager's rare paths (request, ACK, a new goal drawn) are exercised by the cases."""
+    ref, fast = _pair("shape:letter-n", 20, 1, then=True, record_every=50)
+    shakes = {dict(s)["handshake"][0] for frame in fast.trace.states for s in frame
+              if s is not None and dict(s).get("handshake")}
+    acks = sum(1 for frame in fast.trace.states for s in frame if s is not None and dict(s).get("ack"))
+    assert shakes == {"client", "server"} and acks > 0
+    assert trace_json(fast) == trace_json(ref)
+
+
+def test_observers_and_stop_when_see_every_step_with_the_same_states():
+    alg = Wang2020()
+    goals = alg.scale_target(resolve_target("shape:letter-l"), 8)
+    p = alg.default_params(0.6, 8)
+    init = alg.initial(8, 4, p, goals)
+
+    class Record:
+        name = "rec"
+
+        def start(self, ids):
+            self.seen = []
+
+        def observe(self, t, poses, states, present):
+            self.seen.append((t, poses.tobytes(), tuple(states)))
+
+        def result(self):
+            return self.seen
+
+    stop = lambda t, poses, states, present: t >= 90 and dict(states[0])["moving"] is False  # noqa: E731
+    a, b = Record(), Record()
+    ra = simulate(alg, goals, init, p, seed=4, observers=[a], stop_when=stop)
+    rb = simulate_fast(Wang2020(), goals, init, p, seed=4, observers=[b], stop_when=stop)
+    assert ra.status == rb.status == "stopped" and ra.steps == rb.steps
+    assert a.seen == b.seen and len(a.seen) == ra.steps + 1
+
+
+def test_states_read_after_their_step_are_refused():
+    alg = Wang2020()
+    goals = alg.scale_target(resolve_target("shape:letter-l"), 5)
+    p = alg.default_params(0.6, 5)
+    kept = []
+
+    class Keep:
+        def start(self, ids):
+            pass
+
+        def observe(self, t, poses, states, present):
+            kept.append(states)
+
+    simulate_fast(alg, goals, alg.initial(5, 0, p, goals), p, seed=0, observers=[Keep()], max_steps=3)
+    with pytest.raises(UsageError, match="states of step 1 read at step 3"):
+        kept[1][0]
+
+
+class _Mutant(Wang2020Controller):
+    def yields_to(self, m):
+        return False
+
+
+@pytest.mark.parametrize("change,match", [
+    (lambda a, p: p.extra.update(clock_rate_min=0.5, clock_rate_max=1.0), "clock rates"),
+    (lambda a, p: setattr(a, "controller_class", _Mutant), "reference controller"),
+])
+def test_runs_outside_the_vectorised_path_are_refused_with_the_reason(change, match):
+    alg = Wang2020()
+    goals = alg.scale_target(resolve_target("shape:letter-l"), 5)
+    p = alg.default_params(0.6, 5)
+    init = alg.initial(5, 0, p, goals)
+    change(alg, p)
+    assert match in unsupported(alg, p)
+    with pytest.raises(UsageError, match=match):
+        simulate_fast(alg, goals, init, p, seed=0, allow_violations=True)
+
+
+def test_a_fault_model_or_recorded_messages_are_refused():
+    alg = Wang2020()
+    p = alg.default_params(0.6, 5)
+    assert "fault model" in unsupported(alg, p, faults=FaultModel(message_loss=0.1))
+    assert unsupported(alg, p, faults=FaultModel()) is None
+    assert "record_messages" in unsupported(alg, p, record_messages=True)
+
+
+def test_bad_input_is_checked_as_the_engine_checks_it():
+    alg = Wang2020()
+    goals = alg.scale_target(resolve_target("shape:letter-l"), 5)
+    p = alg.default_params(0.6, 5)
+    init = alg.initial(5, 0, p, goals)
+    with pytest.raises(UsageError, match="seed=-1"):
+        simulate_fast(alg, goals, init, p, seed=-1)
+    with pytest.raises(UsageError, match="record_every=0"):
+        simulate_fast(alg, goals, init, p, seed=0, record_every=0)
+    ten = alg.scale_target(resolve_target("shape:letter-l"), 10)
+    from swarmproof.models.errors import AssumptionError
+
+    with pytest.raises(AssumptionError, match="goal_count"):
+        simulate_fast(alg, ten, init, p, seed=0)
+
+
+def test_same_seed_same_trace_other_seed_other_run():
+    alg = Wang2020()
+    goals = alg.scale_target(resolve_target("shape:letter-l"), 8)
+    p = alg.default_params(0.6, 8)
+    init = alg.initial(8, 5, p, goals)
+    runs = [trace_json(simulate_fast(Wang2020(), goals, init, p, seed=s, max_steps=200)) for s in (5, 5, 6)]
+    assert runs[0] == runs[1] and runs[0] != runs[2]
