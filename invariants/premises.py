@@ -1111,8 +1111,8 @@ class PremisesMonitor:
     def __init__(self, monitors, phi: float, v: float, dt: float, *, meta=None) -> None:
         self.monitors = _known(monitors)
         self.phi, self.v, self.dt = float(phi), float(v), float(dt)
-        #: what the one-step windows carry as ``trace.meta`` (e.g. ``{"params": {"extra": ...}}``:
-        #: the clock rates and broadcast period :class:`GridHeard` reads)
+        #: run facts for the accumulating monitors (e.g. ``{"params": {"extra": ...}}``: the clock
+        #: rates and broadcast period :class:`GridHeard` reads); the one-step windows carry no meta
         self.meta = dict(meta or {})
         self._prev = None
         self.steps = 0
@@ -1133,7 +1133,7 @@ class PremisesMonitor:
         if prev is None:
             return
         self.steps += 1
-        window = _Window(self.ids, self.meta, prev, cur)
+        window = _Window(self.ids, {}, prev, cur)     # (GridHeard got self.meta when it was made)
         for name in self.monitors:
             if name in self.accumulating:
                 self.accumulating[name].scan(window)
