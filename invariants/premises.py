@@ -72,7 +72,7 @@ __all__ = ["step_bounded", "parents_in_bounded_ranges", "relocate_path_in_range"
            "descendants_in_parent_bounded_ranges", "check_premises", "params_of", "MONITORS",
            "MONITOR_LEMMAS", "premise_monitors_of", "tree_links_in_proved_cases", "TREE_LINK_CASES", "TreeLinkCases",
            "grid_claims_distinct", "grid_priorities_distinct", "grid_spacing_bound", "grid_spacing_of_trace",
-           "grid_waited_window", "grid_heard_neighbours"]
+           "grid_waited_window", "grid_heard_neighbours", "GridHeard"]
 
 _MISSING = object()
 
@@ -537,7 +537,7 @@ _GRID_CITES = {
     "priorities": "wang2020_planner_vertex_one_moment, wang2020_lemma_iv_a_1 (004 Alg. 2 line 28, Sec. II-B)",
     "spacing": "wang2020_separation_equal_speeds, wang2020_planner_vertex_one_moment (004 Sec. III-A: 2 sqrt(2) r <= l <= R/2)",
     "waited": "wang2020_lemma_iv_a_1 (004 Alg. 2 line 30: waited longer than Delta t)",
-    "heard": "wang2020_lemma_iv_a_1 (004 Sec. II-A c, e: every neighbour within R heard in the window)",
+    "heard": "wang2020_lemma_iv_a_1 (004 Sec. II-A c, e: every robot within R throughout the window heard)",
 }
 
 
@@ -781,45 +781,217 @@ def grid_waited_window(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0)
 
 
 def grid_heard_neighbours(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
-    """A robot that sets off in step ``t`` had heard, within its window, every robot within
-    ``phi`` (= ``R``) of it at ``t``: state key ``"heard"`` (the ids it received a message from
-    in the last ``Delta t``), from the state after the step (004 Sec. II-A c, e; premise
-    ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``).
+    """A robot that sets off in step ``t`` had heard, within its window, every robot that was within
+    ``phi`` (= ``R``) of it throughout that window (004 Sec. II-A b, c, e; premise
+    ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``): the whole-trace form of
+    :class:`GridHeard`, which states the premise exactly (which robots, which frames, which window).
+
+    State keys, from the state after the step: ``"heard"`` (the ids the robot holds a message of in
+    its ``msg_buff``, 004 Alg. 2 line 15) and ``"window"`` (its ``Delta t``, local clock units); a
+    departure is read by ``"moving"`` (or ``"next"``).  The clocks come from ``trace.meta``
+    (``clocks``: the engine's per-robot rates and ``broadcast_every``; else ``params.extra``'s
+    ``clock_rate_min`` / ``clock_rate_max`` / ``broadcast_every``; else 1, the engine's defaults).
 
     Examples
     --------
+    Robot 2 stands 0.2 m from robot 1 for three steps (a window of 2 steps, a broadcast every
+    step); robot 1 sets off in step 2 without a message from it:
+
     >>> import numpy as np
     >>> from swarmproof.models.trace import Trace
-    >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
-    >>> before = ((("next", None), ("heard", ())), (("next", None), ("heard", ())))
-    >>> after = ((("next", (1, 1)), ("heard", ())), (("next", None), ("heard", ())))
-    >>> r = grid_heard_neighbours(Trace(ids=[1, 2], poses=poses, states=[before, after]), 0.6)
-    >>> r.status, r.witness["robot"], r.witness["unheard"]
-    ('violated', 1, [2])
+    >>> poses = np.zeros((4, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> wait = ((("moving", False), ("heard", ()), ("window", 2.0)),) * 2
+    >>> went = ((("moving", True), ("heard", ()), ("window", 2.0)), wait[1])
+    >>> r = grid_heard_neighbours(Trace(ids=[1, 2], poses=poses, states=[wait] * 3 + [went]), 0.6)
+    >>> r.status, r.witness["robot"], r.witness["unheard"], r.witness["frames"]
+    ('violated', 1, [2], [1, 2])
+
+    Had robot 2 come within R only in step 2 (it was 0.8 m away before), nothing was owed yet:
+
+    >>> poses[:2, 1, 0] = 0.8
+    >>> r = grid_heard_neighbours(Trace(ids=[1, 2], poses=poses, states=[wait] * 3 + [went]), 0.6)
+    >>> r.status, r.detail["arrived_unheard"]
+    ('held', 1)
     """
-    name, cites = "premise:grid_heard", _GRID_CITES["heard"]
-    checked = 0
-    for t, k, before, after, p0, p1, pres0, pres1 in _present_robot_steps(trace):
-        went = _decided(trace, t, k)
-        if went is _MISSING:
-            return InvariantResult(name, "inconclusive", cites, None, f"robot {int(trace.ids[k])} has no 'next' in its state")
-        if not went:
-            continue
-        heard = state_value(after[k], "heard", _MISSING)
-        if heard is _MISSING:
-            return InvariantResult(name, "inconclusive", cites, None,
-                                   f"robot {int(trace.ids[k])} set off in step {t} without 'heard' in its state")
-        checked += 1
-        near = [int(trace.ids[j]) for j in range(trace.n)
-                if j != k and pres0[j] and math.hypot(*(p0[j, :2] - p0[k, :2])) <= phi * INCLUSIVE_SLACK]
-        unheard = sorted(set(near) - {int(h) for h in heard})
+    acc = GridHeard(phi, meta=getattr(trace, "meta", None))
+    acc.scan(trace)
+    return acc.result()
+
+
+def _clock_facts(meta) -> tuple:
+    """``(rates by slot or None, rate_min, rate_max, broadcast_every)`` from a trace's meta: the
+    engine's recorded ``clocks`` (exact), else ``params.extra`` (bounds), else the engine's
+    defaults (every rate 1, a broadcast every step)."""
+    meta = meta or {}
+    extra = (meta.get("params") or {}).get("extra") or {}
+    try:
+        lo = float(extra.get("clock_rate_min", 1.0))
+        hi = float(extra.get("clock_rate_max", lo))
+        every = float(extra.get("broadcast_every", 1.0))
+    except (TypeError, ValueError):
+        lo = hi = every = 1.0
+    clocks = meta.get("clocks") or {}
+    rates = clocks.get("rate")
+    if rates is not None:
+        rates = [float(x) for x in rates]
+        every = float(clocks.get("broadcast_every", every))
+        if rates:
+            lo, hi = min(rates), max(rates)
+    return rates, lo, hi, every
+
+
+#: Frames :class:`GridHeard` keeps at least (a window longer than this many steps is still judged:
+#: the history grows to the longest window read).
+_HEARD_HISTORY = 64
+
+
+class GridHeard:
+    """The premise ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``, exactly as the lemma
+    uses it, over a whole trace or step by step (:meth:`scan` the one-step windows of
+    :class:`PremisesMonitor`; it keeps the frames of the last windows itself).
+
+    The statement (004 Lemma IV-A.1's proof, Sec. II-A b, c, e; the engine's timing,
+    docs/engine.md): robot ``i`` sets off in step ``t`` (Alg. 2 lines 30-31) reading its
+    ``msg_buff`` (line 15): the messages received in the steps ``u`` with ``t - W <= u <= t``,
+    where ``W = floor(Delta t / rate_i)`` steps.  A message received in step ``u`` is a broadcast
+    of step ``u - 1`` delivered to the robots within ``R`` (inclusive) at frame ``u``, the start of
+    step ``u``.  Every robot ``j`` that was present and within ``R`` of ``i`` at *every* frame
+    ``u`` of that window, and broadcast in it, must be among ``i``'s ``"heard"``.
+
+    Why these robots.  The lemma's other agent ``a_j`` changes its claim to ``wp^1`` at
+    ``t_j <= t*`` (the case the proof excludes); it waited more than ``Delta t`` one edge from
+    ``wp^1`` before ``t_j`` and then travels toward ``wp^1``, so throughout ``i``'s window it is
+    at most ``2 l <= R`` from ``i`` (Sec. III-A); every robot within ``R`` throughout is owed
+    delivery by Sec. II-A c, e.  A robot that comes within ``R`` during the window is neither the
+    lemma's ``a_j`` nor owed its earlier broadcasts (sent from beyond ``R``), so it is not checked
+    (``detail["arrived_unheard"]`` counts those that were not heard; issue 15, the explorer's first
+    counterexample, docs/wang2020.md).
+
+    Where the window is not known exactly (the streaming form, which sees no per-robot clock
+    rates): the span ``i``'s window may cover is taken at its longest (``rate_min``) for "within
+    ``R`` throughout", and at its shortest (``rate_max``), less the boundary step (floating
+    point at the cutoff), for "``j`` broadcast in it": ``K`` steps with ``K * rate_j >=
+    broadcast_every``.  With equal rates (Sec. II-A a) both are the same window.  Receipts before
+    step 1 do not exist (nobody broadcast before step 0).
+
+    Blind spots: ``"heard"`` lists senders, not messages, so "every broadcast of ``j`` reached
+    ``i``" is checked as "at least one did"; a window whose frames a sparse trace did not keep is
+    not judged (``inconclusive`` if no violation is found; the streaming form sees every step).
+    """
+
+    name = "premise:grid_heard"
+
+    def __init__(self, phi: float, meta=None) -> None:
+        self.phi = float(phi)
+        self.rates, self.rate_min, self.rate_max, self.every = _clock_facts(meta)
+        self.frames: dict = {}         # engine step -> (xy (n, 2), present (n,))
+        self.keep = _HEARD_HISTORY
+        self.checked = 0               # departures judged
+        self.owed = 0                  # (departure, robot) pairs owed delivery
+        self.arrived_unheard = 0       # pairs within R at the departure, not throughout the window, unheard
+        self.unjudged = 0              # departures whose window frames were not kept (sparse trace)
+        self.first = None              # (witness, message) of the first violation
+        self.missing = None            # message of a state without the keys
+
+    def _rate(self, k: int, low: bool) -> float:
+        if self.rates is not None and k < len(self.rates):
+            return self.rates[k]
+        return self.rate_min if low else self.rate_max
+
+    def scan(self, trace) -> None:
+        if self.missing is not None or self.first is not None:
+            return
+        times = getattr(trace, "times", None)
+        at = (lambda f: f) if times is None else (lambda f: times[f])
+        for t in _steps(trace):
+            for f in (t, t + 1):
+                step = at(f)
+                if step not in self.frames:
+                    self.frames[step] = (np.asarray(trace.poses[f])[:, :2].copy(), np.asarray(trace.present_at(f), bool).copy())
+            a = at(t)
+            for old in [s for s in self.frames if s < a - self.keep]:
+                del self.frames[old]
+            pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
+            for k in range(trace.n):
+                if not (pres0[k] and pres1[k]):
+                    continue
+                went = _decided(trace, t, k)
+                if went is _MISSING:
+                    self.missing = f"robot {int(trace.ids[k])} has no 'moving' or 'next' in its state"
+                    return
+                if not went:
+                    continue
+                after = trace.states[t + 1][k]
+                heard, window = state_value(after, "heard", _MISSING), state_value(after, "window", _MISSING)
+                if heard is _MISSING or window is _MISSING:
+                    self.missing = (f"robot {int(trace.ids[k])} set off in step {a} without 'heard' and 'window' "
+                                    "in its state")
+                    return
+                self._departure(trace, a, k, float(window), {int(h) for h in heard})
+                if self.first is not None:
+                    return
+
+    def _departure(self, trace, a: int, k: int, window: float, heard: set) -> None:
+        span = int(math.floor(window / self._rate(k, True) + 1e-9))       # the longest window, in steps
+        sure = int(math.floor(window / self._rate(k, False) + 1e-9))      # the shortest
+        self.keep = max(self.keep, span + 2)
+        lo = max(1, a - span)                                             # receipts exist from step 1
+        steps = range(lo, a + 1)
+        if not steps:
+            self.checked += 1                                             # step 0: nothing received yet
+            return
+        if any(u not in self.frames for u in steps):
+            self.unjudged += 1
+            return
+        self.checked += 1
+        xy = np.stack([self.frames[u][0] for u in steps])                 # (frames, n, 2)
+        pres = np.stack([self.frames[u][1] for u in steps])
+        d = np.hypot(xy[:, :, 0] - xy[:, k:k + 1, 0], xy[:, :, 1] - xy[:, k:k + 1, 1])
+        within = (d <= self.phi * INCLUSIVE_SLACK) & pres & pres[:, k:k + 1]
+        throughout = within.all(axis=0)
+        now = within[-1]
+        K = a - max(1, a - sure + 1) + 1                                  # broadcast steps surely read
+        ids = trace.ids
+        unheard, arrived = [], 0
+        for j in range(trace.n):
+            if j == k or not now[j]:
+                continue
+            rid = int(ids[j])
+            if rid in heard:
+                continue
+            if not throughout[j]:
+                arrived += 1
+                continue
+            if K * self._rate(j, True) < self.every * (1 - 1e-12):
+                continue                                                  # j need not have broadcast in it
+            unheard.append(rid)
+        owed = int(sum(1 for j in range(trace.n) if j != k and throughout[j]))
+        self.owed += owed
+        self.arrived_unheard += arrived
         if unheard:
-            rid = int(trace.ids[k])
-            return InvariantResult(name, "violated", cites,
-                                   {"step": t, "robot": rid, "unheard": unheard, "lemma": "wang2020_lemma_iv_a_1"},
-                                   f"robot {rid} set off in step {t} without having heard {unheard}, within R")
-    return InvariantResult(name, "held", cites, None, f"{checked} departures with every neighbour heard",
-                           applicable=checked > 0, detail={"checked": checked})
+            rid = int(ids[k])
+            witness = {"step": a, "robot": rid, "unheard": sorted(unheard), "frames": [lo, a],
+                       "window_steps": span, "lemma": "wang2020_lemma_iv_a_1"}
+            self.first = (witness, f"robot {rid} set off in step {a} without having heard {sorted(unheard)}, "
+                                   f"within R throughout its window (steps {lo}..{a})")
+
+    def result(self) -> InvariantResult:
+        cites = _GRID_CITES["heard"]
+        detail = {"checked": self.checked, "owed": self.owed, "arrived_unheard": self.arrived_unheard,
+                  "unjudged": self.unjudged}
+        if self.missing is not None:
+            return InvariantResult(self.name, "inconclusive", cites, None, self.missing, detail=detail)
+        if self.first is not None:
+            witness, message = self.first
+            return InvariantResult(self.name, "violated", cites, witness, message, detail=detail)
+        if self.unjudged:
+            return InvariantResult(self.name, "inconclusive", cites, None,
+                                   f"{self.unjudged} departures whose window the trace did not keep (sparse); "
+                                   f"{self.checked} judged, none unheard", detail=detail)
+        return InvariantResult(self.name, "held", cites, None,
+                               f"{self.checked} departures with every robot within R throughout the window heard "
+                               f"({self.arrived_unheard} robots that came within R during a window, not owed)",
+                               applicable=self.checked > 0, detail=detail)
 
 
 def check_premises(trace, phi: float | None = None, v: float | None = None,
@@ -906,6 +1078,14 @@ MONITOR_LEMMAS = {"step_bounded": "bounded_range", "nclb": "nclb_link_kept",
                   "grid_spacing": "wang2020_separation_equal_speeds",
                   "grid_waited": "wang2020_lemma_iv_a_1", "grid_heard": "wang2020_lemma_iv_a_1"}
 
+#: Monitors with memory across steps, for :class:`PremisesMonitor`: name -> factory
+#: ``(phi, v, dt, meta) -> object with scan(trace) and result()``.
+_ACCUMULATING = {
+    "tree_link_cases": lambda phi, v, dt, meta: TreeLinkCases(phi, v, dt),
+    "grid_heard": lambda phi, v, dt, meta: GridHeard(phi, meta=meta),
+}
+
+
 def premise_monitors_of(algorithm) -> tuple:
     """The monitor names that apply to ``algorithm``: its class's ``premise_monitors``
     attribute (the lemmas its paper's proof uses), else ``()`` (no lemma premises declared).
@@ -928,16 +1108,20 @@ class PremisesMonitor:
 
     name = "premises"
 
-    def __init__(self, monitors, phi: float, v: float, dt: float) -> None:
+    def __init__(self, monitors, phi: float, v: float, dt: float, *, meta=None) -> None:
         self.monitors = _known(monitors)
         self.phi, self.v, self.dt = float(phi), float(v), float(dt)
+        #: run facts for the accumulating monitors (e.g. ``{"params": {"extra": ...}}``: the clock
+        #: rates and broadcast period :class:`GridHeard` reads); the one-step windows carry no meta
+        self.meta = dict(meta or {})
         self._prev = None
         self.steps = 0
         self.final: dict = {}            # monitor -> a violated or inconclusive result (it stops there)
         self.checked = {m: 0 for m in self.monitors}
-        # monitors that judge every step they see, not only up to their first finding
-        self.accumulating = {m: TreeLinkCases(self.phi, self.v, self.dt) for m in self.monitors
-                             if m == "tree_link_cases"}
+        # monitors that keep memory across steps: they scan every step they see (tree_link_cases
+        # judges them all, grid_heard keeps the frames of the last windows)
+        self.accumulating = {m: _ACCUMULATING[m](self.phi, self.v, self.dt, self.meta) for m in self.monitors
+                             if m in _ACCUMULATING}
 
     def start(self, ids) -> None:
         self.ids = np.asarray(ids)
@@ -949,7 +1133,7 @@ class PremisesMonitor:
         if prev is None:
             return
         self.steps += 1
-        window = _Window(self.ids, {}, prev, cur)
+        window = _Window(self.ids, {}, prev, cur)     # (GridHeard got self.meta when it was made)
         for name in self.monitors:
             if name in self.accumulating:
                 self.accumulating[name].scan(window)

@@ -335,7 +335,9 @@ def _collision_stream(algorithm, params, options):
 def _premises_stream(algorithm, params, options):
     from .premises import PremisesMonitor, premise_monitors_of
 
-    return PremisesMonitor(premise_monitors_of(algorithm), params.range, params.v, params.dt)
+    # the clock rates and broadcast period (params.extra) tell grid_heard the window's span
+    return PremisesMonitor(premise_monitors_of(algorithm), params.range, params.v, params.dt,
+                           meta={"params": {"extra": dict(getattr(params, "extra", None) or {})}})
 
 
 def _deadlock_stream(algorithm, params, options):

@@ -192,13 +192,15 @@ def test_spacing_bound_at_sec_v_values_and_just_outside():
     assert premises.grid_spacing_of_trace(tr, 0.6).status == "held"
 
 
-def _timing_trace(waited, heard_by_1):
+def _timing_trace(waited, heard_by_1, lead=0):
+    """GOOD with ``lead`` more waiting frames first (robots 1 and 2 then set off in step ``lead``)."""
+    rows = [GOOD[0]] * lead + GOOD
     extra = {}
-    for k in range(3):
+    for k in range(len(rows)):
         for i in range(3):
-            extra[(k, i)] = [("waited", waited if k == 1 and i == 0 else 5.0), ("window", 2.0),
+            extra[(k, i)] = [("waited", waited if k == lead + 1 and i == 0 else 5.0), ("window", 2.0),
                              ("heard", heard_by_1 if i == 0 else (1, 2, 3))]
-    return _trace(GOOD, extra=extra)
+    return _trace(rows, extra=extra)
 
 
 def test_waited_monitor():
@@ -209,11 +211,16 @@ def test_waited_monitor():
 
 
 def test_heard_monitor():
-    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2, 3)), 0.6).status == "held"
-    r = premises.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.6)
+    # two waiting frames first: robot 1 sets off in step 2, its window of 2 steps reads steps 1..2
+    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2, 3), lead=2), 0.6).status == "held"
+    r = premises.grid_heard_neighbours(_timing_trace(3.0, (2,), lead=2), 0.6)
     assert r.status == "violated" and r.witness["unheard"] == [3] and r.witness["robot"] == 1
+    assert r.witness["step"] == 2 and r.witness["frames"] == [1, 2]
     # robot 3 is 0.2 away: with R = 0.1 it is no neighbour, so nobody is missing
-    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.1).status == "held"
+    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2,), lead=2), 0.1).status == "held"
+    # setting off in step 0, nothing can have been received yet (nobody broadcast before step 0)
+    r0 = premises.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.6)
+    assert r0.status == "held" and r0.detail["checked"] == 3
 
 
 def test_monitors_registered_with_their_lemmas_and_run_by_check_premises():
