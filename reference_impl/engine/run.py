@@ -455,7 +455,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         slot_of_add.setdefault(step_k, []).append((n0 + k, p))
     any_presence_change = bool(add_rows) or any(faults.crashes.values())
 
-    mover = motion_model(model, params, n_total)
+    mover = motion_model(model, params, n_total, seed)
     mover.start(poses, n0, ids_list)
     grid = mover.grid
     clocks = clock_model(model, params, n_total, seed)
@@ -816,7 +816,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         "broken_assumptions": list(broken),
         "faults": faults.describe(),
         **clocks.describe(),
-        **({"grid_spacing": mover.spacing} if grid else {}),
+        **({"grid_spacing": mover.spacing, **mover.describe()} if grid else {}),
         **({"record_every": record_every} if record_every > 1 else {}),
         **({"crash": crash} if crash is not None else {}),
         "model": {"sensing": model.sensing, "communication": model.communication,
