@@ -3,6 +3,7 @@ the runtime monitors of their premises (invariants/premises.py, grid_* monitors)
 
 from __future__ import annotations
 
+import json
 import math
 import time
 
@@ -290,3 +291,14 @@ def test_streaming_monitor_finds_the_same_violation():
         mon.observe(t, tr.poses[t], tr.states[t], np.ones(3, dtype=bool))
     (_, r), = mon.results()
     assert r.status == "violated" and r.witness["step"] == 2
+
+
+def test_swarmproof_prove_runs_the_speed_buffer_lemma_and_lists_both(capsys):
+    from swarmproof.cli import main
+
+    code = main(["prove", "wang2020_speed_buffer_v_b3_cases", "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    (lem,) = doc["lemmas"]
+    assert code == 0 and lem["id"] == "wang2020_speed_buffer_v_b3_cases" and lem["status"] == "proved"
+    assert lem["premises_satisfiable"] is True and lem["negative_control"]["status"] == "counterexample"
+    assert {"wang2020_speed_buffer_v_b3_cases", "wang2020_separation_speeds"} <= {x.id for x in proofs.lookup()}
