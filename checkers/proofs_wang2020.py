@@ -572,8 +572,9 @@ _SMT = (("solver", "smt"),)   # linear real arithmetic with Booleans: z3's SMT s
 _GRID = ("translation: agent i's (or agent 0's) waypoint at the origin, by whole cells (translation_invariance)",
          "scale: grid length l = 1 (scale_invariance)")
 _TIME = ("time: t* = 0 and 1/f_comm = 1 (wang2020_time_normalisation)",)
-_SPEED = ("time: v_max = 1, an edge at v_max takes one time unit (a position A + min(1, max(0, v (t - s) / l)) D "
-          "is unchanged when times are scaled by T and speeds by 1/T); rho = v_min / v_max",)
+_SPEED = ("time: v_max = 1, an edge at v_max takes one time unit: times t -> (t - c) / T with T = l / v_max keep "
+          "every comparison a <= b + k T (wang2020_time_normalisation), speeds v -> v T / l keep every fraction "
+          "v (t - s) / l of an edge; rho = v_min / v_max",)
 _PAPER_TIMING = ("equal clock rates, lossless delivery without delay (Sec. II-A a-c, e); Sec. V-B3's relaxed "
                  "Delta t >= (2m/f_comm)(f_max/f_min) for loss and clock rates is not encoded (the explorer "
                  "and the runtime monitors cover it)")

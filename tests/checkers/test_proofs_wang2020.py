@@ -63,7 +63,7 @@ def test_kinds_follow_design_section_5():
     # Sec. V-B3's buffer space is a geometric bound, not a numbered result: auxiliary
     for i in ("wang2020_speed_buffer_v_b3_cases", "wang2020_separation_speeds"):
         assert kinds[i] == "auxiliary" and "Sec. V-B3" in LEMMAS[i].cites[0]
-        assert any("v_max = 1" in n for n in LEMMAS[i].normalisations)
+        assert any("v_max = 1" in n and "(wang2020_time_normalisation)" in n for n in LEMMAS[i].normalisations)
 
 
 def test_ignoring_priority_sends_two_agents_to_one_waypoint():
