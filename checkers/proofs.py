@@ -630,7 +630,7 @@ def lookup(ids: Iterable[str] | None = None) -> list:
     >>> lookup(["lemma7"])
     Traceback (most recent call last):
     ...
-    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region, wang2020_time_normalisation, wang2020_planner_vertex_one_moment, wang2020_planner_edge_one_moment, wang2020_lemma_iv_a_1, wang2020_theorem_iv_a_2, wang2020_separation_equal_speeds (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
+    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region, wang2020_time_normalisation, wang2020_planner_vertex_one_moment, wang2020_planner_edge_one_moment, wang2020_lemma_iv_a_1, wang2020_theorem_iv_a_2, wang2020_separation_equal_speeds, wang2020_speed_buffer_v_b3_cases, wang2020_separation_speeds (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
     """
     if ids is None:
         return list(LEMMAS.values())

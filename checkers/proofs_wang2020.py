@@ -4,7 +4,7 @@ Registered into :data:`swarmproof.checkers.proofs.LEMMAS` (ids prefixed ``wang20
 solved by :func:`swarmproof.checkers.proofs.prove` like every lemma of the suite: premises
 satisfiable, the negated conclusion ``unsat``, a negative control refuted, vacuity controls.
 
-Five lemmas (docs/proofs.md, "Wang & Rubenstein 2020"):
+Seven lemmas and a normalisation (docs/proofs.md, "Wang & Rubenstein 2020"):
 
 * ``wang2020_planner_vertex_one_moment`` (auxiliary): Alg. 2's decision rule (lines 25-31,
   lexicographic priority) at one moment, every agent deciding on the current claims and
@@ -26,6 +26,13 @@ Five lemmas (docs/proofs.md, "Wang & Rubenstein 2020"):
   its waypoint or moving at the common speed along an edge, with claims distinct at every
   instant (Thm. IV-A.1) and no swap (Thm. IV-A.2), are at least ``2r`` apart at every
   instant ``t``: the exact distance at ``t``, ``t`` free.  Control: ``l`` 1 % below the bound.
+* ``wang2020_speed_buffer_v_b3_cases`` (auxiliary): 004 Sec. V-B3's derivation of its buffer
+  space, its two cases (orthogonal and collinear adjacent edges, a common start), speeds in
+  ``[v_min, v_max]``, ``l >= 2 r sqrt(v_max^2 + v_min^2) / v_min``.  Control: ``l`` 1 % below.
+* ``wang2020_separation_speeds`` (auxiliary): ``wang2020_separation_equal_speeds`` with a speed
+  per agent in ``[v_min, v_max]`` and Sec. V-B3's ``l``: every pair of moves, any start times
+  (does V-B3's case analysis miss a pair of edges? It does not: docs/wang2020.md, Findings).
+  Control: ``l`` 1 % below the bound.
 
 Normalisations (documented, docs/proofs.md): the grid length ``l = 1`` and one agent's
 waypoint at the origin (the grid is invariant under translation by whole cells and under
@@ -54,8 +61,8 @@ import z3
 from . import proofs
 from .proofs import Encoding, Lemma, _vars, dist2
 
-__all__ = ["planner_one_moment", "lemma_iv_a_1", "theorem_iv_a_2", "separation",
-           "time_normalisation", "LEMMAS", "UNITS"]
+__all__ = ["planner_one_moment", "lemma_iv_a_1", "theorem_iv_a_2", "separation", "speed_buffer_cases",
+           "separation_speeds", "time_normalisation", "LEMMAS", "UNITS"]
 
 #: The four grid moves of Alg. 2 line 9 (``surroundings``) and ``wait``, in units of ``l``.
 UNITS = ((1, 0), (-1, 0), (0, 1), (0, -1))
@@ -444,6 +451,117 @@ def separation(bound_factor2=1) -> Encoding:
                     + _vars(D["i"], D["j"]), cases=cases)
 
 
+def _speed_buffer_premise(r, rho, bound_factor2) -> tuple:
+    """004 Sec. V-B3's buffer space, normalised ``l = 1``, ``v_max = 1``, ``rho = v_min / v_max``:
+    ``l >= 2 r sqrt(v_max^2 + v_min^2) / v_min`` squared and cleared of the division,
+    ``4 r^2 (1 + rho^2) <= rho^2`` (``bound_factor2`` scales the left side: the control's
+    ``0.99^2`` puts ``l`` one per cent below the bound)."""
+    return ("grid_length_at_least_the_v_b3_speed_buffer",
+            z3.And(r > 0, rho > 0, rho <= 1, 4 * bound_factor2 * r * r * (1 + rho * rho) <= rho * rho))
+
+
+def _edge_fraction(lam, w, t, s) -> z3.BoolRef:
+    """``lam = min(1, max(0, w (t - s)))``: the fraction of its edge an agent of speed ``w`` that
+    set off at ``s`` has covered at ``t`` (the exact position on the edge, DESIGN.md section 5)."""
+    run = w * (t - s)
+    return z3.Or(z3.And(t <= s, lam == 0),
+                 z3.And(s <= t, run <= 1, lam == run),
+                 z3.And(run >= 1, lam == 1))
+
+
+def speed_buffer_cases(bound_factor2=1) -> Encoding:
+    """004 Sec. V-B3's two cases, as the paper derives its buffer space: agent ``L`` leaves
+    waypoint ``W`` at ``t = 0`` at speed ``a`` while agent ``F`` sets off at ``t = 0`` toward
+    ``W`` from the neighbouring waypoint at speed ``b``, both in ``[v_min, v_max]``; for ``t``
+    in ``[0, l / b]`` (``F`` on its edge; the paper's ``[0, l / v_max]`` with ``b = v_max``)
+    the two discs of radius ``r`` stay at least ``2r`` apart if
+    ``l >= 2 r sqrt(v_max^2 + v_min^2) / v_min``.
+
+    Normalised: ``l = 1``, ``v_max = 1`` (an edge at ``v_max`` takes one time unit),
+    ``rho = v_min / v_max``; ``W`` at the origin, ``F`` coming from ``(-1, 0)`` eastward.
+    Cases (``Encoding.cases``): ``orthogonal_adjacent_edges`` (``L`` leaves northward: the
+    paper's ``sqrt((l - v_max t)^2 + (v_min t)^2) >= 2r``) and ``collinear_adjacent_edges``
+    (``L`` leaves eastward, ahead of ``F``: ``l - v_max t + v_min t >= 2r``).  The paper
+    takes ``L`` at ``v_min`` and ``F`` at ``v_max``, its worst case; here both speeds are free
+    in ``[v_min, v_max]``.  ``L`` stops at the end of its edge (``min(1, a t)``).
+    """
+    r, rho, a, b, t, lam_l, lam_f = z3.Reals("r rho a b t lam_L lam_F")
+    prem = [
+        _speed_buffer_premise(r, rho, bound_factor2),
+        ("speeds_within_v_min_v_max", z3.And(rho <= a, a <= 1, rho <= b, b <= 1)),
+        ("f_on_its_edge_t_in_0_l_over_b", z3.And(t >= 0, b * t <= 1, lam_f == b * t)),
+        ("l_leaves_w_at_t_0", _edge_fraction(lam_l, a, t, z3.RealVal(0))),
+    ]
+    f = (-1 + lam_f, z3.RealVal(0))
+    p_l = _pt("L")          # the leaving agent's position: a case premise puts it on its edge
+    cases = [("orthogonal_adjacent_edges", [("l_leaves_w_orthogonally_to_f_edge", _peq(p_l, (0, lam_l)))]),
+             ("collinear_adjacent_edges", [("l_leaves_w_along_f_edge", _peq(p_l, (lam_l, 0)))])]
+    return Encoding(premises=prem, conclusion=dist2(p_l, f) >= 4 * r * r,
+                    variables=[r, rho, a, b, t, lam_l, lam_f, *p_l], cases=cases)
+
+
+def separation_speeds(bound_factor2=1) -> Encoding:
+    """:func:`separation` with speeds of their own (004 Sec. V-B3): two discs of radius ``r``,
+    each resting at its waypoint or moving along an edge at its own speed in ``[v_min, v_max]``,
+    with claims distinct at every instant (Thm. IV-A.1) and no opposite travel on one edge (Thm.
+    IV-A.2), on a grid with ``l >= 2 r sqrt(v_max^2 + v_min^2) / v_min``, are at least ``2r``
+    apart at every instant ``t``.  All 25 pairs of moves (``Encoding.cases``), start times free:
+    every pair of edges two agents can travel at once under Constraints III-A.1/2, not only
+    Sec. V-B3's two cases with a common start (:func:`speed_buffer_cases`).
+
+    Normalised: ``l = 1``, ``v_max = 1``, ``rho = v_min / v_max``, agent ``i``'s source at the
+    origin.  Agent ``a`` moves at ``w_a`` in ``[rho, 1]``; at ``t`` it is at ``A_a + lam_a D_a``
+    with ``lam_a = min(1, max(0, w_a (t - s_a)))``.  At ``t`` it has reached its source, at least
+    one time unit (an edge at ``v_max``, the fastest) after its claim on it began (``t >= e_a +
+    1``: weaker than the truth, ``e_a + l / w``, so the statement is stronger).  Unlike
+    :func:`separation`, no premise says it reached its source before setting off (``s_a >= e_a +
+    1``) and a resting agent's ``lam`` is left free (it moves by ``lam (0, 0)``): the vacuity
+    controls showed both redundant there, and each redundant premise costs a full re-proof here.
+    Claims as in :func:`separation`; no opposite travel is stated on ``[s_a, s_a + 1)``, the
+    shortest travel (a subset of the true travel time: again a weaker premise).
+    ``bound_factor2 = 0.99^2`` is the control (``l`` one per cent below the bound).
+    """
+    r, rho, t = z3.Reals("r rho t")
+    x, y = z3.Reals("A_j_x A_j_y")
+    e, s, lam, w = {}, {}, {}, {}
+    for a in "ij":
+        e[a], s[a], lam[a], w[a] = z3.Reals(f"e_{a} s_{a} lam_{a} w_{a}")
+    src = {"i": (z3.RealVal(0), z3.RealVal(0)), "j": (x, y)}
+    D = {a: _pt(f"D_{a}") for a in "ij"}
+    pos = {a: (src[a][0] + lam[a] * D[a][0], src[a][1] + lam[a] * D[a][1]) for a in "ij"}
+    prem = [
+        _speed_buffer_premise(r, rho, bound_factor2),
+        ("speeds_within_v_min_v_max", z3.And([z3.And(rho <= w[a], w[a] <= 1) for a in "ij"])),
+        ("j_source_is_a_waypoint", z3.And(_waypoint_offset(x), _waypoint_offset(y))),
+    ]
+    cases = []
+    for di in list(UNITS) + [(0, 0)]:
+        for dj in list(UNITS) + [(0, 0)]:
+            mv = {"i": di, "j": dj}
+            extra, claims = [], {}
+            for a in "ij":
+                d, A = mv[a], src[a]
+                B = (A[0] + d[0], A[1] + d[1])
+                extra.append((f"{a}_move_of_the_case", _peq(D[a], d)))
+                extra.append((f"{a}_at_its_source_by_t", t >= e[a] + 1))
+                if d != (0, 0):
+                    extra.append((f"{a}_moves_at_its_own_speed", _edge_fraction(lam[a], w[a], t, s[a])))
+                    claims[a] = [(A, e[a], s[a]), (B, s[a], None)]
+                else:       # resting: D = (0, 0), so lam does not matter
+                    claims[a] = [(A, e[a], None)]
+            extra.append(("claims_distinct_at_every_instant_thm_iv_a_1", z3.And(
+                [z3.Implies(_peq(wa, wb), _disjoint(a0, a1, b0, b1))
+                 for wa, a0, a1 in claims["i"] for wb, b0, b1 in claims["j"]])))
+            if di != (0, 0) and dj != (0, 0):
+                swap = z3.And(_peq(src["i"], (x + dj[0], y + dj[1])), _peq(src["j"], di))
+                extra.append(("no_opposite_travel_on_one_edge_thm_iv_a_2", z3.Implies(
+                    swap, _disjoint(s["i"], s["i"] + 1, s["j"], s["j"] + 1))))
+            cases.append((f"i{_dname(di)}_j{_dname(dj)}", extra))
+    return Encoding(premises=prem, conclusion=dist2(pos["i"], pos["j"]) >= 4 * r * r,
+                    variables=[r, rho, t, x, y, e["i"], s["i"], lam["i"], w["i"], e["j"], s["j"], lam["j"], w["j"]]
+                    + _vars(D["i"], D["j"]), cases=cases)
+
+
 def _dname(d) -> str:
     return {(1, 0): "east", (-1, 0): "west", (0, 1): "north", (0, -1): "south", (0, 0): "rests"}[d]
 
@@ -454,6 +572,9 @@ _SMT = (("solver", "smt"),)   # linear real arithmetic with Booleans: z3's SMT s
 _GRID = ("translation: agent i's (or agent 0's) waypoint at the origin, by whole cells (translation_invariance)",
          "scale: grid length l = 1 (scale_invariance)")
 _TIME = ("time: t* = 0 and 1/f_comm = 1 (wang2020_time_normalisation)",)
+_SPEED = ("time: v_max = 1, an edge at v_max takes one time unit: times t -> (t - c) / T with T = l / v_max keep "
+          "every comparison a <= b + k T (wang2020_time_normalisation), speeds v -> v T / l keep every fraction "
+          "v (t - s) / l of an edge; rho = v_min / v_max",)
 _PAPER_TIMING = ("equal clock rates, lossless delivery without delay (Sec. II-A a-c, e); Sec. V-B3's relaxed "
                  "Delta t >= (2m/f_comm)(f_max/f_min) for loss and clock rates is not encoded (the explorer "
                  "and the runtime monitors cover it)")
@@ -563,6 +684,44 @@ _LEMMA_LIST = [
             "different speeds (Sec. V-B3: l >= 2 r sqrt(v_max^2 + v_min^2) / v_min) and the spin time of a "
             "differential-drive robot: equal speeds only, so auxiliary (DESIGN.md section 5)",
             "two agents at a time; Thms. IV-A.1/IV-A.2 are premises (monitored at run time)",
+        ),
+    ),
+    Lemma(
+        id="wang2020_speed_buffer_v_b3_cases",
+        statement="Sec. V-B3's two cases: an agent leaving a waypoint W and an agent entering W from a neighbouring "
+                  "waypoint, setting off at once at speeds in [v_min, v_max], on orthogonal or on collinear adjacent "
+                  "edges, stay at least 2r apart while the entering agent is on its edge, if "
+                  "l >= 2 r sqrt(v_max^2 + v_min^2) / v_min.",
+        cites=("004 Sec. V-B3 (the buffer space l >= 2 sqrt(v_max^2 + v_min^2) r / v_min from its orthogonal and "
+               "collinear cases; the paper's worst case is the leaver at v_min, the enterer at v_max)",),
+        normalisations=_GRID + _SPEED,
+        build=speed_buffer_cases,
+        control=lambda: speed_buffer_cases(bound_factor2=0.99 ** 2),
+        control_note="l one per cent below 2 r sqrt(v_max^2 + v_min^2) / v_min",
+        not_proved=(
+            "any other pair of edges or start times than a common start: wang2020_separation_speeds covers them",
+            "the spin time of a differential-drive robot (Sec. V-B3's second buffer, v_max pi / (2 omega*)): the "
+            "engine's grid robots are holonomic",
+        ),
+    ),
+    Lemma(
+        id="wang2020_separation_speeds",
+        statement="Two discs of radius r on a grid with l >= 2 r sqrt(v_max^2 + v_min^2) / v_min, each resting at its "
+                  "waypoint or moving along an edge at its own speed in [v_min, v_max], with claims distinct at every "
+                  "instant (Thm. IV-A.1) and no opposite travel on one edge (Thm. IV-A.2), are at least 2r apart at "
+                  "every instant: every pair of moves (25 cases) and any start times.",
+        cites=("004 Sec. V-B3 (v_min <= v_m^i <= v_max, the buffer space l), Sec. II-C (||p_i - p_j|| >= 2r), "
+               "Constraints III-A.1/III-A.2",),
+        normalisations=_GRID + _SPEED,
+        build=separation_speeds,
+        control=lambda: separation_speeds(bound_factor2=0.99 ** 2),
+        control_note="l one per cent below 2 r sqrt(v_max^2 + v_min^2) / v_min",
+        not_proved=(
+            "two agents at a time; Thms. IV-A.1/IV-A.2 are premises (Sec. V-B3 argues they survive the relaxed "
+            "clocks and loss with its larger Delta t; monitored at run time)",
+            "a speed that changes along an edge: each agent keeps one speed per edge (the engine: one per robot; "
+            "in the step it arrives a robot's recorded straight segment is slower, docs/wang2020.md)",
+            "the spin time of a differential-drive robot (Sec. V-B3's second buffer)",
         ),
     ),
 ]

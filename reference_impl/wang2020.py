@@ -59,7 +59,7 @@ from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
 
 __all__ = ["Wang2020", "Wang2020Controller", "WangMsg", "manhattan", "lex_greater", "default_params",
-           "J1", "J2", "INVARIANT_NAMES", "window_bound"]
+           "J1", "J2", "INVARIANT_NAMES", "window_bound", "speed_range", "speed_buffer_bound"]
 
 #: Alg. 2 lines 9 and 11: the surroundings in the printed order (x - l, y), (x, y - l), (x + l, y), (x, y + l).
 SURROUNDINGS = ((-1, 0), (0, -1), (1, 0), (0, 1))
@@ -509,6 +509,54 @@ def _spacing_bounds(params: Params, n, ids):
             f"[{2 * math.sqrt(2) * r:.6g}, {params.range / 2:.6g}]")
 
 
+def speed_range(params: Params) -> tuple:
+    """``(v_min, v_max)`` of the grid robots' speeds (m/s): ``params.extra["speed_min"]`` and
+    ``["speed_max"]``, each defaulting to ``params.v`` (004 Sec. II-A d: one ``v_m``; Sec. V-B3:
+    ``v_min <= v_m^i <= v_max``; the engine draws them, :func:`~swarmproof.reference_impl.engine.motion.grid_speeds`).
+
+    Raises
+    ------
+    UsageError
+        A value that is no finite number > 0 (the engine's check, named ``params.extra[key]``).
+
+    >>> speed_range(default_params()), speed_range(Params(range=0.6, v=0.05, extra={"speed_min": 0.03}))
+    ((0.05, 0.05), (0.03, 0.05))
+    """
+    from swarmproof.reference_impl.engine.motion import _speed_bound
+
+    return _speed_bound(params, "speed_min"), _speed_bound(params, "speed_max")
+
+
+def speed_buffer_bound(params: Params) -> float:
+    """004 Sec. V-B3's least grid length for robots of speeds in ``[v_min, v_max]``:
+    ``l >= 2 r sqrt(v_max^2 + v_min^2) / v_min`` (written ``2 r sqrt(1 + (v_max / v_min)^2)``, so
+    that equal speeds give exactly Sec. III-A's ``2 sqrt(2) r``).  It is the orthogonal hand-over
+    case; the collinear case, ``l >= 2 r v_max / v_min``, is never larger (docs/wang2020.md).
+
+    >>> round(speed_buffer_bound(default_params()), 6), 2 * math.sqrt(2) * 0.05 == speed_buffer_bound(default_params())
+    (0.141421, True)
+    >>> round(speed_buffer_bound(Params(range=0.6, extra={"robot_radius": 0.05, "speed_min": 0.025, "speed_max": 0.05})), 6)
+    0.223607
+    """
+    lo, hi = speed_range(params)
+    return 2 * _r(params) * math.sqrt(1 + (hi / lo) ** 2)
+
+
+def _speed_buffer(params: Params, n, ids):
+    l = float(params.extra.get("grid_spacing", 1.0))
+    need = speed_buffer_bound(params)
+    if l >= need - 1e-12:
+        return None
+    lo, hi = speed_range(params)
+    return (f"grid_spacing={l!r} < 2*robot_radius*sqrt(speed_max^2 + speed_min^2)/speed_min = {need:.6g} "
+            f"(robot_radius={_r(params)!r}, speed_min={lo!r}, speed_max={hi!r})")
+
+
+def _same_speed(params: Params, n, ids):
+    lo, hi = speed_range(params)
+    return None if lo == hi else f"speed_min={lo!r} != speed_max={hi!r}"
+
+
 def _same_clock_rate(params: Params, n, ids):
     lo = float(params.extra.get("clock_rate_min", 1.0))
     hi = float(params.extra.get("clock_rate_max", lo))
@@ -615,8 +663,12 @@ def _goal_connected(params: Params, n, target):
 ASSUMPTIONS = (
     Assumption("range_vs_radius", "R >= 4 sqrt(2) r", "004 Sec. II-A", _range_vs_radius),
     Assumption("grid_spacing_bounds", "2 sqrt(2) r <= l <= R / 2", "004 Sec. III-A", _spacing_bounds),
+    Assumption("speed_buffer", "l >= 2 r sqrt(v_max^2 + v_min^2) / v_min (equal speeds: 2 sqrt(2) r, as "
+               "grid_spacing_bounds)", "004 Sec. V-B3", _speed_buffer),
     Assumption("same_clock_frequency", "every agent has the same clock frequency (phases arbitrary)",
                "004 Sec. II-A a)", _same_clock_rate),
+    Assumption("same_speed", "every agent has the same speed v_m on a grid edge", "004 Sec. II-A d)",
+               _same_speed),
     Assumption("message_window", "Delta t >= (2 m / f_comm) (f_max / f_min) (m = 1, equal rates: 2 / f_comm)",
                "004 Alg. 2 line 6, Lemma IV-A.1, Sec. V-B3", _window),
     Assumption("beta_in_unit_interval", "0 < beta < 1", "004 Alg. 2 input, Alg. 4 line 16", _beta),

@@ -630,7 +630,7 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
 
     poses[:, 2] = wrap_angle(poses[:, 2])
     present = np.ones(n, dtype=bool)
-    mover = GridMotion(params, n)
+    mover = GridMotion(params, n, seed)
     mover.start(poses, n, ids_list)
     clocks = AsyncClocks(params, n, seed)
     ctrl = algorithm.controller(ids_list[0], params, lattice, _robot_rng(seed, 0))
@@ -732,7 +732,7 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
         states = tuple(run.state(k) for k in range(n))
     rec.finish(t, poses, None, states)
     meta = run_meta(algorithm, lattice, params, seed, status, t, max_steps, window, broken, faults, clocks,
-                    mover.spacing, record_every, None)
+                    {"grid_spacing": mover.spacing, **mover.describe()}, record_every, None)
     trace = rec.trace(ids, events, meta)
     return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
                             seed=seed, static_window=window, max_steps=max_steps, observers=observers,

@@ -312,8 +312,9 @@ def run_caps(algorithm, params: Params, n0: int, max_steps, stop_when_static) ->
 
 
 def run_meta(algorithm, lattice, params: Params, seed: int, status: str, t: int, max_steps: int, window: int,
-             broken, faults, clocks, grid_spacing, record_every: int, crash) -> dict:
-    """``trace.meta`` of a run (shared with an algorithm's vectorised path)."""
+             broken, faults, clocks, grid_meta, record_every: int, crash) -> dict:
+    """``trace.meta`` of a run (shared with an algorithm's vectorised path); ``grid_meta``: grid
+    motion's ``grid_spacing`` and speeds (None for other motion models)."""
     model = algorithm.model
     return {
         "algorithm": getattr(algorithm, "name", type(algorithm).__name__),
@@ -332,7 +333,7 @@ def run_meta(algorithm, lattice, params: Params, seed: int, status: str, t: int,
         "broken_assumptions": list(broken),
         "faults": faults.describe(),
         **clocks.describe(),
-        **({"grid_spacing": grid_spacing} if grid_spacing is not None else {}),
+        **(grid_meta or {}),
         **({"record_every": record_every} if record_every > 1 else {}),
         **({"crash": crash} if crash is not None else {}),
         "model": {"sensing": model.sensing, "communication": model.communication,
@@ -524,7 +525,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         slot_of_add.setdefault(step_k, []).append((n0 + k, p))
     any_presence_change = bool(add_rows) or any(faults.crashes.values())
 
-    mover = motion_model(model, params, n_total)
+    mover = motion_model(model, params, n_total, seed)
     mover.start(poses, n0, ids_list)
     grid = mover.grid
     clocks = clock_model(model, params, n_total, seed)
@@ -854,7 +855,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     rec.finish(t, poses, present, states)
 
     meta = run_meta(algorithm, lattice, params, seed, status, t, max_steps, window, broken, faults, clocks,
-                    mover.spacing if grid else None, record_every, crash)
+                    {"grid_spacing": mover.spacing, **mover.describe()} if grid else None, record_every, crash)
     trace = rec.trace(ids, events, meta)
     return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
                             seed=seed, static_window=window, max_steps=max_steps, observers=observers,

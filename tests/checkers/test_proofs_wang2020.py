@@ -3,6 +3,7 @@ the runtime monitors of their premises (invariants/premises.py, grid_* monitors)
 
 from __future__ import annotations
 
+import json
 import math
 import time
 
@@ -30,7 +31,8 @@ def _holds(enc, values: dict) -> tuple:
 def test_registered_in_the_suite_in_order_with_unique_ids():
     assert IDS == ["wang2020_time_normalisation", "wang2020_planner_vertex_one_moment",
                    "wang2020_planner_edge_one_moment", "wang2020_lemma_iv_a_1", "wang2020_theorem_iv_a_2",
-                   "wang2020_separation_equal_speeds"]
+                   "wang2020_separation_equal_speeds", "wang2020_speed_buffer_v_b3_cases",
+                   "wang2020_separation_speeds"]
     assert list(LEMMAS)[-len(IDS):] == IDS
     assert all(LEMMAS[i] is w.LEMMAS[i] for i in IDS)
 
@@ -58,6 +60,10 @@ def test_kinds_follow_design_section_5():
     for i in ("wang2020_planner_vertex_one_moment", "wang2020_planner_edge_one_moment"):
         assert "is not proved here" in LEMMAS[i].cites[0]
     assert "equal speeds only" in " ".join(LEMMAS["wang2020_separation_equal_speeds"].not_proved)
+    # Sec. V-B3's buffer space is a geometric bound, not a numbered result: auxiliary
+    for i in ("wang2020_speed_buffer_v_b3_cases", "wang2020_separation_speeds"):
+        assert kinds[i] == "auxiliary" and "Sec. V-B3" in LEMMAS[i].cites[0]
+        assert any("v_max = 1" in n and "(wang2020_time_normalisation)" in n for n in LEMMAS[i].normalisations)
 
 
 def test_ignoring_priority_sends_two_agents_to_one_waypoint():
@@ -110,6 +116,58 @@ def test_separation_control_is_the_orthogonal_hand_over_below_the_bound():
     pi = np.array([cex["lam_i"] * cex["D_i_x"], cex["lam_i"] * cex["D_i_y"]])
     pj = np.array([cex["A_j_x"] + cex["lam_j"] * cex["D_j_x"], cex["A_j_y"] + cex["lam_j"] * cex["D_j_y"]])
     assert np.hypot(*(pi - pj)) < 2 * r
+
+
+def _holds_in_case(enc, case: str, values: dict) -> tuple:
+    """Exact numbers into one case of an encoding: (all its premises true, conclusion true)."""
+    subs = [(v, z3.RealVal(str(values[str(v)]))) for v in enc.variables]
+    extra = dict(enc.cases)[case]
+    prem = all(z3.is_true(z3.simplify(z3.substitute(t, *subs))) for _, t in list(enc.premises) + extra)
+    return prem, z3.is_true(z3.simplify(z3.substitute(enc.conclusion, *subs)))
+
+
+def test_v_b3_bound_is_tight_in_the_orthogonal_case_with_the_papers_worst_speeds():
+    """l = 1 exactly at the bound: v_min / v_max = 3/4 gives r = 3/10 (4 r^2 (1 + rho^2) = rho^2);
+    the leaver at v_min, the enterer at v_max, at t* = v_max l / (v_max^2 + v_min^2) = 16/25 the
+    discs touch: distance 3/5 = 2r.  A hair less l (larger r) and they overlap."""
+    at = {"r": "3/10", "rho": "3/4", "a": "3/4", "b": 1, "t": "16/25", "lam_L": "12/25", "lam_F": "16/25",
+          "L_x": 0, "L_y": "12/25"}
+    assert _holds_in_case(w.speed_buffer_cases(), "orthogonal_adjacent_edges", at) == (True, True)
+    over = {**at, "r": "301/1000"}
+    assert _holds_in_case(w.speed_buffer_cases(), "orthogonal_adjacent_edges", over) == (False, False)
+    assert _holds_in_case(w.speed_buffer_cases(0.99 ** 2), "orthogonal_adjacent_edges", over) == (True, False)
+    # the collinear case at the same numbers is not tight: the enterer arrives (t = 1) with the leaver
+    # 3/4 ahead, more than 2r = 3/5 (Sec. V-B3: 2 r v_max / v_min never exceeds the orthogonal bound)
+    col = {**at, "t": 1, "lam_L": "3/4", "lam_F": 1, "L_x": "3/4", "L_y": 0}
+    assert _holds_in_case(w.speed_buffer_cases(), "collinear_adjacent_edges", col) == (True, True)
+
+
+@pytest.mark.parametrize("lemma_id", ["wang2020_speed_buffer_v_b3_cases", "wang2020_separation_speeds"])
+def test_speed_controls_put_two_discs_closer_than_2r_below_the_v_b3_bound(lemma_id):
+    cex = prove(LEMMAS[lemma_id], timeout_s=20).negative_control["counterexample"]
+    r, rho = cex["r"], cex["rho"]
+    bound = 2 * r * math.sqrt(1 + rho * rho) / rho              # in units of l = 1
+    assert 0 < rho <= 1 and 1 < bound <= 1 / 0.99 + 1e-9         # l = 1 just below the bound
+    if lemma_id == "wang2020_speed_buffer_v_b3_cases":
+        assert rho <= cex["a"] <= 1 and rho <= cex["b"] <= 1
+        pl, pf = np.array([cex["L_x"], cex["L_y"]]), np.array([-1 + cex["lam_F"], 0.0])
+    else:
+        assert rho <= cex["w_i"] <= 1 and rho <= cex["w_j"] <= 1
+        pl = np.array([cex["lam_i"] * cex["D_i_x"], cex["lam_i"] * cex["D_i_y"]])
+        pf = np.array([cex["A_j_x"] + cex["lam_j"] * cex["D_j_x"], cex["A_j_y"] + cex["lam_j"] * cex["D_j_y"]])
+    assert np.hypot(*(pl - pf)) < 2 * r + 1e-9
+
+
+def test_separation_with_speeds_at_equal_speeds_is_the_equal_speed_lemma():
+    """At v_min = v_max the V-B3 premise is 8 r^2 <= 1, the equal-speed lemma's: its control (l one
+    per cent below 2 sqrt 2 r) still has a counterexample with every speed equal, and every speed is
+    then v_max."""
+    ctrl = w.separation_speeds(0.99 ** 2)
+    ctrl.premises.append(("equal_speeds", z3.Real("rho") == 1))
+    out = proofs._solve_encoding(ctrl, time.perf_counter() + 20, ())
+    cex = out["counterexample"]
+    assert out["status"] == "counterexample" and cex["rho"] == cex["w_i"] == cex["w_j"] == 1
+    assert 1 / (2 * math.sqrt(2)) < cex["r"]
 
 
 def test_time_normalisation_control_is_a_negative_period():
@@ -240,3 +298,14 @@ def test_streaming_monitor_finds_the_same_violation():
         mon.observe(t, tr.poses[t], tr.states[t], np.ones(3, dtype=bool))
     (_, r), = mon.results()
     assert r.status == "violated" and r.witness["step"] == 2
+
+
+def test_swarmproof_prove_runs_the_speed_buffer_lemma_and_lists_both(capsys):
+    from swarmproof.cli import main
+
+    code = main(["prove", "wang2020_speed_buffer_v_b3_cases", "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    (lem,) = doc["lemmas"]
+    assert code == 0 and lem["id"] == "wang2020_speed_buffer_v_b3_cases" and lem["status"] == "proved"
+    assert lem["premises_satisfiable"] is True and lem["negative_control"]["status"] == "counterexample"
+    assert {"wang2020_speed_buffer_v_b3_cases", "wang2020_separation_speeds"} <= {x.id for x in proofs.lookup()}
