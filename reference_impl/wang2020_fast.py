@@ -118,6 +118,36 @@ def unsupported(algorithm, params, *, faults=None, record_messages: bool = False
     return None
 
 
+#: no entry of the agent's shape in a block (above INF, so it never wins line 18's minimum)
+_NONE = INF * 2
+#: bit of a unit offset (dx, dy) from a waypoint: W 1, S 2, E 4, N 8 (Alg. 2 lines 9, 21), the waypoint itself 16
+_LUT = np.array([0, 1, 0, 2, 16, 8, 0, 4, 0], dtype=np.int64)
+
+
+def _bits(dx, dy):
+    """:data:`_LUT` of offsets (0 for anything farther than one step)."""
+    inside = (np.abs(dx) <= 1) & (np.abs(dy) <= 1)
+    return np.where(inside, _LUT[np.clip(dx + 1, 0, 2) * 3 + np.clip(dy + 1, 0, 2)], 0)
+
+
+class _Block:
+    """One tick's receipts in msg_buff (every receiver's, sorted by receiver then sender ID) and,
+    per receiver, what Algorithm 2 reads of them (:meth:`_Run._aggregate`), with the receiver's
+    shape, waypoint and position it was computed from (recomputed when one changed)."""
+
+    __slots__ = ("R", "S", "I", "F", "mcc", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
+                 "kshape", "kwx", "kwy", "kpx", "kpy")
+
+    def __init__(self, n, R, S, I, F, mcc, now) -> None:
+        self.R, self.S, self.I, self.F, self.mcc = R, S, I, F, mcc
+        self.btime = now                       # every receiver's clock at receipt (all tick at rate 1)
+        self.present = np.bincount(R, minlength=n) > 0
+        z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
+        self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
+        self.kshape, self.kwx, self.kwy = z(), z(), z()
+        self.kpx, self.kpy = np.zeros(n), np.zeros(n)
+
+
 class _StaleStates(UsageError):
     pass
 
@@ -170,6 +200,7 @@ class _Run:
         self.clocks = clocks
         # dense membership grids of the shapes (Q lookups of whole arrays)
         self.qgrid = []
+        self.qlen = np.array([len(x) for x in self.shapes], dtype=np.int64)
         for s in self.shapes:
             a = np.array(s, dtype=np.int64)
             lo = a.min(axis=0)
@@ -196,6 +227,7 @@ class _Run:
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
         self._heard = self._heard_R = self._prev_heard = None
         self.prev_blocks: list = []
+        self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
 
     # -- scalar pieces: copies of the reference's methods, on slot k ---------------------
@@ -319,16 +351,20 @@ class _Run:
         ``previous``: the same of the tick before."""
         if previous:
             if self._prev_heard is None:
-                self._prev_heard = self._keys(self.prev_blocks)
+                self._prev_heard = self._keys(self.prev_blocks, self.prev_cutoff)
             return self._prev_heard
         if self._heard is None:
-            self._heard = self._keys(self.blocks)
+            self._heard = self._keys(self.blocks, self.cutoff)
             self._heard_R = self._heard // self.n
         return self._heard
 
-    def _keys(self, blocks) -> np.ndarray:
+    def _keys(self, blocks, cutoff) -> np.ndarray:
         n = self.n
-        return np.unique(np.concatenate([b["R"] * n + b["S"] for b in blocks])) if blocks else np.zeros(0, np.int64)
+        parts = []
+        for b in blocks:
+            alive = (b.btime >= cutoff)[b.R]
+            parts.append((b.R * n + b.S)[alive])
+        return np.unique(np.concatenate(parts)) if parts else np.zeros(0, np.int64)
 
     def _heard_of(self, k) -> tuple:
         keys = self.heard_keys()
@@ -393,19 +429,15 @@ class _Run:
         R, S = self._receipts(poses, phi, last_valid)
         I, F = last_msgs[0][S], last_msgs[1][S]
         self._goal_managers(R, S, I, F, now)
-        self.blocks.append({"R": R, "S": S, "I": I, "F": F, "mcc": np.minimum(I[:, COMP], self.last),
-                            "time": now[R]})
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
-        kept = []
-        for b in self.blocks:
-            alive = b["time"] >= cutoff[b["R"]]
-            if alive.all():
-                kept.append(b)
-            elif alive.any():
-                kept.append({k: v[alive] for k, v in b.items()})
+        b = _Block(self.n, R, S, I, F, np.minimum(I[:, COMP], self.last), now)
+        self._aggregate(b, slice(None))
+        kept = [x for x in self.blocks if (x.present & (x.btime >= cutoff)).any()]
+        kept.append(b)
         self.prev_blocks, self.blocks = self.blocks, kept
+        self.prev_cutoff, self.cutoff = self.cutoff, cutoff
         self._prev_heard, self._heard = self._heard, None
-        return self._mains(now)
+        return self._mains(now, cutoff)
 
     def _receipts(self, poses, phi, last_valid):
         """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
@@ -489,112 +521,100 @@ class _Run:
                 return
             cand = np.repeat(pos[rr] - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(total)
 
-    def _mains(self, now):
+    def _aggregate(self, b, sel):
+        """What Algorithm 2 reads of block ``b``, per receiver, for the receivers of entries ``sel``
+        (all, or the stale ones), from their current shape, waypoint and position: the
+        gradient's candidate of this block (line 18: the first entry of the smallest hop among
+        this shape's entries), the surrounding waypoints it holds as goals (lines 21-22) and the
+        ones it claims (line 26: wp) or a lexically larger sender heads for (line 28)."""
+        R, I, F = b.R[sel], b.I[sel], b.F[sel]
+        if not len(R):
+            return
+        starts = np.flatnonzero(np.r_[True, R[1:] != R[:-1]])
+        gR = R[starts]
+        wx, wy, px = self.wx[R], self.wy[R], self.px[R]
+        gt = (F[:, 0] > px) | ((F[:, 0] == px) & (F[:, 1] > self.py[R]))
+        wb = _bits(I[:, WPX] - wx, I[:, WPY] - wy) | np.where(gt, _bits(I[:, NSX] - wx, I[:, NSY] - wy), 0)
+        b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
+        sm = b.mcc[sel] == self.shape[R]
+        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[:, TX] - wx, I[:, TY] - wy) & 15, 0), starts)
+        hop = np.where(sm, I[:, HOP], _NONE)
+        mins = np.minimum.reduceat(hop, starts)
+        eq = np.flatnonzero(hop == np.repeat(mins, np.diff(np.r_[starts, len(R)])))
+        g = np.searchsorted(starts, eq, side="right") - 1
+        first = eq[np.r_[True, g[1:] != g[:-1]]]
+        b.ghop[gR] = mins
+        b.gqx[gR], b.gqy[gR] = I[first, QX], I[first, QY]
+        b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
+        b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
+
+    def _mains(self, now, cutoff):
         """Algorithm 2 lines 9-35 for every agent at a waypoint; returns (movers, dx, dy)."""
         n = self.n
         M = ~self.moving
-        # lines 9-14: greedy next_step (W, S, E, N)
         wx, wy, Tx, Ty = self.wx, self.wy, self.Tx, self.Ty
+        # lines 9-14: greedy next_step (W, S, E, N)
         nx = np.where(Tx < wx, wx - 1, np.where(Ty < wy, wx, np.where(Tx > wx, wx + 1, wx)))
         ny = np.where(Tx < wx, wy, np.where(Ty < wy, wy - 1, np.where(Tx > wx, wy, np.where(Ty > wy, wy + 1, wy))))
         self.nx = np.where(M, nx, self.nx)
         self.ny = np.where(M, ny, self.ny)
-        # lines 15-24: the gradient over this shape's entries of msg_buff
-        best_hop = np.full(n, -1, dtype=np.int64)      # -1: no entry yet
-        best_qx, best_qy = np.zeros(n, np.int64), np.zeros(n, np.int64)
-        have = np.zeros(n, dtype=bool)
-        sel_blocks = []
+        # msg_buff, block by block, oldest first (the deque's order)
+        best = np.full(n, _NONE, dtype=np.int64)
+        bqx, bqy = np.zeros(n, np.int64), np.zeros(n, np.int64)
+        held = np.zeros(n, np.int64)
+        wait = np.zeros(n, np.int64)
         for b in self.blocks:
-            Rb = b["R"]
-            m = M[Rb] & (b["mcc"] == self.shape[Rb])
-            s = np.flatnonzero(m)
-            sel_blocks.append((b, s))
-            if not len(s):
-                continue
-            Rs, hs = Rb[s], b["I"][s, HOP]
-            starts = np.flatnonzero(np.r_[True, Rs[1:] != Rs[:-1]])
-            mins = np.minimum.reduceat(hs, starts)
-            counts = np.diff(np.r_[starts, len(s)])
-            eq = np.flatnonzero(hs == np.repeat(mins, counts))
-            g = np.searchsorted(starts, eq, side="right") - 1
-            firsts = eq[np.r_[True, g[1:] != g[:-1]]]        # first entry with the group's min
-            rr = Rs[firsts]
-            ch, cq = hs[firsts], s[firsts]
-            take = ~have[rr] | ((ch != INF) & ((best_hop[rr] == INF) | (ch < best_hop[rr])))
-            rr, ch, cq = rr[take], ch[take], cq[take]
-            best_hop[rr] = ch
-            best_qx[rr], best_qy[rr] = b["I"][cq, QX], b["I"][cq, QY]
-            have[rr] = True
-        g = have
-        self.hop = np.where(g, np.where(best_hop == INF, INF, best_hop + 1), self.hop)   # line 19
-        self.qx = np.where(g, best_qx, self.qx)                                            # line 20
-        self.qy = np.where(g, best_qy, self.qy)
+            use = M & b.present & (b.btime >= cutoff)
+            stale = use & ((b.kshape != self.shape) | (b.kwx != wx) | (b.kwy != wy) | (b.kpx != self.px)
+                           | (b.kpy != self.py))
+            if stale.any():
+                self._aggregate(b, np.flatnonzero(stale[b.R]))
+            wait |= np.where(use, b.wait, 0)
+            held |= np.where(use, b.held, 0)
+            h = np.where(use, b.ghop, _NONE)
+            # line 18: the first of the smallest hop; an older block keeps ties; none finite -> the first entry
+            take = (h != _NONE) & ((best == _NONE) | ((h != INF) & ((best == INF) | (h < best))))
+            if take.any():
+                best[take] = h[take]
+                bqx[take], bqy[take] = b.gqx[take], b.gqy[take]
+        g = best != _NONE
+        self.hop = np.where(g, np.where(best == INF, INF, best + 1), self.hop)             # line 19
+        self.qx = np.where(g, bqx, self.qx)                                                  # line 20
+        self.qy = np.where(g, bqy, self.qy)
         if g.any():                                                                          # lines 21-24
             near = ((wx - 1, wy), (wx, wy - 1), (wx + 1, wy), (wx, wy + 1))
-            inq = []
-            for cxa, cya in near:
+            done = np.zeros(n, dtype=bool)
+            for d, (cxa, cya) in enumerate(near):
                 q = np.zeros(n, dtype=bool)
                 for si, (lo, grid) in enumerate(self.qgrid):
-                    on = g & (self.shape == si)
+                    on = g & ~done & (self.shape == si)
                     if not on.any():
                         continue
                     ix, iy = cxa - lo[0], cya - lo[1]
                     inside = on & (ix >= 0) & (iy >= 0) & (ix < grid.shape[0]) & (iy < grid.shape[1])
                     q[inside] = grid[ix[inside], iy[inside]]
-                inq.append(q)
-            anyq = inq[0] | inq[1] | inq[2] | inq[3]
-            if anyq.any():
-                held = [np.zeros(n, dtype=bool) for _ in range(4)]
-                for b, s in sel_blocks:
-                    if not len(s):
-                        continue
-                    Rs = b["R"][s]
-                    sq = anyq[Rs]
-                    if not sq.any():
-                        continue
-                    ss = s[sq]
-                    Rs, bTx, bTy = Rs[sq], b["I"][ss, TX], b["I"][ss, TY]
-                    for d, (cxa, cya) in enumerate(near):
-                        hit = (bTx == cxa[Rs]) & (bTy == cya[Rs])
-                        if hit.any():
-                            held[d][Rs[hit]] = True
-                done = np.zeros(n, dtype=bool)
-                for d, (cxa, cya) in enumerate(near):
-                    pick = anyq & ~done & inq[d] & ~held[d]
-                    if pick.any():
-                        self.qx[pick], self.qy[pick] = cxa[pick], cya[pick]
-                        self.hop[pick] = 0
-                        done |= pick
+                # the first surrounding waypoint (W, S, E, N) in Q that no entry holds as its goal
+                pick = q & ((held >> d) & 1 == 0)
+                if pick.any():
+                    self.qx[pick], self.qy[pick] = cxa[pick], cya[pick]
+                    self.hop[pick] = 0
+                done |= pick
         # Sec. III-B: hop-count above |A| -> the shape is complete
-        qlen = np.array([len(s) for s in self.shapes], dtype=np.int64)[self.shape]
+        qlen = self.qlen[self.shape]
         sw = M & (self.completed < self.nshapes) & (self.hop != INF) & (self.hop > qlen)
         for k in np.flatnonzero(sw).tolist():
             self._switch(k, float(now[k]))
             self.nx[k], self.ny[k] = self._greedy(k)
-        # lines 25-29: wait_flag over every entry of msg_buff
-        wait = np.zeros(n, dtype=bool)
+        # lines 25-29: wait_flag (any entry claims next_step, or a larger agent heads there)
         nx, ny = self.nx, self.ny
-        for b in self.blocks:
-            Rb = b["R"]
-            mb = M[Rb]
-            if not mb.any():
-                continue
-            rnx, rny = nx[Rb], ny[Rb]
-            bI, bpx, bpy = b["I"], b["F"][:, 0], b["F"][:, 1]
-            h = (bI[:, WPX] == rnx) & (bI[:, WPY] == rny)
-            rpx = self.px[Rb]
-            gt = (bpx > rpx) | ((bpx == rpx) & (bpy > self.py[Rb]))
-            h |= (bI[:, NSX] == rnx) & (bI[:, NSY] == rny) & gt
-            h &= mb
-            if h.any():
-                wait[Rb[h]] = True
+        flag = (wait & _bits(nx - wx, ny - wy)) != 0
         # line 30: move when no flag and waited more than Delta t
-        go = M & ~wait & ((now - self.last_check) > self.delta_t)
-        stay = go & (nx == self.wx) & (ny == self.wy)
+        go = M & ~flag & ((now - self.last_check) > self.delta_t)
+        stay = go & (nx == wx) & (ny == wy)
         self.last_check[stay] = now[stay]
         mv = go & ~stay
-        self.wx = np.where(mv, nx, self.wx)
-        self.wy = np.where(mv, ny, self.wy)
+        self.wx = np.where(mv, nx, wx)
+        self.wy = np.where(mv, ny, wy)
         self.moving |= mv
         self.waited = np.where(mv, now - self.last_check, self.waited)
         k = np.flatnonzero(mv)
