@@ -72,9 +72,9 @@ def fig9_run(n: int = 1024, seed: int = 0, arena: int = 48, max_steps: int | Non
             return None
 
     from swarmproof.models.trace import InitialConfiguration
-    from swarmproof.reference_impl.engine import simulate
     from swarmproof.reference_impl.wang2020 import Wang2020, goal_cells
     from swarmproof.reference_impl.wang2020_experiments import ProgressObserver
+    from swarmproof.reference_impl.wang2020_fast import simulate_fast as simulate
 
     p = experiment_params(n)
     alg = Wang2020(then=U)

@@ -345,7 +345,8 @@ class ProgressObserver:
 
 
 def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_formed: bool = True,
-               record_every: int = 1000, every: int = 10, max_steps: int | None = None) -> dict:
+               record_every: int = 1000, every: int = 10, max_steps: int | None = None,
+               vectorised: bool = True) -> dict:
     """One run of ``wang2020`` toward ``goals`` (a GoalSet) from ``starts`` (cells), seeded.
 
     Returns a dict: ``status``, ``steps``, ``formed_step`` (first step with every goal occupied, or
@@ -353,6 +354,8 @@ def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_form
     occupied, distance) every ``every`` steps), ``result`` (the SimulationResult; sparse trace).
     With ``stop_when_formed`` the run stops once the shape is formed (the convergence time of
     Fig. 10); otherwise it runs until every agent detects completion (Sec. III-B) or the cap.
+    ``vectorised``: run it on :func:`~swarmproof.reference_impl.wang2020_fast.simulate_fast` (the
+    same trace as the per-robot reference, tested bit for bit; ``False``: the reference itself).
     """
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
@@ -365,6 +368,8 @@ def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_form
     init = InitialConfiguration(list(range(n)), [[l * x, l * y, 0.0] for x, y in starts])
     ob = ProgressObserver(goal_cells(goals, l), l, every=every)
     stop = (lambda t, poses, states, present: ob.formed_step is not None) if stop_when_formed else None
+    if vectorised:
+        from swarmproof.reference_impl.wang2020_fast import simulate_fast as simulate   # noqa: F811
     r = simulate(alg, goals, init, params, seed=seed, record_every=record_every, observers=[ob],
                  stop_when=stop, max_steps=max_steps)
     res = ob.result()
