@@ -126,8 +126,8 @@ _LUT = np.array([0, 1, 0, 2, 16, 8, 0, 4, 0], dtype=np.int64)
 
 def _bits(dx, dy):
     """:data:`_LUT` of offsets (0 for anything farther than one step)."""
-    inside = (np.abs(dx) <= 1) & (np.abs(dy) <= 1)
-    return np.where(inside, _LUT[np.clip(dx + 1, 0, 2) * 3 + np.clip(dy + 1, 0, 2)], 0)
+    code = (dx + 1) * 3 + (dy + 1)
+    return _LUT[np.where((np.abs(dx) <= 1) & (np.abs(dy) <= 1), code, 0)]
 
 
 class _Block:
@@ -144,7 +144,7 @@ class _Block:
         self.present = np.bincount(R, minlength=n) > 0
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
         self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
-        self.kshape, self.kwx, self.kwy = z(), z(), z()
+        self.kshape, self.kwx, self.kwy = np.full(n, -1), z(), z()   # shape -1: not computed yet
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
 
 
@@ -430,8 +430,7 @@ class _Run:
         I, F = last_msgs[0][S], last_msgs[1][S]
         self._goal_managers(R, S, I, F, now)
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
-        b = _Block(self.n, R, S, I, F, np.minimum(I[:, COMP], self.last), now)
-        self._aggregate(b, slice(None))
+        b = _Block(self.n, R, S, I, F, np.minimum(I[:, COMP], self.last), now)   # aggregated when read
         kept = [x for x in self.blocks if (x.present & (x.btime >= cutoff)).any()]
         kept.append(b)
         self.prev_blocks, self.blocks = self.blocks, kept
