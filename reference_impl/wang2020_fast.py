@@ -384,23 +384,24 @@ class _Run:
 
     def outbox(self):
         """Algorithm 3's message of every agent (``Wang2020Controller.message``): an integer row
-        (columns WPX ... ACK_GY) and a float row (px, py) per agent."""
+        (rows WPX ... ACK_GY, a column per agent) and a float one (px, py): field-major, so a
+        field of the tick's receipts is one contiguous row."""
         client = self.role == 1
         ack = self.ack_on
-        I = np.empty((self.n, _NI), dtype=np.int64)
-        I[:, WPX], I[:, WPY], I[:, NSX], I[:, NSY] = self.wx, self.wy, self.nx, self.ny
-        I[:, TX], I[:, TY], I[:, QX], I[:, QY] = self.Tx, self.Ty, self.qx, self.qy
-        I[:, HOP], I[:, COMP], I[:, REQ_ON] = self.hop, self.completed, client
-        I[:, REQ_PEER] = np.where(client, self.peer, 0)
-        I[:, REQ_SEQ] = np.where(client, self.hseq, 0)
-        I[:, REQ_GX] = np.where(client, self.hgx, 0)
-        I[:, REQ_GY] = np.where(client, self.hgy, 0)
-        I[:, ACK_ON] = ack
-        I[:, ACK_CL] = np.where(ack, self.acl, 0)
-        I[:, ACK_SEQ] = np.where(ack, self.aseq, 0)
-        I[:, ACK_GX] = np.where(ack, self.agx, 0)
-        I[:, ACK_GY] = np.where(ack, self.agy, 0)
-        return I, np.column_stack((self.px, self.py))
+        I = np.empty((_NI, self.n), dtype=np.int64)
+        I[WPX], I[WPY], I[NSX], I[NSY] = self.wx, self.wy, self.nx, self.ny
+        I[TX], I[TY], I[QX], I[QY] = self.Tx, self.Ty, self.qx, self.qy
+        I[HOP], I[COMP], I[REQ_ON] = self.hop, self.completed, client
+        I[REQ_PEER] = np.where(client, self.peer, 0)
+        I[REQ_SEQ] = np.where(client, self.hseq, 0)
+        I[REQ_GX] = np.where(client, self.hgx, 0)
+        I[REQ_GY] = np.where(client, self.hgy, 0)
+        I[ACK_ON] = ack
+        I[ACK_CL] = np.where(ack, self.acl, 0)
+        I[ACK_SEQ] = np.where(ack, self.aseq, 0)
+        I[ACK_GX] = np.where(ack, self.agx, 0)
+        I[ACK_GY] = np.where(ack, self.agy, 0)
+        return I, np.stack((self.px, self.py))
 
     # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
 
@@ -427,10 +428,10 @@ class _Run:
 
         # this tick's receipts: every neighbour within R that broadcast last tick, by sender ID
         R, S = self._receipts(poses, phi, last_valid)
-        I, F = last_msgs[0][S], last_msgs[1][S]
+        I, F = last_msgs[0][:, S], last_msgs[1][:, S]
         self._goal_managers(R, S, I, F, now)
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
-        b = _Block(self.n, R, S, I, F, np.minimum(I[:, COMP], self.last), now)   # aggregated when read
+        b = _Block(self.n, R, S, I, F, np.minimum(I[COMP], self.last), now)   # aggregated when read
         kept = [x for x in self.blocks if (x.present & (x.btime >= cutoff)).any()]
         kept.append(b)
         self.prev_blocks, self.blocks = self.blocks, kept
@@ -468,10 +469,10 @@ class _Run:
         cand = None
         ids = self.ids
         sid_all = ids[S]
-        comp, req_on, req_peer = I[:, COMP], I[:, REQ_ON], I[:, REQ_PEER]
-        ack_on, ack_cl, ack_seq = I[:, ACK_ON], I[:, ACK_CL], I[:, ACK_SEQ]
-        mTx_all, mTy_all, mx_all, my_all = I[:, TX], I[:, TY], I[:, WPX], I[:, WPY]
-        mpx_all, mpy_all = F[:, 0], F[:, 1]
+        comp, req_on, req_peer = I[COMP], I[REQ_ON], I[REQ_PEER]
+        ack_on, ack_cl, ack_seq = I[ACK_ON], I[ACK_CL], I[ACK_SEQ]
+        mTx_all, mTy_all, mx_all, my_all = I[TX], I[TY], I[WPX], I[WPY]
+        mpx_all, mpy_all = F[0], F[1]
         while True:
             if cand is None:
                 r, sid, c = R, sid_all, slice(None)
@@ -506,7 +507,7 @@ class _Run:
             first[1:] = rh[1:] != rh[:-1]
             fe = hit[first]
             rr = rh[first]
-            rows = zip(rr.tolist(), fe.tolist(), sid_all[fe].tolist(), I[fe].tolist(), F[fe].tolist(),
+            rows = zip(rr.tolist(), fe.tolist(), sid_all[fe].tolist(), I[:, fe].T.tolist(), F[:, fe].T.tolist(),
                        now[rr].tolist())
             gm = self._gm
             for k, e, sid_e, row, frow, now_k in rows:
@@ -526,24 +527,24 @@ class _Run:
         gradient's candidate of this block (line 18: the first entry of the smallest hop among
         this shape's entries), the surrounding waypoints it holds as goals (lines 21-22) and the
         ones it claims (line 26: wp) or a lexically larger sender heads for (line 28)."""
-        R, I, F = b.R[sel], b.I[sel], b.F[sel]
+        R, I, F = b.R[sel], b.I[:, sel], b.F[:, sel]
         if not len(R):
             return
         starts = np.flatnonzero(np.r_[True, R[1:] != R[:-1]])
         gR = R[starts]
         wx, wy, px = self.wx[R], self.wy[R], self.px[R]
-        gt = (F[:, 0] > px) | ((F[:, 0] == px) & (F[:, 1] > self.py[R]))
-        wb = _bits(I[:, WPX] - wx, I[:, WPY] - wy) | np.where(gt, _bits(I[:, NSX] - wx, I[:, NSY] - wy), 0)
+        gt = (F[0] > px) | ((F[0] == px) & (F[1] > self.py[R]))
+        wb = _bits(I[WPX] - wx, I[WPY] - wy) | np.where(gt, _bits(I[NSX] - wx, I[NSY] - wy), 0)
         b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
         sm = b.mcc[sel] == self.shape[R]
-        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[:, TX] - wx, I[:, TY] - wy) & 15, 0), starts)
-        hop = np.where(sm, I[:, HOP], _NONE)
+        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX] - wx, I[TY] - wy) & 15, 0), starts)
+        hop = np.where(sm, I[HOP], _NONE)
         mins = np.minimum.reduceat(hop, starts)
         eq = np.flatnonzero(hop == np.repeat(mins, np.diff(np.r_[starts, len(R)])))
         g = np.searchsorted(starts, eq, side="right") - 1
         first = eq[np.r_[True, g[1:] != g[:-1]]]
         b.ghop[gR] = mins
-        b.gqx[gR], b.gqy[gR] = I[first, QX], I[first, QY]
+        b.gqx[gR], b.gqy[gR] = I[QX, first], I[QY, first]
         b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
         b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
 
