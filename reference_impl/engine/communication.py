@@ -3,7 +3,8 @@
 ``RobotModel.communication``: ``"neighbors"`` (the robots in range, by the model's
 neighbor rule), ``"all"`` (every robot: one shared read-only view per step, O(n) per
 step) or ``"none"``.  Late deliveries (fault models: delay, duplication, reordering)
-wait in the receiver's queue (:func:`_deliver_pending`).
+wait in the receiver's queue (:func:`_deliver_pending`); deliveries to a robot whose
+asynchronous clock does not tick wait in its backlog (:meth:`Delivery.hold`).
 """
 
 from __future__ import annotations
@@ -70,8 +71,9 @@ class Delivery:
     order), then anonymity (no sender IDs).
 
     Per run: ``Delivery(model, faults, phi, ids_list, rng)``; per step: :meth:`begin`
-    (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`end`
-    (records ``drop`` and ``late_delivery`` events).
+    (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`hold`
+    per robot whose asynchronous clock did not tick (its backlog, read at its next tick),
+    :meth:`end` (records ``drop`` and ``late_delivery`` events).
     """
 
     def __init__(self, model, faults, phi: float, ids_list, rng) -> None:
