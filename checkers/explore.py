@@ -1094,7 +1094,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                       schedule=None if fm is None else fm.describe().get("schedule"),
                       faults=None if fm is None else fm.describe(),
                       max_steps=int(result.max_steps), allow_violations=bool(allow_violations),
-                      broken_assumptions=list(result.broken_assumptions), options=options))
+                      broken_assumptions=list(result.broken_assumptions), options=options,
+                      clocks=result.trace.meta.get("clocks")))
                   raise AssertionError(r.message)
           return test
 

@@ -343,7 +343,8 @@ def run_counterexample(checked, prop: str, message: str, ref: str | None = None)
         seed=int(checked.doc["seed"]), property=prop,
         violation={"step": step, "message": message},
         broken_assumptions=list(checked.doc.get("broken_assumptions", [])),
-        target=None if is_lattice else target.describe())
+        target=None if is_lattice else target.describe(),
+        clocks=getattr(getattr(checked.result, "trace", None), "meta", {}).get("clocks"))
 
 
 def section_algorithms(*, progress: Progress | None = None, out_dir: str | None = None,

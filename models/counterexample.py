@@ -102,6 +102,64 @@ def _fault_phrases(faults: Mapping) -> list[str]:
     return out
 
 
+def _check_clocks(clocks, err) -> None:
+    """``clocks`` must look like ``trace.meta["clocks"]``: lists ``phase`` and ``rate`` of one
+    length (finite numbers, rates > 0) and a number ``broadcast_every`` > 0."""
+    def num(v, positive=False):
+        return (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                and (v > 0 or not positive))
+
+    fix = "write the run's trace.meta['clocks'], or drop the field (the replay draws the clocks from the seed)"
+    if not isinstance(clocks, Mapping):
+        raise err("clocks", f"clocks={clocks!r} must be a JSON object or null", fix=fix)
+    for key, positive in (("phase", False), ("rate", True)):
+        vals = clocks.get(key)
+        if not isinstance(vals, list) or not all(num(v, positive) for v in vals):
+            raise err(f"clocks.{key}", f"clocks.{key}={vals!r} must be a list of finite numbers"
+                      + (" > 0" if positive else ""), fix=fix)
+    if len(clocks["phase"]) != len(clocks["rate"]):
+        raise err("clocks.rate", f"clocks has {len(clocks['phase'])} phases and {len(clocks['rate'])} rates",
+                  fix=fix)
+    if not num(clocks.get("broadcast_every"), True):
+        raise err("clocks.broadcast_every",
+                  f"clocks.broadcast_every={clocks.get('broadcast_every')!r} must be a finite number > 0", fix=fix)
+
+
+def _clock_phrase(clocks, slot: int) -> str:
+    """``", clock phase P rate R"`` of robot slot ``slot`` (nothing when the clocks are synchronous
+    or unknown).
+
+    >>> _clock_phrase({"phase": [0.25], "rate": [0.5], "broadcast_every": 2.0}, 0)
+    ', clock phase 0.25 rate 0.5'
+    """
+    if clocks is None or slot >= len(clocks.get("phase") or ()):
+        return ""
+    return f", clock phase {_g(clocks['phase'][slot])} rate {_g(clocks['rate'][slot])}"
+
+
+def _clocks_text(clocks, extra: Mapping, placed: int) -> str:
+    """The activation of a run with asynchronous clocks, in words: the engine's rule
+    (docs/engine.md), the rate range the parameters draw from (``clock_rate_min`` /
+    ``clock_rate_max``, default 1) and the clocks of robots that join later.
+
+    >>> _clocks_text({"phase": [0.1, 0.7], "rate": [0.5, 0.9], "broadcast_every": 2.0},
+    ...              {"clock_rate_min": 0.5, "clock_rate_max": 1.0}, 2)
+    'asynchronous clocks: robot clock = phase + rate * step, it decides when its clock passes an integer and broadcasts its last decision when it passes k * 2 + 1/2; phases drawn in [0, 1), rates drawn in [0.5, 1]'
+    """
+    def show(v) -> str:
+        return _g(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
+
+    lo = extra.get("clock_rate_min", 1.0)
+    hi = extra.get("clock_rate_max", lo)
+    text = (f"asynchronous clocks: robot clock = phase + rate * step, it decides when its clock passes an "
+            f"integer and broadcasts its last decision when it passes k * {_g(clocks['broadcast_every'])} + 1/2; "
+            f"phases drawn in [0, 1), rates drawn in [{show(lo)}, {show(hi)}]")
+    later = [f"{_g(ph)} and {_g(r)}" for ph, r in zip(clocks["phase"][placed:], clocks["rate"][placed:])]
+    if later:
+        text += "; robots joining later, in order: phase and rate " + ", ".join(later)
+    return text
+
+
 @dataclass
 class Counterexample:
     """One counterexample (see the module docstring for the file layout).
@@ -132,6 +190,11 @@ class Counterexample:
         The target's ``describe()`` (:mod:`swarmproof.models.targets`) when it is not
         simply the bundled lattice ``lattice`` names; written only then, so files of
         bundled lattices are as before and every older file still loads.
+    clocks : dict or None
+        The run's asynchronous clocks as the trace records them (``trace.meta["clocks"]``:
+        ``phase`` and ``rate`` per robot slot, ``broadcast_every``), None for synchronous
+        steps; written only when given.  A replay draws them again from the seed; they are
+        here so :meth:`format_steps` can say what the run was.
     """
 
     algorithm: str
@@ -148,6 +211,7 @@ class Counterexample:
     broken_assumptions: list = field(default_factory=list)
     options: dict = field(default_factory=dict)
     target: dict | None = None
+    clocks: dict | None = None
 
     def as_dict(self) -> dict:
         doc = {
@@ -170,6 +234,8 @@ class Counterexample:
         }
         if self.target is not None:
             doc["target"] = dict(self.target)
+        if self.clocks is not None:
+            doc["clocks"] = dict(self.clocks)
         # DESIGN.md section 5: counterexample files record what made them (read by nothing;
         # a replay that no longer reproduces can be traced to a changed library)
         from swarmproof.models.versions import tool_versions
@@ -258,6 +324,9 @@ class Counterexample:
         for key in ("schedule", "faults"):
             if d.get(key) is not None and not isinstance(d.get(key), Mapping):
                 raise err(key, f"{key}={d.get(key)!r} must be a JSON object or null")
+        clocks = d.get("clocks")
+        if clocks is not None:
+            _check_clocks(clocks, err)
         return cls(algorithm=d["algorithm"], params=params, lattice=d.get("lattice"), robots=robots,
                    seed=seed, property=d["property"],
                    violation={"step": step, "message": str(viol.get("message", ""))},
@@ -265,7 +334,8 @@ class Counterexample:
                    allow_violations=bool(d.get("allow_violations", False)),
                    broken_assumptions=list(d.get("broken_assumptions") or []),
                    options=dict(d.get("options") or {}),
-                   target=None if target is None else dict(target))
+                   target=None if target is None else dict(target),
+                   clocks=None if clocks is None else dict(clocks))
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "Counterexample":
@@ -307,14 +377,18 @@ class Counterexample:
                  f"omega={_g(p['omega'])}, dt={_g(p['dt'])}"]
         k = 0
         digits = _position_digits([(float(x), float(y)) for _, (x, y, _) in self.robots], float(p["range"]))
+        clocks = self.clocks
         for k, (rid, (x, y, th)) in enumerate(self.robots, start=1):
             lines.append(f"{k}. place robot {rid} at ({_g(x, digits)}, {_g(y, digits)}) "
-                         f"heading {_g(math.degrees(th))} deg")
+                         f"heading {_g(math.degrees(th))} deg" + _clock_phrase(clocks, k - 1))
+        extra = dict(p.get("extra") or {})
         sched = "synchronous" if not self.schedule else "asynchronous schedule from the file"
+        if clocks is not None:
+            sched = _clocks_text(clocks, extra, len(self.robots)) + (
+                "; a schedule from the file" if self.schedule else "")
         active = _fault_phrases(self.faults or {})
         fault_text = "no faults" if not active else "faults: " + "; ".join(active)
         cap = "" if self.max_steps is None else f" for at most {self.max_steps} steps"
-        extra = dict(p.get("extra") or {})
         with_params = ("" if not extra else
                        " with params " + ", ".join(f"{key}={extra[key]!r}" for key in sorted(extra)))
         lines.append(f"{k + 1}. run {self.algorithm} with seed {self.seed}{cap}{with_params} ({sched}, {fault_text})")

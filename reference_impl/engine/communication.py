@@ -3,7 +3,8 @@
 ``RobotModel.communication``: ``"neighbors"`` (the robots in range, by the model's
 neighbor rule), ``"all"`` (every robot: one shared read-only view per step, O(n) per
 step) or ``"none"``.  Late deliveries (fault models: delay, duplication, reordering)
-wait in the receiver's queue (:func:`_deliver_pending`).
+wait in the receiver's queue (:func:`_deliver_pending`); deliveries to a robot whose
+asynchronous clock does not tick wait in its backlog (:meth:`Delivery.hold`).
 """
 
 from __future__ import annotations
@@ -44,24 +45,24 @@ class _AllBut(_MappingABC):
         return repr(dict(self.items()))
 
 
-def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple[dict, tuple]:
+def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple:
     """The deliveries due at step ``t`` for receiver slot ``k`` (removed from ``pending``):
-    ``(messages by sender ID, ((sender slot, message), ...) in delivery order)``.
+    ``((sender slot, message), ...)`` in delivery order.
 
     Due deliveries come in (due step, sending order); ``reorder`` shuffles them
-    with the fault generator.  ``messages`` keeps each sender's last delivery.
+    with the fault generator.
     """
     box = pending.get(k)
     if not box:
-        return {}, ()
+        return ()
     due = [e for e in box if e[0] <= t]
     if not due:
-        return {}, ()
+        return ()
     pending[k] = [e for e in box if e[0] > t]
     due.sort(key=lambda e: (e[0], e[1]))
     if reorder and len(due) > 1:
         due = [due[i] for i in rng.permutation(len(due)).tolist()]
-    return {e[3]: e[4] for e in due}, tuple((e[2], e[4]) for e in due)
+    return tuple((e[2], e[4]) for e in due)
 
 
 class Delivery:
@@ -70,8 +71,9 @@ class Delivery:
     order), then anonymity (no sender IDs).
 
     Per run: ``Delivery(model, faults, phi, ids_list, rng)``; per step: :meth:`begin`
-    (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`end`
-    (records ``drop`` and ``late_delivery`` events).
+    (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`hold`
+    per robot whose asynchronous clock did not tick (its backlog, read at its next tick),
+    :meth:`end` (records ``drop`` and ``late_delivery`` events).
     """
 
     def __init__(self, model, faults, phi: float, ids_list, rng) -> None:
@@ -84,6 +86,8 @@ class Delivery:
         self.max_delay = int(faults.message_delay)
         self.dup_p = float(faults.message_duplication)
         self.pending: dict = {}   # receiver slot -> [(due step, seq, sender slot, sender id, message)]
+        #: receiver slot -> [(sender slot, message), ...] received in steps it did not decide (:meth:`hold`)
+        self.backlog: dict = {}
         self.seq = 0
         #: local robots hearing their neighbors without message faults: the caller may build
         #: ``dict(zip(nb_ids, map(last_msgs.__getitem__, nb_slots)))`` itself when :attr:`direct`
@@ -91,8 +95,9 @@ class Delivery:
         self.direct = False
 
     def forget(self, slot: int) -> None:
-        """A crashed robot loses its queue."""
+        """A crashed robot loses its queue and its backlog (what it received but never read)."""
         self.pending.pop(slot, None)
+        self.backlog.pop(slot, None)
 
     def begin(self, last_msgs: list, idx_l: list, silent: bool) -> None:
         """A step starts: ``last_msgs`` by slot (None: silent), the present slots, and whether
@@ -109,69 +114,88 @@ class Delivery:
 
     def receive(self, t: int, k: int, my_id, nb_ids, nb_slots, nb_rel):
         """``(messages, delivered)`` for the robot in slot ``k``: its ``Observation.messages``
-        and, when it differs from their items, the inbox (None otherwise)."""
+        and, when it differs from their items, the inbox (None otherwise).
+
+        What :meth:`hold` kept for the robot (steps its clock did not tick) comes first, then
+        this step's deliveries; ``messages`` keeps each sender's latest of them."""
+        held = self.backlog.pop(k, None) if self.backlog else None
+        if held is None:
+            if self.all_msgs is not None:
+                return _AllBut(self.all_msgs, my_id), None
+            if self.direct:
+                return dict(zip(nb_ids, map(self.last_msgs.__getitem__, nb_slots))), None
+        got = self._incoming(t, k, my_id, nb_ids, nb_slots, nb_rel)
+        if held is not None:
+            got = held + got
+        return self._as_observed(got, nb_slots, self.late or held is not None)
+
+    def hold(self, t: int, k: int, my_id, nb_ids, nb_slots, nb_rel) -> None:
+        """The robot in slot ``k`` does not decide in step ``t`` (its clock did not tick): what
+        it would have received now waits for its next tick (:meth:`receive`), oldest first.
+
+        The deliveries are made exactly as for a deciding robot (the same audience, and the same
+        loss, delay and duplication draws, in slot order), so a slow clock neither loses nor
+        adds a message (docs/decisions.md, "Engine: asynchronous clocks (issue 15)")."""
+        got = self._incoming(t, k, my_id, nb_ids, nb_slots, nb_rel)
+        if got:
+            self.backlog.setdefault(k, []).extend(got)
+
+    def _incoming(self, t: int, k: int, my_id, nb_ids, nb_slots, nb_rel) -> list:
+        """This step's deliveries to slot ``k``: ``[(sender slot, message), ...]`` in delivery
+        order (the model's audience, then the fault model's loss, delay, duplication and
+        reordering, every draw from the fault generator)."""
         last_msgs, faults, rng = self.last_msgs, self.faults, self.rng
-        anonymous, late = self.anonymous, self.late
-        delivered = None
-        if self.all_msgs is not None:
-            heard = None
-            msgs = _AllBut(self.all_msgs, my_id)
-        elif self.comm == "none":
+        late = self.late
+        if self.comm == "none":
             heard = ()
         elif self.comm == "all":
             heard = [(sid, s) for sid, s in self.all_senders if s != k]
-        elif anonymous:
+        elif self.anonymous:
             # anonymous robots sense everyone; they hear the ones in range
             d = np.hypot(nb_rel[:, 0], nb_rel[:, 1])
             near = (d <= self.phi * INCLUSIVE_SLACK) if self.inclusive else (d < self.phi)
             heard = [(self.ids_list[s], s) for s, ok in zip(nb_slots, near.tolist()) if ok]
-        elif not self.drops and not self.silent and not late:
-            heard = None
-            msgs = dict(zip(nb_ids, map(last_msgs.__getitem__, nb_slots)))
         else:
             heard = zip(nb_ids, nb_slots)
-        if heard is None:
-            pass
-        elif not self.drops and not late:
-            msgs = {s if anonymous else sid: last_msgs[s] for sid, s in heard if last_msgs[s] is not None}
-        else:
-            msgs = {}
-            for sid, s in heard:
-                msg = last_msgs[s]
-                if msg is None:
-                    continue
-                if faults.drop_message is not None and faults.drop_message(t, sid, my_id, rng):
-                    self.dropped.append((sid, my_id))
-                    continue
-                if faults.message_loss > 0 and rng.random() < faults.message_loss:
-                    self.dropped.append((sid, my_id))
-                    continue
-                if late:
-                    delay = int(rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
-                    copies = 2 if self.dup_p > 0 and rng.random() < self.dup_p else 1
-                    box = self.pending.setdefault(k, [])
-                    for _ in range(copies):
-                        box.append((t + delay, self.seq, s, sid, msg))
-                        self.seq += 1
-                    if delay or copies > 1:
-                        self.late_log.append((sid, my_id, t + delay, copies))
-                else:
-                    msgs[s if anonymous else sid] = msg
-        if late:
-            msgs, delivered = _deliver_pending(self.pending, k, t, faults.message_reorder, rng)
-        if anonymous:
-            # no sender IDs: a message is keyed by the row of neighbor_poses its sender is
-            # sensed at (messages of robots not sensed now are in the inbox only)
-            row = {s: r for r, s in enumerate(nb_slots)}
-            if delivered is None:   # msgs is keyed by sender slot here
-                delivered = tuple((None, m_) for m_ in msgs.values())
-                msgs = {row[s_]: m_ for s_, m_ in msgs.items() if s_ in row}
+        if not self.drops and not late:
+            return [(s, last_msgs[s]) for _, s in heard if last_msgs[s] is not None]
+        got = []
+        for sid, s in heard:
+            msg = last_msgs[s]
+            if msg is None:
+                continue
+            if faults.drop_message is not None and faults.drop_message(t, sid, my_id, rng):
+                self.dropped.append((sid, my_id))
+                continue
+            if faults.message_loss > 0 and rng.random() < faults.message_loss:
+                self.dropped.append((sid, my_id))
+                continue
+            if late:
+                delay = int(rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
+                copies = 2 if self.dup_p > 0 and rng.random() < self.dup_p else 1
+                box = self.pending.setdefault(k, [])
+                for _ in range(copies):
+                    box.append((t + delay, self.seq, s, sid, msg))
+                    self.seq += 1
+                if delay or copies > 1:
+                    self.late_log.append((sid, my_id, t + delay, copies))
             else:
-                msgs = {row[s_]: m_ for s_, m_ in delivered if s_ in row}
-                delivered = tuple((None, m_) for _, m_ in delivered)
-        elif delivered is not None:
-            delivered = tuple((self.ids_list[s_], m_) for s_, m_ in delivered)
-        return msgs, delivered
+                got.append((s, msg))
+        if late:
+            return list(_deliver_pending(self.pending, k, t, faults.message_reorder, rng))
+        return got
+
+    def _as_observed(self, got: list, nb_slots, inbox: bool):
+        """``(messages, delivered)`` of deliveries ``[(sender slot, message)]``: ``messages``
+        keyed by sender ID (anonymous: by the row of ``neighbor_poses`` the sender is sensed at;
+        messages of robots not sensed now are in the inbox only), each sender's latest;
+        ``delivered`` the inbox when ``inbox`` (or anonymous), else None."""
+        if self.anonymous:
+            row = {s: r for r, s in enumerate(nb_slots)}
+            return ({row[s]: m for s, m in got if s in row}, tuple((None, m) for _, m in got))
+        ids_list = self.ids_list
+        msgs = {ids_list[s]: m for s, m in got}
+        return msgs, (tuple((ids_list[s], m) for s, m in got) if inbox else None)
 
     def end(self, t: int, events: list) -> None:
         if self.dropped:

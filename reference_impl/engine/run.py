@@ -17,6 +17,8 @@ step; each phase's model lives in a module of its own:
    its current neighbors broadcast in the previous step
    (``communication="all"``: from every robot; ``"none"``: nothing), minus
    lost ones, plus late ones, possibly twice or out of order (fault models).
+   With ``clocks="async"`` a robot whose clock does not tick in the step
+   keeps them (its backlog) and reads them, oldest first, at its next tick.
 4. *Decision*: every acting robot's controller gets an
    :class:`~swarmproof.reference_impl.protocol.Observation` (read-only
    arrays, no global coordinates unless ``sensing="global"``) and returns a
@@ -662,6 +664,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 # and broadcasts its last decided message when the clock passes a broadcast instant
                 decide, bcast, tau0 = clocks.ticks(t, idx)
                 act &= decide
+                ticked_l = decide.tolist()
 
             # 2. sensing (vectorized).  Sensing is a pure function of the present robots'
             #    poses, so when none of them changed since the last sensing (bit for bit) the
@@ -744,10 +747,14 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
                 direct = delivery.direct
             for a in (range(0) if repeat_ok else range(m)):
                 if not act_l[a]:
+                    if async_clocks and not ticked_l[a]:
+                        # its clock did not tick: what it receives now waits for its next tick
+                        delivery.hold(t, idx_l[a], pres_ids_l[a], nb_ids[a], nb_slots[a], nb_rel[a])
                     continue
                 k = idx_l[a]
                 my_id = pres_ids_l[a]
-                if direct:   # the plain model: every neighbor broadcast, no message faults
+                if direct and not (async_clocks and k in delivery.backlog):
+                    # the plain model: every neighbor broadcast, no message faults
                     msgs, delivered = dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))), None
                 else:
                     msgs, delivered = delivery.receive(t, k, my_id, nb_ids[a], nb_slots[a], nb_rel[a])

@@ -60,29 +60,48 @@ def test_explore_claims_and_no_progress_measure():
     assert Wang2020.progress_measure([1], np.zeros((1, 3)), (st,)) == -3.0
 
 
-SPREAD = {"clock_rate_min": 1.0, "clock_rate_max": 2.0}
+#: Sec. V-B3's clock-rate spread: a nominal clock and ones up to twice as slow (f_max / f_min = 2).
+SPREAD = {"clock_rate_min": 0.5, "clock_rate_max": 1.0}
 
 
 def test_window_bound_negative_control_below_the_bound_collides():
     """Sec. V-B3: Delta t >= (2 m / f_comm)(f_max / f_min) = 2 * 2 * 2 = 8 here; at Delta t = 1 (below
-    it, allowed on purpose) the explorer finds two agents' discs overlapping."""
+    it, allowed on purpose) the explorer finds two agents' discs overlapping.  (A step cap of 400:
+    the scenarios tried before the collision run to their default cap of about 21,000 steps.)"""
     params = {"extra": {**SPREAD, "delta_t": 1}}
     from swarmproof.reference_impl.protocol import Params
 
     assert window_bound(Params(range=0.6, extra={"broadcast_every": 2.0, **SPREAD})) == 8.0
     rep = explore("wang2020", ["collision"], budget=None, max_examples=20, robots=(3, 8), seed=0,
-                  params=params, allow_violations=True)
+                  params=params, allow_violations=True, max_steps=400)
     v = rep.properties["collision"]
     assert set(rep.broken_assumptions) == {"same_clock_frequency", "message_window"}
     assert v.status == "violated" and "overlap" in v.message and len(v.counterexample.robots) <= 4
+    # the counterexample says what the run was: asynchronous clocks, the slow ones below 1
+    run_line = v.counterexample.format_steps()[-2]
+    assert "(asynchronous clocks: " in run_line and "rates drawn in [0.5, 1]" in run_line
+
+
+def _at_the_bound():
+    return explore("wang2020", ["collision"], budget=None, max_examples=15, robots=(3, 6), seed=0,
+                   params={"extra": {**SPREAD, "delta_t": 8}}, allow_violations=True)
 
 
 def test_window_bound_at_the_bound_holds_over_what_it_ran():
-    params = {"extra": {**SPREAD, "delta_t": 8}}
-    rep = explore("wang2020", ["collision"], budget=None, max_examples=15, robots=(3, 6), seed=0,
-                  params=params, allow_violations=True)
+    rep = _at_the_bound()
     assert rep.broken_assumptions == ["same_clock_frequency"]     # Sec. II-A; V-B3 relaxes it
     assert rep.properties["collision"].status == "held"
+
+
+def test_at_the_bound_slow_clocks_collided_while_the_engine_lost_their_deliveries(monkeypatch):
+    """Why the negative control could not use clocks slower than 1 before: an engine that drops
+    what a robot receives in a step its clock does not tick (no backlog) adds message loss that
+    m = 1 does not cover, and the same exploration at the bound finds a collision."""
+    from swarmproof.reference_impl.engine.communication import Delivery
+
+    monkeypatch.setattr(Delivery, "hold", lambda self, *a: None)
+    v = _at_the_bound().properties["collision"]
+    assert v.status == "violated" and "overlap" in v.message
 
 
 def test_the_explorer_refuses_a_broken_window_unless_allowed():
