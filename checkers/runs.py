@@ -93,7 +93,8 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   extra: Mapping[str, Any] | None = None, min_separation: float | None = None,
                   allow_violations: bool = False,
                   progress: Callable[[int, int], None] | None = None, record_every: int = 1,
-                  strict: bool = False, tree_link_mode: str | None = None) -> CheckedRun:
+                  strict: bool = False, tree_link_mode: str | None = None,
+                  vectorised: bool = False) -> CheckedRun:
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
@@ -101,6 +102,8 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     it runs toward with ``n`` robots (004: the shape scaled to n goal cells), and
     ``initial(n, seed, params, target)`` its own seeded start instead of the connected one
     (004: distinct random waypoints of an arena).  ``CheckedRun.lattice`` is the target run.
+    ``vectorised`` runs the algorithm's optional ``vectorised_simulate`` (``engine.simulate``'s
+    signature, the same trace) instead of the engine; an algorithm without one is a usage error.
 
     The JSON document keeps every field it had for lattices and adds
     ``target{kind, name}``, ``satisfied`` (the target's verdict on the final
@@ -185,6 +188,11 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         from swarmproof.invariants.connectivity import TreeLinkMonitor, connectivity_monitor
 
         observers = (connectivity_monitor(algorithm, phi), TreeLinkMonitor(phi, mode=link_mode))
+    if vectorised:
+        simulate = getattr(algorithm, "vectorised_simulate", None)
+        if not callable(simulate):
+            raise UsageError(f"vectorised=True: algorithm {algorithm.name!r} has no vectorised path",
+                             fix="drop --vectorised (docs/engine.md lists the algorithms that have one)")
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
                       allow_violations=allow_violations, progress=progress, record_every=record_every,
                       observers=observers)
@@ -238,6 +246,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
         **({"record_every": int(record_every), "recorded_steps": len(trace.times)} if trace.times else {}),
         **({"warnings": warnings} if warnings else {}),
+        **({"vectorised": True} if vectorised else {}),   # the same trace; said so the run is reproducible as run
         "target": {"kind": kind, "name": lattice.name,
                    # the target the final configuration was judged against, when the algorithm restates
                    # it (003: the last pattern of a switching sequence, at the start's span)

@@ -893,6 +893,15 @@ class Wang2020:
 
                 raise UsageError(f"then={g!r} is not a goal set", fix="pass GoalSet objects (shape targets)")
 
+    @staticmethod
+    def vectorised_simulate(*args, **kwargs):
+        """The vectorised path (:func:`~swarmproof.reference_impl.wang2020_fast.simulate_fast`):
+        ``engine.simulate``'s signature and the same trace bit for bit (tested), for the plain model;
+        a run it does not cover is a ``UsageError`` saying why (``swarmproof simulate --vectorised``)."""
+        from .wang2020_fast import simulate_fast
+
+        return simulate_fast(*args, **kwargs)
+
     @property
     def invariants(self) -> tuple:
         """Fresh runtime invariants (every access: a new J memory)."""

@@ -53,6 +53,7 @@ get the states as a lazy sequence, valid during the call that received it.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 
 import numpy as np
@@ -153,10 +154,23 @@ class _StaleStates(UsageError):
 
 
 class _States(Sequence):
-    """The agents' ``state()`` tuples of one step, built on demand (observers, ``stop_when``)."""
+    """The agents' ``state()`` tuples of one step, built on demand (observers, ``stop_when``).
+
+    An observer may keep them past their step, as with the engine's tuples (the tree-link monitor
+    reads the previous step's): the run calls :meth:`freeze` before it changes the agents when
+    anything but itself still holds the object, so a later read answers for this step, never for a
+    later one.  Only a read that could not be frozen (not expected) is refused."""
 
     def __init__(self, run, step: int) -> None:
         self._run, self._step, self._cache = run, step, {}
+        self._frozen = False
+
+    def freeze(self) -> None:
+        """Build every agent's state of this step now (the run is about to change them)."""
+        if not self._frozen and self._run.t == self._step:
+            for k in range(self._run.n):
+                self[k]
+            self._frozen = True
 
     def __len__(self) -> int:
         return self._run.n
@@ -164,12 +178,17 @@ class _States(Sequence):
     def __getitem__(self, k):
         if isinstance(k, slice):
             return tuple(self[i] for i in range(*k.indices(self._run.n)))
+        n = self._run.n
+        k = int(k)
+        if not -n <= k < n:
+            raise IndexError(f"agent {k} of {n}")
+        if k < 0:
+            k += n
+        if self._frozen:
+            return self._cache[k]
         if self._run.t != self._step:
             raise _StaleStates(f"states of step {self._step} read at step {self._run.t}",
                                fix="copy what an observer needs during observe()")
-        k = int(k)
-        if k < 0:
-            k += self._run.n
         got = self._cache.get(k)
         if got is None:
             got = self._cache[k] = self._run.state(k)
@@ -637,7 +656,7 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
     why = unsupported(algorithm, params, faults=faults, record_messages=record_messages)
     if why is not None:
         raise UsageError(f"the vectorised wang2020 path does not cover this run: {why}",
-                         fix="run it with swarmproof.reference_impl.engine.simulate (the per-robot reference)")
+                         fix="run the per-robot reference: drop --vectorised (swarmproof simulate), or call swarmproof.reference_impl.engine.simulate")
     seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
     n = initial.n
     model = algorithm.model
@@ -672,11 +691,12 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
     quiet = 0
     t = 0
     idx = np.arange(n)
+    lazy = _States(run, 0)
     for ob in observers:
         ob.start(ids.copy())
-        ob.observe(0, _ro(poses), _States(run, 0), _ro(present))
+        ob.observe(0, _ro(poses), lazy, _ro(present))
     finished = False
-    if stop_when is not None and stop_when(0, poses, _States(run, 0), present):
+    if stop_when is not None and stop_when(0, poses, lazy, present):
         status, finished = "stopped", True
     last_msgs = run.outbox()
     last_valid = np.zeros(n, dtype=bool)
@@ -684,6 +704,9 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
     sig = run.signature()
     cells, edge, frac, gstep, spacing = mover.cells, mover.edge, mover.frac, mover.step, mover.spacing
     while not finished and t < max_steps:
+        if sys.getrefcount(lazy) > 2:        # kept by an observer (2: the name and the call's argument)
+            lazy.freeze()
+        lazy = None
         n_events = len(events)
         decide, bcast, tau0 = clocks.ticks(t, idx)
         if not decide.all():

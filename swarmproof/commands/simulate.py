@@ -70,6 +70,9 @@ def add_arguments(p) -> None:
                    help="robot ROBOT fails at step STEP (003's algorithms: an allocated ID or 'leader'; "
                         "repeatable: --param fail=...)")
     add_tree_link_mode(p)
+    p.add_argument("--vectorised", action="store_true",
+                   help="run the algorithm's vectorised path (wang2020: the same trace as the per-robot "
+                        "reference, bit for bit, for the paper's plain model; anything else is refused)")
     p.add_argument("--record-every", type=int, default=1, metavar="K",
                    help="keep every K-th step (and every event, and the last) in the trace; connectivity "
                         "and tree links are still judged on every step by streaming monitors (default 1)")
@@ -171,7 +174,7 @@ def run(args) -> int:
         extra=_extra_with_options(args, spec), min_separation=args.min_separation,
         allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
         tree_link_mode=args.tree_link_mode,
-        strict=args.strict)
+        strict=args.strict, vectorised=args.vectorised)
     doc, code = checked.doc, checked.exit_code
     for w in doc.get("warnings", ()):
         sys.stderr.write(f"swarmproof simulate: warning: {w}\n")

@@ -147,3 +147,33 @@ def test_bad_input_exits_2_naming_the_value_and_the_fix(capsys, tmp_path, argv, 
     doc = json.loads(out)
     assert code == 2 and doc["exit_code"] == 2
     assert re.search(match, doc["error"]["message"]), doc["error"]["message"]
+
+
+def test_vectorised_gives_the_same_json_and_trace(capsys, tmp_path):
+    """--vectorised (reference_impl/wang2020_fast.py): the same report and the same trace file as the
+    per-robot reference; the JSON says it ran vectorised."""
+    docs, traces = [], []
+    for flag in ((), ("--vectorised",)):
+        t = tmp_path / f"t{len(flag)}.json"
+        code, out, _ = run(capsys, "--shape", "letter-n", "--robots", "12", "--seed", "3", "--json",
+                           "--trace", str(t), *flag)
+        assert code == 0, out
+        docs.append(json.loads(out))
+        traces.append(t.read_bytes())
+    ref, fast = docs
+    assert fast.pop("vectorised") is True and "vectorised" not in ref
+    ref.pop("trace"), fast.pop("trace")
+    assert fast == ref and ref["steps"] > 100
+    assert traces[0] == traces[1]
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["simulate", "song2016", "--lattice", "square", "--robots", "4", "--seed", "0", "--vectorised"],
+     "algorithm 'song2016' has no vectorised path"),
+    (["simulate", "wang2020", "--shape", "letter-l", "--robots", "5", "--seed", "0", "--vectorised",
+      "--param", "clock_rate_min=0.5", "--allow-violations"], "clock_rate_min=0.5"),
+])
+def test_vectorised_refuses_what_it_does_not_cover(capsys, argv, needle):
+    code = main(argv)
+    _, err = capsys.readouterr()
+    assert code == 2 and needle in err and "drop --vectorised" in err and "Traceback" not in err
