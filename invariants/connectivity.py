@@ -231,16 +231,23 @@ class TreeLinkMonitor:
         self.slot = {int(i): k for k, i in enumerate(self.ids.tolist())}
 
     def observe(self, t, poses, states, present) -> None:
+        if self.hit is not None:
+            return
         prev = self._prev
-        self._prev = (int(t), np.array(poses, copy=True), states, np.array(present, copy=True))
-        if prev is None or self.hit is not None:
+        # the parents of this step, read once (a states sequence may offer ``values_of(key)``, the
+        # vectorised paths' fast column read); the states themselves are not kept past their step
+        column = getattr(states, "values_of", None)
+        key = self.key
+        parents = column(key) if callable(column) else [state_value(s, key) for s in states]
+        self._prev = (int(t), np.array(poses, copy=True), parents, np.array(present, copy=True))
+        if prev is None:
             return
         t0, p0, before, pres0 = prev
         _, p1, after, pres1 = self._prev
-        key, mode, phi = self.key, self.mode, self.phi
+        mode, phi = self.mode, self.phi
         for k in range(len(self.ids)):
-            pb = state_value(before[k], key)
-            pa = state_value(after[k], key)
+            pb = before[k]
+            pa = after[k]
             if mode == "decided":
                 par = pa
             elif mode == "standing":

@@ -149,6 +149,11 @@ class _Block:
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
 
 
+#: the keys of an agent's state (``_Run.state``, ``Wang2020Controller.state``)
+_STATE_KEYS = frozenset(("cell", "next", "goal", "priority", "wp", "moving", "shape", "completed", "done", "hop",
+                         "q_u", "handshake", "ack", "waited", "window", "heard", "n_goals", "shape_box", "spacing"))
+
+
 class _StaleStates(UsageError):
     pass
 
@@ -164,6 +169,15 @@ class _States(Sequence):
     def __init__(self, run, step: int) -> None:
         self._run, self._step, self._cache = run, step, {}
         self._frozen = False
+
+    def values_of(self, key: str) -> list:
+        """Every agent's ``state_value(state, key)`` of this step; a key the states never have
+        (``parent``: wang2020 keeps no tree) without building them."""
+        if key not in _STATE_KEYS:
+            return [None] * self._run.n
+        from swarmproof.invariants.result import state_value
+
+        return [state_value(s, key) for s in self]
 
     def freeze(self) -> None:
         """Build every agent's state of this step now (the run is about to change them)."""

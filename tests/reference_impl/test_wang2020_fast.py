@@ -210,3 +210,39 @@ def test_fig_9_at_its_density_identical(n, arena, ticks):
     fast = simulate_fast(Wang2020(then=U), N, init, p, seed=0, max_steps=ticks, record_every=50)
     assert ref.steps == ticks and len(ref.trace.events) > 100   # agents moved along many edges
     assert trace_json(fast) == trace_json(ref)
+
+
+def test_values_of_reads_a_state_column_and_knows_every_state_key():
+    """``values_of(key)`` (the tree-link monitor's column read) equals reading each state; the keys it
+    knows are exactly the per-robot controller's, so a key it answers None for is truly absent."""
+    from swarmproof.invariants.result import state_value
+    from swarmproof.reference_impl.wang2020_fast import _STATE_KEYS
+
+    alg = Wang2020()
+    goals = alg.scale_target(resolve_target("shape:letter-l"), 6)
+    p = alg.default_params(0.6, 6)
+    init = alg.initial(6, 2, p, goals)
+    seen = []
+
+    class Columns:
+        def start(self, ids):
+            pass
+
+        def observe(self, t, poses, states, present):
+            seen.append((states.values_of("goal"), [state_value(s, "goal") for s in states],
+                         states.values_of("parent"), {k for k, _ in states[0]}))
+
+    ref = []
+
+    class Keys:
+        def start(self, ids):
+            pass
+
+        def observe(self, t, poses, states, present):
+            ref.append({k for k, _ in states[0]})
+
+    simulate_fast(alg, goals, init, p, seed=2, observers=[Columns()], max_steps=30)
+    simulate(Wang2020(), goals, init, p, seed=2, observers=[Keys()], max_steps=30)
+    assert all(a == b for a, b, _, _ in seen) and any(None not in a for a, _, _, _ in seen)
+    assert all(c == [None] * 6 for _, _, c, _ in seen)
+    assert all(k == _STATE_KEYS for *_, k in seen) and all(k == _STATE_KEYS for k in ref)
