@@ -230,18 +230,32 @@ def _draw(ax, cells_xy, goals, title):
     ax.set_yticks([])
 
 
+def _goals_held(xy, goals) -> int:
+    """Goal cells with an agent exactly on them (the run's final positions, metres)."""
+    cells = {(int(round(x / L)), int(round(y / L))) for x, y in np.asarray(xy).tolist()
+             if abs(x / L - round(x / L)) < 1e-9 and abs(y / L - round(y / L)) < 1e-9}
+    return len(cells & {tuple(g) for g in goals})
+
+
 def fig9(n: int, seed: int, plot: str | None, max_steps: int | None, arena: int = 48) -> dict:
     r = fig9_run(n, seed, arena=arena, max_steps=max_steps)
     print({k: v for k, v in r.items() if not k.startswith("_")})
     if plot:
         import matplotlib.pyplot as plt
 
-        fig, axes = plt.subplots(1, 2, figsize=(10, 5))
         gN, gU = r["_goals"]
         if r["_N"] is not None:
+            fig, axes = plt.subplots(1, 2, figsize=(10, 5))
             _draw(axes[0], r["_N"], gN, f"N detected complete, T = {r['N_detected_s']:.0f} s")
-        _draw(axes[1], r["_final"], gU, f"end ({r['status']}), T = {r['end_s']:.0f} s")
-        fig.suptitle(f"004 Fig. 9 reproduced: {n} agents form N, then U (seed {seed}, {r['arena']} x {r['arena']} start arena)")
+            _draw(axes[1], r["_final"], gU, f"end ({r['status']}), T = {r['end_s']:.0f} s")
+        else:
+            # "N" never detected complete: the agents never left it, so draw them on N's goals
+            fig, ax = plt.subplots(1, 1, figsize=(7, 6.5))
+            held = _goals_held(r["_final"], gN)
+            _draw(ax, r["_final"], gN, f"N not formed: {held} of {len(gN)} goals held\n"
+                                       f"at T = {r['end_s']:.0f} s ({r['status']})")
+        fig.suptitle(f"004 Fig. 9 reproduced: {n} agents form N, then U\n(seed {seed}, {r['arena']} x {r['arena']} start arena)",
+                     fontsize=11)
         fig.tight_layout()
         fig.savefig(plot, dpi=90)
         print(f"wrote {plot}")
