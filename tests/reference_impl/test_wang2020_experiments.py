@@ -158,14 +158,11 @@ def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
 
 
 def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
-    import importlib.util
     import json
-    import pathlib
 
-    root = pathlib.Path(__file__).resolve().parents[2]
-    spec = importlib.util.spec_from_file_location("bench_wang2020", root / "benchmarks" / "bench_wang2020.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    from testkit import load_benchmark
+
+    bench = load_benchmark("bench_wang2020")
     log = tmp_path / "t.jsonl"
     out = bench.fig10([4, 6], 1, str(tmp_path / "f10.png"), jsonl=str(log))
     assert [r["n"] for r in out["rows"]] == [4, 6] and (tmp_path / "f10.png").stat().st_size > 0
@@ -178,3 +175,21 @@ def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
     assert "| 4 | 1 |" in capsys.readouterr().out        # n, trials (this 4-agent trial ends unformed: the early-detection finding)
     res = bench.fig12(5, 1, str(tmp_path / "f12.png"))
     assert len(res["ours_formed_s"]) == 1 and (tmp_path / "f12.png").stat().st_size > 0
+
+
+def test_bench_fig9_draws_a_run_whose_n_never_formed_on_ns_goals(tmp_path):
+    """A Fig. 9 run cut before "N" is detected complete (the 1,024-agent run) is drawn on N's goals
+    with the number held; the count agrees with the run's own progress observer."""
+    from testkit import load_benchmark
+
+    bench = load_benchmark("bench_wang2020")
+    png = tmp_path / "f9.png"
+    out = bench.fig9(30, 0, str(png), 200, arena=8)
+    assert out["status"] == "step_cap" and out["N_detected_s"] is None
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    r = bench.fig9_run(30, 0, arena=8, max_steps=200)
+    gN, _ = r["_goals"]
+    held = bench._goals_held(r["_final"], gN)
+    assert 0 < held < len(gN)
+    # an agent between two cells holds none; one on a goal holds it
+    assert bench._goals_held([[gN[0][0] * 0.2, gN[0][1] * 0.2], [gN[1][0] * 0.2 + 0.1, gN[1][1] * 0.2]], gN) == 1
