@@ -22,8 +22,10 @@ setup: $(STAMP)
 ## exit code (0 as the baseline says or better, 1 a regression, 3 inconclusive) is passed on
 ## (make itself then says "Error 1" and exits 2, as make does for any failed recipe).
 BASELINE ?= verify-baseline.json
+## the exploration rows on one local process per core (Dask; the same rows as one process: docs/ci.md)
+VERIFY_WORKERS ?= auto
 verify: setup
-	@$(BIN)/swarmproof verify --baseline $(BASELINE) $(VERIFY_ARGS); rc=$$?; \
+	@$(BIN)/swarmproof verify --baseline $(BASELINE) --workers $(VERIFY_WORKERS) $(VERIFY_ARGS); rc=$$?; \
 	case $$rc in \
 	  1) echo "make verify: swarmproof verify exited 1: a regression against $(BASELINE) (rows under REGRESSED, CHANGED or NEW): a finding about the algorithm, not the tool breaking";; \
 	  2) echo "make verify: swarmproof verify exited 2: bad input (the line above says what and how to fix it)";; \

@@ -78,7 +78,8 @@ def _scope(sections, subjects, properties):
 def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] | None = None,
            properties: Sequence[str] | None = None, baseline: str | os.PathLike | None = None,
            update_baseline: bool = False, strict: bool = False, max_examples: int | None = None,
-           robots=None, seed: int | None = None, out_dir: str | None = None, progress=None):
+           robots=None, seed: int | None = None, out_dir: str | None = None, progress=None,
+           workers: int | None = None):
     """One ``verify`` run, compared with ``baseline`` when given; returns the
     :class:`~swarmproof.checkers.report.Report` (``report.comparison`` holds the comparison).
 
@@ -152,7 +153,8 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
     rep = report_mod.run_report(ordered, progress=progress, options={
         "exploration": {"max_examples": gate["max_examples"], "robots": tuple(gate["robots"]),
                         "seed": gate["seed"], "out_dir": out_dir, "properties": explore_props,
-                        "subjects": [s for s in subjects if algorithms or s.plan.explore]},
+                        "subjects": [s for s in subjects if algorithms or s.plan.explore],
+                        "workers": workers},
         "algorithms": {"out_dir": out_dir, "subjects": subjects, "properties": properties}})
     in_scope = _scope(ordered, subjects, properties)
     if base is not None:

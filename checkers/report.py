@@ -590,12 +590,50 @@ def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | 
                artifact=artifact if verdict is Verdict.VIOLATED else None)
 
 
+def _explore_one(ref: str, prop: str, n_examples: int, robots: tuple, seed: int, budget, out_dir, show=None):
+    """One exploration row's explorer run: ``(ExploreReport.as_dict(), counterexample)``.  A
+    module-level function, so that a Dask worker can run it (``section_exploration(workers=N)``)."""
+    from swarmproof.checkers.explore import explore
+
+    rep = explore(ref, [prop], budget=budget, max_examples=n_examples, robots=tuple(robots), seed=seed,
+                  out_dir=out_dir, progress=show)
+    return rep.as_dict(), getattr(rep.properties.get(prop), "counterexample", None)
+
+
+def _explore_parallel(jobs: list, workers: int, progress: Progress | None) -> list:
+    """Run :func:`_explore_one` on each job's arguments on an embedded Dask ``LocalCluster`` of
+    ``workers`` processes (the campaigns' engine, docs/campaigns.md); results in the jobs' order.
+    Each row is bounded by its example count, so the rows are the serial run's (tested)."""
+    from swarmproof.checkers.campaign import _client
+
+    client, cluster = _client(None, workers)
+    try:
+        from distributed import as_completed
+
+        futures = [client.submit(_explore_one, *job, key=f"swarmproof-verify-{i}-{job[0]}-{job[1]}", pure=False)
+                   for i, job in enumerate(jobs)]
+        index = {f.key: i for i, f in enumerate(futures)}
+        out: list = [None] * len(jobs)
+        done = 0
+        for fut in as_completed(futures):
+            out[index[fut.key]] = fut.result()       # an error in a row is raised here, as in the serial run
+            done += 1
+            if progress:
+                ref, prop = jobs[index[fut.key]][:2]
+                progress(f"{done}/{len(jobs)} rows explored on {workers} processes (last: {ref} {prop})")
+        return out
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
 def section_exploration(*, algorithms=None, properties=None,
                         max_examples: int = VERIFY_EXPLORE_MAX_EXAMPLES,
                         robots: tuple[int, int] = VERIFY_EXPLORE_ROBOTS, seed: int = VERIFY_EXPLORE_SEED,
                         budget: float | None = None, section_budget: float | None = None,
                         out_dir: str | None = None, progress: Progress | None = None,
-                        subjects: list[Subject] | None = None) -> list[Row]:
+                        subjects: list[Subject] | None = None, workers: int | None = None) -> list[Row]:
     """The explorer's property matrix: each algorithm by each explorer property (issue 6).
 
     For each algorithm (default: those whose ``verify`` plan asks for
@@ -611,11 +649,16 @@ def section_exploration(*, algorithms=None, properties=None,
     Counterexample files are written into ``out_dir`` only when it is given
     (``swarmproof verify --out DIR``); otherwise each violated row carries the
     ``swarmproof explore`` command that repeats it (``reproduce`` in JSON).
+    ``workers`` > 1 runs the rows on that many local processes (Dask, as campaigns do): the
+    same rows, in the same order, sooner on a machine with that many cores; a ``section_budget``
+    keeps them in this process (its deadline is spent in row order).
     """
     import math
 
-    from swarmproof.checkers.explore import explore, explore_properties
+    from swarmproof.checkers.explore import explore_properties
 
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise UsageError(f"--workers {workers!r} must be >= 1", fix="e.g. --workers 2, or --workers auto")
     budget = VERIFY_EXPLORE_BUDGET if budget is None else budget
     section_budget = VERIFY_EXPLORE_SECTION_BUDGET if section_budget is None else section_budget
     if subjects is None:
@@ -623,13 +666,23 @@ def section_exploration(*, algorithms=None, properties=None,
                     if algorithms is not None or s.plan.explore]
     props = explore_properties() if properties is None else tuple(properties)
     deadline = math.inf if section_budget is None else time.monotonic() + section_budget
-    rows = []
+    plan = []
     for subj in subjects:
-        algo, claims = subj.label, subj.claims
         cap = getattr(subj.plan, "explore_max_examples", None)
         n_examples = max_examples if cap is None else min(int(max_examples), int(cap))
-        for prop in props:
-            kw = dict(max_examples=n_examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
+        plan.extend((subj, prop, n_examples) for prop in props)
+    ran = None
+    if workers is not None and workers > 1 and section_budget is None and len(plan) > 1:
+        ran = _explore_parallel([(subj.ref, prop, n, tuple(robots), seed, budget, out_dir) for subj, prop, n in plan],
+                                workers, progress)
+    rows = []
+    for i, (subj, prop, n_examples) in enumerate(plan):
+        algo, claims = subj.label, subj.claims
+        kw = dict(max_examples=n_examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
+        if ran is not None:
+            used = budget
+            doc, artifact = ran[i]
+        else:
             left = deadline - time.monotonic()
             if left <= 0:
                 rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw,
@@ -642,14 +695,11 @@ def section_exploration(*, algorithms=None, properties=None,
                     progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
                 show(prop, 0, n_examples)
             used = None if budget is None and math.isinf(left) else min(math.inf if budget is None else budget, left)
-            rep = explore(subj.ref, [prop], budget=used, max_examples=n_examples,
-                          robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
-            doc = rep.as_dict()
-            assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
-                           "broken_assumptions": doc.get("broken_assumptions", [])}
-            rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
-                                        assumptions=assumptions, budget_used=used,
-                                        artifact=getattr(rep.properties.get(prop), "counterexample", None)))
+            doc, artifact = _explore_one(subj.ref, prop, n_examples, tuple(robots), seed, used, out_dir, show)
+        assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
+                       "broken_assumptions": doc.get("broken_assumptions", [])}
+        rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
+                                    assumptions=assumptions, budget_used=used, artifact=artifact))
     return rows
 
 

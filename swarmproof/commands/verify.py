@@ -36,6 +36,22 @@ DESCRIPTION = (HELP + ": lattices, algorithm runs, the z3 lemmas and the explore
                "1 a regression, 3 a row inconclusive (improvements fail only with --strict).")
 
 
+def _workers(text: str) -> int:
+    """``--workers N|auto``: a count >= 1, or the number of cores."""
+    import argparse
+    import os
+
+    if text == "auto":
+        return os.cpu_count() or 1
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--workers {text!r} is not a number or auto (e.g. --workers 2)") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"--workers {n!r} must be >= 1 (e.g. --workers 2, or auto)")
+    return n
+
+
 def add_arguments(p) -> None:
     from swarmproof.checkers import report
 
@@ -72,6 +88,9 @@ def add_arguments(p) -> None:
     p.add_argument("--robots", default=None, metavar="MIN..MAX",
                    help="exploration: number of robots (default: the baseline's gate, else {}..{})".format(
                        *report.VERIFY_EXPLORE_ROBOTS))
+    p.add_argument("--workers", default=None, metavar="N|auto", type=_workers,
+                   help="exploration: run the rows on N local processes (Dask, as campaigns do; auto: one per "
+                        "core): the same rows, sooner (default: 1, in this process)")
     p.add_argument("--seed", type=int, default=None, metavar="S",
                    help=f"exploration: Hypothesis seed (default: the baseline's gate, else {report.VERIFY_EXPLORE_SEED})")
 
@@ -90,7 +109,7 @@ def run(args) -> int:
                         baseline=args.baseline, update_baseline=args.update_baseline, strict=args.strict,
                         max_examples=args.max_examples, seed=args.seed,
                         robots=None if args.robots is None else parse_robots(args.robots),
-                        out_dir=args.out, progress=progress)
+                        out_dir=args.out, progress=progress, workers=args.workers)
     finally:
         if progress is not None:
             progress.clear()

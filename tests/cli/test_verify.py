@@ -116,3 +116,27 @@ def test_tty_progress_overwrites_one_line():
     assert buf.getvalue() == ("\r\x1b[Kverify: lemmas: bounded_range"
                               "\r\x1b[Kverify: exploration: song2014 "
                               "\r\x1b[K")
+
+
+def test_workers_explore_the_rows_on_dask_processes_with_the_same_rows(capsys, tmp_path):
+    """--workers 2: the exploration rows on a local Dask cluster of two processes give the JSON and
+    the counterexample files of the serial run, byte for byte (rows bounded by example counts)."""
+    argv = ["--section", "exploration", "--algorithm", "song2014", "--property", "connectivity",
+            "--property", "termination", "--max-examples", "12", "--json"]
+    docs, files = [], []
+    for w in ("1", "2"):
+        out_dir = tmp_path / f"cx{w}"
+        code, out, _ = run(capsys, *argv, "--workers", w, "--out", str(out_dir))
+        doc = json.loads(out)
+        docs.append((code, json.dumps(doc, sort_keys=True).replace(str(out_dir), "OUT")))
+        verdicts = {r["property"]: r["verdict"] for r in doc["rows"]}
+        files.append({p.name: p.read_bytes() for p in sorted(out_dir.iterdir())})
+    assert docs[0] == docs[1]
+    assert files[0] == files[1] and files[0]          # song2014 loses connectivity: a counterexample file
+    assert verdicts["connectivity"] == "violated"      # song2014's known finding, found by both
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "many"])
+def test_workers_must_be_a_count_or_auto(capsys, value):
+    code, _, err = run(capsys, "--section", "exploration", "--workers", value)
+    assert code == 2 and "--workers" in err and "Traceback" not in err
