@@ -26,6 +26,7 @@ DESIGN.md section 1 "Past one machine"; docs/campaigns.md.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -180,20 +181,28 @@ def _simulate_task(a: dict) -> dict:
     return {"verdict": verdict.value, "figures": figures, "counterexample": cx, "first_failure_seconds": None}
 
 
+@contextlib.contextmanager
+def worker_warnings():
+    """Inside a task on a Dask worker: silence Hypothesis's warning about the `random` module.
+
+    A Dask worker's own threads (heartbeats, comms) use the `random` module; Hypothesis notices the
+    global random state moving while a strategy draws and warns that the *strategy* used it.
+    Hypothesis's draws come from its own seeded generator, so the results do not depend on it
+    (tests/checkers/test_campaign.py compares 1 and 2 workers and a real cluster; test_verify.py
+    verify's rows): silence that one warning inside tasks only."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Do not use the `random` module inside strategies")
+        yield
+
+
 def run_task(task: dict) -> dict:
     """Run one task (on a worker).  A crash of swarmproof itself becomes an inconclusive result
     naming the error (the campaign goes on; the report lists it), never a lost task."""
-    import warnings
-
     t0 = time.perf_counter()
     try:
-        with warnings.catch_warnings():
-            # A Dask worker's own threads (heartbeats, comms) use the `random` module; Hypothesis
-            # notices the global random state moving while a strategy draws and warns that the
-            # *strategy* used it.  Hypothesis's draws come from its own seeded generator, so the
-            # results do not depend on it (tests/checkers/test_campaign.py compares 1 and 2
-            # workers and a real cluster): silence that one warning inside tasks only.
-            warnings.filterwarnings("ignore", message="Do not use the `random` module inside strategies")
+        with worker_warnings():
             out = (_explore_task if task["kind"] == "explore" else _simulate_task)(task["args"])
     except Exception as exc:  # noqa: BLE001 - one task's failure must not stop the campaign
         out = {"verdict": "inconclusive", "counterexample": None, "first_failure_seconds": None,

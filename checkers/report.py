@@ -600,6 +600,14 @@ def _explore_one(ref: str, prop: str, n_examples: int, robots: tuple, seed: int,
     return rep.as_dict(), getattr(rep.properties.get(prop), "counterexample", None)
 
 
+def _explore_on_worker(*job):
+    """:func:`_explore_one` inside a Dask task (the workers' own use of `random` silenced)."""
+    from swarmproof.checkers.campaign import worker_warnings
+
+    with worker_warnings():
+        return _explore_one(*job)
+
+
 def _explore_parallel(jobs: list, workers: int, progress: Progress | None) -> list:
     """Run :func:`_explore_one` on each job's arguments on an embedded Dask ``LocalCluster`` of
     ``workers`` processes (the campaigns' engine, docs/campaigns.md); results in the jobs' order.
@@ -610,7 +618,7 @@ def _explore_parallel(jobs: list, workers: int, progress: Progress | None) -> li
     try:
         from distributed import as_completed
 
-        futures = [client.submit(_explore_one, *job, key=f"swarmproof-verify-{i}-{job[0]}-{job[1]}", pure=False)
+        futures = [client.submit(_explore_on_worker, *job, key=f"swarmproof-verify-{i}-{job[0]}-{job[1]}", pure=False)
                    for i, job in enumerate(jobs)]
         index = {f.key: i for i, f in enumerate(futures)}
         out: list = [None] * len(jobs)
