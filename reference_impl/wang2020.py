@@ -933,12 +933,18 @@ class Wang2020:
     def default_params(range: float = 0.6, n: int = 0) -> Params:
         return default_params(range, n)
 
-    def controller(self, robot_id, params: Params, target, rng) -> Wang2020Controller:
+    @staticmethod
+    def _need_shape(target) -> None:
+        """A usage error unless ``target`` is a goal set (a lattice or a line pattern is not)."""
         if getattr(target, "cells", None) is None:
             from swarmproof.models.errors import UsageError
 
-            raise UsageError(f"wang2020 needs a shape target (goal cells), not {target!r}",
-                             fix="e.g. --target shape:letter-l")
+            kind = getattr(target, "kind", type(target).__name__)
+            raise UsageError(f"target={getattr(target, 'name', target)!r} ({kind}): wang2020 needs a shape "
+                             "target (goal cells)", fix="e.g. --target shape:letter-l (or --shape FILE.png|FILE.txt)")
+
+    def controller(self, robot_id, params: Params, target, rng) -> Wang2020Controller:
+        self._need_shape(target)
         l = float(params.extra.get("grid_spacing", 1.0))
         shapes = (goal_cells(target, l),) + tuple(goal_cells(g, l) for g in self.then)
         self._goals = shapes[0]           # metrics(): the centralized optimum toward the run's target
@@ -1019,6 +1025,7 @@ class Wang2020:
         from swarmproof.models.shapes import centered_arena, random_start_cells
         from swarmproof.models.trace import InitialConfiguration
 
+        self._need_shape(target)
         l = float(params.extra.get("grid_spacing", 1.0))
         w, h = self.arena_size(params)
         arena = centered_arena(goal_cells(target, l), w, h)

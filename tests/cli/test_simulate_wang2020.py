@@ -177,3 +177,12 @@ def test_vectorised_refuses_what_it_does_not_cover(capsys, argv, needle):
     code = main(argv)
     _, err = capsys.readouterr()
     assert code == 2 and needle in err and "drop --vectorised" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("flag", [(), ("--vectorised",)])
+def test_a_lattice_target_is_a_usage_error_not_a_crash(capsys, flag):
+    """wang2020 forms goal sets: a lattice target exits 2 naming it (it crashed with exit 4 when the
+    arena start read the target's cells before the controller's check)."""
+    code = main(["simulate", "wang2020", "--lattice", "square", "--robots", "8", "--seed", "0", *flag])
+    _, err = capsys.readouterr()
+    assert code == 2 and "target='square' (lattice)" in err and "shape:letter-l" in err
