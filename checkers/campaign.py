@@ -379,7 +379,7 @@ def _client(scheduler: str | None, workers: int | None):
     try:
         from distributed import Client, LocalCluster
     except ImportError:
-        raise UsageError("campaigns need dask.distributed, which is not installed",
+        raise UsageError("campaigns and verify --workers need dask.distributed, which is not installed",
                          fix="pip install 'swarmproof[campaign]' (or: pip install 'dask[distributed]')") from None
     if scheduler is not None:
         try:

@@ -144,4 +144,4 @@ def judge_termination(trace, algorithm, params, status: str, *, max_steps: int |
         return InvariantResult("termination", "inconclusive", "001 Def. 5", None,
                                f"step cap {max_steps} reached; no termination bound to judge by")
     return InvariantResult("termination", "held", "001 Def. 5", None,
-                           f"the run ended ({status}) after {trace.steps} steps")
+                           f"the run ended ({status}) after {trace.time_of(len(trace.poses) - 1)} steps")

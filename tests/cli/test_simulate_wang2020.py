@@ -186,3 +186,15 @@ def test_a_lattice_target_is_a_usage_error_not_a_crash(capsys, flag):
     code = main(["simulate", "wang2020", "--lattice", "square", "--robots", "8", "--seed", "0", *flag])
     _, err = capsys.readouterr()
     assert code == 2 and "target='square' (lattice)" in err and "shape:letter-l" in err
+
+
+def test_termination_names_the_last_step_of_a_sparse_trace(capsys):
+    """--record-every K keeps every K-th step: termination still says after how many steps the run
+    ended (it said the number of recorded frames)."""
+    msgs = []
+    for k in ("1", "5"):
+        code, out, _ = run(capsys, "--shape", "letter-l", "--robots", "6", "--seed", "0", "--json", "--record-every", k)
+        doc = json.loads(out)
+        msgs.append(doc["termination"]["message"])
+        assert f"after {doc['steps']} steps" in doc["termination"]["message"] and doc["steps"] > 100
+    assert msgs[0] == msgs[1]
