@@ -53,7 +53,9 @@ def test_lemma_proved_with_satisfiable_premises_and_refuted_control(lemma_id):
     assert ctrl["status"] == "counterexample"
     cex = ctrl["counterexample"]
     assert cex and all(isinstance(v, float) and math.isfinite(v) for v in cex.values())
-    assert r.seconds < 2.0 * 3  # the 2 s budget is measured in benchmarks/, this only catches hangs
+    # No wall-clock assertion: z3's own timeout (10 s) already bounds a hang (a timeout is not
+    # "proved"), and speed is measured in benchmarks/, not in timed tests (a 6 s bound failed a
+    # CI run on a loaded machine: wang2020_separation_equal_speeds took 7.1 s there).
 
 
 @pytest.mark.parametrize("lemma_id", ["bounded_range", "nclb_link_kept", "safe_region_nonempty"])
