@@ -45,7 +45,7 @@ def test_lemma_proved_control_refuted_vacuity_ok(lemma_id):
     assert r.premises_satisfiable is True
     assert r.negative_control["status"] == "counterexample"
     assert r.vacuity["verdict"] == "ok" and r.vacuity["all_dropped"] == "counterexample"
-    assert r.seconds < 15, r.seconds     # measured well under 4 s each (docs/proofs.md); catches hangs
+    # no wall-clock bound: z3's timeout (10 s) bounds a hang; speed is measured in docs/proofs.md
     if lemma_id != "wang2020_time_normalisation":
         assert any("004" in c for c in lem.cites) and lem.not_proved
 
