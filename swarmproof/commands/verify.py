@@ -46,7 +46,7 @@ def _workers(text: str) -> int:
     try:
         n = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--workers {text!r} is not a number or auto (e.g. --workers 2)") from None
+        raise argparse.ArgumentTypeError(f"--workers {text!r} is not a whole number or auto (e.g. --workers 2)") from None
     if n < 1:
         raise argparse.ArgumentTypeError(f"--workers {n!r} must be >= 1 (e.g. --workers 2, or auto)")
     return n
