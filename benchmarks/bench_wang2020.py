@@ -30,8 +30,8 @@ import time
 import numpy as np
 
 from swarmproof.models.shapes import random_shape, shape_for
-from swarmproof.reference_impl.wang2020_experiments import (centralized_schedule, experiment_params, start_cells,
-                                                            wang_trial)
+from swarmproof.reference_impl.wang2020_experiments import (centralized_schedule, experiment_params,
+                                                            fig10_instance, start_cells, wang_trial)
 
 L = 0.2          # grid length (004 Sec. V-B3)
 V = 0.05         # speed (004 Sec. V-A)
@@ -108,9 +108,7 @@ def fig9_run(n: int = 1024, seed: int = 0, arena: int = 48, max_steps: int | Non
 def fig10_trial(n: int, seed: int, arena: int = 32) -> dict:
     """One Fig. 10 trial: a random connected shape of n cells, n random starts in the arena; the
     decentralized run to formation and the centralized schedule from the same starts."""
-    rng = np.random.default_rng([n, seed])
-    goals = random_shape(n, rng)
-    starts = start_cells(goals.cells, n, rng, arena=arena)
+    goals, starts = fig10_instance(n, seed, arena)
     t0, c0 = time.perf_counter(), time.process_time()
     w = wang_trial(goals, starts, seed)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
@@ -231,10 +229,10 @@ def _draw(ax, cells_xy, goals, title):
 
 
 def _goals_held(xy, goals) -> int:
-    """Goal cells with an agent exactly on them (the run's final positions, metres)."""
-    cells = {(int(round(x / L)), int(round(y / L))) for x, y in np.asarray(xy).tolist()
-             if abs(x / L - round(x / L)) < 1e-9 and abs(y / L - round(y / L)) < 1e-9}
-    return len(cells & {tuple(g) for g in goals})
+    """Goal cells with an agent resting on them (positions in metres): the progress observer's count."""
+    from swarmproof.reference_impl.wang2020_experiments import ProgressObserver
+
+    return ProgressObserver(goals, L).occupied(np.asarray(xy, dtype=float))
 
 
 def fig9(n: int, seed: int, plot: str | None, max_steps: int | None, arena: int = 48) -> dict:

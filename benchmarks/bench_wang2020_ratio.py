@@ -44,24 +44,21 @@ import time
 
 import numpy as np
 
-from swarmproof.models.shapes import random_shape
+from swarmproof.models.assignment import optimal_assignment
 from swarmproof.reference_impl import wang2020 as W
 from swarmproof.reference_impl.protocol import Command
-from swarmproof.reference_impl.wang2020_experiments import (ARENA, ProgressObserver, centralized_schedule,
-                                                            experiment_params, start_cells)
+from swarmproof.reference_impl.wang2020 import manhattan as md
+from swarmproof.reference_impl.wang2020_experiments import ARENA, ProgressObserver, experiment_params
+from swarmproof.reference_impl.wang2020_experiments import fig10_instance as instance
 
 R_CELLS = 3.0    # R / l = 0.6 m / 0.2 m (004 Sec. V-A, V-B3)
 
 
-def md(a, b) -> int:
-    return abs(a[0] - b[0]) + abs(a[1] - b[1])
-
-
-def instance(n: int, seed: int, arena: int = ARENA):
-    """Fig. 10's trial as ``wang2020_experiments`` draws it: (goal set, start cells)."""
-    rng = np.random.default_rng([n, seed])
-    goals = random_shape(n, rng)
-    return goals, start_cells(goals.cells, n, rng, arena=arena)
+def costs(starts, goals) -> tuple:
+    """``(optimum, random assignment's expected cost)`` in grid edges: the distance-optimal
+    assignment (the centralized method's total, Fig. 10) and n times the mean start-goal distance."""
+    S, G = np.asarray(starts), np.asarray(goals)
+    return int(optimal_assignment(starts, goals).cells), float(np.abs(S[:, None, :] - G[None, :, :]).sum(-1).mean() * len(S))
 
 
 # -- the instrumented controller --------------------------------------------------------------
@@ -97,19 +94,19 @@ class Counting(W.Wang2020Controller):
         self.c["begun_reduce" if reduce else "begun_equal"] += 1
         super()._begin_handshake(now, peer, m)
 
-    def _on_request(self, now, sender, req):
+    def _counted(self, outcome: str, handler, *args):
+        """Run a handshake handler; when it ended the handshake, count ``outcome`` and the goal change."""
         before, hs = self.T, self.hs
-        super()._on_request(now, sender, req)
+        handler(*args)
         if hs is not None and self.hs is None:
-            self.c["server_ok"] += 1
+            self.c[outcome] += 1
             self.c["swaps"] += md(self.wp, self.T) - md(self.wp, before)
 
+    def _on_request(self, now, sender, req):
+        self._counted("server_ok", super()._on_request, now, sender, req)
+
     def _on_ack(self, now, sender, ack):
-        before, hs = self.T, self.hs
-        super()._on_ack(now, sender, ack)
-        if hs is not None and self.hs is None:
-            self.c["client_ok"] += 1
-            self.c["swaps"] += md(self.wp, self.T) - md(self.wp, before)
+        self._counted("client_ok", super()._on_ack, now, sender, ack)
 
 
 # -- other readings of ambiguous text (never the registered algorithm) ------------------------
@@ -280,10 +277,7 @@ def decompose(n: int, seed: int, reading: str = "", params: dict | None = None, 
     order = {rid: k for k, rid in enumerate(r.final_ids)}
     residual = sum(md(a.wp, a.T) + abs(poses[order[a.id], 0] - a.wp[0]) + abs(poses[order[a.id], 1] - a.wp[1])
                    for a in made)
-    G = sorted(goals.cells)
-    opt = centralized_schedule(starts, G).total_cells
-    S, Ga = np.array(starts), np.array(G)
-    rand = float(np.abs(S[:, None, :] - Ga[None, :, :]).sum(-1).mean() * n)
+    opt, rand = costs(starts, sorted(goals.cells))
     travelled = res["distance"] / l
     return {"n": n, "seed": seed, "reading": reading or "reference", "params": params or {},
             "status": r.status, "formed_s": None if res["formed_step"] is None else round(res["formed_step"] * p.dt, 1),
@@ -355,9 +349,8 @@ def bounds(n: int, seed: int, reps: int = 3, arena: int = ARENA, dynamic: bool =
     (mean over ``reps`` random initial permutations) for Fig. 10's instance (n, seed)."""
     goals, starts = instance(n, seed, arena)
     G = sorted(goals.cells)
-    opt = centralized_schedule(starts, G).total_cells
+    opt, rand = costs(starts, G)
     S, Ga = np.array(starts), np.array(G)
-    rand = float(np.abs(S[:, None, :] - Ga[None, :, :]).sum(-1).mean() * n)
     rng = np.random.default_rng([n, seed, 4])
     st, dy = [], []
     for _ in range(reps):

@@ -294,6 +294,17 @@ def start_cells(goals, n: int, rng: np.random.Generator, *, arena: int = ARENA) 
     return random_start_cells(n, centered_arena(goals, arena), rng)
 
 
+def fig10_instance(n: int, seed: int, arena: int = ARENA) -> tuple:
+    """Fig. 10's trial ``(n, seed)``: ``(goal set, start cells)``, a random connected shape of n
+    cells (``random_shape``) and n starts uniform in the ``arena``, both from
+    ``numpy.random.default_rng([n, seed])`` (the benchmarks' one drawing of it)."""
+    from swarmproof.models.shapes import random_shape
+
+    rng = np.random.default_rng([n, seed])
+    goals = random_shape(n, rng)
+    return goals, start_cells(goals.cells, n, rng, arena=arena)
+
+
 class ProgressObserver:
     """A streaming monitor (engine ``observers``) of one run toward a goal set, seeing every step:
     goals occupied by an agent resting on them, the distance travelled by all agents (metres, exact:
