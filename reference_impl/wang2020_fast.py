@@ -149,11 +149,6 @@ class _Block:
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
 
 
-#: the keys of an agent's state (``_Run.state``, ``Wang2020Controller.state``)
-_STATE_KEYS = frozenset(("cell", "next", "goal", "priority", "wp", "moving", "shape", "completed", "done", "hop",
-                         "q_u", "handshake", "ack", "waited", "window", "heard", "n_goals", "shape_box", "spacing"))
-
-
 class _StaleStates(UsageError):
     pass
 
@@ -171,11 +166,13 @@ class _States(Sequence):
         self._frozen = False
 
     def values_of(self, key: str) -> list:
-        """Every agent's ``state_value(state, key)`` of this step; a key the states never have
-        (``parent``: wang2020 keeps no tree) without building them."""
-        if key not in _STATE_KEYS:
-            return [None] * self._run.n
+        """Every agent's ``state_value(state, key)`` of this step; a key the states do not have
+        (``parent``: wang2020 keeps no tree) from the first agent's state alone (every agent's state
+        has the same keys, :meth:`_Run.state`)."""
         from swarmproof.invariants.result import state_value
+
+        if self._run.n == 0 or all(k != key for k, _ in self[0]):
+            return [None] * self._run.n
 
         return [state_value(s, key) for s in self]
 
