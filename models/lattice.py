@@ -252,7 +252,7 @@ class LatticeGraph:
         """001 Def. 2 (000 Def. 2): do the robots satisfy the graph at range ``phi``?
 
         ``tol`` is ``(pos_tol, ang_tol)`` (default 1e-6 each).  Returns a
-        :class:`~swarmproof.models.targets.TargetCheck` whose ``detail`` holds the
+        :class:`~swarmproof.models.target_base.TargetCheck` whose ``detail`` holds the
         role of each robot when it held.
 
         >>> from swarmproof.models import library
@@ -261,7 +261,7 @@ class LatticeGraph:
         'held'
         """
         from .satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL, satisfies_lattice
-        from .targets import TargetCheck
+        from .target_base import TargetCheck
 
         pos_tol, ang_tol = (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL) if tol is None else tol
         sat = satisfies_lattice(ids, poses, self, self._phi(phi), pos_tol=pos_tol, ang_tol=ang_tol)
@@ -290,6 +290,6 @@ class LatticeGraph:
         src = self.source or ""
         if src.startswith("library:") and src[len("library:"):] == self.name:
             return {"kind": "lattice", "name": self.name}
-        from .lattice_io import lattice_to_document
+        from .lattice_document import lattice_to_document
 
         return {"kind": "lattice", "name": self.name, "document": lattice_to_document(self, "rad")}

@@ -75,7 +75,9 @@ import yaml
 from .errors import InputFileError, UsageError
 from .fileio import atomic_write_text
 from .lattice import LatticeGraph
-from .se2 import SE2, wrap_angle
+from .lattice_document import ANGLE_UNITS as _ANGLE_UNITS
+from .lattice_document import FORMAT, lattice_to_document
+from .se2 import SE2
 
 __all__ = [
     "FORMAT",
@@ -88,12 +90,9 @@ __all__ = [
     "schema_path",
 ]
 
-#: The one format version this module reads and writes.
-FORMAT = "lattice-graph/1"
 #: Top-level keys of the format, in the order they are written.
 ALLOWED_KEYS = ("format", "name", "range", "angle_unit", "roles", "edges")
 _REQUIRED = ("format", "roles", "edges")
-_ANGLE_UNITS = ("deg", "rad")
 _ROW_FIELDS = ("from", "to", "x", "y", "theta")
 
 _repr = reprlib.Repr()
@@ -525,40 +524,6 @@ def load_lattice_file(path: str | os.PathLike) -> LatticeGraph:
     except (ValueError, RecursionError):
         return loads_lattice(text, "yaml", source)
     return loads_lattice(text, "json", source)
-
-
-def _deg(theta: float) -> float:
-    """A degree value that reads back (via radians and wrapping) to exactly ``theta``
-    when one exists among short decimals; else the plain conversion."""
-    d = math.degrees(theta)
-    for k in range(0, 16):
-        c = round(d, k)
-        if wrap_angle(math.radians(c)) == theta:
-            return c + 0.0
-    return d
-
-
-def lattice_to_document(graph: LatticeGraph, angle_unit: str = "deg") -> dict:
-    """The ``lattice-graph/1`` document of ``graph`` as a plain dict (keys in file order).
-
-    >>> from swarmproof.models.lattice import LatticeGraph
-    >>> g = LatticeGraph("seg", ["A", "B"], [("A", "B", SE2(1, 0, math.pi)), ("B", "A", SE2(1, 0, math.pi))])
-    >>> lattice_to_document(g)["edges"]
-    [['A', 'B', 1.0, 0.0, -180.0], ['B', 'A', 1.0, 0.0, -180.0]]
-    """
-    if angle_unit not in _ANGLE_UNITS:
-        raise UsageError(f"angle_unit={angle_unit!r} is not a known unit", fix="use 'deg' or 'rad'")
-    doc: dict[str, Any] = {"format": FORMAT, "name": graph.name}
-    if graph.range is not None:
-        doc["range"] = float(graph.range)
-    doc["angle_unit"] = angle_unit
-    doc["roles"] = list(graph.roles)
-    doc["edges"] = [
-        [e.source, e.target, e.transform.x, e.transform.y,
-         _deg(e.transform.theta) if angle_unit == "deg" else e.transform.theta]
-        for e in graph.edges
-    ]
-    return doc
 
 
 class _Flow(list):

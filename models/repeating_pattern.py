@@ -156,7 +156,7 @@ class RepeatingPattern:
     def satisfied(self, ids, poses, *, phi: float | None = None, tol=None):
         """Held when the formation quality (002 Def. 9) is exactly 1; violated when it is
         proven below 1; inconclusive when a search budget ran out."""
-        from .targets import TargetCheck
+        from .target_base import TargetCheck
 
         q = self.quality(poses)
         detail = q.as_dict()

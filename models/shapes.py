@@ -5,7 +5,7 @@ figure, i.e., a black and white image.  The figure is scaled such that the
 number of goal pixels on the figure equals the number of agents."  Sec. II-C
 asks for "an arbitrary connected target formation" ``Q`` with ``|Q| = |A|``.
 This module reads such figures and makes a
-:class:`~swarmproof.models.targets.GoalSet` of exactly ``n`` connected cells.
+:class:`GoalSet` (the ``shape`` target kind) of exactly ``n`` connected cells.
 
 Files
 -----
@@ -30,7 +30,7 @@ west).  See docs/decisions.md, "Wang & Rubenstein shapes (issue 15)".
 
 Bundled shapes (``models/shape_bitmaps/*.txt``): ``letter-n`` and ``letter-u``
 (004 Figs. 1 and 9, the letters "N" and "U"), besides ``square-9`` and
-``letter-l`` kept in :mod:`swarmproof.models.targets`.  004's Fig. 8 shows
+``letter-l`` defined here as small bitmaps (``_BUNDLED_SHAPES``).  004's Fig. 8 shows
 four other input images that its text does not describe, and Figs. 10-12 use
 "randomly generated ... connected random positions": :func:`random_shape`.
 
@@ -57,14 +57,15 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Iterable
+from dataclasses import dataclass
+from typing import Iterable, Mapping
 
 import numpy as np
 
 from .errors import InputFileError, UsageError, check_type
-from .targets import GoalSet
+from .target_base import TargetCheck, as_xy
 
-__all__ = ["load_shape_file", "scale_to", "scale_details", "connected", "components", "shape_for",
+__all__ = ["GoalSet", "load_shape_file", "scale_to", "scale_details", "connected", "components", "shape_for",
            "bundled_shape_names", "random_shape", "arena_cells", "centered_arena", "random_start_cells",
            "DEFAULT_ARENA", "DEFAULT_SPACING", "MAX_SIDE", "MAX_GOALS", "DARK_THRESHOLD"]
 
@@ -91,6 +92,142 @@ def _range(spacing: float) -> float:
 _BITMAP_DIR = Path(__file__).resolve().parent / "shape_bitmaps"
 _PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 _FOUR = ((1, 0), (0, 1), (-1, 0), (0, -1))
+
+
+# ----------------------------------------------------------------------------
+# shape (004): a set of goal cells on a grid
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class GoalSet:
+    """Goal cells of 004 Sec. III: the shape is a set of grid waypoints, one robot each.
+
+    ``cells`` are integer ``(i, j)``; a cell's position is ``origin + spacing
+    * (i, j)`` in the common frame (004's robots know global coordinates).
+    Satisfied when every goal cell holds exactly one robot (within ``tol``,
+    default ``1e-9 spacing``) and no robot stands elsewhere.  A bitmap
+    builds one: ``'#'`` a goal cell, ``'.'`` none, rows from top to bottom.
+
+    >>> g = GoalSet.from_bitmap("L", ["#.", "##"], spacing=0.2)
+    >>> sorted(g.cells)
+    [(0, 0), (0, 1), (1, 0)]
+    >>> g.satisfied([1, 2, 3], [[0, 0, 0], [0, 0.2, 0], [0.2, 0, 0]]).status
+    'held'
+    >>> g.progress([1, 2, 3], [[0, 0, 0], [0, 0.2, 0], [5, 5, 0]])
+    0.6666666666666666
+    """
+
+    name: str
+    cells: frozenset
+    spacing: float = 1.0
+    origin: tuple = (0.0, 0.0)
+    range: float | None = None   # a recommended range for runs toward it (004 Sec. V-A: R = 0.6 m)
+    kind: str = "shape"
+    cites: str = "004 Sec. III (goal set on grid waypoints; shape complete)"
+
+    def __post_init__(self) -> None:
+        cells = frozenset((int(i), int(j)) for i, j in self.cells)
+        if not cells:
+            raise UsageError("cells=[] is empty", fix="give at least one goal cell")
+        object.__setattr__(self, "cells", cells)
+        if not (isinstance(self.spacing, (int, float)) and math.isfinite(self.spacing) and self.spacing > 0):
+            raise UsageError(f"spacing={self.spacing!r} must be a finite number > 0")
+        object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
+
+    @classmethod
+    def from_bitmap(cls, name: str, rows, spacing: float = 1.0, origin=(0.0, 0.0),
+                    range: float | None = None) -> "GoalSet":
+        rows = list(rows)
+        cells = []
+        for r, line in enumerate(rows):
+            for c, ch in enumerate(line):
+                if ch == "#":
+                    cells.append((c, len(rows) - 1 - r))
+                elif ch != ".":
+                    raise UsageError(f"bitmap row {r} column {c}: {ch!r} is neither '#' (goal) nor '.' (free)")
+        return cls(name, frozenset(cells), spacing, origin, range)
+
+    def positions(self) -> np.ndarray:
+        """Goal cell positions, sorted by cell."""
+        cells = sorted(self.cells)
+        return np.array([(self.origin[0] + self.spacing * i, self.origin[1] + self.spacing * j)
+                         for i, j in cells], dtype=float)
+
+    def _occupancy(self, poses, tol):
+        xy = as_xy(poses)
+        tol = 1e-9 * self.spacing if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
+        cells = sorted(self.cells)
+        goal = self.positions()
+        on = {}
+        off = []
+        for k, (x, y) in enumerate(xy):
+            d = np.hypot(goal[:, 0] - x, goal[:, 1] - y)
+            g = int(np.argmin(d))
+            if d[g] <= tol:
+                on.setdefault(cells[g], []).append(k)
+            else:
+                off.append(k)
+        return xy, on, off
+
+    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck:
+        xy, on, off = self._occupancy(poses, tol)
+        ids = [int(x) for x in ids]
+        doubled = {c: ks for c, ks in on.items() if len(ks) > 1}
+        empty = sorted(self.cells - set(on))
+        if not doubled and not off and not empty:
+            return TargetCheck("held", f"all {len(self.cells)} goal cells of {self.name!r} hold one robot each",
+                               self.cites)
+        if doubled:
+            c, ks = sorted(doubled.items())[0]
+            return TargetCheck("violated", f"goal cell {c} holds robots {[ids[k] for k in ks]}", self.cites,
+                               {"cell": list(c), "robots": [ids[k] for k in ks]})
+        if off:
+            k = off[0]
+            return TargetCheck("violated", f"robot {ids[k]} at ({xy[k, 0]:.4g}, {xy[k, 1]:.4g}) is on no goal "
+                                           f"cell ({len(off)} robot(s) off the shape)", self.cites,
+                               {"robot": ids[k], "off": len(off)})
+        return TargetCheck("violated", f"goal cell {empty[0]} is empty ({len(empty)} empty; "
+                                       f"{len(xy)} robots for {len(self.cells)} cells)", self.cites,
+                           {"cell": list(empty[0]), "empty": len(empty)})
+
+    def progress(self, ids, poses, *, phi: float | None = None) -> float:
+        """The fraction of goal cells occupied."""
+        _, on, _ = self._occupancy(poses, None)
+        return len(on) / len(self.cells)
+
+    def metrics(self, ids, poses, *, phi: float | None = None) -> dict:
+        _, on, off = self._occupancy(poses, None)
+        return {"cells": len(self.cells), "occupied": len(on), "off_shape": len(off)}
+
+    def describe(self) -> dict:
+        d = {"kind": self.kind, "name": self.name, "cells": [list(c) for c in sorted(self.cells)],
+             "spacing": float(self.spacing), "origin": list(self.origin)}
+        if self.range is not None:
+            d["range"] = float(self.range)
+        return d
+
+    @classmethod
+    def from_description(cls, d: Mapping) -> "GoalSet":
+        name = d.get("name")
+        if name in _BUNDLED_SHAPES and "cells" not in d:
+            return _BUNDLED_SHAPES[name]()
+        if isinstance(name, str) and "cells" not in d and name in bundled_shape_names():
+            return bundled_shape(name)
+        cells = d.get("cells")
+        if not isinstance(cells, (list, tuple)) or not all(
+                isinstance(c, (list, tuple)) and len(c) == 2 and all(isinstance(v, int) and not isinstance(v, bool)
+                                                                   for v in c) for c in cells):
+            raise UsageError(f"cells={cells!r} must be a list of [i, j] integer pairs", fix="e.g. [[0, 0], [1, 0]]")
+        return cls(str(name or "shape"), frozenset(map(tuple, cells)), d.get("spacing", 1.0),
+                   tuple(d.get("origin", (0.0, 0.0))), d.get("range"))
+
+
+#: Small bundled shapes (004 Fig. 10 uses large bitmaps; these keep tests fast).  Spacing
+#: l = 0.20 m (004 Sec. V-B3), range R = 0.6 m (004 Sec. V-A).
+_BUNDLED_SHAPES = {
+    "square-9": lambda: GoalSet.from_bitmap("square-9", ["###", "###", "###"], spacing=0.2, range=0.6),
+    "letter-l": lambda: GoalSet.from_bitmap("letter-l", ["#..", "#..", "###"], spacing=0.2, range=0.6),
+}
 
 
 # ----------------------------------------------------------------------------
@@ -574,10 +711,8 @@ def bundled_shape_names() -> list:
 
 
 def bundled_shape(name: str, n: int | None = None, *, spacing: float = DEFAULT_SPACING) -> GoalSet:
-    """A bundled shape by name (one of :func:`bundled_shape_names` or the targets module's
-    ``square-9`` / ``letter-l``), scaled to ``n`` cells if given."""
-    from .targets import _BUNDLED_SHAPES
-
+    """A bundled shape by name (one of :func:`bundled_shape_names` or the small
+    ``square-9`` / ``letter-l`` of ``_BUNDLED_SHAPES``), scaled to ``n`` cells if given."""
     if name in bundled_shape_names():
         return load_shape_file(_BITMAP_DIR / f"{name}.txt", n, spacing=spacing, name=name)
     if name in _BUNDLED_SHAPES:

@@ -18,7 +18,7 @@ kind       class                                                      paper
 =========  =========================================================  ==============================
 lattice    :class:`~swarmproof.models.lattice.LatticeGraph`           001 Def. 2 (000 Def. 2), Q
 lines      :class:`LinePattern`                                       003 Sec. 3, Table 1, Algs. 2-3
-shape      :class:`GoalSet`                                           004 Sec. III (goal cells)
+shape      :class:`~swarmproof.models.shapes.GoalSet`                 004 Sec. III (goal cells)
 pattern    :class:`~swarmproof.models.repeating_pattern.RepeatingPattern`  002 Defs. 3-9 (epsilon = 1)
 =========  =========================================================  ==============================
 
@@ -26,6 +26,11 @@ Kinds are a registry: :func:`register_target_kind` adds one (a user's, or an
 algorithm module's at import time).  :func:`resolve_target` reads the
 command line's ``[KIND:]NAME|FILE``; a bare name that two kinds bundle is a
 usage error naming both.
+
+This module is the top of the target modules: it imports every kind to register it.  What
+the kinds share (:class:`TargetCheck`, the :class:`Target` protocol) lives in
+:mod:`swarmproof.models.target_base`, which imports no kind, and is re-exported here, as is
+:class:`~swarmproof.models.shapes.GoalSet`.
 
 Examples
 --------
@@ -44,52 +49,21 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Protocol, runtime_checkable
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
+from . import library
 from . import line_patterns as _lp
 from .errors import InputFileError, UsageError
-from .verdict import ThreeValued
+from .lattice_io import load_lattice_file, loads_lattice
+from .repeating_pattern import RepeatingPattern, load_pattern, load_pattern_file, pattern_names, resolve_pattern
+from .shapes import _BUNDLED_SHAPES, GoalSet, bundled_shape, bundled_shape_names, load_shape_file
+from .target_base import Target, TargetCheck, as_xy
 
 __all__ = ["TargetCheck", "Target", "LinePattern", "GoalSet", "register_target_kind", "target_kinds",
            "target_from_description", "resolve_target", "target_names", "describe_target"]
-
-@dataclass(frozen=True)
-class TargetCheck(ThreeValued):
-    """A target's verdict on one configuration."""
-
-    status: str
-    message: str
-    cites: str
-    witness: dict | None = None
-    detail: dict = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        self._check_status()
-
-
-    def as_dict(self) -> dict:
-        return {"status": self.status, "message": self.message, "cites": self.cites,
-                "witness": self.witness, **({"detail": self.detail} if self.detail else {})}
-
-
-@runtime_checkable
-class Target(Protocol):
-    """What the engine, the properties and the metrics need of a target."""
-
-    kind: str
-    name: str
-
-    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck: ...
-
-    def progress(self, ids, poses, *, phi: float | None = None) -> float: ...
-
-    def metrics(self, ids, poses, *, phi: float | None = None) -> dict: ...
-
-    def describe(self) -> dict: ...
-
 
 # ----------------------------------------------------------------------------
 # the kind registry
@@ -271,11 +245,6 @@ def _load_any_file(path: str):
 # lines (003): points of a pattern, judged on positions up to a rigid motion
 # ----------------------------------------------------------------------------
 
-def _as_xy(poses) -> np.ndarray:
-    a = np.asarray(poses, dtype=float)
-    return a.reshape(-1, a.shape[-1])[:, :2] if a.size else np.zeros((0, 2))
-
-
 def _kabsch_error(xy: np.ndarray, goal: np.ndarray) -> float:
     """Largest distance after the least-squares proper rigid motion of ``xy`` onto ``goal``
     (row k onto row k; Kabsch)."""
@@ -423,7 +392,7 @@ class LinePattern:
         return _lp.target_points(self.shape, n, self.interval_for(n), 0.0, **dict(self.params))
 
     def _fit(self, poses, tol):
-        xy = _as_xy(poses)
+        xy = as_xy(poses)
         scale = self.interval_for(len(xy)) if (self.span is None or len(xy) >= 2) else float(self.span)
         tol = 1e-6 * scale if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
         if len(xy) == 0:
@@ -492,156 +461,13 @@ _BUNDLED_LINES = {"line": lambda: LinePattern("line", "line", 1.0, 1.5),
 
 
 # ----------------------------------------------------------------------------
-# shape (004): a set of goal cells on a grid
-# ----------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class GoalSet:
-    """Goal cells of 004 Sec. III: the shape is a set of grid waypoints, one robot each.
-
-    ``cells`` are integer ``(i, j)``; a cell's position is ``origin + spacing
-    * (i, j)`` in the common frame (004's robots know global coordinates).
-    Satisfied when every goal cell holds exactly one robot (within ``tol``,
-    default ``1e-9 spacing``) and no robot stands elsewhere.  A bitmap
-    builds one: ``'#'`` a goal cell, ``'.'`` none, rows from top to bottom.
-
-    >>> g = GoalSet.from_bitmap("L", ["#.", "##"], spacing=0.2)
-    >>> sorted(g.cells)
-    [(0, 0), (0, 1), (1, 0)]
-    >>> g.satisfied([1, 2, 3], [[0, 0, 0], [0, 0.2, 0], [0.2, 0, 0]]).status
-    'held'
-    >>> g.progress([1, 2, 3], [[0, 0, 0], [0, 0.2, 0], [5, 5, 0]])
-    0.6666666666666666
-    """
-
-    name: str
-    cells: frozenset
-    spacing: float = 1.0
-    origin: tuple = (0.0, 0.0)
-    range: float | None = None   # a recommended range for runs toward it (004 Sec. V-A: R = 0.6 m)
-    kind: str = "shape"
-    cites: str = "004 Sec. III (goal set on grid waypoints; shape complete)"
-
-    def __post_init__(self) -> None:
-        cells = frozenset((int(i), int(j)) for i, j in self.cells)
-        if not cells:
-            raise UsageError("cells=[] is empty", fix="give at least one goal cell")
-        object.__setattr__(self, "cells", cells)
-        if not (isinstance(self.spacing, (int, float)) and math.isfinite(self.spacing) and self.spacing > 0):
-            raise UsageError(f"spacing={self.spacing!r} must be a finite number > 0")
-        object.__setattr__(self, "origin", (float(self.origin[0]), float(self.origin[1])))
-
-    @classmethod
-    def from_bitmap(cls, name: str, rows, spacing: float = 1.0, origin=(0.0, 0.0),
-                    range: float | None = None) -> "GoalSet":
-        rows = list(rows)
-        cells = []
-        for r, line in enumerate(rows):
-            for c, ch in enumerate(line):
-                if ch == "#":
-                    cells.append((c, len(rows) - 1 - r))
-                elif ch != ".":
-                    raise UsageError(f"bitmap row {r} column {c}: {ch!r} is neither '#' (goal) nor '.' (free)")
-        return cls(name, frozenset(cells), spacing, origin, range)
-
-    def positions(self) -> np.ndarray:
-        """Goal cell positions, sorted by cell."""
-        cells = sorted(self.cells)
-        return np.array([(self.origin[0] + self.spacing * i, self.origin[1] + self.spacing * j)
-                         for i, j in cells], dtype=float)
-
-    def _occupancy(self, poses, tol):
-        xy = _as_xy(poses)
-        tol = 1e-9 * self.spacing if tol is None else float(tol[0] if isinstance(tol, tuple) else tol)
-        cells = sorted(self.cells)
-        goal = self.positions()
-        on = {}
-        off = []
-        for k, (x, y) in enumerate(xy):
-            d = np.hypot(goal[:, 0] - x, goal[:, 1] - y)
-            g = int(np.argmin(d))
-            if d[g] <= tol:
-                on.setdefault(cells[g], []).append(k)
-            else:
-                off.append(k)
-        return xy, on, off
-
-    def satisfied(self, ids, poses, *, phi: float | None = None, tol=None) -> TargetCheck:
-        xy, on, off = self._occupancy(poses, tol)
-        ids = [int(x) for x in ids]
-        doubled = {c: ks for c, ks in on.items() if len(ks) > 1}
-        empty = sorted(self.cells - set(on))
-        if not doubled and not off and not empty:
-            return TargetCheck("held", f"all {len(self.cells)} goal cells of {self.name!r} hold one robot each",
-                               self.cites)
-        if doubled:
-            c, ks = sorted(doubled.items())[0]
-            return TargetCheck("violated", f"goal cell {c} holds robots {[ids[k] for k in ks]}", self.cites,
-                               {"cell": list(c), "robots": [ids[k] for k in ks]})
-        if off:
-            k = off[0]
-            return TargetCheck("violated", f"robot {ids[k]} at ({xy[k, 0]:.4g}, {xy[k, 1]:.4g}) is on no goal "
-                                           f"cell ({len(off)} robot(s) off the shape)", self.cites,
-                               {"robot": ids[k], "off": len(off)})
-        return TargetCheck("violated", f"goal cell {empty[0]} is empty ({len(empty)} empty; "
-                                       f"{len(xy)} robots for {len(self.cells)} cells)", self.cites,
-                           {"cell": list(empty[0]), "empty": len(empty)})
-
-    def progress(self, ids, poses, *, phi: float | None = None) -> float:
-        """The fraction of goal cells occupied."""
-        _, on, _ = self._occupancy(poses, None)
-        return len(on) / len(self.cells)
-
-    def metrics(self, ids, poses, *, phi: float | None = None) -> dict:
-        _, on, off = self._occupancy(poses, None)
-        return {"cells": len(self.cells), "occupied": len(on), "off_shape": len(off)}
-
-    def describe(self) -> dict:
-        d = {"kind": self.kind, "name": self.name, "cells": [list(c) for c in sorted(self.cells)],
-             "spacing": float(self.spacing), "origin": list(self.origin)}
-        if self.range is not None:
-            d["range"] = float(self.range)
-        return d
-
-    @classmethod
-    def from_description(cls, d: Mapping) -> "GoalSet":
-        name = d.get("name")
-        if name in _BUNDLED_SHAPES and "cells" not in d:
-            return _BUNDLED_SHAPES[name]()
-        if isinstance(name, str) and "cells" not in d:
-            from .shapes import bundled_shape, bundled_shape_names
-
-            if name in bundled_shape_names():
-                return bundled_shape(name)
-        cells = d.get("cells")
-        if not isinstance(cells, (list, tuple)) or not all(
-                isinstance(c, (list, tuple)) and len(c) == 2 and all(isinstance(v, int) and not isinstance(v, bool)
-                                                                   for v in c) for c in cells):
-            raise UsageError(f"cells={cells!r} must be a list of [i, j] integer pairs", fix="e.g. [[0, 0], [1, 0]]")
-        return cls(str(name or "shape"), frozenset(map(tuple, cells)), d.get("spacing", 1.0),
-                   tuple(d.get("origin", (0.0, 0.0))), d.get("range"))
-
-
-#: Small bundled shapes (004 Fig. 10 uses large bitmaps; these keep tests fast).  Spacing
-#: l = 0.20 m (004 Sec. V-B3), range R = 0.6 m (004 Sec. V-A).
-_BUNDLED_SHAPES = {
-    "square-9": lambda: GoalSet.from_bitmap("square-9", ["###", "###", "###"], spacing=0.2, range=0.6),
-    "letter-l": lambda: GoalSet.from_bitmap("letter-l", ["#..", "#..", "###"], spacing=0.2, range=0.6),
-}
-
-
-# ----------------------------------------------------------------------------
 # registration of the built-in kinds
 # ----------------------------------------------------------------------------
 
 def _lattice_kind() -> None:
-    from . import library
-    from .lattice_io import load_lattice_file
-
     def from_description(d):
         doc = d.get("document")
         if doc is not None:
-            from .lattice_io import loads_lattice
             import json
 
             return loads_lattice(json.dumps(doc), "json", source=f"<{d.get('name')}>")
@@ -666,19 +492,13 @@ def _shape_kind() -> None:
     size, other files as JSON target descriptions."""
 
     def bundled():
-        from .shapes import bundled_shape_names
-
         return sorted(set(_BUNDLED_SHAPES) | set(bundled_shape_names()))
 
     def by_name(name):
-        from .shapes import bundled_shape
-
         return bundled_shape(name)
 
     def load_file(path):
         if str(path).lower().endswith((".txt", ".png")):
-            from .shapes import load_shape_file
-
             return load_shape_file(path)
         return _load_description_file(path, expect="shape")
 
@@ -690,12 +510,8 @@ _shape_kind()
 
 
 def _pattern_kind() -> None:
-    from .repeating_pattern import RepeatingPattern, load_pattern, load_pattern_file, pattern_names
-
     def other(text: str):
         if text.startswith("lattice:"):
-            from .repeating_pattern import resolve_pattern
-
             return resolve_pattern(text)
         return None
 
