@@ -1166,7 +1166,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
             v.message = (f"held over {stats['conclusive']} judged scenarios and {stats['steps']} steps "
                          f"(explored, not proved)")
         report.properties[prop] = v
-    from swarmproof.listeners import REPORT_LISTENERS
+    from swarmproof.checkers.listeners import REPORT_LISTENERS
 
     for listener in list(REPORT_LISTENERS):      # e.g. the pytest plugin's property table
         listener(report)

@@ -1,9 +1,11 @@
 """Who is told of every finished exploration (``listener(report)``).
 
-A module of its own that imports nothing, so the pytest plugin can listen without loading
-the explorer in test sessions that never explore.
+The list lives in :mod:`swarmproof.checkers.listeners` (the explorer, a lower layer,
+calls it); this is the same list under its public name.  Neither module imports
+anything else, so the pytest plugin can listen without loading the explorer in test
+sessions that never explore.
 """
 
-#: Callables called with each :class:`~swarmproof.checkers.explore.ExploreReport` when
-#: :func:`~swarmproof.checkers.explore.explore` returns it.
-REPORT_LISTENERS: list = []
+from swarmproof.checkers.listeners import REPORT_LISTENERS
+
+__all__ = ["REPORT_LISTENERS"]
