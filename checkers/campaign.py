@@ -146,7 +146,7 @@ def _explore_task(a: dict) -> dict:
 
 
 def _simulate_task(a: dict) -> dict:
-    from swarmproof.checkers.explore import resolve_algorithm
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
     from swarmproof.checkers.report import RUN_PROPERTIES, _run_property_verdicts, run_counterexample
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.targets import resolve_target

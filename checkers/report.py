@@ -259,7 +259,7 @@ def verify_subjects(refs=None) -> list[Subject]:
     UsageError
         An unknown name or unimportable reference, or two references with one label.
     """
-    from swarmproof.checkers.explore import resolve_algorithm
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
     from swarmproof.reference_impl import registry
     from swarmproof.reference_impl.protocol import VerifyPlan
 

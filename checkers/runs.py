@@ -125,7 +125,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                                                     satisfies_lattice)
     from swarmproof.reference_impl import initial as initial_mod
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.checkers.explore import resolve_algorithm
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
 
     spec = resolve_algorithm(algorithm_name)  # unknown names fail first, listing the valid ones
     if seed < 0:

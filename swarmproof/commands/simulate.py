@@ -131,7 +131,7 @@ def run(args) -> int:
     from swarmproof.checkers.runs import run_and_check
     from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl import initial as initial_mod
-    from swarmproof.checkers.explore import resolve_algorithm
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
 
     spec = resolve_algorithm(args.algorithm)  # unknown names fail first, listing the valid ones
     if args.target is not None:
