@@ -147,8 +147,7 @@ def _explore_task(a: dict) -> dict:
 
 def _simulate_task(a: dict) -> dict:
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
-    from swarmproof.checkers.report import RUN_PROPERTIES, _run_property_verdicts, run_counterexample
-    from swarmproof.checkers.runs import run_and_check
+    from swarmproof.checkers.runs import RUN_PROPERTIES, run_and_check, run_counterexample, run_property_verdicts
     from swarmproof.models.targets import resolve_target
 
     spec = resolve_algorithm(a["algorithm"])
@@ -162,7 +161,7 @@ def _simulate_task(a: dict) -> dict:
                             robots=None if initial is not None else a["robots"], initial=initial,
                             max_steps=a["max_steps"])
     doc = checked.doc
-    verdicts = _run_property_verdicts(checked)
+    verdicts = run_property_verdicts(checked)
     claimed = [p for p in RUN_PROPERTIES if spec.claims.get(p)]
     verdict = Verdict.combine(verdicts[p][0] for p in (claimed or ["termination"]))
     cx = None

@@ -45,6 +45,7 @@ from typing import Any, Callable, Mapping, Sequence
 from swarmproof.invariants.registry import (DEFAULT_POS_TOL, DEFAULT_PROGRESS_WINDOW, DEFAULT_RADIUS,
                                             progress_values)
 from swarmproof.checkers.algorithm_spec import AlgorithmSpec, resolve_algorithm
+from swarmproof.checkers.runs import build_params, cx_params
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
@@ -666,12 +667,6 @@ def _file_label(spec: AlgorithmSpec) -> str:
     return _safe(spec.label)
 
 
-def cx_params(p) -> dict:
-    """The ``params`` of a counterexample file for the run parameters ``p`` (``Params``)."""
-    return {"range": p.range, "v": p.v, "omega": p.omega, "dt": p.dt,
-            "extra": {k: v for k, v in dict(p.extra).items()}}
-
-
 def _safe(text: str) -> str:
     """``text`` made safe for a file name (a user's ``module:name`` property has a colon)."""
     import re
@@ -840,8 +835,6 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     """
     from hypothesis import HealthCheck, Phase, given, settings, target
     from hypothesis import seed as hseed
-
-    from swarmproof.checkers.runs import build_params
 
     spec, props, budget, rng_robots, lats, loaded, warnings = _check_inputs(
         algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir, strict)

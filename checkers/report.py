@@ -45,6 +45,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
+from swarmproof.checkers.runs import RUN_PROPERTIES, run_counterexample, run_property_verdicts
 from swarmproof.models.errors import UsageError
 from swarmproof.models.verdict import Verdict
 
@@ -278,36 +279,6 @@ def verify_subjects(refs=None) -> list[Subject]:
     return out
 
 
-#: The registered properties :func:`~swarmproof.checkers.runs.run_and_check` judges of every
-#: run (the ``algorithms`` rows, in this order).
-RUN_PROPERTIES = ("termination", "formation", "connectivity", "tree_links")
-
-
-def _run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
-    """Verdict and a short detail for each registry property of one checked run."""
-    doc = checked.doc
-    out: dict[str, tuple[Verdict, str]] = {}
-    status = doc["status"]
-    if status == "crashed":
-        crash = doc["crash"]
-        msg = f"the algorithm raised {crash['error']} in step {crash['step']}: {crash['message']}"
-        return {p: (Verdict.VIOLATED if p == "termination" else Verdict.INCONCLUSIVE, msg) for p in RUN_PROPERTIES}
-    if status == "step_cap":
-        out["termination"] = (Verdict.INCONCLUSIVE, f"step cap {doc['steps']} reached")
-    elif checked.termination is not None and checked.termination.violated:
-        out["termination"] = (Verdict.VIOLATED, checked.termination.message)
-    else:
-        out["termination"] = (Verdict.HELD, f"{status} at step {doc['execution_steps']}")
-    sat = checked.satisfaction
-    out["formation"] = (Verdict(sat.status) if status != "step_cap" else Verdict.INCONCLUSIVE,
-                        sat.message)
-    conn = checked.connectivity
-    out["connectivity"] = (Verdict(conn.status), conn.message)
-    links = checked.tree_links
-    out["tree_links"] = (Verdict(links.status), links.message)
-    return out
-
-
 def simulate_command(algorithm: str, target: str, robots: int, seed: int) -> str:
     """The ``swarmproof simulate`` command line that repeats one run of an ``algorithms`` row.
 
@@ -315,36 +286,6 @@ def simulate_command(algorithm: str, target: str, robots: int, seed: int) -> str
     'swarmproof simulate song2016-literal --target hexagon --robots 40 --seed 2'
     """
     return f"swarmproof simulate {algorithm} --target {target} --robots {robots} --seed {seed}"
-
-
-def run_counterexample(checked, prop: str, message: str, ref: str | None = None):
-    """A ``swarmproof-counterexample/1`` of one seeded run whose ``prop`` was violated, for
-    ``swarmproof replay`` (the same algorithm, start, seed and parameters; the property is
-    judged by the registry, as the run was).  ``ref`` is what the file names as the algorithm
-    (``module:qualname`` of a user's class; default the algorithm's registry name).  The
-    violation's step is the step of the property's witness (None when it has none); a leading
-    ``step N:`` of the message is left to the file's ``violation.step``."""
-    import re
-
-    from swarmproof.checkers.explore import cx_params
-    from swarmproof.models.counterexample import Counterexample
-
-    res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
-    step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
-    init = checked.initial
-    target = checked.lattice
-    is_lattice = getattr(target, "kind", "lattice") == "lattice"
-    if step is not None:
-        message = re.sub(rf"^step {int(step)}: ", "", message)
-    return Counterexample(
-        algorithm=ref or checked.algorithm.name, params=cx_params(checked.params),
-        lattice=target.name if is_lattice else None,
-        robots=[(int(i), tuple(float(x) for x in pose)) for i, pose in zip(init.ids.tolist(), init.poses)],
-        seed=int(checked.doc["seed"]), property=prop,
-        violation={"step": step, "message": message},
-        broken_assumptions=list(checked.doc.get("broken_assumptions", [])),
-        target=None if is_lattice else target.describe(),
-        clocks=getattr(getattr(checked.result, "trace", None), "meta", {}).get("clocks"))
 
 
 def section_algorithms(*, progress: Progress | None = None, out_dir: str | None = None,
@@ -374,7 +315,7 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                 if progress:
                     progress(f"{algo} {lname} n={robots} seed {seed}")
                 checked = run_and_check(subj.ref, lattice, seed=seed, robots=robots)
-                for prop, (verdict, msg) in _run_property_verdicts(checked).items():
+                for prop, (verdict, msg) in run_property_verdicts(checked).items():
                     if prop not in per_prop:
                         continue
                     per_prop[prop].append((seed, verdict, msg))

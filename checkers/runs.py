@@ -21,9 +21,10 @@ from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 from swarmproof.models.errors import UsageError
-from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED
+from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, Verdict
 
-__all__ = ["CheckedRun", "build_params", "run_and_check"]
+__all__ = ["CheckedRun", "build_params", "run_and_check", "RUN_PROPERTIES", "run_property_verdicts",
+           "cx_params", "run_counterexample"]
 
 
 @dataclass
@@ -272,3 +273,73 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         code = EXIT_OK
     doc["exit_code"] = code
     return CheckedRun(doc, code, result, lattice, algorithm, params, initial, sat, conn, links, term, metrics)
+
+
+# ---------------------------------------------------------------------------
+# a checked run's verdict per property, and its counterexample file
+# (shared by verify's algorithm rows and campaigns' simulate tasks)
+# ---------------------------------------------------------------------------
+
+#: The registered properties :func:`run_and_check` judges of every run (verify's ``algorithms``
+#: rows and campaigns' simulate tasks, in this order).
+RUN_PROPERTIES = ("termination", "formation", "connectivity", "tree_links")
+
+
+def run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
+    """Verdict and a short detail for each registry property of one checked run."""
+    doc = checked.doc
+    out: dict[str, tuple[Verdict, str]] = {}
+    status = doc["status"]
+    if status == "crashed":
+        crash = doc["crash"]
+        msg = f"the algorithm raised {crash['error']} in step {crash['step']}: {crash['message']}"
+        return {p: (Verdict.VIOLATED if p == "termination" else Verdict.INCONCLUSIVE, msg) for p in RUN_PROPERTIES}
+    if status == "step_cap":
+        out["termination"] = (Verdict.INCONCLUSIVE, f"step cap {doc['steps']} reached")
+    elif checked.termination is not None and checked.termination.violated:
+        out["termination"] = (Verdict.VIOLATED, checked.termination.message)
+    else:
+        out["termination"] = (Verdict.HELD, f"{status} at step {doc['execution_steps']}")
+    sat = checked.satisfaction
+    out["formation"] = (Verdict(sat.status) if status != "step_cap" else Verdict.INCONCLUSIVE,
+                        sat.message)
+    conn = checked.connectivity
+    out["connectivity"] = (Verdict(conn.status), conn.message)
+    links = checked.tree_links
+    out["tree_links"] = (Verdict(links.status), links.message)
+    return out
+
+
+def cx_params(p) -> dict:
+    """The ``params`` of a counterexample file for the run parameters ``p`` (``Params``)."""
+    return {"range": p.range, "v": p.v, "omega": p.omega, "dt": p.dt,
+            "extra": {k: v for k, v in dict(p.extra).items()}}
+
+
+def run_counterexample(checked, prop: str, message: str, ref: str | None = None):
+    """A ``swarmproof-counterexample/1`` of one seeded run whose ``prop`` was violated, for
+    ``swarmproof replay`` (the same algorithm, start, seed and parameters; the property is
+    judged by the registry, as the run was).  ``ref`` is what the file names as the algorithm
+    (``module:qualname`` of a user's class; default the algorithm's registry name).  The
+    violation's step is the step of the property's witness (None when it has none); a leading
+    ``step N:`` of the message is left to the file's ``violation.step``."""
+    import re
+
+    from swarmproof.models.counterexample import Counterexample
+
+    res = getattr(checked, prop if prop != "formation" else "satisfaction", None)
+    step = (getattr(res, "witness", None) or {}).get("step") if res is not None else None
+    init = checked.initial
+    target = checked.lattice
+    is_lattice = getattr(target, "kind", "lattice") == "lattice"
+    if step is not None:
+        message = re.sub(rf"^step {int(step)}: ", "", message)
+    return Counterexample(
+        algorithm=ref or checked.algorithm.name, params=cx_params(checked.params),
+        lattice=target.name if is_lattice else None,
+        robots=[(int(i), tuple(float(x) for x in pose)) for i, pose in zip(init.ids.tolist(), init.poses)],
+        seed=int(checked.doc["seed"]), property=prop,
+        violation={"step": step, "message": message},
+        broken_assumptions=list(checked.doc.get("broken_assumptions", [])),
+        target=None if is_lattice else target.describe(),
+        clocks=getattr(getattr(checked.result, "trace", None), "meta", {}).get("clocks"))
