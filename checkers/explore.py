@@ -431,6 +431,99 @@ def free_start_box(n: int, goals=None) -> list:
     return [(ox + i, oy + j) for j in range(side) for i in range(side)]
 
 
+def _goal_cells(targets, label: str, n: int, scale_target, grid_spacing: float) -> list | None:
+    """The grid cells of the goal set a free start is drawn around: target ``label`` (scaled to
+    ``n`` robots when the algorithm scales it) in cells of ``grid_spacing``; None without targets
+    or for a target without cells."""
+    if targets is None or label not in targets:
+        return None
+    tgt = targets[label]
+    if scale_target is not None:
+        tgt = scale_target(tgt, n)
+    cells_of = getattr(tgt, "cells", None)
+    if cells_of is None:
+        return None
+    origin = getattr(tgt, "origin", (0.0, 0.0))
+    oi, oj = int(round(origin[0] / grid_spacing)), int(round(origin[1] / grid_spacing))
+    return [(oi + i, oj + j) for i, j in cells_of]
+
+
+def _draw_free_cells(draw, n: int, goals) -> list:
+    """``n`` distinct cells drawn from :func:`free_start_box` around ``goals`` (not necessarily connected)."""
+    from hypothesis import strategies as st
+
+    box = free_start_box(n, goals)
+    picks = draw(st.lists(st.integers(0, len(box) - 1), unique=True, min_size=n, max_size=n))
+    return [box[k] for k in picks]
+
+
+def _draw_connected_cells(draw, lo: int, hi: int, phi: float, grid_spacing: float) -> list:
+    """``lo..hi`` distinct cells, connected at range ``phi``: cell (0, 0), then each further one a
+    drawn offset ``(parent, dx, dy)`` within the range from an earlier cell."""
+    from hypothesis import assume
+    from hypothesis import strategies as st
+
+    reach = max(1, int(math.floor(MAX_LINK_FRACTION * phi / grid_spacing)))
+    offs = st.integers(-reach, reach)
+    cells_drawn = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), offs, offs),
+                                min_size=lo - 1, max_size=hi - 1))
+    cells = [(0, 0)]
+    for k, (parent, dx, dy) in enumerate(cells_drawn, start=1):
+        assume((dx, dy) != (0, 0) and math.hypot(dx, dy) * grid_spacing <= MAX_LINK_FRACTION * phi)
+        c = (cells[parent % k][0] + dx, cells[parent % k][1] + dy)
+        assume(c not in cells)
+        cells.append(c)
+    return cells
+
+
+def _draw_connected_points(draw, lo: int, hi: int, phi: float) -> tuple[list, list]:
+    """``lo..hi`` points connected at range ``phi`` and their headings (the construction of
+    :func:`scenario_strategy`): robot 0 at the origin, then each further one ``(parent,
+    distance, angle, heading)`` from an earlier robot, placed by :func:`place_robot`."""
+    from hypothesis import assume
+    from hypothesis import strategies as st
+
+    angle = st.floats(-math.pi, math.pi)
+    min_sep = MIN_SEP_FRACTION * phi
+    # the distance is drawn as "longest minus a slack" so that Hypothesis's simplest
+    # draws, tried first and shrunk toward, are the most stretched links
+    longest = MAX_LINK_FRACTION * phi
+    dist = st.floats(0.0, longest - min_sep).map(lambda slack: longest - slack)
+    placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), dist, angle, angle),
+                               min_size=lo - 1, max_size=hi - 1))
+    pts = [(0.0, 0.0)]
+    heads = [draw(angle)]
+    for k, (parent, d, ang, head) in enumerate(placements, start=1):
+        p = place_robot(pts, parent % k, d, ang, min_sep)
+        assume(p is not None)
+        pts.append(p)
+        heads.append(head)
+    return pts, heads
+
+
+def _whole_teams(n: int, k_mult: int) -> int:
+    """How many of ``n`` robots placed in order to keep: a whole multiple of ``k_mult`` (a
+    team below ``k_mult`` is redrawn); all of them when ``k_mult`` is 1."""
+    from hypothesis import assume
+
+    if k_mult <= 1:
+        return n
+    keep = n - n % k_mult
+    assume(keep >= k_mult)
+    return keep
+
+
+def _draw_ids_seed_faults(draw, poses: tuple, fault_kinds: Sequence[str], phi: float):
+    """The robots' IDs (a drawn permutation of ``0..n-1``), the engine seed and the faults of
+    ``fault_kinds`` (:func:`draw_fault_model`), drawn in that order."""
+    from hypothesis import strategies as st
+
+    perm = draw(st.permutations(list(range(len(poses)))))
+    seed = draw(st.integers(0, 1000))
+    faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
+    return tuple(int(i) for i in perm), seed, faults
+
+
 def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: Mapping[str, float],
                       fault_kinds: Sequence[str] = (), speeds: Sequence[float] | None = None,
                       grid_spacing: float | None = None, team_multiple: Mapping[str, int] | None = None,
@@ -473,93 +566,45 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
     near-symmetric starts, where leader ties really happen), and ``explore_extra(draw, n)``
     returns a dict of parameters for ``Params.extra`` (003's failures at any step), kept in the
     scenario and in its counterexample file, so a replay runs them again.
+
+    A scenario draws, in this order: the target, the speed, the start (:func:`_draw_free_cells`,
+    :func:`_draw_connected_cells`, the algorithm's ``explore_start`` or
+    :func:`_draw_connected_points`), the IDs, the engine seed, the faults, then the algorithm's
+    ``explore_extra``.  Hypothesis replays and shrinks by that order, so it is kept as it is:
+    tests pin the counterexamples it finds.
     """
-    from hypothesis import assume
     from hypothesis import strategies as st
 
     lo, hi = robots
-    angle = st.floats(-math.pi, math.pi)
 
     @st.composite
     def build(draw):
         lat = draw(st.sampled_from(list(lattices)))
         phi = phi_of[lat]
-        min_sep = MIN_SEP_FRACTION * phi
         v = None if not speeds else float(draw(st.sampled_from(list(speeds))))
-        # the distance is drawn as "longest minus a slack" so that Hypothesis's simplest
-        # draws, tried first and shrunk toward, are the most stretched links
-        longest = MAX_LINK_FRACTION * phi
-        dist = st.floats(0.0, longest - min_sep).map(lambda slack: longest - slack)
-        if grid_spacing is not None and free_starts:
-            n = draw(st.integers(lo, hi))
-            goals = None
-            if targets is not None and lat in targets:
-                tgt = targets[lat]
-                if scale_target is not None:
-                    tgt = scale_target(tgt, n)
-                cells_of = getattr(tgt, "cells", None)
-                if cells_of is not None:
-                    origin = getattr(tgt, "origin", (0.0, 0.0))
-                    oi, oj = int(round(origin[0] / grid_spacing)), int(round(origin[1] / grid_spacing))
-                    goals = [(oi + i, oj + j) for i, j in cells_of]
-            box = free_start_box(n, goals)
-            picks = draw(st.lists(st.integers(0, len(box) - 1), unique=True, min_size=n, max_size=n))
-            cells = [box[k] for k in picks]
-            perm = draw(st.permutations(list(range(n))))
-            seed = draw(st.integers(0, 1000))
-            poses = tuple((cx * grid_spacing, cy * grid_spacing, 0.0) for cx, cy in cells)
-            faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
-            return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
+        k_mult = (team_multiple or {}).get(lat, 1)
         if grid_spacing is not None:
-            reach = max(1, int(math.floor(MAX_LINK_FRACTION * phi / grid_spacing)))
-            offs = st.integers(-reach, reach)
-            cells_drawn = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), offs, offs),
-                                        min_size=lo - 1, max_size=hi - 1))
-            cells = [(0, 0)]
-            for k, (parent, dx, dy) in enumerate(cells_drawn, start=1):
-                assume((dx, dy) != (0, 0) and math.hypot(dx, dy) * grid_spacing <= MAX_LINK_FRACTION * phi)
-                c = (cells[parent % k][0] + dx, cells[parent % k][1] + dy)
-                assume(c not in cells)
-                cells.append(c)
-            k_mult = (team_multiple or {}).get(lat, 1)
-            if k_mult > 1:
-                keep = len(cells) - len(cells) % k_mult
-                assume(keep >= k_mult)
-                cells = cells[:keep]
-            n = len(cells)
-            perm = draw(st.permutations(list(range(n))))
-            seed = draw(st.integers(0, 1000))
+            if free_starts:
+                n = draw(st.integers(lo, hi))
+                cells = _draw_free_cells(draw, n, _goal_cells(targets, lat, n, scale_target, grid_spacing))
+            else:
+                cells = _draw_connected_cells(draw, lo, hi, phi, grid_spacing)
+                cells = cells[:_whole_teams(len(cells), k_mult)]
             poses = tuple((cx * grid_spacing, cy * grid_spacing, 0.0) for cx, cy in cells)
-            faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
-            return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v)
+            ids, seed, faults = _draw_ids_seed_faults(draw, poses, fault_kinds, phi)
+            return Scenario(lat, ids, poses, seed, faults, v)
         own_start = getattr(algorithm, "explore_start", None)
         drawn = own_start(draw, lo, hi, phi) if callable(own_start) else None
         if drawn is not None:
-            pts = [(float(x), float(y)) for x, y, _ in drawn]
-            heads = [float(h) for _, _, h in drawn]
+            pts, heads = [(float(x), float(y)) for x, y, _ in drawn], [float(h) for _, _, h in drawn]
         else:
-            placements = draw(st.lists(st.tuples(st.integers(0, max(hi - 2, 0)), dist, angle, angle),
-                                       min_size=lo - 1, max_size=hi - 1))
-            pts = [(0.0, 0.0)]
-            heads = [draw(angle)]
-            for k, (parent, dist, ang, head) in enumerate(placements, start=1):
-                p = place_robot(pts, parent % k, dist, ang, min_sep)
-                assume(p is not None)
-                pts.append(p)
-                heads.append(head)
-        k_mult = (team_multiple or {}).get(lat, 1)
-        if k_mult > 1:
-            keep = len(pts) - len(pts) % k_mult
-            assume(keep >= max(k_mult, 1))
-            pts, heads = pts[:keep], heads[:keep]
-        n = len(pts)
-        perm = draw(st.permutations(list(range(n))))
-        seed = draw(st.integers(0, 1000))
-        poses = tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts, heads))
-        faults = draw_fault_model(draw, perm, fault_kinds, poses=poses, phi=phi) if fault_kinds else None
+            pts, heads = _draw_connected_points(draw, lo, hi, phi)
+        keep = _whole_teams(len(pts), k_mult)
+        poses = tuple((float(x), float(y), float(h)) for (x, y), h in zip(pts[:keep], heads[:keep]))
+        ids, seed, faults = _draw_ids_seed_faults(draw, poses, fault_kinds, phi)
         own_extra = getattr(algorithm, "explore_extra", None)
-        extra = tuple(sorted(own_extra(draw, n).items())) if callable(own_extra) else ()
-        return Scenario(lat, tuple(int(i) for i in perm), poses, seed, faults, v, extra)
+        extra = tuple(sorted(own_extra(draw, len(poses)).items())) if callable(own_extra) else ()
+        return Scenario(lat, ids, poses, seed, faults, v, extra)
 
     return build()
 
@@ -748,6 +793,334 @@ def _load_targets(lattices, strict: bool = False, default_range: float | None = 
     return tuple(loaded), loaded, warnings
 
 
+# ----------------------------------------------------------------------------
+# the steps of explore: check the inputs, name the assumptions kept and broken, build the
+# scenario strategy, then per property search with Hypothesis and turn what it saw into a verdict
+# ----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Exploration:
+    """What stays fixed while :func:`explore` searches: the algorithm, its targets and run
+    parameters, how runs are judged, and where reports go."""
+
+    spec: AlgorithmSpec
+    seed: int
+    max_examples: int
+    loaded: dict                   # label -> target
+    phi_of: dict                   # label -> range
+    params: dict                   # overrides of v, omega, dt, extra
+    options: dict                  # property options
+    fault_model: Any
+    max_steps: int | None
+    allow_violations: bool
+    scale: Callable | None         # the algorithm's scale_target(target, n), or None
+    progress: Callable | None
+    out_dir: Any
+    database_dir: Any
+
+
+def _kept_and_broken_assumptions(ex: _Exploration, algo, lats, n_max: int, speeds) -> tuple[list, list]:
+    """Which of the algorithm's assumptions the chosen parameters keep and which they break.
+
+    Each assumption is probed once per target range (and per drawn speed) with the largest
+    team, ``n_max``; the engine itself raises on a break unless ``allow_violations``, so a break
+    without it is refused here, before any scenario runs.
+
+    Returns
+    -------
+    (kept, broken) : (list of str, list of str)
+        Assumption names, in the algorithm's order.
+
+    Raises
+    ------
+    UsageError
+        An assumption is broken and ``allow_violations`` is false.
+    """
+    params = ex.params
+    kept, broken = [], []
+    for a in getattr(algo, "assumptions", ()):
+        msgs = []
+        for name in lats:
+            for v_try in (speeds or (params.get("v"),)):
+                p = build_params(algo, ex.phi_of[name], n_max, v=v_try, omega=params.get("omega"),
+                                 dt=params.get("dt"), extra=params.get("extra"))
+                msg = a.check(p, n_max, list(range(n_max)))
+                if msg:
+                    msgs.append(msg)
+        (broken if msgs else kept).append(a.name)
+    if broken and not ex.allow_violations:
+        what = f"speeds={list(speeds)!r}" if speeds else f"params={params!r}"
+        raise UsageError(f"{what} break the assumptions {broken!r} of {ex.spec.label!r}",
+                         fix="pass allow_violations=True (--allow-violations) to explore outside the paper's assumptions")
+    return kept, broken
+
+
+def _check_draw_faults(draw_faults, fault_model) -> tuple:
+    """``draw_faults`` as a tuple of known fault kinds (:data:`FAULT_KINDS`), not with ``fault_model``."""
+    draw_faults = tuple(draw_faults or ())
+    for kind in draw_faults:
+        if kind not in FAULT_KINDS:
+            raise UsageError(f"draw_faults kind={kind!r} is not known", fix=f"use some of {list(FAULT_KINDS)!r}")
+    if draw_faults and fault_model is not None:
+        raise UsageError("fault_model and draw_faults were both given", fix="give one of them")
+    return draw_faults
+
+
+def _with_fault_assumptions(broken: list, algo, fault_model, draw_faults) -> list:
+    """``broken`` and, after it, the robot-model assumptions that ``fault_model`` or the drawn
+    fault kinds break (each named once)."""
+    broken = list(broken)
+    if fault_model is not None:
+        fb = fault_model.broken_model_assumptions(algo.model)
+        broken += [b for b in fb if b not in broken]
+    if draw_faults:
+        broken += [b for b in _fault_probe(draw_faults).broken_model_assumptions(algo.model) if b not in broken]
+    return broken
+
+
+def _premise_lemmas(algo) -> list:
+    """The proof-suite lemmas whose premises the algorithm's premise monitors check, sorted."""
+    from swarmproof.invariants.premises import MONITOR_LEMMAS, premise_monitors_of
+
+    return sorted({MONITOR_LEMMAS[m] for m in premise_monitors_of(algo)})
+
+
+def _scale_target(algo) -> Callable | None:
+    """The algorithm's ``scale_target(target, n)`` (004: the goal set scaled to n robots), or None."""
+    scale = getattr(algo, "scale_target", None)
+    return scale if callable(scale) else None
+
+
+def _explore_strategy(ex: _Exploration, algo, rng_robots, lats, draw_faults, speeds):
+    """The :func:`scenario_strategy` for this algorithm: a grid algorithm's cell spacing, an
+    algorithm with its own start drawn as free starts on the grid (004: any distinct
+    waypoints), whole multiples of a team size where the algorithm asks for them (unless it
+    scales its target), and the algorithm's own scenario draws."""
+    factory = ex.spec.factory
+    grid_spacing = None
+    if getattr(getattr(factory, "model", None), "motion", None) == "grid":
+        first = build_params(algo, ex.phi_of[lats[0]], rng_robots[1], extra=ex.params.get("extra"))
+        grid_spacing = float((first.extra or {}).get("grid_spacing", 1.0))
+    multiple = getattr(factory, "team_multiple", None)
+    # an algorithm with its own start (004: any distinct waypoints) gets free starts on the grid
+    free = grid_spacing is not None and callable(getattr(algo, "initial", None))
+    team_multiple = ({name: int(multiple(g)) for name, g in ex.loaded.items()}
+                     if callable(multiple) and ex.scale is None else None)
+    return scenario_strategy(rng_robots, lats, ex.phi_of, draw_faults, speeds, grid_spacing, team_multiple,
+                             targets=ex.loaded, scale_target=ex.scale, free_starts=free, algorithm=factory)
+
+
+@dataclass
+class _Search:
+    """What one property's search has seen so far (updated by every scenario it runs)."""
+
+    prop: str
+    t0: float                      # time.monotonic() at the start
+    c0: float                      # time.process_time() at the start
+    deadline: float                # time.monotonic() after which the search stops
+    examples: int = 0              # scenarios Hypothesis handed over
+    runs: int = 0                  # scenarios run to a judgment (any status)
+    conclusive: int = 0
+    steps: int = 0
+    capped: int = 0
+    hit: bool = False              # the deadline ended the search
+    why: str | None = None         # the last inconclusive judgment's message
+    #: (wall s, cpu s, robots, runs) at the first failing scenario, None while none failed
+    first: tuple | None = None
+    #: counterexamples in the order found; Hypothesis shrinks, so the last is the smallest
+    failures: list = field(default_factory=list)
+
+    def count(self, result, r) -> None:
+        """Add one finished run and its judgment ``r``."""
+        self.runs += 1
+        self.steps += int(result.steps)
+        self.capped += int(result.status == "step_cap")
+        if r.status != "inconclusive":
+            self.conclusive += 1
+        else:
+            self.why = r.message
+
+    def note_failure(self, scn: Scenario) -> None:
+        """Take the clock and the counts at the first failing scenario (later ones change nothing)."""
+        if self.first is None:
+            self.first = (time.monotonic() - self.t0, time.process_time() - self.c0, scn.n, self.runs)
+
+
+def _scenario_params(ex: _Exploration, scn: Scenario):
+    """The target and run parameters of one scenario: the target scaled to its team when the
+    algorithm scales it (004: |Q| = |A|), the drawn speed and parameters over the given ones."""
+    lattice = ex.loaded[scn.lattice]
+    if ex.scale is not None:
+        lattice = ex.scale(lattice, scn.n)     # the algorithm's target for n robots (004: |Q| = |A|)
+    algo_n = ex.spec.build(n_robots=scn.n)
+    params = ex.params
+    extra = {**dict(params.get("extra") or {}), **dict(scn.extra)} if scn.extra else params.get("extra")
+    p = build_params(algo_n, ex.phi_of[scn.lattice], scn.n, v=params.get("v") if scn.v is None else scn.v,
+                     omega=params.get("omega"), dt=params.get("dt"), extra=extra)
+    return lattice, p
+
+
+def _scenario_counterexample(ex: _Exploration, scn: Scenario, lattice, p, fm, result, r,
+                             found: str) -> Counterexample:
+    """The ``swarmproof-counterexample/1`` of a scenario whose property ``found`` was violated."""
+    step = (r.witness or {}).get("step")
+    return Counterexample(
+        algorithm=ex.spec.ref,
+        params=cx_params(p),
+        lattice=_cx_lattice(scn.lattice, lattice), target=_cx_target(scn.lattice, lattice),
+        robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
+        seed=scn.seed, property=found,
+        violation={"step": None if step is None else int(step), "message": r.message},
+        schedule=None if fm is None else fm.describe().get("schedule"),
+        faults=None if fm is None else fm.describe(),
+        max_steps=int(result.max_steps), allow_violations=bool(ex.allow_violations),
+        broken_assumptions=list(result.broken_assumptions), options=ex.options,
+        clocks=result.trace.meta.get("clocks"))
+
+
+def _scenario_test(ex: _Exploration, search: _Search):
+    """The Hypothesis test of one property: run a drawn scenario, judge it, record it in
+    ``search``; a violation (or a crash of the algorithm, a ``no_crash`` finding whatever
+    property was asked) fails the example so Hypothesis shrinks it."""
+    from hypothesis import target
+
+    prop = search.prop
+
+    def test(scn: Scenario) -> None:
+        search.examples += 1
+        if ex.progress is not None:
+            ex.progress(prop, search.examples, ex.max_examples)
+        if time.monotonic() > search.deadline:
+            search.hit = True
+            raise _BudgetSpent()
+        lattice, p = _scenario_params(ex, scn)
+        fm = scn.faults if scn.faults is not None else ex.fault_model
+        algo_run, result, r = run_and_judge(
+            ex.spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=ex.max_steps,
+            allow_violations=ex.allow_violations, faults=fm, options=ex.options)
+        score = closeness(prop, r)
+        if score is not None:
+            target(score, label=prop)
+        search.count(result, r)
+        found = prop
+        if result.crash is not None and prop != "no_crash":
+            # a crash of the algorithm under test is a finding whatever was asked: no_crash
+            found = "no_crash"
+            r = judge("no_crash", algo_run, lattice, p, result, ex.options)
+        if r.violated:
+            search.note_failure(scn)
+            search.failures.append(_scenario_counterexample(ex, scn, lattice, p, fm, result, r, found))
+            raise AssertionError(r.message)
+
+    return test
+
+
+def _search_property(ex: _Exploration, strategy, prop: str, share: float) -> _Search:
+    """Let Hypothesis search ``strategy`` for a violation of ``prop`` within ``share`` seconds.
+
+    Every setting is explicit (seeded, no deadline, no database unless ``database_dir``), so
+    Hypothesis's "ci" profile changes nothing.  The budget ends the search at once
+    (:class:`_BudgetSpent`); what was found and shrunk so far is kept.
+    """
+    from hypothesis import HealthCheck, Phase, given, settings
+    from hypothesis import seed as hseed
+
+    t0, c0 = time.monotonic(), time.process_time()
+    search = _Search(prop, t0, c0, deadline=t0 + share)
+    db = None
+    if ex.database_dir is not None:
+        from hypothesis.database import DirectoryBasedExampleDatabase
+
+        db = DirectoryBasedExampleDatabase(os.path.join(os.fspath(ex.database_dir), f"{_file_label(ex.spec)}-{prop}"))
+    run = settings(max_examples=ex.max_examples, database=db, derandomize=False, deadline=None,
+                   print_blob=False, report_multiple_bugs=False,
+                   phases=(Phase.explicit, Phase.reuse, Phase.generate, Phase.shrink),
+                   suppress_health_check=list(HealthCheck))(
+        hseed(ex.seed)(given(strategy)(_scenario_test(ex, search))))
+    try:
+        with _without_local_constants():
+            run()
+    except _BudgetSpent:
+        pass  # the share of the budget is spent: keep what was found (and shrunk) so far
+    except Exception:  # noqa: BLE001 - the failure is what we recorded in `search.failures`
+        if not search.failures:
+            raise
+    return search
+
+
+def _mark_violated(ex: _Exploration, verdict: PropertyVerdict, cx: Counterexample) -> None:
+    """Make ``verdict`` violated by ``cx``; with ``out_dir``, save ``cx`` as a file."""
+    verdict.status = "violated"
+    verdict.counterexample = cx
+    where = cx.lattice if cx.target is None else (cx.lattice or f"{cx.target['kind']}:{cx.target['name']}")
+    verdict.message = f"{len(cx.robots)} robots on {where}: {cx.violation['message']}"
+    if ex.out_dir is not None:
+        os.makedirs(ex.out_dir, exist_ok=True)
+        verdict.counterexample_path = cx.save(os.path.join(
+            os.fspath(ex.out_dir), f"{_file_label(ex.spec)}-{_safe(cx.property)}-seed{ex.seed}.json"))
+
+
+def _search_verdicts(ex: _Exploration, search: _Search) -> tuple[PropertyVerdict, PropertyVerdict | None]:
+    """The property's verdict from its search and, when the algorithm crashed, the
+    ``no_crash`` verdict (with the crash's counterexample) that comes with it.
+
+    Violated with the smallest counterexample; inconclusive when the algorithm crashed
+    (the property was not judged on that run), when no scenario gave a judgment, or when
+    the budget, not ``max_examples``, ended the search; else held over what was explored.
+    """
+    prop, failures = search.prop, search.failures
+    v = PropertyVerdict(prop, "held", scenarios=search.runs, conclusive=search.conclusive, steps=search.steps,
+                        capped=search.capped, budget_hit=search.hit, seconds=time.monotonic() - search.t0)
+    if search.first is not None:
+        (v.first_failure_seconds, v.first_failure_cpu, v.first_failure_robots,
+         v.first_failure_scenarios) = search.first
+    if failures and failures[-1].property != prop:
+        # the algorithm crashed while `prop` was explored: the crash is a no_crash finding
+        # (shrunk, with its counterexample); `prop` was not judged on those runs
+        crash_v = PropertyVerdict(failures[-1].property, "held", scenarios=search.runs,
+                                  conclusive=search.runs, steps=search.steps, capped=search.capped,
+                                  budget_hit=search.hit, seconds=time.monotonic() - search.t0)
+        _mark_violated(ex, crash_v, failures[-1])
+        v.status = "inconclusive"
+        v.message = (f"the algorithm crashed ({crash_v.counterexample.violation['message']}): "
+                     f"{prop} was not judged on that run; see no_crash")
+        return v, crash_v
+    if failures:
+        _mark_violated(ex, v, failures[-1])  # the last is the smallest
+    elif search.conclusive == 0:
+        v.status = "inconclusive"
+        v.message = ("no scenario gave a judgment" +
+                     (" (budget spent)" if search.hit else f" ({search.capped} runs hit the step cap)") +
+                     (f"; last: {search.why}" if search.why else ""))
+    elif search.hit:
+        # the clock, not max_examples, ended the search: what was not explored is not a pass
+        v.status = "inconclusive"
+        v.message = (f"stopped by the budget after {search.runs} of {ex.max_examples} scenarios: held on "
+                     f"those ({search.steps} steps), inconclusive for the rest (raise --budget, or "
+                     f"bound the search by --max-examples alone with --budget none)")
+    else:
+        v.message = (f"held over {search.conclusive} judged scenarios and {search.steps} steps "
+                     f"(explored, not proved)")
+    return v, None
+
+
+def _explore_property(ex: _Exploration, strategy, prop: str, share: float, report: ExploreReport) -> None:
+    """Search ``prop`` for ``share`` seconds at most and enter its verdict in ``report`` (after
+    the ``no_crash`` verdict, when the algorithm crashed and no_crash has none yet)."""
+    verdict, crash_verdict = _search_verdicts(ex, _search_property(ex, strategy, prop, share))
+    if crash_verdict is not None:
+        report.properties.setdefault(crash_verdict.name, crash_verdict)
+    report.properties[prop] = verdict
+
+
+def _tell_listeners(report: ExploreReport) -> None:
+    """Hand the finished report to every registered listener (e.g. the pytest plugin's table)."""
+    from swarmproof.checkers.listeners import REPORT_LISTENERS
+
+    for listener in list(REPORT_LISTENERS):
+        listener(report)
+
+
 def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float = 60.0,
             max_examples: int = 100, robots: tuple[int, int] = (3, 8), seed: int = 0,
             lattices: Sequence[str] | None = None, fault_model=None, out_dir: str | os.PathLike | None = None,
@@ -761,66 +1134,62 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     Parameters
     ----------
     algorithm : str, class or callable
-        A registered algorithm name, ``"module:qualname"``, or an algorithm
-        class / factory following :class:`swarmproof.reference_impl.protocol.Algorithm`
-        (:func:`resolve_algorithm`; an unregistered class's claims come from
-        its ``claims`` attribute, else none are claimed).  Counterexample
-        files record the registry name or ``"module:qualname"``, which
+        A registered algorithm name, ``"module:qualname"``, or an algorithm class / factory
+        following :class:`swarmproof.reference_impl.protocol.Algorithm` (:func:`resolve_algorithm`;
+        an unregistered class's claims come from its ``claims`` attribute, else none are claimed).
+        Counterexample files record the registry name or ``"module:qualname"``, which
         ``swarmproof replay`` imports.
     properties : sequence of str, optional
-        Registered property names (or ``module:name`` of a user's property);
-        default all (:func:`explore_properties`).
+        Registered property names (or ``module:name`` of a user's property); default all
+        (:func:`explore_properties`).
     budget : float
-        Wall-clock seconds for the whole exploration, split evenly between
-        the properties (finding and shrinking).
+        Wall-clock seconds for the whole exploration, split evenly between the properties (finding
+        and shrinking).
     max_examples : int
         Hypothesis ``max_examples`` per property.
     robots : (int, int)
         Inclusive range of the number of robots.
     seed : int
-        Hypothesis seed (``@seed``); with the same ``max_examples`` and the
-        budget not hit, the report is the same.
+        Hypothesis seed (``@seed``); with the same ``max_examples`` and the budget not hit, the
+        report is the same.
     lattices : sequence, optional
-        Targets the scenarios draw from: bundled lattice names, lattice-graph/1
-        files of your own, ``KIND:NAME`` or target objects; default
-        :data:`PERIODIC_LATTICES`.  A counterexample on a user's lattice carries
-        its whole document (``target``), so it replays without the file.
+        Targets the scenarios draw from: bundled lattice names, lattice-graph/1 files of your own,
+        ``KIND:NAME`` or target objects; default :data:`PERIODIC_LATTICES`.  A counterexample on a
+        user's lattice carries its whole document (``target``), so it replays without the file.
     fault_model : FaultModel, optional
         Passed to the engine; the assumptions it breaks are reported.
     out_dir : path, optional
         Where counterexample files are written (``ALGORITHM-PROPERTY-seedS.json``).
     progress : callable ``(property, examples_run, max_examples)``, optional
     params : mapping, optional
-        Overrides of ``v``, ``omega``, ``dt`` (and ``extra``) of the
-        algorithm's default parameters; with ``allow_violations`` they may
-        break the paper's assumptions (reported).
+        Overrides of ``v``, ``omega``, ``dt`` (and ``extra``) of the algorithm's default parameters;
+        with ``allow_violations`` they may break the paper's assumptions (reported).
     allow_violations : bool
         Run scenarios whose parameters break an assumption.
     max_steps : int, optional
         Engine step cap (default: the algorithm's).
     options : mapping, optional
-        Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol``
-        (oscillation), ``progress_window`` (oscillation's no-progress window W,
-        default :data:`DEFAULT_PROGRESS_WINDOW` for algorithms with
-        ``randomized = True``; given explicitly it applies to any algorithm with a
-        ``progress_measure``), ``progress_eps``.
+        Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol`` (oscillation),
+        ``progress_window`` (oscillation's no-progress window W, default
+        :data:`DEFAULT_PROGRESS_WINDOW` for algorithms with ``randomized = True``; given explicitly
+        it applies to any algorithm with a ``progress_measure``), ``progress_eps``.
     draw_faults : sequence of str
-        Fault kinds Hypothesis draws per scenario (:data:`FAULT_KINDS`:
-        ``schedule``, ``crashes``, ``drops``, ``additions``, ``noise``; see
-        :func:`draw_fault_model`); they break robot-model assumptions, which
-        the report names.  Not together with ``fault_model``.
+        Fault kinds Hypothesis draws per scenario (:data:`FAULT_KINDS`: ``schedule``, ``crashes``,
+        ``drops``, ``additions``, ``noise``, ``delays``; see :func:`draw_fault_model`); they break
+        robot-model assumptions, which the report names.  Not together with ``fault_model``.
     database_dir : path, optional
-        Keep Hypothesis's example database in this folder, so a rerun tries
-        known failures first (found at once).  Default None: no database,
-        which the determinism guarantee assumes (a database replays stored
-        examples before generating).
+        Keep Hypothesis's example database in this folder, so a rerun tries known failures first
+        (found at once).  Default None: no database, which the determinism guarantee assumes (a
+        database replays stored examples before generating).
     speeds : sequence of float, optional
-        Let every scenario draw its speed ``v`` from these values (the first
-        is the one shrinking goes toward, e.g. the paper's).  Each must keep
-        the algorithm's assumptions on every lattice (else ``allow_violations``);
-        not together with ``params["v"]``.  Longer steps (``v*dt`` nearer
-        ``phi``) stress the bounded-range and safe-region margins and end runs
-        in fewer steps.
+        Let every scenario draw its speed ``v`` from these values (the first is the one shrinking
+        goes toward, e.g. the paper's).  Each must keep the algorithm's assumptions on every lattice
+        (else ``allow_violations``); not together with ``params["v"]``.  Longer steps (``v*dt``
+        nearer ``phi``) stress the bounded-range and safe-region margins and end runs in fewer
+        steps.
+    strict : bool
+        Refuse a lattice file of yours that check-lattice does not pass at its range (default:
+        explore it, with a warning in the report).
 
     Returns
     -------
@@ -829,201 +1198,25 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     Raises
     ------
     UsageError
-        Unknown algorithm, property or lattice, non-positive budget or
-        max_examples, bad robots range, bad speeds, or parameters that break
-        an assumption without ``allow_violations``.
+        Unknown algorithm, property or lattice, non-positive budget or max_examples, bad robots
+        range, bad speeds, or parameters that break an assumption without ``allow_violations``.
     """
-    from hypothesis import HealthCheck, Phase, given, settings, target
-    from hypothesis import seed as hseed
-
     spec, props, budget, rng_robots, lats, loaded, warnings = _check_inputs(
         algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir, strict)
     params = dict(params or {})
-    options = dict(options or {})
-    phi_of = {name: float(g.range) for name, g in loaded.items()}
-
-    # which assumptions the chosen parameters keep and break (the engine raises on a break
-    # unless allow_violations; probe once per lattice range with the largest n)
     speeds = _check_speeds(speeds, params)
     algo = spec.build(n_robots=rng_robots[1])
-    kept, broken = [], []
-    for a in getattr(algo, "assumptions", ()):
-        msgs = []
-        for name in lats:
-            for v_try in (speeds or (params.get("v"),)):
-                p = build_params(algo, phi_of[name], rng_robots[1], v=v_try, omega=params.get("omega"),
-                                 dt=params.get("dt"), extra=params.get("extra"))
-                msg = a.check(p, rng_robots[1], list(range(rng_robots[1])))
-                if msg:
-                    msgs.append(msg)
-        (broken if msgs else kept).append(a.name)
-    if broken and not allow_violations:
-        what = f"speeds={list(speeds)!r}" if speeds else f"params={params!r}"
-        raise UsageError(f"{what} break the assumptions {broken!r} of {spec.label!r}",
-                         fix="pass allow_violations=True (--allow-violations) to explore outside the paper's assumptions")
-    draw_faults = tuple(draw_faults or ())
-    for kind in draw_faults:
-        if kind not in FAULT_KINDS:
-            raise UsageError(f"draw_faults kind={kind!r} is not known", fix=f"use some of {list(FAULT_KINDS)!r}")
-    if draw_faults and fault_model is not None:
-        raise UsageError("fault_model and draw_faults were both given", fix="give one of them")
-    if fault_model is not None:
-        fb = fault_model.broken_model_assumptions(algo.model)
-        broken += [b for b in fb if b not in broken]
-    if draw_faults:
-        broken += [b for b in _fault_probe(draw_faults).broken_model_assumptions(algo.model) if b not in broken]
-
-    from swarmproof.invariants.premises import MONITOR_LEMMAS, premise_monitors_of
-
-    lemmas = sorted({MONITOR_LEMMAS[m] for m in premise_monitors_of(algo)})
+    ex = _Exploration(spec, seed, max_examples, loaded, {name: float(g.range) for name, g in loaded.items()},
+                      params, dict(options or {}), fault_model, max_steps, allow_violations, _scale_target(algo),
+                      progress, out_dir, database_dir)
+    kept, broken = _kept_and_broken_assumptions(ex, algo, lats, rng_robots[1], speeds)
+    draw_faults = _check_draw_faults(draw_faults, fault_model)
+    broken = _with_fault_assumptions(broken, algo, fault_model, draw_faults)
     report = ExploreReport(spec.label, seed, max_examples, rng_robots, lats, kept, broken,
                            claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref,
-                           premise_lemmas=lemmas, speeds=speeds)
-    report.warnings = list(warnings)
-    share = budget / len(props)
-    grid_spacing = None
-    if getattr(getattr(spec.factory, "model", None), "motion", None) == "grid":
-        first = build_params(algo, phi_of[lats[0]], rng_robots[1], extra=params.get("extra"))
-        grid_spacing = float((first.extra or {}).get("grid_spacing", 1.0))
-    multiple = getattr(spec.factory, "team_multiple", None)
-    scale = getattr(algo, "scale_target", None)
-    scale = scale if callable(scale) else None
-    # an algorithm with its own start (004: any distinct waypoints) gets free starts on the grid
-    free = grid_spacing is not None and callable(getattr(algo, "initial", None))
-    team_multiple = ({name: int(multiple(g)) for name, g in loaded.items()}
-                     if callable(multiple) and scale is None else None)
-    strategy = scenario_strategy(rng_robots, lats, phi_of, draw_faults, speeds, grid_spacing, team_multiple,
-                                 targets=loaded, scale_target=scale, free_starts=free, algorithm=spec.factory)
-
+                           premise_lemmas=_premise_lemmas(algo), speeds=speeds, warnings=list(warnings))
+    strategy = _explore_strategy(ex, algo, rng_robots, lats, draw_faults, speeds)
     for prop in props:
-        t0, c0 = time.monotonic(), time.process_time()
-        deadline = t0 + share
-        stats = {"runs": 0, "conclusive": 0, "steps": 0, "capped": 0, "hit": False, "examples": 0,
-                 "first": None}
-        failures: list = []
-
-        def make_test(prop=prop, stats=stats, failures=failures, deadline=deadline):
-          def test(scn: Scenario) -> None:
-              stats["examples"] += 1
-              if progress is not None:
-                  progress(prop, stats["examples"], max_examples)
-              if time.monotonic() > deadline:
-                  stats["hit"] = True
-                  raise _BudgetSpent()
-              lattice = loaded[scn.lattice]
-              if scale is not None:
-                  lattice = scale(lattice, scn.n)     # the algorithm's target for n robots (004: |Q| = |A|)
-              algo_n = spec.build(n_robots=scn.n)
-              extra = {**dict(params.get("extra") or {}), **dict(scn.extra)} if scn.extra else params.get("extra")
-              p = build_params(algo_n, phi_of[scn.lattice], scn.n, v=params.get("v") if scn.v is None else scn.v,
-                               omega=params.get("omega"), dt=params.get("dt"), extra=extra)
-              fm = scn.faults if scn.faults is not None else fault_model
-              algo_run, result, r = run_and_judge(
-                  spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=max_steps,
-                  allow_violations=allow_violations, faults=fm, options=options)
-              score = closeness(prop, r)
-              if score is not None:
-                  target(score, label=prop)
-              stats["runs"] += 1
-              stats["steps"] += int(result.steps)
-              stats["capped"] += int(result.status == "step_cap")
-              if r.status != "inconclusive":
-                  stats["conclusive"] += 1
-              else:
-                  stats["why"] = r.message
-              found = prop
-              if result.crash is not None and prop != "no_crash":
-                  # a crash of the algorithm under test is a finding whatever was asked: no_crash
-                  found = "no_crash"
-                  r = judge("no_crash", algo_run, lattice, p, result, options)
-              if r.violated:
-                  if stats["first"] is None:
-                      stats["first"] = (time.monotonic() - t0, time.process_time() - c0, scn.n, stats["runs"])
-                  step = (r.witness or {}).get("step")
-                  failures.append(Counterexample(
-                      algorithm=spec.ref,
-                      params=cx_params(p),
-                      lattice=_cx_lattice(scn.lattice, lattice), target=_cx_target(scn.lattice, lattice),
-                      robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],
-                      seed=scn.seed, property=found,
-                      violation={"step": None if step is None else int(step), "message": r.message},
-                      schedule=None if fm is None else fm.describe().get("schedule"),
-                      faults=None if fm is None else fm.describe(),
-                      max_steps=int(result.max_steps), allow_violations=bool(allow_violations),
-                      broken_assumptions=list(result.broken_assumptions), options=options,
-                      clocks=result.trace.meta.get("clocks")))
-                  raise AssertionError(r.message)
-          return test
-
-        db = None
-        if database_dir is not None:
-            from hypothesis.database import DirectoryBasedExampleDatabase
-
-            db = DirectoryBasedExampleDatabase(os.path.join(os.fspath(database_dir), f"{_file_label(spec)}-{prop}"))
-        run = settings(max_examples=max_examples, database=db, derandomize=False, deadline=None,
-                       print_blob=False, report_multiple_bugs=False,
-                       phases=(Phase.explicit, Phase.reuse, Phase.generate, Phase.shrink),
-                       suppress_health_check=list(HealthCheck))(
-            hseed(seed)(given(strategy)(make_test())))
-        try:
-            with _without_local_constants():
-                run()
-        except _BudgetSpent:
-            pass  # the share of the budget is spent: keep what was found (and shrunk) so far
-        except Exception:  # noqa: BLE001 - the failure is what we recorded in `failures`
-            if not failures:
-                raise
-        v = PropertyVerdict(prop, "held", scenarios=stats["runs"], conclusive=stats["conclusive"],
-                            steps=stats["steps"], capped=stats["capped"], budget_hit=stats["hit"],
-                            seconds=time.monotonic() - t0)
-        if stats["first"] is not None:
-            (v.first_failure_seconds, v.first_failure_cpu, v.first_failure_robots,
-             v.first_failure_scenarios) = stats["first"]
-        crash_v = None
-        if failures and failures[-1].property != prop:
-            # the algorithm crashed while `prop` was explored: the crash is a no_crash finding
-            # (shrunk, with its counterexample); `prop` was not judged on those runs
-            crash_v = PropertyVerdict(failures[-1].property, "held", scenarios=stats["runs"],
-                                      conclusive=stats["runs"], steps=stats["steps"], capped=stats["capped"],
-                                      budget_hit=stats["hit"], seconds=time.monotonic() - t0)
-            crash_v.counterexample = failures[-1]
-            failures = []
-        for verdict in ([v] if crash_v is None else [crash_v]):
-            if crash_v is None and not failures:
-                break
-            cx = crash_v.counterexample if crash_v is not None else failures[-1]  # the last is the smallest
-            verdict.status = "violated"
-            verdict.counterexample = cx
-            where = cx.lattice if cx.target is None else (cx.lattice or f"{cx.target['kind']}:{cx.target['name']}")
-            verdict.message = f"{len(cx.robots)} robots on {where}: {cx.violation['message']}"
-            if out_dir is not None:
-                os.makedirs(out_dir, exist_ok=True)
-                verdict.counterexample_path = cx.save(os.path.join(
-                    os.fspath(out_dir), f"{_file_label(spec)}-{_safe(cx.property)}-seed{seed}.json"))
-        if crash_v is not None:
-            report.properties.setdefault(crash_v.name, crash_v)
-            v.status = "inconclusive"
-            v.message = (f"the algorithm crashed ({crash_v.counterexample.violation['message']}): "
-                         f"{prop} was not judged on that run; see no_crash")
-        elif v.status == "violated":
-            pass
-        elif stats["conclusive"] == 0:
-            v.status = "inconclusive"
-            v.message = ("no scenario gave a judgment" +
-                         (" (budget spent)" if stats["hit"] else f" ({stats['capped']} runs hit the step cap)") +
-                         (f"; last: {stats['why']}" if stats.get("why") else ""))
-        elif stats["hit"]:
-            # the clock, not max_examples, ended the search: what was not explored is not a pass
-            v.status = "inconclusive"
-            v.message = (f"stopped by the budget after {stats['runs']} of {max_examples} scenarios: held on "
-                         f"those ({stats['steps']} steps), inconclusive for the rest (raise --budget, or "
-                         f"bound the search by --max-examples alone with --budget none)")
-        else:
-            v.message = (f"held over {stats['conclusive']} judged scenarios and {stats['steps']} steps "
-                         f"(explored, not proved)")
-        report.properties[prop] = v
-    from swarmproof.checkers.listeners import REPORT_LISTENERS
-
-    for listener in list(REPORT_LISTENERS):      # e.g. the pytest plugin's property table
-        listener(report)
+        _explore_property(ex, strategy, prop, budget / len(props), report)
+    _tell_listeners(report)
     return report
