@@ -88,6 +88,208 @@ def build_params(algorithm, phi: float, n: int, *, v: float | None = None, omega
     return dataclasses.replace(params, **changes) if changes else params
 
 
+# ---------------------------------------------------------------------------
+# the steps of run_and_check
+# ---------------------------------------------------------------------------
+
+def _run_range(spec, lattice, kind: str, phi: float | None) -> float:
+    """The range of the run: ``phi``, else the target's, else the algorithm's ``default_range``
+    (an algorithm whose robots sense everyone, 003, needs one only to draw connected starts)."""
+    if phi is None:
+        phi = getattr(lattice, "range", None)
+    if phi is None:
+        # an algorithm whose robots sense everyone (003) needs a range only to draw connected starts
+        phi = getattr(spec.factory, "default_range", None)
+    if phi is None:
+        raise UsageError(f"{kind} {lattice.name!r} has no default range", fix="pass --range PHI")
+    if not (math.isfinite(phi) and phi > 0):
+        raise UsageError(f"range={phi!r} must be a finite number > 0")
+    return phi
+
+
+def _target_warnings(lattice, phi: float, strict: bool) -> list:
+    """The warning about a user's lattice that check-lattice does not pass at ``phi`` (a list of
+    at most one); with ``strict`` it is a usage error instead."""
+    from swarmproof.checkers.lattice_check import user_lattice_warning
+
+    warnings = []
+    w = user_lattice_warning(lattice, phi)
+    if w is not None:
+        if strict:
+            raise UsageError(w, fix="fix the lattice file, or drop --strict to run toward it anyway")
+        warnings.append(w)
+    return warnings
+
+
+def _check_robots(robots: int | None, initial) -> None:
+    """Without an ``initial`` configuration, ``robots`` is required and at most :data:`MAX_ROBOTS`."""
+    if initial is not None:
+        return
+    if robots is None:
+        raise UsageError("robots=None: the number of robots is required without an initial file",
+                         fix="e.g. --robots 10")
+    if robots < 1:
+        raise UsageError(f"robots={robots!r} must be >= 1")
+    if robots > MAX_ROBOTS:
+        raise UsageError(f"robots={robots!r} is more than swarmproof draws a start for (at most {MAX_ROBOTS})",
+                         fix=f"run at most {MAX_ROBOTS} robots, or give an --initial file")
+
+
+def _seeded_start(algorithm, n: int, seed: int, params, lattice, phi: float, min_separation):
+    """The start drawn for ``n`` robots from ``seed``: the algorithm's own ``initial(n, seed,
+    params, target)`` when it has one (004 Sec. V-A: distinct random waypoints of an arena), else a
+    random connected start (on grid cells for grid motion)."""
+    from swarmproof.reference_impl import initial as initial_mod
+
+    start = getattr(algorithm, "initial", None)
+    initial = start(n, seed, params, lattice) if callable(start) else None
+    if initial is None:
+        if getattr(algorithm.model, "motion", None) == "grid":
+            initial = initial_mod.random_grid_connected(n, seed, range=phi,
+                                                        spacing=float(params.extra.get("grid_spacing", 1.0)))
+        else:
+            initial = initial_mod.random_connected(n, seed, range=phi, min_separation=min_separation)
+    return initial
+
+
+def _engine(algorithm, vectorised: bool) -> Callable:
+    """The engine's ``simulate``, or with ``vectorised`` the algorithm's ``vectorised_simulate``
+    (same signature, same trace); an algorithm without one is a usage error."""
+    from swarmproof.reference_impl.engine import simulate
+
+    if not vectorised:
+        return simulate
+    simulate = getattr(algorithm, "vectorised_simulate", None)
+    if not callable(simulate):
+        raise UsageError(f"vectorised=True: algorithm {algorithm.name!r} has no vectorised path",
+                         fix="drop --vectorised (docs/engine.md lists the algorithms that have one)")
+    return simulate
+
+
+def _streaming_monitors(algorithm, phi: float, link_mode: str) -> tuple:
+    """The monitors a sparse trace needs: connectivity and the tree links are judged on every step
+    the engine feeds them (DESIGN.md section 5, "Monitors see every step")."""
+    from swarmproof.invariants.connectivity import TreeLinkMonitor, connectivity_monitor
+
+    return (connectivity_monitor(algorithm, phi), TreeLinkMonitor(phi, mode=link_mode))
+
+
+@dataclass
+class _Formation:
+    """The final configuration judged against the target: the target judged (an algorithm may
+    restate it, 003), its verdict, a lattice's fulfillment ratios and every figure."""
+
+    judged: Any
+    sat: Any
+    q: float | None
+    nq: float | None
+    metrics: dict
+
+
+def _judge_formation(algorithm, result, lattice, kind: str, params, phi: float) -> _Formation:
+    """The final formation against the target: a lattice by 001 Def. 2 (and Q, 000 Eq. 3), any
+    other kind by its own ``satisfied`` on the robots the algorithm says it judges; then the
+    algorithm's own ``metrics(result)``."""
+    from swarmproof.invariants.metrics import fulfillment_ratio, non_fulfillment_ratio
+    from swarmproof.invariants.satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL, satisfies_lattice
+
+    pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
+    ids, poses = result.final_ids, result.final_poses
+    judged = lattice
+    if kind == "lattice":
+        sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
+        q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+        nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
+        metrics = {"fulfillment_ratio": q, "non_fulfillment_ratio": nq}
+    else:
+        from swarmproof.invariants.satisfaction import judged_robots
+
+        tol = getattr(algorithm, "satisfaction_tol", None)
+        judged, ids, poses = judged_robots(algorithm, result, lattice, params)
+        sat = judged.satisfied(ids, poses, phi=phi, tol=tol)
+        q = nq = None
+        metrics = dict(judged.metrics(ids, poses, phi=phi))
+    own = getattr(algorithm, "metrics", None)
+    if callable(own):
+        metrics.update(own(result))
+    return _Formation(judged, sat, q, nq, metrics)
+
+
+def _judge_links(algorithm, result, phi: float, link_mode: str, streamed: bool):
+    """Connectivity (001 Lemma 11) and the spanning-tree links over the run: from the streaming
+    monitors when ``streamed``, else judged on the trace."""
+    from swarmproof.invariants.connectivity import judge_connectivity, tree_links_survive
+
+    if streamed:
+        return result.observed("connectivity"), result.observed("tree_links")
+    return judge_connectivity(result.trace, phi, algorithm), tree_links_survive(result.trace, phi, mode=link_mode)
+
+
+def _judge_termination(algorithm, result, params):
+    """The algorithm's own termination bound or end (001 Thm. 13) judged on the run; None when it
+    offers neither."""
+    if callable(getattr(algorithm, "termination_bound", None)) or getattr(algorithm, "own_end", None):
+        from swarmproof.invariants.termination import judge_termination
+
+        return judge_termination(result.trace, algorithm, params, result.status, max_steps=result.max_steps)
+    return None
+
+
+def _simulate_document(algorithm, lattice, kind: str, initial, seed: int, phi: float, params, result,
+                       formation: _Formation, conn, links, *, record_every: int, warnings: list,
+                       vectorised: bool) -> dict:
+    """The ``simulate`` JSON document (DESIGN.md section 2 fields and more, in this order),
+    without the termination, crash and exit code fields that follow them."""
+    from swarmproof.invariants.metrics import execution_steps, min_separation, total_distance
+
+    trace, sat, judged = result.trace, formation.sat, formation.judged
+    is_lattice = kind == "lattice"
+    satisfied = sat.held if sat.status != "inconclusive" else None
+    return {
+        "algorithm": algorithm.name,
+        "lattice": lattice.name if is_lattice else None,
+        "robots": int(initial.n),
+        "seed": int(seed),
+        "range": float(phi),
+        "steps": int(result.steps),
+        "status": result.status,
+        "static": bool(result.static),
+        "execution_steps": int(execution_steps(trace)),
+        "satisfies_lattice": satisfied if is_lattice else None,
+        "satisfaction": sat.as_dict(),
+        "fulfillment_ratio": formation.q,
+        "non_fulfillment_ratio": formation.nq,
+        "connected_throughout": None if conn.status == "inconclusive" else conn.held,
+        "connectivity": conn.as_dict(),
+        "tree_links": links.as_dict(),
+        "total_distance": total_distance(trace),
+        "min_separation": min_separation(trace),
+        "broken_assumptions": list(result.broken_assumptions),
+        "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
+        **({"record_every": int(record_every), "recorded_steps": len(trace.times)} if trace.times else {}),
+        **({"warnings": warnings} if warnings else {}),
+        **({"vectorised": True} if vectorised else {}),   # the same trace; said so the run is reproducible as run
+        "target": {"kind": kind, "name": lattice.name,
+                   # the target the final configuration was judged against, when the algorithm restates
+                   # it (003: the last pattern of a switching sequence, at the start's span)
+                   **({"judged_as": judged.describe()} if not is_lattice and judged is not lattice else {})},
+        "satisfied": satisfied,
+        "metrics": formation.metrics,
+    }
+
+
+def _exit_code(result, sat, conn, links, term) -> int:
+    """The run's verdict (module docstring): a crash, a broken link, lost connectivity or a
+    violated termination bound first, then the step cap, then the formation."""
+    if result.crash is not None or conn.violated or links.violated or (term is not None and term.violated):
+        return EXIT_VIOLATED
+    if result.status == "step_cap":
+        return EXIT_INCONCLUSIVE
+    if not sat.held:
+        return EXIT_VIOLATED if sat.violated else EXIT_INCONCLUSIVE
+    return EXIT_OK
+
+
 def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None = None,
                   initial=None, phi: float | None = None, max_steps: int | None = None,
                   v: float | None = None, omega: float | None = None, dt: float | None = None,
@@ -119,160 +321,47 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         or parameters outside the paper's assumptions (``AssumptionError``)
         unless ``allow_violations``.
     """
-    from swarmproof.invariants.connectivity import judge_connectivity, tree_link_mode_of, tree_links_survive
-    from swarmproof.invariants.metrics import (execution_steps, fulfillment_ratio, min_separation as
-                                               min_sep, non_fulfillment_ratio, total_distance)
-    from swarmproof.invariants.satisfaction import (DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL,
-                                                    satisfies_lattice)
-    from swarmproof.reference_impl import initial as initial_mod
-    from swarmproof.reference_impl.engine import simulate
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
+    from swarmproof.invariants.connectivity import tree_link_mode_of
+    from swarmproof.reference_impl.engine.run import check_team_size
 
     spec = resolve_algorithm(algorithm_name)  # unknown names fail first, listing the valid ones
     if seed < 0:
         raise UsageError(f"seed={seed!r} must be >= 0")
     kind = getattr(lattice, "kind", "lattice")
-    warnings = []
-    if phi is None:
-        phi = getattr(lattice, "range", None)
-    if phi is None:
-        # an algorithm whose robots sense everyone (003) needs a range only to draw connected starts
-        phi = getattr(spec.factory, "default_range", None)
-    if phi is None:
-        raise UsageError(f"{kind} {lattice.name!r} has no default range", fix="pass --range PHI")
-    if not (math.isfinite(phi) and phi > 0):
-        raise UsageError(f"range={phi!r} must be a finite number > 0")
-    from swarmproof.checkers.lattice_check import user_lattice_warning
-
-    w = user_lattice_warning(lattice, phi)
-    if w is not None:
-        if strict:
-            raise UsageError(w, fix="fix the lattice file, or drop --strict to run toward it anyway")
-        warnings.append(w)
+    phi = _run_range(spec, lattice, kind, phi)
+    warnings = _target_warnings(lattice, phi, strict)
     if max_steps is not None and max_steps < 0:
         raise UsageError(f"max_steps={max_steps!r} must be >= 0")
-    if initial is None:
-        if robots is None:
-            raise UsageError("robots=None: the number of robots is required without an initial file",
-                             fix="e.g. --robots 10")
-        if robots < 1:
-            raise UsageError(f"robots={robots!r} must be >= 1")
-        if robots > MAX_ROBOTS:
-            raise UsageError(f"robots={robots!r} is more than swarmproof draws a start for (at most {MAX_ROBOTS})",
-                             fix=f"run at most {MAX_ROBOTS} robots, or give an --initial file")
-        initial = None
-    algorithm = spec.build(n_robots=initial.n if initial is not None else robots)
+    _check_robots(robots, initial)
     n = initial.n if initial is not None else robots
-    from swarmproof.reference_impl.engine.run import check_team_size
-
+    algorithm = spec.build(n_robots=n)
     check_team_size(algorithm, n)          # before drawing a start: bounded on any input
     scale = getattr(algorithm, "scale_target", None)
     if callable(scale):
         # the algorithm's own target for n robots (004 Sec. V-A: the figure scaled to |A| goals)
         lattice = scale(lattice, n)
     params = build_params(algorithm, phi, n, v=v, omega=omega, dt=dt, extra=extra)
-    start = getattr(algorithm, "initial", None)
-    if initial is None and callable(start):
-        # the algorithm's own start (004 Sec. V-A: distinct random waypoints of an arena)
-        initial = start(n, seed, params, lattice)
     if initial is None:
-        if getattr(algorithm.model, "motion", None) == "grid":
-            initial = initial_mod.random_grid_connected(robots, seed, range=phi,
-                                                        spacing=float(params.extra.get("grid_spacing", 1.0)))
-        else:
-            initial = initial_mod.random_connected(robots, seed, range=phi, min_separation=min_separation)
+        initial = _seeded_start(algorithm, n, seed, params, lattice, phi, min_separation)
     link_mode = tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode})
-    observers = ()
-    if record_every != 1:
-        # a sparse trace: connectivity and the tree links are judged by streaming monitors that
-        # the engine feeds every step (DESIGN.md section 5, "Monitors see every step")
-        from swarmproof.invariants.connectivity import TreeLinkMonitor, connectivity_monitor
-
-        observers = (connectivity_monitor(algorithm, phi), TreeLinkMonitor(phi, mode=link_mode))
-    if vectorised:
-        simulate = getattr(algorithm, "vectorised_simulate", None)
-        if not callable(simulate):
-            raise UsageError(f"vectorised=True: algorithm {algorithm.name!r} has no vectorised path",
-                             fix="drop --vectorised (docs/engine.md lists the algorithms that have one)")
-    result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
-                      allow_violations=allow_violations, progress=progress, record_every=record_every,
-                      observers=observers)
-    trace = result.trace
-    pos_tol, ang_tol = getattr(algorithm, "satisfaction_tol", (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
-    ids, poses = result.final_ids, result.final_poses
-    is_lattice = kind == "lattice"
-    judged = lattice
-    if is_lattice:
-        sat = satisfies_lattice(ids, poses, lattice, phi, pos_tol=pos_tol, ang_tol=ang_tol)
-        q = fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
-        nq = non_fulfillment_ratio(ids, poses, lattice, phi, sat.roles) if sat.held else None
-        metrics = {"fulfillment_ratio": q, "non_fulfillment_ratio": nq}
-    else:
-        from swarmproof.invariants.satisfaction import judged_robots
-
-        tol = getattr(algorithm, "satisfaction_tol", None)
-        judged, ids, poses = judged_robots(algorithm, result, lattice, params)
-        sat = judged.satisfied(ids, poses, phi=phi, tol=tol)
-        q = nq = None
-        metrics = dict(judged.metrics(ids, poses, phi=phi))
-    own = getattr(algorithm, "metrics", None)
-    if callable(own):
-        metrics.update(own(result))
-    if observers:
-        conn, links = result.observed("connectivity"), result.observed("tree_links")
-    else:
-        conn = judge_connectivity(trace, phi, algorithm)
-        links = tree_links_survive(trace, phi, mode=link_mode)
-    satisfied = sat.held if sat.status != "inconclusive" else None
-    doc = {
-        "algorithm": algorithm.name,
-        "lattice": lattice.name if is_lattice else None,
-        "robots": int(initial.n),
-        "seed": int(seed),
-        "range": float(phi),
-        "steps": int(result.steps),
-        "status": result.status,
-        "static": bool(result.static),
-        "execution_steps": int(execution_steps(trace)),
-        "satisfies_lattice": satisfied if is_lattice else None,
-        "satisfaction": sat.as_dict(),
-        "fulfillment_ratio": q,
-        "non_fulfillment_ratio": nq,
-        "connected_throughout": None if conn.status == "inconclusive" else conn.held,
-        "connectivity": conn.as_dict(),
-        "tree_links": links.as_dict(),
-        "total_distance": total_distance(trace),
-        "min_separation": min_sep(trace),
-        "broken_assumptions": list(result.broken_assumptions),
-        "params": {"v": params.v, "omega": params.omega, "dt": params.dt},
-        **({"record_every": int(record_every), "recorded_steps": len(trace.times)} if trace.times else {}),
-        **({"warnings": warnings} if warnings else {}),
-        **({"vectorised": True} if vectorised else {}),   # the same trace; said so the run is reproducible as run
-        "target": {"kind": kind, "name": lattice.name,
-                   # the target the final configuration was judged against, when the algorithm restates
-                   # it (003: the last pattern of a switching sequence, at the start's span)
-                   **({"judged_as": judged.describe()} if not is_lattice and judged is not lattice else {})},
-        "satisfied": satisfied,
-        "metrics": metrics,
-    }
-    term = None
-    if callable(getattr(algorithm, "termination_bound", None)) or getattr(algorithm, "own_end", None):
-        from swarmproof.invariants.termination import judge_termination
-
-        term = judge_termination(trace, algorithm, params, result.status, max_steps=result.max_steps)
+    observers = _streaming_monitors(algorithm, phi, link_mode) if record_every != 1 else ()
+    result = _engine(algorithm, vectorised)(
+        algorithm, lattice, initial, params, seed=seed, max_steps=max_steps, allow_violations=allow_violations,
+        progress=progress, record_every=record_every, observers=observers)
+    formation = _judge_formation(algorithm, result, lattice, kind, params, phi)
+    conn, links = _judge_links(algorithm, result, phi, link_mode, streamed=bool(observers))
+    doc = _simulate_document(algorithm, lattice, kind, initial, seed, phi, params, result, formation, conn, links,
+                             record_every=record_every, warnings=warnings, vectorised=vectorised)
+    term = _judge_termination(algorithm, result, params)
+    if term is not None:
         doc["termination"] = term.as_dict()
     if result.crash is not None:
         doc["crash"] = dict(result.crash)
-    if result.crash is not None or conn.violated or links.violated or (term is not None and term.violated):
-        code = EXIT_VIOLATED
-    elif result.status == "step_cap":
-        code = EXIT_INCONCLUSIVE
-    elif not sat.held:
-        code = EXIT_VIOLATED if sat.violated else EXIT_INCONCLUSIVE
-    else:
-        code = EXIT_OK
+    code = _exit_code(result, formation.sat, conn, links, term)
     doc["exit_code"] = code
-    return CheckedRun(doc, code, result, lattice, algorithm, params, initial, sat, conn, links, term, metrics)
+    return CheckedRun(doc, code, result, lattice, algorithm, params, initial, formation.sat, conn, links, term,
+                      formation.metrics)
 
 
 # ---------------------------------------------------------------------------
