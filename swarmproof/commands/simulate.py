@@ -127,20 +127,25 @@ def _progress_printer():
     return show
 
 
-def run(args) -> int:
-    from swarmproof.checkers.runs import run_and_check
+def _target(args, spec):
+    """The target of ``--target`` (any kind), or of the alias that fixes its kind: ``--lattice``,
+    ``--shape``, or ``--pattern`` (the algorithm's own kind of pattern: 003's line patterns, 002's
+    repeating ones)."""
     from swarmproof.models.targets import resolve_target
-    from swarmproof.reference_impl import initial as initial_mod
-    from swarmproof.checkers.algorithm_spec import resolve_algorithm
 
-    spec = resolve_algorithm(args.algorithm)  # unknown names fail first, listing the valid ones
     if args.target is not None:
-        lattice = resolve_target(args.target)
-    else:
-        option = next(k for k in ("lattice", "shape", "pattern") if getattr(args, k) is not None)
-        # --pattern names the algorithm's own kind of pattern (003's line patterns, 002's repeating ones)
-        kind = getattr(spec.factory, "pattern_kind", "pattern") if option == "pattern" else option
-        lattice = resolve_target(getattr(args, option), kind=kind)
+        return resolve_target(args.target)
+    option = next(k for k in ("lattice", "shape", "pattern") if getattr(args, k) is not None)
+    # --pattern names the algorithm's own kind of pattern (003's line patterns, 002's repeating ones)
+    kind = getattr(spec.factory, "pattern_kind", "pattern") if option == "pattern" else option
+    return resolve_target(getattr(args, option), kind=kind)
+
+
+def _check_arguments(args) -> None:
+    """The numbers and output paths of the command line, checked before the run (a finished
+    report is never lost to a bad path)."""
+    from swarmproof.models.fileio import check_output_path
+
     if args.seed < 0:
         raise UsageError(f"--seed {args.seed!r} must be >= 0")
     if args.range_ is not None and not (math.isfinite(args.range_) and args.range_ > 0):
@@ -149,8 +154,6 @@ def run(args) -> int:
         raise UsageError(f"--max-steps {args.max_steps!r} must be >= 0")
     if args.record_every < 1:
         raise UsageError(f"--record-every {args.record_every!r} must be >= 1", fix="1 records every step")
-    from swarmproof.models.fileio import check_output_path
-
     for option, value in (("--trace", args.trace), ("--plot", args.plot), ("--gif", args.gif)):
         if value is not None:            # checked before the run: a finished report is never lost
             check_output_path(value, option)
@@ -158,16 +161,94 @@ def run(args) -> int:
         val = getattr(args, name, None)
         if val is not None and not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
             raise UsageError(f"--{name} {val!r} must be a finite positive number")
-    init = None
+
+
+def _initial(args):
+    """The start of ``--initial FILE`` (``--robots``, if given, must agree), or None for a seeded
+    start of ``--robots`` robots."""
+    from swarmproof.reference_impl import initial as initial_mod
+
     if args.initial is not None:
         init = initial_mod.from_file(args.initial)
         if args.robots is not None and args.robots != init.n:
             raise UsageError(f"--robots {args.robots} disagrees with {args.initial!r} ({init.n} robots)",
                              fix="drop --robots or make them agree")
-    elif args.robots is None:
+        return init
+    if args.robots is None:
         raise UsageError("--robots N is required without --initial", fix="e.g. --robots 10")
-    elif args.robots < 1:
+    if args.robots < 1:
         raise UsageError(f"--robots {args.robots!r} must be >= 1")
+    return None
+
+
+def _write_files(args, checked) -> None:
+    """Write ``--trace``, ``--plot`` and ``--gif``, each path recorded in the JSON document."""
+    doc, trace = checked.doc, checked.result.trace
+    lattice = checked.lattice   # the target as run (an algorithm may scale a shape to --robots)
+    if args.trace is not None:
+        doc["trace"] = trace.save(args.trace)
+    if args.plot is not None:
+        doc["plot"] = plot_run(trace, lattice, getattr(checked.satisfaction, "roles", None), args.plot, doc["range"])
+    if args.gif is not None:
+        from swarmproof.checkers.plotting import animate_trace
+
+        doc["gif"] = animate_trace(trace, args.gif, title=f"{checked.algorithm.name} on {lattice.name}",
+                                   max_frames=GIF_FRAMES)
+
+
+def _report_lines(args, checked) -> list:
+    """The human report of a checked run: what ran, each judgment, the figures, the files, then
+    the result line of the exit code."""
+    doc, result, sat, conn, links, term = (checked.doc, checked.result, checked.satisfaction,
+                                           checked.connectivity, checked.tree_links, checked.termination)
+    q = doc["fulfillment_ratio"]
+    q_txt = "undefined (lattice not satisfied)" if q is None else f"{q:.4f}"
+    kind = doc["target"]["kind"]
+    lines = [
+        f"{checked.algorithm.name} on {checked.lattice.name}: {checked.initial.n} robots, seed {args.seed}, "
+        f"range {doc['range']:g}",
+        f"  run: {result.status} after {result.steps} steps (static from step {doc['execution_steps']})",
+        f"  satisfies {kind}: {sat.status} - {sat.message}",
+        f"  connectivity: {conn.status} - {conn.message}",
+        f"  tree links: {links.status} - {links.message}",
+    ]
+    if kind == "lattice":
+        lines.append(f"  fulfillment ratio Q: {q_txt}")
+    else:
+        lines += [f"  {key}: {_fmt(val)}" for key, val in doc["metrics"].items()]
+    lines.append(f"  total distance: {doc['total_distance']:.6g}, min separation: "
+                 + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"))
+    if term is not None:
+        lines.append(f"  termination: {term.status} - {term.message}")
+    if result.crash is not None:
+        c = result.crash
+        who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
+        lines.append(f"  crash: {who} raised {c['error']}: {c['message']} in step {c['step']} ({c['where']})")
+    if result.broken_assumptions:
+        lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
+    if args.trace is not None:
+        lines.append(f"  trace: {doc['trace']}")
+    if args.plot is not None:
+        lines.append(f"  plot: {doc['plot']}")
+    if args.gif is not None:
+        lines.append(f"  animation: {doc['gif']}")
+    lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
+                  "result: a checked property failed",
+                  3: "result: inconclusive (step cap reached)"}[checked.exit_code])
+    return lines
+
+
+def run(args) -> int:
+    """Run ``swarmproof simulate``: check the command line, run and check the algorithm
+    (:func:`~swarmproof.checkers.runs.run_and_check`), write the files asked for, then print the
+    JSON document or the human report; returns the run's exit code."""
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+    from swarmproof.checkers.runs import run_and_check
+
+    spec = resolve_algorithm(args.algorithm)  # unknown names fail first, listing the valid ones
+    lattice = _target(args, spec)
+    _check_arguments(args)
+    init = _initial(args)
     checked = run_and_check(
         args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
         max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
@@ -175,59 +256,14 @@ def run(args) -> int:
         allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
         tree_link_mode=args.tree_link_mode,
         strict=args.strict, vectorised=args.vectorised)
-    doc, code = checked.doc, checked.exit_code
-    for w in doc.get("warnings", ()):
+    for w in checked.doc.get("warnings", ()):
         sys.stderr.write(f"swarmproof simulate: warning: {w}\n")
-    trace, result, sat, conn, links, term = (checked.result.trace, checked.result, checked.satisfaction,
-                                             checked.connectivity, checked.tree_links, checked.termination)
-    algorithm, init, phi, q = checked.algorithm, checked.initial, doc["range"], doc["fulfillment_ratio"]
-    lattice = checked.lattice   # the target as run (an algorithm may scale a shape to --robots)
-    if args.trace is not None:
-        doc["trace"] = trace.save(args.trace)
-    if args.plot is not None:
-        doc["plot"] = plot_run(trace, lattice, getattr(sat, "roles", None), args.plot, phi)
-    if args.gif is not None:
-        from swarmproof.checkers.plotting import animate_trace
-
-        doc["gif"] = animate_trace(trace, args.gif, title=f"{algorithm.name} on {lattice.name}",
-                                   max_frames=GIF_FRAMES)
+    _write_files(args, checked)
     if args.json:
-        emit_json(doc)
+        emit_json(checked.doc)
     else:
-        q_txt = "undefined (lattice not satisfied)" if q is None else f"{q:.4f}"
-        kind = doc["target"]["kind"]
-        lines = [
-            f"{algorithm.name} on {lattice.name}: {init.n} robots, seed {args.seed}, range {phi:g}",
-            f"  run: {result.status} after {result.steps} steps (static from step {doc['execution_steps']})",
-            f"  satisfies {kind}: {sat.status} - {sat.message}",
-            f"  connectivity: {conn.status} - {conn.message}",
-            f"  tree links: {links.status} - {links.message}",
-        ]
-        if kind == "lattice":
-            lines.append(f"  fulfillment ratio Q: {q_txt}")
-        else:
-            lines += [f"  {key}: {_fmt(val)}" for key, val in doc["metrics"].items()]
-        lines.append(f"  total distance: {doc['total_distance']:.6g}, min separation: "
-                     + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"))
-        if term is not None:
-            lines.append(f"  termination: {term.status} - {term.message}")
-        if result.crash is not None:
-            c = result.crash
-            who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
-            lines.append(f"  crash: {who} raised {c['error']}: {c['message']} in step {c['step']} ({c['where']})")
-        if result.broken_assumptions:
-            lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
-        if args.trace is not None:
-            lines.append(f"  trace: {doc['trace']}")
-        if args.plot is not None:
-            lines.append(f"  plot: {doc['plot']}")
-        if args.gif is not None:
-            lines.append(f"  animation: {doc['gif']}")
-        lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
-                      "result: a checked property failed",
-                      3: "result: inconclusive (step cap reached)"}[code])
-        human(args, *lines)
-    return code
+        human(args, *_report_lines(args, checked))
+    return checked.exit_code
 
 
 def _fmt(val) -> str:
