@@ -59,7 +59,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import networkx as nx
 import numpy as np
@@ -832,6 +832,169 @@ def _tolerances(graph: LatticeGraph, pos_tol, ang_tol) -> tuple[float, float]:
     return pt, at
 
 
+def _check_range(graph: LatticeGraph, range: float | None, max_rotation_order, budget) -> float:
+    """The range phi (``range``, else the graph's), checked with the search limits."""
+    if range is None:
+        range = graph.range
+    if range is None:
+        where = f"{graph.source}: " if getattr(graph, "source", None) and not str(graph.source).startswith("library:") else ""
+        raise UsageError(f"{where}range is not given (range=None and the graph has no range)",
+                         fix="pass --range PHI or set `range:` in the file")
+    phi = check_positive("range", range)
+    if not isinstance(max_rotation_order, int) or max_rotation_order < 1:
+        raise UsageError(f"max_rotation_order={max_rotation_order!r} must be a whole number >= 1")
+    if not isinstance(budget, int) or budget < 1:
+        raise UsageError(f"budget={budget!r} must be a whole number >= 1")
+    return phi
+
+
+class _Suggestions:
+    """The edge rows a report suggests adding (``suggested_edges``), in the order found, each
+    once: a row within the tolerances of one already listed is not listed again."""
+
+    def __init__(self, pt: float, at: float) -> None:
+        self.rows: list[list] = []
+        self.pt, self.at = pt, at
+
+    def add(self, row: list) -> None:
+        for r in self.rows:
+            if r[0] == row[0] and r[1] == row[1] and SE2(r[2], r[3], math.radians(r[4])).isclose(
+                    SE2(row[2], row[3], math.radians(row[4])), self.pt, self.at):
+                return
+        self.rows.append(row)
+
+
+def _strong_connectivity_defects(graph: LatticeGraph) -> list[Defect]:
+    """001 Def. 1: every role reaches every other along edges; else one defect naming the
+    components and the roles v0 cannot reach."""
+    G = graph.graph
+    if nx.is_strongly_connected(G):
+        return []
+    reach = set(nx.descendants(G, graph.v0)) | {graph.v0}
+    comps = sorted((sorted(c, key=graph.role_index) for c in nx.strongly_connected_components(G)),
+                   key=lambda c: graph.role_index(c[0]))
+    unreached = [r for r in graph.roles if r not in reach]
+    msg = (f"the graph is not strongly connected (001 Def. 1): components "
+           f"{[list(c) for c in comps]}")
+    if unreached:
+        msg += f"; roles {unreached} cannot be reached from v0={graph.v0!r}"
+    return [Defect("not_strongly_connected", msg, {
+        "components": [list(c) for c in comps], "unreachable_from_v0": unreached,
+        "fix": "add edges (with their inverses) joining the components, or remove unused roles"})]
+
+
+def _missing_inverse_defects(graph: LatticeGraph, pt: float, at: float,
+                             suggestions: _Suggestions) -> tuple[list[Defect], list[Edge]]:
+    """001 Def. 1: every edge has its inverse; a defect (and a suggested row) per edge without
+    one.  Returns the defects and those edges."""
+    defects, missing = [], []
+    for e in graph.edges:
+        if graph.find_inverse(e, pt, at) is None:
+            row = _fix_row(e.target, e.source, e.transform.inverse())
+            missing.append(e)
+            defects.append(Defect("missing_inverse",
+                                  f"{e.describe()} has no inverse edge {e.target} -> {e.source} "
+                                  f"{_pose_text(e.transform.inverse())} (001 Def. 1)",
+                                  {"edge": e.index, "fix_edge": row}))
+            suggestions.add(row)
+    return defects, missing
+
+
+def _zero_length_defects(graph: LatticeGraph, pt: float) -> list[Defect]:
+    """An edge of length 0 puts two robots on one spot."""
+    return [Defect("zero_length_edge", f"{e.describe()} has length 0: two robots on one spot",
+                   {"edge": e.index, "fix": f"delete edges[{e.index}]"})
+            for e in graph.edges if e.transform.norm() <= pt]
+
+
+def _duplicate_position_defects(graph: LatticeGraph, pt: float) -> list[Defect]:
+    """Two out-edges of one role to one position."""
+    defects = []
+    for r in graph.roles:
+        outs = graph.out_edges(r)
+        for i, e1 in enumerate(outs):
+            for e2 in outs[i + 1:]:
+                if abs(e1.transform.x - e2.transform.x) <= pt and abs(e1.transform.y - e2.transform.y) <= pt:
+                    defects.append(Defect(
+                        "duplicate_position",
+                        f"role {r!r} has two out-edges to one position: {e1.describe()} and "
+                        f"{e2.describe()}",
+                        {"edges": [e1.index, e2.index],
+                         "fix": f"delete one of edges[{e1.index}] and edges[{e2.index}]"}))
+    return defects
+
+
+def _out_of_range_defects(graph: LatticeGraph, phi: float, pt: float) -> list[Defect]:
+    """An edge at least phi long: neighbors are strictly closer than phi (001 Sec. III)."""
+    return [Defect(
+        "out_of_range_edge",
+        f"{e.describe()} has length {e.transform.norm():.9g} >= range {phi:g}: a robot "
+        "cannot sense that neighbor (neighbors are strictly closer than phi)",
+        {"edge": e.index, "length": _r(e.transform.norm()),
+         "fix": f"use a range above {e.transform.norm():.9g} or delete edges[{e.index}]"})
+        for e in graph.edges if e.transform.norm() >= phi - pt]
+
+
+class _SelfConsistency(NamedTuple):
+    """What 001 Def. 4 decided on the completed graph."""
+
+    classification: dict
+    self_consistent: bool | None      # None: undecided
+    inconclusive_reason: str | None
+    defects: list
+
+
+def _self_consistency(graph: LatticeGraph, missing_inv: list[Edge], phi: float, pt: float, at: float,
+                      max_rotation_order: int, budget: int, suggestions: _Suggestions,
+                      notes: list[str]) -> _SelfConsistency:
+    """001 Def. 4 on the graph completed with its missing inverses: the classification of its
+    pattern, then every pair of pattern points closer than phi (:func:`_enumerate_pairs`); a
+    dense pattern or a crowded one is a defect, a search past its limits leaves it undecided.
+    Notes on what was decided on go to ``notes``."""
+    full = graph.with_edges([(e.target, e.source, e.transform.inverse()) for e in missing_inv]) \
+        if missing_inv else graph
+    if missing_inv:
+        notes.append(f"self-consistency was decided on the graph completed with its "
+                     f"{len(missing_inv)} missing inverse edge(s) (indices >= {len(graph.edges)} "
+                     "in paths are those added inverses)")
+    classification: dict[str, Any] = {"kind": None, "rotation_order": None,
+                                      "translation_rank": None, "translation_basis": None}
+    try:
+        an = _Analysis(full, graph.v0, phi, pt, at, max_rotation_order, budget)
+        if len(an.roles) < len(graph.roles):
+            notes.append(f"self-consistency was decided on the {len(an.roles)} roles reachable "
+                         f"from v0={graph.v0!r} (inverse edges included)")
+        an.classify()
+        rank = len(an.basis)
+        classification = {
+            "kind": {2: "periodic", 1: "strip", 0: "finite"}[rank],
+            "rotation_order": an.n,
+            "translation_rank": rank,
+            "translation_basis": [[_r(b[0]), _r(b[1])] for b in an.basis],
+        }
+        d4 = _enumerate_pairs(an, phi, pt, at)
+        for d in d4:
+            if "fix_edge" in d.details:
+                suggestions.add(d.details["fix_edge"])
+        return _SelfConsistency(classification, not d4, None, d4)
+    except _Dense as exc:
+        dense = {"kind": "dense", "rotation_order": None, "translation_rank": None, "translation_basis": None}
+        return _SelfConsistency(dense, False, None, [Defect(
+            "dense", exc.message + "; no finite set of edges can fix it",
+            dict(exc.details, fix="change the edge transforms so that every "
+                 "closed walk turns by a multiple of 360/n degrees and the "
+                 "translations form a lattice (if the file rounds numbers, "
+                 "e.g. 0.866 for sqrt(3)/2, give more digits or a larger "
+                 "--pos-tol/--ang-tol)"))])
+    except _Crowded as exc:
+        return _SelfConsistency(classification, False, None, [Defect(
+            "self_consistency", exc.message + " (001 Def. 4)", dict(
+                exc.details, fix="add an edge for every pattern point closer than the range, or "
+                                 "lengthen the translations"))])
+    except _Inconclusive as exc:
+        return _SelfConsistency(classification, None, str(exc), [])
+
+
 def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: float | None = None,
                   ang_tol: float | None = None,
                   max_rotation_order: int = DEFAULT_MAX_ROTATION_ORDER,
@@ -880,143 +1043,40 @@ def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: f
     ----------
     001_7a4e517b856331bc.txt, Sec. III-B, Defs. 1, 3, 4.
     """
-    if range is None:
-        range = graph.range
-    if range is None:
-        where = f"{graph.source}: " if getattr(graph, "source", None) and not str(graph.source).startswith("library:") else ""
-        raise UsageError(f"{where}range is not given (range=None and the graph has no range)",
-                         fix="pass --range PHI or set `range:` in the file")
-    phi = check_positive("range", range)
-    if not isinstance(max_rotation_order, int) or max_rotation_order < 1:
-        raise UsageError(f"max_rotation_order={max_rotation_order!r} must be a whole number >= 1")
-    if not isinstance(budget, int) or budget < 1:
-        raise UsageError(f"budget={budget!r} must be a whole number >= 1")
+    phi = _check_range(graph, range, max_rotation_order, budget)
     pt, at = _tolerances(graph, pos_tol, ang_tol)
-    defects: list[Defect] = []
-    notes: list[str] = []
-    suggested: list[list] = []
-
-    def suggest(row):
-        for r in suggested:
-            if r[0] == row[0] and r[1] == row[1] and SE2(r[2], r[3], math.radians(r[4])).isclose(
-                    SE2(row[2], row[3], math.radians(row[4])), pt, at):
-                return
-        suggested.append(row)
+    suggestions = _Suggestions(pt, at)
 
     # ---- Definition 1 (001 Sec. III-B) and the project's additions ----------
-    G = graph.graph
-    if not nx.is_strongly_connected(G):
-        reach = set(nx.descendants(G, graph.v0)) | {graph.v0}
-        comps = sorted((sorted(c, key=graph.role_index) for c in nx.strongly_connected_components(G)),
-                       key=lambda c: graph.role_index(c[0]))
-        unreached = [r for r in graph.roles if r not in reach]
-        msg = (f"the graph is not strongly connected (001 Def. 1): components "
-               f"{[list(c) for c in comps]}")
-        if unreached:
-            msg += f"; roles {unreached} cannot be reached from v0={graph.v0!r}"
-        defects.append(Defect("not_strongly_connected", msg, {
-            "components": [list(c) for c in comps], "unreachable_from_v0": unreached,
-            "fix": "add edges (with their inverses) joining the components, or remove unused roles"}))
-    missing_inv = []
-    for e in graph.edges:
-        if graph.find_inverse(e, pt, at) is None:
-            row = _fix_row(e.target, e.source, e.transform.inverse())
-            missing_inv.append(e)
-            defects.append(Defect("missing_inverse",
-                                  f"{e.describe()} has no inverse edge {e.target} -> {e.source} "
-                                  f"{_pose_text(e.transform.inverse())} (001 Def. 1)",
-                                  {"edge": e.index, "fix_edge": row}))
-            suggest(row)
-    for e in graph.edges:
-        if e.transform.norm() <= pt:
-            defects.append(Defect("zero_length_edge",
-                                  f"{e.describe()} has length 0: two robots on one spot",
-                                  {"edge": e.index, "fix": f"delete edges[{e.index}]"}))
-    for r in graph.roles:
-        outs = graph.out_edges(r)
-        for i, e1 in enumerate(outs):
-            for e2 in outs[i + 1:]:
-                if abs(e1.transform.x - e2.transform.x) <= pt and abs(e1.transform.y - e2.transform.y) <= pt:
-                    defects.append(Defect(
-                        "duplicate_position",
-                        f"role {r!r} has two out-edges to one position: {e1.describe()} and "
-                        f"{e2.describe()}",
-                        {"edges": [e1.index, e2.index],
-                         "fix": f"delete one of edges[{e1.index}] and edges[{e2.index}]"}))
-    for e in graph.edges:
-        if e.transform.norm() >= phi - pt:
-            defects.append(Defect(
-                "out_of_range_edge",
-                f"{e.describe()} has length {e.transform.norm():.9g} >= range {phi:g}: a robot "
-                "cannot sense that neighbor (neighbors are strictly closer than phi)",
-                {"edge": e.index, "length": _r(e.transform.norm()),
-                 "fix": f"use a range above {e.transform.norm():.9g} or delete edges[{e.index}]"}))
+    defects = _strong_connectivity_defects(graph)
+    inverse_defects, missing_inv = _missing_inverse_defects(graph, pt, at, suggestions)
+    defects += inverse_defects
+    defects += _zero_length_defects(graph, pt)
+    defects += _duplicate_position_defects(graph, pt)
+    defects += _out_of_range_defects(graph, phi, pt)
 
     # ---- Definition 4 (001 Sec. III-B) on the completed graph ------------------
-    full = graph.with_edges([(e.target, e.source, e.transform.inverse()) for e in missing_inv]) \
-        if missing_inv else graph
-    if missing_inv:
-        notes.append(f"self-consistency was decided on the graph completed with its "
-                     f"{len(missing_inv)} missing inverse edge(s) (indices >= {len(graph.edges)} "
-                     "in paths are those added inverses)")
-    classification: dict[str, Any] = {"kind": None, "rotation_order": None,
-                                      "translation_rank": None, "translation_basis": None}
-    self_consistent: bool | None = None
-    inconclusive_reason = None
-    try:
-        an = _Analysis(full, graph.v0, phi, pt, at, max_rotation_order, budget)
-        if len(an.roles) < len(graph.roles):
-            notes.append(f"self-consistency was decided on the {len(an.roles)} roles reachable "
-                         f"from v0={graph.v0!r} (inverse edges included)")
-        an.classify()
-        rank = len(an.basis)
-        classification = {
-            "kind": {2: "periodic", 1: "strip", 0: "finite"}[rank],
-            "rotation_order": an.n,
-            "translation_rank": rank,
-            "translation_basis": [[_r(b[0]), _r(b[1])] for b in an.basis],
-        }
-        d4 = _enumerate_pairs(an, phi, pt, at)
-        for d in d4:
-            defects.append(d)
-            if "fix_edge" in d.details:
-                suggest(d.details["fix_edge"])
-        self_consistent = not d4
-    except _Dense as exc:
-        classification = {"kind": "dense", "rotation_order": None, "translation_rank": None,
-                          "translation_basis": None}
-        defects.append(Defect("dense", exc.message + "; no finite set of edges can fix it",
-                              dict(exc.details, fix="change the edge transforms so that every "
-                                   "closed walk turns by a multiple of 360/n degrees and the "
-                                   "translations form a lattice (if the file rounds numbers, "
-                                   "e.g. 0.866 for sqrt(3)/2, give more digits or a larger "
-                                   "--pos-tol/--ang-tol)")))
-        self_consistent = False
-    except _Crowded as exc:
-        defects.append(Defect("self_consistency", exc.message + " (001 Def. 4)", dict(
-            exc.details, fix="add an edge for every pattern point closer than the range, or "
-                             "lengthen the translations")))
-        self_consistent = False
-    except _Inconclusive as exc:
-        inconclusive_reason = str(exc)
+    notes: list[str] = []
+    sc = _self_consistency(graph, missing_inv, phi, pt, at, max_rotation_order, budget, suggestions, notes)
+    defects += sc.defects
 
     defects.sort(key=lambda d: DEFECT_KINDS.index(d.kind))
     if defects:
         verdict = Verdict.VIOLATED
-    elif self_consistent is None:
+    elif sc.self_consistent is None:
         verdict = Verdict.INCONCLUSIVE
     else:
         verdict = Verdict.HELD
-    if defects and self_consistent is None:
-        notes.append(f"self-consistency undecided: {inconclusive_reason}")
+    if defects and sc.self_consistent is None:
+        notes.append(f"self-consistency undecided: {sc.inconclusive_reason}")
     if any(d.kind in ("contradiction", "dense") for d in defects):
         notes.append("no finite set of added edges can make this graph self-consistent: "
                      "fix the contradiction/density by changing edge transforms")
     return LatticeReport(
         file=graph.source, name=graph.name, range=phi, valid=verdict is Verdict.HELD,
-        self_consistent=self_consistent, classification=classification, defects=defects,
-        suggested_edges=suggested, verdict=verdict, notes=notes,
-        inconclusive_reason=inconclusive_reason,
+        self_consistent=sc.self_consistent, classification=sc.classification, defects=defects,
+        suggested_edges=suggestions.rows, verdict=verdict, notes=notes,
+        inconclusive_reason=sc.inconclusive_reason,
         tolerances={"pos_tol": pt, "ang_tol": at, "max_rotation_order": max_rotation_order,
                     "budget": budget})
 
@@ -1026,107 +1086,152 @@ def _pose_text(t) -> str:
     return f"({_num(x)}, {_num(y)}, {_num(math.degrees(th))}deg)"
 
 
-def _enumerate_pairs(an: _Analysis, phi: float, pt: float, at: float) -> list[Defect]:
-    """Def. 4 pairs with first point ``A_w = T_P[w]``: contradictions and missing edges."""
-    roles = an.roles
-    A = np.array([an.tree_T[w].as_tuple() for w in roles])
-    hits, cand, cz, ck, lc = an.points_near(A[:, :2], phi)
-    max_listed = 10_000
-    # Counting bound: each pattern point strictly within range of A_w (and not on it)
-    # needs its own out-edge of w, so the excess over the out-degree is a lower bound
-    # on the missing edges; when it is huge, say so instead of listing them.
+#: The most missing edges a report lists; past it the pattern is called crowded (001 Def. 4).
+_MAX_LISTED = 10_000
+
+
+def _check_not_crowded(an: _Analysis, A: np.ndarray, hits, cand: np.ndarray, phi: float, pt: float) -> None:
+    """Raise :class:`_Crowded` when a counting bound alone shows more than :data:`_MAX_LISTED`
+    missing edges: each pattern point strictly within range of ``A_w`` (and not on it) needs its
+    own out-edge of ``w``, so the excess over the out-degree is a lower bound on the missing
+    edges; when it is huge, say so instead of listing them."""
     excess = 0
-    for wi, w in enumerate(roles):
+    for wi, w in enumerate(an.roles):
         idx = np.asarray(hits[wi], dtype=np.int64)
         dd = np.hypot(cand[idx, 0] - A[wi, 0], cand[idx, 1] - A[wi, 1]) if len(idx) else idx
         excess += max(0, int(np.count_nonzero((dd > pt) & (dd < phi - pt)))
                       - len(an.g.out_edges(w)))
-    if excess > max_listed:
+    if excess > _MAX_LISTED:
         raise _Crowded(
             f"at least {excess} edges are missing (001 Def. 4): the pattern puts far more "
             f"robots within range {phi:g} than the graph has out-edges; too many to list",
             {"missing_at_least": excess})
-    # Out-edges per (w, z) as arrays, from the completed graph.
-    by_pair: dict[tuple[str, str], np.ndarray] = {}
-    for e in an.g.edges:
+
+
+def _edge_arrays(g: LatticeGraph) -> dict[tuple[str, str], np.ndarray]:
+    """The out-edge transforms ``(x, y, theta)`` of ``g`` per ``(source, target)`` role pair."""
+    by_pair: dict[tuple[str, str], list] = {}
+    for e in g.edges:
         by_pair.setdefault((e.source, e.target), []).append(e.transform.as_tuple())
-    by_pair = {k: np.array(v) for k, v in by_pair.items()}
-    defects: list[Defect] = []
-    seen_missing: dict[tuple, list[SE2]] = {}
-    n_missing = 0
-    seen_contra: dict[tuple[str, str], list[SE2]] = {}
+    return {k: np.array(v) for k, v in by_pair.items()}
+
+
+def _has_edge(edges_wz: np.ndarray | None, rel: SE2, pt: float, at: float) -> bool:
+    """Whether one of the transforms ``edges_wz`` is ``rel`` within the tolerances."""
+    if edges_wz is None:
+        return False
+    ok = ((np.abs(edges_wz[:, 0] - rel.x) <= pt) & (np.abs(edges_wz[:, 1] - rel.y) <= pt)
+          & (np.abs(wrap_angle(edges_wz[:, 2] - rel.theta)) <= at))
+    return bool(ok.any())
+
+
+def _relative_poses(a: np.ndarray, points: np.ndarray):
+    """The poses ``points`` (rows ``x, y, theta``) in the body frame of pose ``a``: ``(x, y,
+    theta, distance)`` arrays."""
+    c, s = math.cos(a[2]), math.sin(a[2])
+    dx = points[:, 0] - a[0]
+    dy = points[:, 1] - a[1]
+    rx = c * dx + s * dy
+    ry = -s * dx + c * dy
+    rth = wrap_angle(points[:, 2] - a[2])
+    return rx, ry, rth, np.hypot(rx, ry)
+
+
+class _PairDefects:
+    """The Def. 4 defects found from the points ``A_w = T_P[w]``, each listed once: two roles
+    (or two headings) forced onto one spot, and a robot within range without its edge."""
+
+    def __init__(self, an: _Analysis, phi: float, pt: float, at: float) -> None:
+        self.an, self.phi, self.pt, self.at = an, phi, pt, at
+        self.defects: list[Defect] = []
+        self.seen_contra: dict[tuple[str, str], list[SE2]] = {}
+        self.seen_missing: dict[tuple, list[SE2]] = {}
+        self.n_missing = 0
+
+    def contradiction(self, w: str, z: str, rel: SE2, d: float, point: tuple) -> None:
+        """Role ``z`` at ``rel``, within ``pt`` of ``A_w``: the pattern point ``point`` (its cell
+        index and lattice coordinates, :meth:`_Analysis.word_for_point`)."""
+        an = self.an
+        if any(rel.isclose(t, self.pt, self.at) for t in self.seen_contra.get((w, z), ())):
+            return
+        self.seen_contra.setdefault((w, z), []).append(rel)
+        walk = an.word_for_point(point[0], z, point[1])
+        what = ("two roles" if z != w else "two headings")
+        self.defects.append(Defect(
+            "contradiction",
+            f"{what} forced onto one spot: from role {an.start!r}, path "
+            f"{_walk_text(an.tree_path[w])} ends at role {w!r} {_pose_text(an.tree_T[w])} and "
+            f"path {_walk_text(walk)} at role {z!r} "
+            f"{_pose_text(an.walk_transform(walk))}; no added edge can fix this",
+            {"start_role": an.start, "roles": [w, z],
+             "paths": [an.tree_path[w], walk],
+             "poses": [_pose_json(an.tree_T[w]), _pose_json(an.walk_transform(walk))],
+             "distance": _r(d),
+             "fix": "change the edge transforms so that these two walks end at "
+                    "different positions (or at the same role and heading)"}))
+
+    def missing_edge(self, w: str, z: str, rel: SE2, d: float, point: tuple) -> None:
+        """Role ``z`` at ``rel``, closer than phi to ``A_w`` but not an edge ``w -> z``: a
+        defect with the row to add (:class:`_Crowded` past :data:`_MAX_LISTED` of them)."""
+        an, pt, at, phi = self.an, self.pt, self.at, self.phi
+        key = (w, z, round(rel.x / (10 * pt)), round(rel.y / (10 * pt)), round(rel.theta / (10 * at)))
+        if any(rel.isclose(t, pt, at) for t in self.seen_missing.get(key, ())):
+            return
+        self.seen_missing.setdefault(key, []).append(rel)
+        self.n_missing += 1
+        if self.n_missing > _MAX_LISTED:
+            raise _Crowded(
+                f"more than {_MAX_LISTED} edges are missing (001 Def. 4): the pattern puts "
+                f"far more robots within range {phi:g} than the graph has out-edges; the "
+                "listing stopped there, so suggested_edges is incomplete",
+                {"missing_listed": _MAX_LISTED})
+        walk = an.word_for_point(point[0], z, point[1])
+        tb = an.walk_transform(walk)
+        row = _fix_row(w, z, rel)
+        self.defects.append(Defect(
+            "self_consistency",
+            f"robots of roles {w!r} and {z!r} are {d:.9g} apart (< range {phi:g}) but the "
+            f"graph has no edge {w} -> {z} {_pose_text(rel)}: from role {an.start!r}, path "
+            f"{_walk_text(an.tree_path[w])} ends at {_pose_text(an.tree_T[w])} and path "
+            f"{_walk_text(walk)} at {_pose_text(tb)} (001 Def. 4)",
+            {"start_role": an.start, "roles": [w, z],
+             "paths": [an.tree_path[w], walk],
+             "poses": [_pose_json(an.tree_T[w]), _pose_json(tb)],
+             "distance": _r(d), "fix_edge": row}))
+
+
+def _enumerate_pairs(an: _Analysis, phi: float, pt: float, at: float) -> list[Defect]:
+    """Def. 4 pairs with first point ``A_w = T_P[w]``: contradictions and missing edges.
+
+    Each pattern point near ``A_w`` is taken in order of distance: on ``A_w`` itself (within
+    ``pt``) it is the same robot or a contradiction; strictly within phi it needs an edge
+    ``w -> z`` with its relative pose; at phi or beyond it is no neighbor.
+    """
+    roles = an.roles
+    A = np.array([an.tree_T[w].as_tuple() for w in roles])
+    hits, cand, cz, ck, lc = an.points_near(A[:, :2], phi)
+    _check_not_crowded(an, A, hits, cand, phi, pt)
+    by_pair = _edge_arrays(an.g)
+    found = _PairDefects(an, phi, pt, at)
     for wi, w in enumerate(roles):
         idx = np.asarray(hits[wi], dtype=np.int64)
         if not len(idx):
             continue
-        a = A[wi]
-        c, s = math.cos(a[2]), math.sin(a[2])
-        dx = cand[idx, 0] - a[0]
-        dy = cand[idx, 1] - a[1]
-        rx = c * dx + s * dy
-        ry = -s * dx + c * dy
-        rth = wrap_angle(cand[idx, 2] - a[2])
-        dist = np.hypot(rx, ry)
+        rx, ry, rth, dist = _relative_poses(A[wi], cand[idx])
         for j in np.argsort(dist, kind="stable"):
             d = float(dist[j])
             ci = int(idx[j])
             z = roles[int(cz[ci])]
             rel = SE2(float(rx[j]), float(ry[j]), float(rth[j]))
+            point = (int(ck[ci]), lc[ci])
             if d <= pt:
-                if z == w and abs(float(rth[j])) <= at:
-                    continue  # the same robot reached by two walks
-                if any(rel.isclose(t, pt, at) for t in seen_contra.get((w, z), ())):
-                    continue
-                seen_contra.setdefault((w, z), []).append(rel)
-                walk_b = an.word_for_point(int(ck[ci]), z, lc[ci])
-                what = ("two roles" if z != w else "two headings")
-                defects.append(Defect(
-                    "contradiction",
-                    f"{what} forced onto one spot: from role {an.start!r}, path "
-                    f"{_walk_text(an.tree_path[w])} ends at role {w!r} {_pose_text(an.tree_T[w])} and "
-                    f"path {_walk_text(walk_b)} at role {z!r} "
-                    f"{_pose_text(an.walk_transform(walk_b))}; no added edge can fix this",
-                    {"start_role": an.start, "roles": [w, z],
-                     "paths": [an.tree_path[w], walk_b],
-                     "poses": [_pose_json(an.tree_T[w]), _pose_json(an.walk_transform(walk_b))],
-                     "distance": _r(d),
-                     "fix": "change the edge transforms so that these two walks end at "
-                            "different positions (or at the same role and heading)"}))
-                continue
-            if d >= phi - pt:
-                continue  # exactly phi (within tolerance) or beyond: not neighbors
-            edges_wz = by_pair.get((w, z))
-            if edges_wz is not None:
-                ok = ((np.abs(edges_wz[:, 0] - rel.x) <= pt) & (np.abs(edges_wz[:, 1] - rel.y) <= pt)
-                      & (np.abs(wrap_angle(edges_wz[:, 2] - rel.theta)) <= at))
-                if ok.any():
-                    continue
-            key = (z, round(rel.x / (10 * pt)), round(rel.y / (10 * pt)),
-                   round(rel.theta / (10 * at)))
-            if any(rel.isclose(t, pt, at) for t in seen_missing.get((w,) + key, ())):
-                continue
-            seen_missing.setdefault((w,) + key, []).append(rel)
-            n_missing += 1
-            if n_missing > max_listed:
-                raise _Crowded(
-                    f"more than {max_listed} edges are missing (001 Def. 4): the pattern puts "
-                    f"far more robots within range {phi:g} than the graph has out-edges; the "
-                    "listing stopped there, so suggested_edges is incomplete",
-                    {"missing_listed": max_listed})
-            walk_b = an.word_for_point(int(ck[ci]), z, lc[ci])
-            tb = an.walk_transform(walk_b)
-            row = _fix_row(w, z, rel)
-            defects.append(Defect(
-                "self_consistency",
-                f"robots of roles {w!r} and {z!r} are {d:.9g} apart (< range {phi:g}) but the "
-                f"graph has no edge {w} -> {z} {_pose_text(rel)}: from role {an.start!r}, path "
-                f"{_walk_text(an.tree_path[w])} ends at {_pose_text(an.tree_T[w])} and path "
-                f"{_walk_text(walk_b)} at {_pose_text(tb)} (001 Def. 4)",
-                {"start_role": an.start, "roles": [w, z],
-                 "paths": [an.tree_path[w], walk_b],
-                 "poses": [_pose_json(an.tree_T[w]), _pose_json(tb)],
-                 "distance": _r(d), "fix_edge": row}))
-    return defects
+                same_robot = z == w and abs(float(rth[j])) <= at   # one robot reached by two walks
+                if not same_robot:
+                    found.contradiction(w, z, rel, d, point)
+            elif d < phi - pt and not _has_edge(by_pair.get((w, z)), rel, pt, at):
+                # (a point at phi, within tolerance, or beyond is no neighbor)
+                found.missing_edge(w, z, rel, d, point)
+    return found.defects
 
 
 # ----------------------------------------------------------------------
