@@ -139,6 +139,96 @@ def lattice_from_points(points, headings, roles, pairs, rng: float, name: str,
     return LatticeGraph(name, roles, [r[1] for r in rows], range=rng, source=source)
 
 
+def _draw_basis(draw, min_angle_deg: float, max_aspect: float) -> tuple[np.ndarray, float]:
+    """Draw the lattice vectors: ``a1 = (cos alpha, sin alpha)`` and ``a2`` of length ``r2`` in
+    ``[1, max_aspect]`` at an angle in ``[min_angle_deg, 180 - min_angle_deg]`` to ``a1``.
+
+    Returns
+    -------
+    (basis, r2) : (numpy.ndarray, float)
+        ``basis`` has columns ``a1``, ``a2`` (cell ``n`` is at ``basis @ n``).
+    """
+    alpha = draw(st.floats(-math.pi, math.pi))
+    beta = math.radians(draw(st.floats(min_angle_deg, 180.0 - min_angle_deg)))
+    r2 = draw(st.floats(1.0, max_aspect))
+    a1 = np.array([math.cos(alpha), math.sin(alpha)])
+    a2 = r2 * np.array([math.cos(alpha + beta), math.sin(alpha + beta)])
+    return np.column_stack([a1, a2]), r2
+
+
+def _draw_motif(draw, basis: np.ndarray, max_roles: int, min_separation: float) -> list[np.ndarray]:
+    """Draw 1 to ``max_roles`` points in the cell; each is kept only if it is at least
+    ``min_separation`` from every point kept so far and their periodic images."""
+    k = draw(st.integers(1, max_roles))
+    near = [np.array([u, v]) for u in range(-2, 3) for v in range(-2, 3)]
+    pts: list[np.ndarray] = []
+    for _ in range(k):
+        f = np.array([draw(st.floats(0.0, 1.0, exclude_max=True)),
+                      draw(st.floats(0.0, 1.0, exclude_max=True))])
+        p = basis @ f
+        if all(np.linalg.norm(p + basis @ n - q) >= min_separation for q in pts for n in near):
+            pts.append(p)
+    return pts
+
+
+def _candidate_pairs(pts: list[np.ndarray], basis: np.ndarray, r2: float) -> list[tuple]:
+    """Every pair ``(dist, i, j, n)``: the point of role ``j`` in cell ``n`` at distance ``dist``
+    (below ``L = 2 max(1, r2) + 1``, not 0) from the point of role ``i`` in cell 0; complete for
+    that ``L``, sorted by distance, then ``i``, ``j``, ``n``."""
+    k = len(pts)
+    lmax = max(1.0, r2)
+    big = 2.0 * lmax + 1.0
+    dual = np.linalg.inv(basis)  # rows b_k: n_k = b_k . (q - (p_j - p_i))
+    reach = big + np.linalg.norm(basis[:, 0]) + np.linalg.norm(basis[:, 1])
+    nb = [int(math.ceil(np.linalg.norm(dual[r]) * reach)) + 1 for r in range(2)]
+    grid = np.array([(u, v) for u in range(-nb[0], nb[0] + 1) for v in range(-nb[1], nb[1] + 1)])
+    cand = []  # (dist, i, j, n)
+    for i in range(k):
+        for j in range(k):
+            q = pts[j][None, :] + grid @ basis.T - pts[i][None, :]
+            d = np.hypot(q[:, 0], q[:, 1])
+            for idx in np.nonzero((d < big) & (d > 1e-12))[0]:
+                cand.append((float(d[idx]), i, j, (int(grid[idx, 0]), int(grid[idx, 1]))))
+    cand.sort(key=lambda c: (c[0], c[1], c[2], c[3]))
+    return cand
+
+
+def _connecting_distance(cand: list[tuple], k: int) -> float | None:
+    """The smallest distance at which the infinite pattern of ``k`` roles is connected, from the
+    sorted candidate pairs: a Kruskal pass with cell potentials that also tracks the
+    translations of closed walks, which must generate the whole lattice (gcd 1), not a
+    sub-lattice or a strip.  None when the candidates do not get there."""
+    parent = list(range(k))
+    off = [(0, 0)] * k  # cell offset of i relative to parent[i]
+
+    def find(i):
+        o = (0, 0)
+        while parent[i] != i:
+            o = (o[0] + off[i][0], o[1] + off[i][1])
+            i = parent[i]
+        return i, o
+
+    gens: list[tuple[int, int]] = []
+    g = 0
+    comps = k
+    for d, i, j, n in cand:
+        ri, oi = find(i)
+        rj, oj = find(j)
+        if ri != rj:
+            parent[rj] = ri
+            off[rj] = (oi[0] + n[0] - oj[0], oi[1] + n[1] - oj[1])
+            comps -= 1
+        else:
+            v = (oi[0] + n[0] - oj[0], oi[1] + n[1] - oj[1])
+            if v != (0, 0):
+                for w in gens:
+                    g = math.gcd(g, abs(v[0] * w[1] - v[1] * w[0]))
+                gens.append(v)
+        if comps == 1 and g == 1:
+            return d
+    return None
+
+
 @st.composite
 def periodic_lattices(draw, max_roles: int = 4, min_separation: float = 0.3,
                       min_angle_deg: float = 60.0, max_aspect: float = 1.5,
@@ -168,71 +258,12 @@ def periodic_lattices(draw, max_roles: int = 4, min_separation: float = 0.3,
     LatticeGraph
         With ``range`` set to phi and ``source='strategy:periodic_lattices'``.
     """
-    alpha = draw(st.floats(-math.pi, math.pi))
-    beta = math.radians(draw(st.floats(min_angle_deg, 180.0 - min_angle_deg)))
-    r2 = draw(st.floats(1.0, max_aspect))
-    a1 = np.array([math.cos(alpha), math.sin(alpha)])
-    a2 = r2 * np.array([math.cos(alpha + beta), math.sin(alpha + beta)])
-    basis = np.column_stack([a1, a2])  # cell n -> basis @ n
-    k = draw(st.integers(1, max_roles))
-    near = [np.array([u, v]) for u in range(-2, 3) for v in range(-2, 3)]
-    pts: list[np.ndarray] = []
-    for _ in range(k):
-        f = np.array([draw(st.floats(0.0, 1.0, exclude_max=True)),
-                      draw(st.floats(0.0, 1.0, exclude_max=True))])
-        p = basis @ f
-        if all(np.linalg.norm(p + basis @ n - q) >= min_separation for q in pts for n in near):
-            pts.append(p)
+    basis, r2 = _draw_basis(draw, min_angle_deg, max_aspect)
+    pts = _draw_motif(draw, basis, max_roles, min_separation)
     k = len(pts)
     ths = [draw(st.floats(-math.pi, math.pi, exclude_max=True)) if headings else 0.0 for _ in range(k)]
-
-    # candidate pairs (i, j, n) with |p_j + B n - p_i| < L, complete for that L
-    lmax = max(1.0, r2)
-    big = 2.0 * lmax + 1.0
-    dual = np.linalg.inv(basis)  # rows b_k: n_k = b_k . (q - (p_j - p_i))
-    reach = big + np.linalg.norm(a1) + np.linalg.norm(a2)
-    nb = [int(math.ceil(np.linalg.norm(dual[r]) * reach)) + 1 for r in range(2)]
-    grid = np.array([(u, v) for u in range(-nb[0], nb[0] + 1) for v in range(-nb[1], nb[1] + 1)])
-    cand = []  # (dist, i, j, n)
-    for i in range(k):
-        for j in range(k):
-            q = pts[j][None, :] + grid @ basis.T - pts[i][None, :]
-            d = np.hypot(q[:, 0], q[:, 1])
-            for idx in np.nonzero((d < big) & (d > 1e-12))[0]:
-                cand.append((float(d[idx]), i, j, (int(grid[idx, 0]), int(grid[idx, 1]))))
-    cand.sort(key=lambda c: (c[0], c[1], c[2], c[3]))
-
-    # Kruskal with cell potentials: connected and closed walks generate Z^2
-    parent = list(range(k))
-    off = [(0, 0)] * k  # cell offset of i relative to parent[i]
-
-    def find(i):
-        o = (0, 0)
-        while parent[i] != i:
-            o = (o[0] + off[i][0], o[1] + off[i][1])
-            i = parent[i]
-        return i, o
-
-    gens: list[tuple[int, int]] = []
-    g = 0
-    comps = k
-    t_conn = None
-    for d, i, j, n in cand:
-        ri, oi = find(i)
-        rj, oj = find(j)
-        if ri != rj:
-            parent[rj] = ri
-            off[rj] = (oi[0] + n[0] - oj[0], oi[1] + n[1] - oj[1])
-            comps -= 1
-        else:
-            v = (oi[0] + n[0] - oj[0], oi[1] + n[1] - oj[1])
-            if v != (0, 0):
-                for w in gens:
-                    g = math.gcd(g, abs(v[0] * w[1] - v[1] * w[0]))
-                gens.append(v)
-        if comps == 1 and g == 1:
-            t_conn = d
-            break
+    cand = _candidate_pairs(pts, basis, r2)
+    t_conn = _connecting_distance(cand, k)
     assume(t_conn is not None)  # pragma: no cover - big >= 2 max|a_k| + 1 always suffices
     groups = _groups(np.array([c[0] for c in cand]))
     k_conn = next(idx for idx, dd in enumerate(groups) if dd >= t_conn - _TIE)
