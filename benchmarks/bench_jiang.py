@@ -29,7 +29,7 @@ import time
 
 from swarmproof.models.fileio import atomic_write_text, dumps_json
 from swarmproof.models.repeating_pattern import load_pattern, resolve_pattern
-from swarmproof.reference_impl.jiang_experiments import run_sec5, uniform_start
+from jiang.experiments import run_sec5, uniform_start  # benchmarks/jiang/experiments.py
 
 FIG1 = ("square-segments", "triangle-segments", "rhombus-triangles", "trapezoid-hexagons")
 SIZES = (50, 100, 150, 200, 250, 300)

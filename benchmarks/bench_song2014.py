@@ -31,8 +31,8 @@ from swarmproof.models.fileio import atomic_write_text, dumps_json
 from swarmproof.models.library import load
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
-from swarmproof.reference_impl.song2014 import ROLE_UNMATCHED, Song2014
-from swarmproof.reference_impl.song2014_experiments import (
+from swarmproof.reference_impl.song2014.algorithm import ROLE_UNMATCHED, Song2014
+from swarmproof.reference_impl.song2014.experiments import (
     default_params, execution_time, run_formation, run_robustness,
 )
 

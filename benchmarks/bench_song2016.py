@@ -28,7 +28,7 @@ from swarmproof.models.library import load
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
-from swarmproof.reference_impl.song2016 import Song2016
+from swarmproof.reference_impl.song2016.algorithm import Song2016
 
 
 def run(lattice, n: int, seed: int):

@@ -45,11 +45,11 @@ import time
 import numpy as np
 
 from swarmproof.models.assignment import optimal_assignment
-from swarmproof.reference_impl import wang2020 as W
+from swarmproof.reference_impl.wang2020 import algorithm as W
 from swarmproof.reference_impl.protocol import Command
-from swarmproof.reference_impl.wang2020 import manhattan as md
-from swarmproof.reference_impl.wang2020_experiments import ARENA, ProgressObserver, experiment_params
-from swarmproof.reference_impl.wang2020_experiments import fig10_instance as instance
+from swarmproof.reference_impl.wang2020.algorithm import manhattan as md
+from swarmproof.reference_impl.wang2020.experiments import ARENA, ProgressObserver, experiment_params
+from swarmproof.reference_impl.wang2020.experiments import fig10_instance as instance
 
 R_CELLS = 3.0    # R / l = 0.6 m / 0.2 m (004 Sec. V-A, V-B3)
 

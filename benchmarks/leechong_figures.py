@@ -152,7 +152,7 @@ def chain_depth(rid: int, kind: str = "uni", k: int | None = None) -> int:
     >>> [chain_depth(i) for i in range(1, 12)]
     [1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6]
     """
-    from swarmproof.reference_impl.leechong import neighbor_id
+    from swarmproof.reference_impl.leechong.algorithm import neighbor_id
 
     depth = 0
     while rid != 0:
@@ -173,7 +173,7 @@ def neighbor_gaps(points_by_id: dict, pattern: str, n: int, d_u: float = 1.0) ->
     {1: 0.0, 2: 0.0, 3: -0.245, 4: 0.0}
     """
     from swarmproof.models.line_patterns import line_count, pattern_info, target_points
-    from swarmproof.reference_impl.leechong import neighbor_id
+    from swarmproof.reference_impl.leechong.algorithm import neighbor_id
 
     f = target_points(pattern, n, d_u)
     info = pattern_info(pattern)

@@ -11,7 +11,7 @@ the k-polygons also the regular polygon of the fixed-centre reading (grey, dashe
 the fan-shape the leader's own position (u_l, 0) (red ring), which Table 1 does not give
 it.  Nothing is random; the PNG carries no software/version metadata, so the same command
 writes the same bytes.  Also prints the exact distinctness summary for n <= 64
-(:func:`swarmproof.checkers.leechong_patterns_check.check_all`).
+(:func:`swarmproof.reference_impl.leechong.patterns_check.check_all`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from swarmproof.checkers.leechong_patterns_check import check_all, summarize  # noqa: E402
+from swarmproof.reference_impl.leechong.patterns_check import check_all, summarize  # noqa: E402
 from swarmproof.models.fileio import atomic_write_bytes  # noqa: E402
 from swarmproof.models.line_patterns import PATTERN_NAMES, pattern_info, target_points  # noqa: E402
 

@@ -47,7 +47,7 @@ import sys
 import time
 
 from swarmproof.models.errors import UsageError
-from swarmproof.reference_impl.leechong import LeeChongNeighbor
+from swarmproof.reference_impl.leechong.algorithm import LeeChongNeighbor
 
 __all__ = ["PAPER", "PATTERNS", "PAPER_PATTERNS", "COLUMNS", "TESTBEDS", "LeeChongNeighborProse",
            "paper_exceptions", "paper_mean_exceptions", "paper_repeated_cells", "testbed", "run_cell", "rerun", "summarize",

@@ -29,31 +29,49 @@ import inspect
 
 from swarmproof.models.errors import UsageError
 
-__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "get_algorithm", "algorithm_names", "algorithm_factory",
-           "claims_of", "verify_plans"]
+__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "LEMMA_SETS", "get_algorithm", "algorithm_names",
+           "algorithm_factory", "claims_of", "verify_plans", "lemma_sets"]
 
 #: swarmproof's own algorithms: registry name -> ``"module:factory"``.  Another
 #: package adds its own under the entry-point group :data:`ENTRY_POINT_GROUP`
 #: (``[project.entry-points."swarmproof.algorithms"]`` in its pyproject.toml,
 #: ``name = "package.module:Class"``); a name taken here wins.
 ALGORITHMS: dict[str, str] = {
-    "song2016": "swarmproof.reference_impl.song2016:Song2016",
-    "song2016-literal": "swarmproof.reference_impl.song2016:Song2016Literal",
-    "song2014": "swarmproof.reference_impl.song2014:Song2014",
-    "jiang": "swarmproof.reference_impl.jiang:Jiang",
-    "jiang-literal": "swarmproof.reference_impl.jiang:JiangLiteral",
-    "leechong-leader": "swarmproof.reference_impl.leechong:LeeChongLeader",
-    "leechong-leader-prose": "swarmproof.reference_impl.leechong:LeeChongLeaderProse",
-    "leechong-leader-fteam": "swarmproof.reference_impl.leechong:LeeChongLeaderFTeam",
-    "leechong-neighbor": "swarmproof.reference_impl.leechong:LeeChongNeighbor",
-    "leechong-neighbor-fteam": "swarmproof.reference_impl.leechong:LeeChongNeighborFTeam",
-    "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
-    "example-anonymous-line": "swarmproof.reference_impl.examples:AnonymousLine",
-    "example-grid-goals": "swarmproof.reference_impl.examples:GridGoals",
-    "wang2020": "swarmproof.reference_impl.wang2020:Wang2020",
+    "song2016": "swarmproof.reference_impl.song2016.algorithm:Song2016",
+    "song2016-literal": "swarmproof.reference_impl.song2016.algorithm:Song2016Literal",
+    "song2014": "swarmproof.reference_impl.song2014.algorithm:Song2014",
+    "jiang": "swarmproof.reference_impl.jiang.algorithm:Jiang",
+    "jiang-literal": "swarmproof.reference_impl.jiang.algorithm:JiangLiteral",
+    "leechong-leader": "swarmproof.reference_impl.leechong.algorithm:LeeChongLeader",
+    "leechong-leader-prose": "swarmproof.reference_impl.leechong.algorithm:LeeChongLeaderProse",
+    "leechong-leader-fteam": "swarmproof.reference_impl.leechong.algorithm:LeeChongLeaderFTeam",
+    "leechong-neighbor": "swarmproof.reference_impl.leechong.algorithm:LeeChongNeighbor",
+    "leechong-neighbor-fteam": "swarmproof.reference_impl.leechong.algorithm:LeeChongNeighborFTeam",
+    "example-gather": "swarmproof.reference_impl.examples.algorithms:GatherToLowestId",
+    "example-anonymous-line": "swarmproof.reference_impl.examples.algorithms:AnonymousLine",
+    "example-grid-goals": "swarmproof.reference_impl.examples.algorithms:GridGoals",
+    "wang2020": "swarmproof.reference_impl.wang2020.algorithm:Wang2020",
 }
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
+
+#: The modules that declare z3 lemmas, in the order ``swarmproof prove`` lists them (after the
+#: normalisation lemmas of :mod:`swarmproof.invariants.lemmas`).  Each has ``LEMMAS`` (id ->
+#: :class:`~swarmproof.invariants.lemmas.Lemma`) and may have ``EXTRA_LEMMAS`` (run only when
+#: named) and ``CASE_FAMILIES``.  Song & O'Kane 2014's Lemma 7 is proved with 2016's.
+LEMMA_SETS: tuple = (
+    "swarmproof.reference_impl.song2016.lemmas",
+    "swarmproof.reference_impl.wang2020.lemmas",
+)
+
+
+def lemma_sets() -> list:
+    """The modules of :data:`LEMMA_SETS`, imported, in order.
+
+    >>> [m.__name__.rsplit(".", 2)[1] for m in lemma_sets()]
+    ['song2016', 'wang2020']
+    """
+    return [importlib.import_module(name) for name in LEMMA_SETS]
 
 _PLUGINS_LOADED = False
 

@@ -9,8 +9,8 @@ from collections import deque
 import numpy as np
 import pytest
 
-from swarmproof.reference_impl import wang2020 as W
-from swarmproof.reference_impl.wang2020_experiments import experiment_params
+from swarmproof.reference_impl.wang2020 import algorithm as W
+from swarmproof.reference_impl.wang2020.experiments import experiment_params
 
 
 def _load():

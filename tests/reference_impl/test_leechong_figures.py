@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from swarmproof.models.targets import LinePattern, resolve_target
-from swarmproof.reference_impl.leechong import neighbor_id
+from swarmproof.reference_impl.leechong.algorithm import neighbor_id
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
