@@ -70,7 +70,8 @@ from swarmproof.reference_impl.protocol import Assumption, Command, Observation,
 
 from .numbering import neighbor_id
 
-__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderProse", "LeeChongController", "Agreement",
+__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderProse", "LeeChongLeaderFTeam", "LeeChongNeighborFTeam",
+           "LeeChongController", "Agreement",
            "agree", "allocate_ids", "neighbor_id", "NUMBERINGS", "ID_ORDERS", "TEAMS"]
 
 NUMBERINGS = ("formula", "prose")
