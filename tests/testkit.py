@@ -68,8 +68,10 @@ def write_mutant(folder) -> str:
 
 
 def load_benchmark(name: str):
-    """The script ``benchmarks/NAME.py`` (NAME may name a paper's folder: ``jiang/experiments``) as a
-    module (benchmarks/ is not a package), loaded once per process under ``swarmproof_bench_NAME``: tests of a benchmark's pieces share one copy."""
+    """The script ``benchmarks/NAME.py`` as a module (benchmarks/ is not a package), loaded once per
+    process under ``swarmproof_bench_NAME``: tests of a benchmark's pieces share one copy.  A paper's
+    scripts live in its folder, so NAME names it: ``wang2020/bench_wang2020``, ``jiang/experiments``;
+    the shared tools are at the top: ``bench_mutations``."""
     import importlib.util
     import sys
 
@@ -77,7 +79,11 @@ def load_benchmark(name: str):
     if mod_name in sys.modules:
         return sys.modules[mod_name]
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    spec = importlib.util.spec_from_file_location(mod_name, os.path.join(root, "benchmarks", f"{name}.py"))
+    path = os.path.join(root, "benchmarks", f"{name}.py")
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"load_benchmark: name={name!r}: no file {path}; a paper's benchmark scripts "
+                                "are in its folder: use 'PAPER/NAME' (e.g. 'wang2020/bench_wang2020')")
+    spec = importlib.util.spec_from_file_location(mod_name, path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[mod_name] = mod
     spec.loader.exec_module(mod)

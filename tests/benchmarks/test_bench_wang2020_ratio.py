@@ -1,4 +1,4 @@
-"""benchmarks/bench_wang2020_ratio.py: the decomposition of wang2020's travelled distance, the other
+"""benchmarks/wang2020/bench_wang2020_ratio.py: the decomposition of wang2020's travelled distance, the other
 readings of ambiguous text (each differs from the reference exactly where intended) and the
 idealised swap bounds (docs/wang2020.md, "Why the distance ratio grows with n")."""
 
@@ -16,7 +16,7 @@ from swarmproof.reference_impl.wang2020.experiments import experiment_params
 def _load():
     from testkit import load_benchmark
 
-    return load_benchmark("bench_wang2020_ratio")
+    return load_benchmark("wang2020/bench_wang2020_ratio")
 
 
 B = _load()

@@ -162,7 +162,7 @@ def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
 
     from testkit import load_benchmark
 
-    bench = load_benchmark("bench_wang2020")
+    bench = load_benchmark("wang2020/bench_wang2020")
     log = tmp_path / "t.jsonl"
     out = bench.fig10([4, 6], 1, str(tmp_path / "f10.png"), jsonl=str(log))
     assert [r["n"] for r in out["rows"]] == [4, 6] and (tmp_path / "f10.png").stat().st_size > 0
@@ -182,7 +182,7 @@ def test_bench_fig9_draws_a_run_whose_n_never_formed_on_ns_goals(tmp_path):
     with the number held; the count agrees with the run's own progress observer."""
     from testkit import load_benchmark
 
-    bench = load_benchmark("bench_wang2020")
+    bench = load_benchmark("wang2020/bench_wang2020")
     png = tmp_path / "f9.png"
     out = bench.fig9(30, 0, str(png), 200, arena=8)
     assert out["status"] == "step_cap" and out["N_detected_s"] is None

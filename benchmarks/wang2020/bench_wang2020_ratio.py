@@ -2,10 +2,10 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py decompose --n 144 --seeds 0,1
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py decompose --n 64 --seeds 0,1,2 --reading req
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py decompose --n 144 --seeds 0 --params '{"beta": 0.1}'
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py bounds --sizes 16,64,144,256,529 --seeds 0,1,2
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py decompose --n 144 --seeds 0,1
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py decompose --n 64 --seeds 0,1,2 --reading req
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py decompose --n 144 --seeds 0 --params '{"beta": 0.1}'
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py bounds --sizes 16,64,144,256,529 --seeds 0,1,2
 
 ``decompose`` runs the per-robot reference (Fig. 10's trial: ``random_shape(n)``, starts uniform in a
 32 x 32 arena, stop once formed) with an instrumented controller and prints one JSON line per seed:

@@ -2,11 +2,11 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/bench_wang2020.py perf                       # 1,024 robots N -> U; a 529 trial
-    .venv/bin/python benchmarks/bench_wang2020.py fig10 --sizes 16,64,144 --trials 3 --plot docs/wang2020-fig10.png
-    .venv/bin/python benchmarks/bench_wang2020.py fig9 --plot docs/wang2020-fig9.png
-    .venv/bin/python benchmarks/bench_wang2020.py fig11 --robots 100 --shapes 3 --runs 2 --plot docs/wang2020-fig11.png
-    .venv/bin/python benchmarks/bench_wang2020.py fig12 --robots 100 --shapes 6 --plot docs/wang2020-fig12.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py perf                       # 1,024 robots N -> U; a 529 trial
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig10 --sizes 16,64,144 --trials 3 --plot docs/wang2020-fig10.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig9 --plot docs/wang2020-fig9.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig11 --robots 100 --shapes 3 --runs 2 --plot docs/wang2020-fig11.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig12 --robots 100 --shapes 6 --plot docs/wang2020-fig12.png
 
 Every run is seeded (the same command prints the same experiment numbers; timings vary).  The
 experiments use ``experiment_params`` (dt = 0.1 s, f_comm = 10 Hz, Delta t = 0.2 s; Sec. V-A's

@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong_patterns.py [--n 12] [--out docs/leechong-patterns.png]
+    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong/leechong_patterns.py [--n 12] [--out docs/leechong-patterns.png]
 
 Draws every bundled ``lines`` pattern of :data:`swarmproof.models.line_patterns.PATTERN_NAMES`
 with its default parameters, d_u = 1 and u_l = 0, in the common frame (u to the right,
