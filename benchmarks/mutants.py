@@ -54,8 +54,8 @@ __all__ = ["Fault", "FAULTS", "FAULT_NAMES", "MutantBuildError", "build_module",
            "register", "registered", "unregister"]
 
 REFERENCE_MODULES = {
-    "song2014": ("swarmproof.reference_impl.song2014", "Song2014"),
-    "song2016": ("swarmproof.reference_impl.song2016", "Song2016"),
+    "song2014": ("swarmproof.reference_impl.song2014.algorithm", "Song2014"),
+    "song2016": ("swarmproof.reference_impl.song2016.algorithm", "Song2016"),
 }
 
 

@@ -1,4 +1,4 @@
-"""Run every benchmark (``benchmarks/bench_*.py``) in sequence with small settings (``make bench``).
+"""Run every benchmark (``bench_*.py`` here and in each paper's folder) in sequence, small settings (``make bench``).
 
 Usage (from the repository root)::
 
@@ -7,8 +7,11 @@ Usage (from the repository root)::
     .venv/bin/python benchmarks/run_all.py --full     # each benchmark's own defaults (long)
     .venv/bin/python benchmarks/run_all.py --list
 
-The benchmarks are found by the glob ``bench_*.py`` when this runs, so a new
-one is picked up without a change here.  Each runs in its own process, one
+The benchmarks are found by the globs ``bench_*.py`` (the shared tools at
+benchmarks/ top level) and ``*/bench_*.py`` (a folder per paper:
+benchmarks/song2014/, song2016/, jiang/, leechong/, wang2020/) when this
+runs, so a new one is picked up without a change here; a benchmark is named
+by its file stem, which must be unique across the folders.  Each runs in its own process, one
 after the other (the machine has 2 cores; timings of parallel benchmarks
 would be noise).  ``SMALL_ARGS`` holds the arguments that keep a benchmark
 short; a benchmark not listed there runs with no arguments (its defaults).
@@ -62,13 +65,28 @@ FIGURES: dict[str, str] = {
 }
 
 
-def discover(folder: Path = HERE) -> list[str]:
-    """The benchmark names (file stems) in ``folder``, sorted.
+def locate(folder: Path = HERE) -> dict[str, Path]:
+    """Each benchmark's name (its file stem) and file: ``folder/bench_*.py`` and ``folder/*/bench_*.py``.
 
-    >>> "bench_proofs" in discover()
+    >>> locate()["bench_song2016"].relative_to(HERE).as_posix()
+    'song2016/bench_song2016.py'
+    """
+    found: dict[str, Path] = {}
+    for p in sorted([*folder.glob("bench_*.py"), *folder.glob("*/bench_*.py")]):
+        if p.stem in found:
+            raise SystemExit(f"run_all: error: two benchmarks are named {p.stem!r}: {found[p.stem]} and {p}; "
+                             "fix: rename one (benchmarks are named by file stem)")
+        found[p.stem] = p
+    return found
+
+
+def discover(folder: Path = HERE) -> list[str]:
+    """The benchmark names (file stems) in ``folder`` and its paper folders, sorted.
+
+    >>> "bench_proofs" in discover() and "bench_jiang" in discover()
     True
     """
-    return sorted(p.stem for p in folder.glob("bench_*.py"))
+    return sorted(locate(folder))
 
 
 def command(name: str, full: bool = False) -> list[str]:
@@ -77,10 +95,10 @@ def command(name: str, full: bool = False) -> list[str]:
     >>> command("bench_engine")[1:]
     ['benchmarks/bench_engine.py', '--quick']
     >>> command("bench_song2014", full=True)[1:]
-    ['benchmarks/bench_song2014.py', 'perf']
+    ['benchmarks/song2014/bench_song2014.py', 'perf']
     """
     args = REQUIRED_ARGS.get(name, []) if full else SMALL_ARGS.get(name, [])
-    return [sys.executable, f"benchmarks/{name}.py", *args]
+    return [sys.executable, locate()[name].relative_to(HERE.parent).as_posix(), *args]
 
 
 def _child_cpu() -> float:

@@ -120,7 +120,7 @@ def resolve_algorithm(algorithm) -> AlgorithmSpec:
     >>> from swarmproof.reference_impl.examples import GatherToLowestId
     >>> s = resolve_algorithm(GatherToLowestId)
     >>> s.label, s.ref
-    ('example-gather', 'swarmproof.reference_impl.examples:GatherToLowestId')
+    ('example-gather', 'swarmproof.reference_impl.examples.algorithms:GatherToLowestId')
     >>> resolve_algorithm(s.ref).factory is GatherToLowestId
     True
     """

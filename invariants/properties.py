@@ -39,6 +39,7 @@ from typing import Callable
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .premises import CITE_PREMISES, combine_premises, premises  # noqa: F401  (re-exported)
 from .result import InvariantResult
 
 __all__ = ["collision", "CollisionMonitor", "combine_premises", "deadlock", "DeadlockMonitor", "OscillationMonitor", "oscillation", "premises", "segment_min_distances"]
@@ -587,72 +588,3 @@ class OscillationMonitor:
                                  progress=progress, window=window, progress_eps=self.progress_eps)
 
 
-CITE_PREMISES = "issue 5 / docs/proofs.md: the premises of the proved lemmas hold at every step"
-
-
-def premises(trace, monitors, phi: float, v: float, dt: float) -> InvariantResult:
-    """The named lemma premise monitors hold at every step of ``trace``.
-
-    ``monitors`` are names of :data:`swarmproof.invariants.premises.MONITORS`
-    (:func:`~swarmproof.invariants.premises.premise_monitors_of` gives the ones
-    an algorithm declares).  The verdict is
-
-    * ``violated`` when a monitor is: the earliest step over all monitors,
-      the witness naming the ``lemma`` and the ``monitor``;
-    * ``inconclusive`` when no monitor is declared (nothing to check), the
-      trace has no step, or a monitor cannot read its state keys;
-    * ``held`` otherwise; ``detail["monitors"]`` gives each monitor's
-      status and what it examined (a monitor that examined nothing, e.g. no
-      moving parent, says so: ``applicable`` False).
-
-    Blind spots: those of the monitors (step ends only; straight motion
-    assumed in between; the case analysis of the paper is not checked), and a
-    premise can only be as faithful as the state keys the algorithm reports.
-
-    Examples
-    --------
-    Robot 7 follows robot 4 and ends its step 1.10 from 4's old position,
-    outside the disc of radius ``phi - v dt = 1.0``:
-
-    >>> import numpy as np
-    >>> from swarmproof.models.trace import Trace
-    >>> start, end = [[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.1, 0.05, 0]]
-    >>> t = Trace(ids=[4, 7], poses=np.array([start, end], float),
-    ...           states=[((("parent", None),), (("parent", 4),))] * 2)
-    >>> r = premises(t, ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
-    >>> r.status, r.witness["lemma"], r.witness["monitor"]
-    ('violated', 'bounded_range', 'parent_bounded_range')
-    >>> premises(t, (), 1.2, 0.2, 1.0).status
-    'inconclusive'
-    """
-    from .premises import MONITORS
-
-    monitors = tuple(monitors)
-    results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors] if trace.steps >= 1 else []
-    return combine_premises(monitors, results, trace.steps)
-
-
-def combine_premises(monitors, results, steps: int) -> InvariantResult:
-    """The ``premises`` verdict from each monitor's result (see :func:`premises`)."""
-    if not monitors:
-        return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
-                               "the algorithm declares no lemma premises to monitor")
-    if steps < 1:
-        return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
-                               "the trace has no step to check")
-    detail = {"monitors": {name: {"status": r.status, "applicable": r.applicable, **r.detail}
-                           for name, r in results}}
-    bad = [(name, r) for name, r in results if r.violated]
-    if bad:
-        name, r = min(bad, key=lambda nr: nr[1].witness["step"])
-        lemma = r.witness["lemma"]
-        return InvariantResult("premises", "violated", CITE_PREMISES,
-                               {**r.witness, "monitor": name},
-                               f"premise of lemma {lemma} failed: {r.message}", detail=detail)
-    unsure = [(name, r) for name, r in results if r.status == "inconclusive"]
-    if unsure:
-        return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
-                               "; ".join(f"{name}: {r.message}" for name, r in unsure), detail=detail)
-    parts = [name if r.applicable else f"{name} (nothing to examine)" for name, r in results]
-    return InvariantResult("premises", "held", CITE_PREMISES, None,
-                           f"premises held at all {steps} steps: {', '.join(parts)}", detail=detail)

@@ -29,8 +29,8 @@ import inspect
 
 from swarmproof.models.errors import UsageError
 
-__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "get_algorithm", "algorithm_names", "algorithm_factory",
-           "claims_of", "verify_plans"]
+__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "LEMMA_SETS", "get_algorithm", "algorithm_names",
+           "algorithm_factory", "claims_of", "verify_plans", "lemma_sets"]
 
 #: swarmproof's own algorithms: registry name -> ``"module:factory"``.  Another
 #: package adds its own under the entry-point group :data:`ENTRY_POINT_GROUP`
@@ -54,6 +54,24 @@ ALGORITHMS: dict[str, str] = {
 }
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
+
+#: The modules that declare z3 lemmas, in the order ``swarmproof prove`` lists them (after the
+#: normalisation lemmas of :mod:`swarmproof.invariants.lemmas`).  Each has ``LEMMAS`` (id ->
+#: :class:`~swarmproof.invariants.lemmas.Lemma`) and may have ``EXTRA_LEMMAS`` (run only when
+#: named) and ``CASE_FAMILIES``.  Song & O'Kane 2014's Lemma 7 is proved with 2016's.
+LEMMA_SETS: tuple = (
+    "swarmproof.reference_impl.song2016.lemmas",
+    "swarmproof.reference_impl.wang2020.lemmas",
+)
+
+
+def lemma_sets() -> list:
+    """The modules of :data:`LEMMA_SETS`, imported, in order.
+
+    >>> [m.__name__.rsplit(".", 2)[1] for m in lemma_sets()]
+    ['song2016', 'wang2020']
+    """
+    return [importlib.import_module(name) for name in LEMMA_SETS]
 
 _PLUGINS_LOADED = False
 

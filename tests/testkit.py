@@ -53,10 +53,11 @@ MUTANT = "song2016_children_none"
 
 
 def write_mutant(folder) -> str:
-    """A copy of reference_impl/song2016.py in ``folder`` whose robots see no children: the
+    """A copy of reference_impl/song2016/algorithm.py in ``folder`` whose robots see no children: the
     NCLB safe region (Sec. V-C) no longer constrains a moving parent."""
-    src = open(os.path.join(ROOT, "reference_impl", "song2016.py"), encoding="utf-8").read()
-    src = re.sub(r"^(\s*)from \.", r"\1from swarmproof.reference_impl.", src, flags=re.M)
+    src = open(os.path.join(ROOT, "reference_impl", "song2016", "algorithm.py"), encoding="utf-8").read()
+    src = re.sub(r"^(\s*)from \.\.", r"\1from swarmproof.reference_impl.", src, flags=re.M)
+    src = re.sub(r"^(\s*)from \.", r"\1from swarmproof.reference_impl.song2016.", src, flags=re.M)
     line = "children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])"
     assert src.count(line) == 1, "the mutation point moved: update this test"
     src = src.replace(line, "children = ()  # mutation: NCLB no longer constrains the parent")
@@ -68,15 +69,21 @@ def write_mutant(folder) -> str:
 
 def load_benchmark(name: str):
     """The script ``benchmarks/NAME.py`` as a module (benchmarks/ is not a package), loaded once per
-    process under ``swarmproof_bench_NAME``: tests of a benchmark's pieces share one copy."""
+    process under ``swarmproof_bench_NAME``: tests of a benchmark's pieces share one copy.  A paper's
+    scripts live in its folder, so NAME names it: ``wang2020/bench_wang2020``, ``jiang/experiments``;
+    the shared tools are at the top: ``bench_mutations``."""
     import importlib.util
     import sys
 
-    mod_name = f"swarmproof_bench_{name}"
+    mod_name = "swarmproof_bench_" + name.replace("/", "_")
     if mod_name in sys.modules:
         return sys.modules[mod_name]
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    spec = importlib.util.spec_from_file_location(mod_name, os.path.join(root, "benchmarks", f"{name}.py"))
+    path = os.path.join(root, "benchmarks", f"{name}.py")
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"load_benchmark: name={name!r}: no file {path}; a paper's benchmark scripts "
+                                "are in its folder: use 'PAPER/NAME' (e.g. 'wang2020/bench_wang2020')")
+    spec = importlib.util.spec_from_file_location(mod_name, path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[mod_name] = mod
     spec.loader.exec_module(mod)

@@ -374,7 +374,7 @@ def _robot_rng(seed: int, slot: int) -> np.random.Generator:
 def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
               faults: FaultModel | None):
     """The checks before a run's first step (shared by :func:`simulate` and an algorithm's
-    vectorised path, e.g. :mod:`swarmproof.reference_impl.wang2020_fast`): the seed, the start,
+    vectorised path, e.g. :mod:`swarmproof.reference_impl.wang2020.fast`): the seed, the start,
     the parameters, the team size, the algorithm's own options and every assumption (the
     engine's ``unique_ids`` and the algorithm's).  Returns ``(seed, faults, events, broken)``:
     the seed as an int, the fault model (a plain one if None), the ``assumption_broken``

@@ -1,4 +1,4 @@
-"""benchmarks/bench_wang2020_ratio.py: the decomposition of wang2020's travelled distance, the other
+"""benchmarks/wang2020/bench_wang2020_ratio.py: the decomposition of wang2020's travelled distance, the other
 readings of ambiguous text (each differs from the reference exactly where intended) and the
 idealised swap bounds (docs/wang2020.md, "Why the distance ratio grows with n")."""
 
@@ -9,14 +9,14 @@ from collections import deque
 import numpy as np
 import pytest
 
-from swarmproof.reference_impl import wang2020 as W
-from swarmproof.reference_impl.wang2020_experiments import experiment_params
+from swarmproof.reference_impl.wang2020 import algorithm as W
+from swarmproof.reference_impl.wang2020.experiments import experiment_params
 
 
 def _load():
     from testkit import load_benchmark
 
-    return load_benchmark("bench_wang2020_ratio")
+    return load_benchmark("wang2020/bench_wang2020_ratio")
 
 
 B = _load()

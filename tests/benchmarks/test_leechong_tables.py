@@ -1,4 +1,4 @@
-"""benchmarks/leechong_tables.py: 003's Tables 2-5 as data, the cells that break the paper's claim,
+"""benchmarks/leechong/leechong_tables.py: 003's Tables 2-5 as data, the cells that break the paper's claim,
 and one cell of the re-run (the full re-run is ``make``-free, by hand; docs/leechong.md)."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ SEED_TEXT = os.path.join(os.path.dirname(ROOT), "shared", "seeds", "003_8f300120
 def _load():
     from testkit import load_benchmark
 
-    return load_benchmark("leechong_tables")
+    return load_benchmark("leechong/leechong_tables")
 
 
 T = _load()
@@ -108,7 +108,7 @@ def test_main_rejects_bad_arguments(capsys):
     assert "Table 3 (leader, time): wedge, testbed-1: A 12.15 vs F 12.11" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("name", ["leechong_tables", "leechong_figures"])
+@pytest.mark.parametrize("name", ["leechong/leechong_tables", "leechong/leechong_figures"])
 def test_the_benchmark_modules_doctests(name):
     """tests/test_doctests.py covers the swarmproof packages only; the two scripts' examples here."""
     import doctest

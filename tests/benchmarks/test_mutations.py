@@ -73,7 +73,7 @@ def test_registered_names_build_mutants_and_are_removed_after(all_registered):
         assert registry.claims_of(f.name) == registry.claims_of(f.reference)
     # the reference is untouched
     assert registry.get_algorithm("song2016", n_robots=4).name == "song2016"
-    assert type(registry.get_algorithm("song2014")).__module__ == "swarmproof.reference_impl.song2014"
+    assert type(registry.get_algorithm("song2014")).__module__ == "swarmproof.reference_impl.song2014.algorithm"
 
 
 def test_a_patch_that_no_longer_applies_names_the_fault_and_snippet():

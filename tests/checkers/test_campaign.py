@@ -439,7 +439,9 @@ def test_uniform_starts_in_experiment_cells(tmp_path):
     "placed randomly and uniformly"), the same as the benchmark's for the same seed, and the
     report shows the target's own quality figure (a repeating pattern's epsilon)."""
     from swarmproof.checkers.campaign import _simulate_task
-    from swarmproof.reference_impl.jiang_experiments import run_sec5
+    from testkit import load_benchmark
+
+    run_sec5 = load_benchmark("jiang/experiments").run_sec5
     from swarmproof.models.targets import resolve_target
 
     spec = loads_campaign("format: swarmproof-campaign/1\nname: u\nsimulate:\n  - algorithm: jiang\n"

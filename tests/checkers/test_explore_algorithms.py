@@ -16,9 +16,9 @@ from swarmproof.checkers.explore import explore, resolve_algorithm
 from swarmproof.checkers.replay import replay_file
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import InputFileError, UsageError
-from swarmproof.reference_impl.examples import GatherToLowestId
+from swarmproof.reference_impl.examples.algorithms import GatherToLowestId
 from swarmproof.reference_impl.protocol import Command
-from swarmproof.reference_impl.song2016 import Song2016
+from swarmproof.reference_impl.song2016.algorithm import Song2016
 
 
 # -- test-only algorithms ---------------------------------------------------------------

@@ -13,7 +13,7 @@ from swarmproof.pytest_plugin import TABLE_TITLE, property_table
 USER_TESTS = textwrap.dedent('''
     import pytest
 
-    from swarmproof.reference_impl.song2016 import Song2016
+    from swarmproof.reference_impl.song2016.algorithm import Song2016
 
 
     class MySong2016(Song2016):

@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from swarmproof.checkers.explore import explore, free_start_box, scenario_strategy
 from swarmproof.models.shapes import connected
 from swarmproof.models.targets import resolve_target
-from swarmproof.reference_impl.wang2020 import Wang2020, window_bound
+from swarmproof.reference_impl.wang2020.algorithm import Wang2020, window_bound
 
 TARGETS = {"shape:letter-l": resolve_target("shape:letter-l"), "shape:square-9": resolve_target("shape:square-9")}
 STRATEGY = scenario_strategy((3, 8), list(TARGETS), {k: 0.6 for k in TARGETS}, grid_spacing=0.2,

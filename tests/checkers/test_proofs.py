@@ -11,6 +11,7 @@ import pytest
 import z3
 
 from swarmproof.checkers import proofs
+from swarmproof.reference_impl.song2016 import lemmas as song_lemmas
 from swarmproof.checkers.proofs import EXTRA_LEMMAS, LEMMAS, Encoding, Lemma, prove, run_suite
 from swarmproof.models.errors import UsageError
 
@@ -101,7 +102,7 @@ def test_partial_progress_finding_is_a_counterexample_with_numbers():
 
 def _lemma(build, control=None, params=()) -> Lemma:
     return Lemma(id="test_lemma", statement="test", cites=("test",), normalisations=(),
-                 build=build, control=control or (lambda: proofs.relocate_stays_in_range(4)),
+                 build=build, control=control or (lambda: song_lemmas.relocate_stays_in_range(4)),
                  control_note="test", solver_params=params)
 
 
@@ -143,7 +144,7 @@ def test_unknown_that_is_not_a_timeout_is_inconclusive():
 
 
 def test_control_that_also_proves_makes_the_lemma_inconclusive():
-    lem = _lemma(proofs.relocate_stays_in_range, control=proofs.relocate_stays_in_range)
+    lem = _lemma(song_lemmas.relocate_stays_in_range, control=song_lemmas.relocate_stays_in_range)
     r = prove(lem, timeout_s=10)
     assert r.status == "inconclusive"
     assert r.reason.startswith("negative control not refuted")
@@ -182,7 +183,7 @@ def test_tree_confirmation_control_is_refuted_and_timeouts_stay_inconclusive():
     bad = {(tuple(map(tuple, e)), r, tuple(m)) for _, e, r, m, st, _ in ctrl["not_proved"]}
     import networkx as nx
     expected = set()
-    for _, tree, root, moving in proofs.tree_cases(3):
+    for _, tree, root, moving in song_lemmas.tree_cases(3):
         parent = {v: u for u, v in nx.bfs_edges(tree, root)}
         if any(p in moving and c in moving for c, p in parent.items()):
             expected.add((tuple(sorted(tree.edges())), root, tuple(sorted(moving))))
@@ -325,12 +326,12 @@ def test_no_paper_lemma_name_on_a_narrower_statement():
     gaps = " ".join(lem.not_proved)
     for phrase in ("chose in the step", "vacancy", "not the root", "composition"):
         assert phrase in gaps
-    cases = [name for name, _ in proofs.tree_link_kept().cases]
+    cases = [name for name, _ in song_lemmas.tree_link_kept().cases]
     assert cases == ["nclb", "child_not_farther_from_still_parent"]
 
 
 def test_intermediate_goal_in_region_repeats_no_premise():
-    enc = proofs.intermediate_goal_in_region()
+    enc = song_lemmas.intermediate_goal_in_region()
     names = [n for n, _ in enc.premises]
     assert names == ["step_below_range", "neighbours_at_t"]
     assert [n for n, _ in enc.parts] == ["witness_in_P_i", "witness_in_P_p"]

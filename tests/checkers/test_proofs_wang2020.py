@@ -1,4 +1,4 @@
-"""Wang & Rubenstein 2020's collision theorems in z3 (checkers/proofs_wang2020.py, issue 15) and
+"""Wang & Rubenstein 2020's collision theorems in z3 (reference_impl/wang2020/lemmas.py, issue 15) and
 the runtime monitors of their premises (invariants/premises.py, grid_* monitors)."""
 
 from __future__ import annotations
@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 import z3
 
-from swarmproof.checkers import proofs, proofs_wang2020 as w
+from swarmproof.checkers import proofs
+from swarmproof.reference_impl.wang2020 import lemmas as w, monitors as grid
 from swarmproof.checkers.proofs import LEMMAS, prove
 from swarmproof.invariants import premises
 from swarmproof.models.trace import Trace
@@ -198,7 +199,7 @@ GOOD = [[((0, 0), None), ((1, 0), None), ((0, 1), None)],
 
 
 def test_claims_monitor_quiet_on_distinct_claims_and_a_follower():
-    r = premises.grid_claims_distinct(_trace(GOOD))
+    r = grid.grid_claims_distinct(_trace(GOOD))
     assert r.status == "held" and r.detail["checked"] == 9
 
 
@@ -209,7 +210,7 @@ def test_claims_monitor_quiet_on_distinct_claims_and_a_follower():
     ([((0, 0), (1, 0)), ((1, 0), (0, 0)), ((0, 1), None)], "edge_swap", [1, 2]),
 ], ids=["two-to-one-waypoint", "onto-a-resting-robot", "one-cell", "swap"])
 def test_claims_monitor_fires(row, kind, robots):
-    r = premises.grid_claims_distinct(_trace([GOOD[0], row]))
+    r = grid.grid_claims_distinct(_trace([GOOD[0], row]))
     assert r.status == "violated" and r.witness["kind"] == kind and r.witness["robots"] == robots
     lemma = "wang2020_theorem_iv_a_2" if kind == "edge_swap" else "wang2020_separation_equal_speeds"
     assert r.witness["step"] == 1 and r.witness["lemma"] == lemma
@@ -218,36 +219,36 @@ def test_claims_monitor_fires(row, kind, robots):
 def test_grid_monitors_without_their_keys_are_inconclusive():
     poses = np.zeros((2, 1, 3))
     tr = Trace(ids=[1], poses=poses, states=[((("goal", (0, 0)),),)] * 2)
-    for fn in (premises.grid_claims_distinct, premises.grid_waited_window):
+    for fn in (grid.grid_claims_distinct, grid.grid_waited_window):
         assert fn(tr).status == "inconclusive"
-    assert premises.grid_priorities_distinct(tr, 0.6).status == "inconclusive"
-    assert premises.grid_heard_neighbours(tr, 0.6).status == "inconclusive"
-    assert premises.grid_spacing_of_trace(tr, 0.6).status == "inconclusive"
+    assert grid.grid_priorities_distinct(tr, 0.6).status == "inconclusive"
+    assert grid.grid_heard_neighbours(tr, 0.6).status == "inconclusive"
+    assert grid.grid_spacing_of_trace(tr, 0.6).status == "inconclusive"
 
 
 def test_priorities_monitor():
-    assert premises.grid_priorities_distinct(_trace(GOOD), 0.6).status == "held"
+    assert grid.grid_priorities_distinct(_trace(GOOD), 0.6).status == "held"
     tr = _trace(GOOD)
     states = [tuple(tuple(kv for kv in st if kv[0] != "priority") + (("priority", (9, 9)),) for st in row)
               for row in tr.states]
     tr = Trace(ids=[1, 2, 3], poses=tr.poses, states=states)
-    r = premises.grid_priorities_distinct(tr, 0.6)
+    r = grid.grid_priorities_distinct(tr, 0.6)
     assert r.status == "violated" and r.witness["robots"] == [1, 2] and r.witness["step"] == 0
     # the same priorities out of range R are no conflict
-    far = premises.grid_priorities_distinct(tr, 0.1)
+    far = grid.grid_priorities_distinct(tr, 0.1)
     assert far.status == "held" and not far.applicable
 
 
 def test_spacing_bound_at_sec_v_values_and_just_outside():
-    assert premises.grid_spacing_bound(0.20, 0.05, 0.6).status == "held"
-    low = premises.grid_spacing_bound(0.99 * 2 * math.sqrt(2) * 0.05, 0.05, 0.6)
+    assert grid.grid_spacing_bound(0.20, 0.05, 0.6).status == "held"
+    low = grid.grid_spacing_bound(0.99 * 2 * math.sqrt(2) * 0.05, 0.05, 0.6)
     assert low.status == "violated" and low.witness["bound"] == "l >= 2 sqrt(2) r"
-    high = premises.grid_spacing_bound(0.31, 0.05, 0.6)
+    high = grid.grid_spacing_bound(0.31, 0.05, 0.6)
     assert high.status == "violated" and high.witness["bound"] == "l <= R/2"
-    assert premises.grid_spacing_bound(float("nan"), 0.05, 0.6).status == "inconclusive"
+    assert grid.grid_spacing_bound(float("nan"), 0.05, 0.6).status == "inconclusive"
     tr = _trace(GOOD)
     tr.meta["params"] = {"range": 0.6, "v": 0.05, "dt": 1.0, "extra": {"grid_spacing": 0.2, "robot_radius": 0.05}}
-    assert premises.grid_spacing_of_trace(tr, 0.6).status == "held"
+    assert grid.grid_spacing_of_trace(tr, 0.6).status == "held"
 
 
 def _timing_trace(waited, heard_by_1, lead=0):
@@ -262,22 +263,22 @@ def _timing_trace(waited, heard_by_1, lead=0):
 
 
 def test_waited_monitor():
-    assert premises.grid_waited_window(_timing_trace(2.5, (2, 3))).status == "held"
-    r = premises.grid_waited_window(_timing_trace(2.0, (2, 3)))   # not longer than Delta t
+    assert grid.grid_waited_window(_timing_trace(2.5, (2, 3))).status == "held"
+    r = grid.grid_waited_window(_timing_trace(2.0, (2, 3)))   # not longer than Delta t
     assert r.status == "violated" and (r.witness["robot"], r.witness["step"]) == (1, 0)
     assert r.witness["lemma"] == "wang2020_lemma_iv_a_1"
 
 
 def test_heard_monitor():
     # two waiting frames first: robot 1 sets off in step 2, its window of 2 steps reads steps 1..2
-    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2, 3), lead=2), 0.6).status == "held"
-    r = premises.grid_heard_neighbours(_timing_trace(3.0, (2,), lead=2), 0.6)
+    assert grid.grid_heard_neighbours(_timing_trace(3.0, (2, 3), lead=2), 0.6).status == "held"
+    r = grid.grid_heard_neighbours(_timing_trace(3.0, (2,), lead=2), 0.6)
     assert r.status == "violated" and r.witness["unheard"] == [3] and r.witness["robot"] == 1
     assert r.witness["step"] == 2 and r.witness["frames"] == [1, 2]
     # robot 3 is 0.2 away: with R = 0.1 it is no neighbour, so nobody is missing
-    assert premises.grid_heard_neighbours(_timing_trace(3.0, (2,), lead=2), 0.1).status == "held"
+    assert grid.grid_heard_neighbours(_timing_trace(3.0, (2,), lead=2), 0.1).status == "held"
     # setting off in step 0, nothing can have been received yet (nobody broadcast before step 0)
-    r0 = premises.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.6)
+    r0 = grid.grid_heard_neighbours(_timing_trace(3.0, (2,)), 0.6)
     assert r0.status == "held" and r0.detail["checked"] == 3
 
 

@@ -12,6 +12,7 @@ import pytest
 import z3
 
 from swarmproof.checkers import proofs, report
+from swarmproof.reference_impl.song2016 import lemmas as song_lemmas
 from swarmproof.checkers.proofs import EXTRA_LEMMAS, LEMMAS, Encoding, Lemma, prove
 from swarmproof.checkers.report import (Report, Row, exploration_row, lemma_rows, run_report,
                                         section_exploration, section_lemmas)
@@ -32,7 +33,7 @@ def test_lemma_rows_each_status_maps_to_its_verdict():
                     normalisations=(), control_note="test",
                     build=lambda: Encoding(premises=[("pos", x > 1), ("neg", x < 0)],
                                            conclusion=x == 42, variables=[x]),
-                    control=lambda: proofs.relocate_stays_in_range(4))
+                    control=lambda: song_lemmas.relocate_stays_in_range(4))
     results = [prove(LEMMAS["relocate_stays_in_range"]), prove(EXTRA_LEMMAS["bounded_range_strict_closed"]),
                prove(vacuous, timeout_s=5)]
     rows = lemma_rows(results)

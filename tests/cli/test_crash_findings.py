@@ -80,7 +80,7 @@ def test_an_engine_bug_is_not_blamed_on_the_algorithm(monkeypatch):
     """Only exceptions raised while the algorithm's own code runs are crashes."""
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import motion, simulate
-    from swarmproof.reference_impl.examples import GatherToLowestId
+    from swarmproof.reference_impl.examples.algorithms import GatherToLowestId
     from swarmproof.reference_impl.protocol import Params
 
     def broken(*a, **k):

@@ -105,7 +105,7 @@ def test_allow_violations_reports_them(capsys):
 
 
 def test_termination_bound_is_checked_when_the_algorithm_gives_one(capsys, monkeypatch):
-    from swarmproof.reference_impl.examples import GatherToLowestId
+    from swarmproof.reference_impl.examples.algorithms import GatherToLowestId
 
     monkeypatch.setattr(GatherToLowestId, "termination_bound", lambda self, params, n: 1, raising=False)
     code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "3", "--seed", "2",

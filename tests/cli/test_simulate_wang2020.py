@@ -47,7 +47,7 @@ def test_json_trace_and_plot_with_the_shape_scaled_to_the_robots(capsys, tmp_pat
 def test_the_start_is_the_seeded_arena_start():
     from swarmproof.models.shapes import centered_arena
     from swarmproof.models.targets import resolve_target
-    from swarmproof.reference_impl.wang2020 import Wang2020, default_params
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, default_params
 
     g = Wang2020.scale_target(resolve_target("shape:letter-l"), 30)
     a = Wang2020().initial(30, 4, default_params(), g)
@@ -61,7 +61,7 @@ def test_the_start_is_the_seeded_arena_start():
 
 def test_scaled_target_equals_shape_for(tmp_path):
     from swarmproof.models.targets import resolve_target
-    from swarmproof.reference_impl.wang2020 import Wang2020
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020
 
     p = tmp_path / "t.txt"
     p.write_text("###\n.#.\n.#.\n")
@@ -150,7 +150,7 @@ def test_bad_input_exits_2_naming_the_value_and_the_fix(capsys, tmp_path, argv, 
 
 
 def test_vectorised_gives_the_same_json_and_trace(capsys, tmp_path):
-    """--vectorised (reference_impl/wang2020_fast.py): the same report and the same trace file as the
+    """--vectorised (reference_impl/wang2020/fast.py): the same report and the same trace file as the
     per-robot reference; the JSON says it ran vectorised."""
     docs, traces = [], []
     for flag in ((), ("--vectorised",)):

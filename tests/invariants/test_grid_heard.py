@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.invariants.premises import GridHeard, PremisesMonitor, check_premises, grid_heard_neighbours
+from swarmproof.invariants.premises import PremisesMonitor, check_premises
+from swarmproof.reference_impl.wang2020.monitors import GridHeard, grid_heard_neighbours
 from swarmproof.models.trace import InitialConfiguration, Trace
 
 L = 0.2
@@ -114,7 +115,7 @@ def _column(loss=0.0, observers=()):
     fix): 4 agents in a column at x = -0.2, letter-l scaled to 4 cells, seed 2."""
     from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl.engine import FaultModel, simulate
-    from swarmproof.reference_impl.wang2020 import Wang2020, default_params
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, default_params
 
     alg = Wang2020()
     target = Wang2020.scale_target(resolve_target("shape:letter-l"), 4)

@@ -9,14 +9,14 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.invariants.premises import (tree_links_in_proved_cases, check_premises, children_toward_still_parents,
-                                             parents_in_bounded_ranges, relocate_path_in_range,
-                                             step_bounded)
+from swarmproof.invariants.premises import check_premises, step_bounded
+from swarmproof.reference_impl.song2016.monitors import (children_toward_still_parents, parents_in_bounded_ranges,
+                                                        relocate_path_in_range, tree_links_in_proved_cases)
 from swarmproof.reference_impl.protocol import Command
-from swarmproof.reference_impl.song2014 import Song2014
+from swarmproof.reference_impl.song2014.algorithm import Song2014
 from swarmproof.models.library import load
 from swarmproof.models.trace import Trace
-from swarmproof.reference_impl import song2016
+from swarmproof.reference_impl.song2016 import algorithm as song2016
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params

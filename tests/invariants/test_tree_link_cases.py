@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from swarmproof.invariants.premises import (PremisesMonitor, check_premises,
-                                            descendants_in_parent_bounded_ranges,
-                                            tree_links_in_proved_cases)
+from swarmproof.invariants.premises import PremisesMonitor, check_premises
+from swarmproof.reference_impl.song2014.monitors import descendants_in_parent_bounded_ranges
+from swarmproof.reference_impl.song2016.monitors import tree_links_in_proved_cases
 from swarmproof.models.library import load
 from swarmproof.models.trace import Trace
 from swarmproof.reference_impl.protocol import Observation, Params
-from swarmproof.reference_impl.song2016 import Song2016, Song2016Message, Vacancy
+from swarmproof.reference_impl.song2016.algorithm import Song2016, Song2016Message, Vacancy
 
 PHI, V = 1.2, 0.05
 

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.checkers import leechong_patterns_check as chk
+from swarmproof.reference_impl.leechong import patterns_check as chk
 from swarmproof.models import line_patterns as lp
 from swarmproof.models.errors import UsageError
 from swarmproof.models.line_patterns import (PATTERN_NAMES, interval_for_span, line_count, pattern_info,

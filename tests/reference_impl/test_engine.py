@@ -11,7 +11,7 @@ from swarmproof.models.errors import AssumptionError, ProtocolError, UsageError
 from swarmproof.models.se2 import relative_many
 from swarmproof.models.trace import InitialConfiguration, Trace
 from swarmproof.reference_impl.engine import FaultModel, TableSchedule, default_static_window, simulate
-from swarmproof.reference_impl.examples import GatherToLowestId
+from swarmproof.reference_impl.examples.algorithms import GatherToLowestId
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import (Assumption, Command, Params, RobotModel,
                                                 connected_start)

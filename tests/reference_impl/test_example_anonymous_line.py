@@ -12,7 +12,7 @@ from swarmproof.checkers.explore import explore
 from swarmproof.models.targets import resolve_target
 from swarmproof.models.trace import InitialConfiguration
 from swarmproof.reference_impl.engine import simulate
-from swarmproof.reference_impl.examples import AnonymousLine
+from swarmproof.reference_impl.examples.algorithms import AnonymousLine
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
 

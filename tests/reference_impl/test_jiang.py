@@ -1,4 +1,4 @@
-"""Jiang et al. (002) reference implementation (reference_impl/jiang.py): each step of
+"""Jiang et al. (002) reference implementation (reference_impl/jiang/algorithm.py): each step of
 Algorithms 1 and 2 on hand-made states, the two readings of Algorithm 2, runs on every bundled
 pattern, determinism (also under delays), the runtime invariants, and the engine's knows_start."""
 
@@ -16,7 +16,7 @@ from swarmproof.models.trace import InitialConfiguration
 from swarmproof.reference_impl import initial as im
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.engine.faults import FaultModel
-from swarmproof.reference_impl.jiang import Group, Jiang, JiangController, JiangLiteral, Layer, assign, nearest
+from swarmproof.reference_impl.jiang.algorithm import Group, Jiang, JiangController, JiangLiteral, Layer, assign, nearest
 from swarmproof.reference_impl.protocol import Observation, Params
 
 P = Params(range=1.5, v=0.1, omega=math.pi / 2, dt=1.0)

@@ -14,7 +14,7 @@ from swarmproof.models.errors import UsageError
 from swarmproof.models.targets import resolve_target
 from swarmproof.models.trace import InitialConfiguration
 from swarmproof.reference_impl.engine import simulate
-from swarmproof.reference_impl.leechong import LeeChongLeader
+from swarmproof.reference_impl.leechong.algorithm import LeeChongLeader
 from swarmproof.reference_impl.registry import get_algorithm
 
 
@@ -169,7 +169,7 @@ def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path)
 
     from swarmproof.checkers.explore import explore
     from swarmproof.checkers.replay import replay_file
-    from swarmproof.reference_impl.leechong import LeeChongLeader
+    from swarmproof.reference_impl.leechong.algorithm import LeeChongLeader
 
     kinds, fails = set(), set()
 
@@ -196,7 +196,7 @@ def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path)
 
 def test_flock_rigid_fires_when_followers_do_not_keep_pace():
     """The rigid-formation invariant is not vacuous: followers that ignore the leader's motion break it."""
-    from swarmproof.reference_impl import leechong as lc
+    from swarmproof.reference_impl.leechong import algorithm as lc
 
     class Lazy(lc.LeeChongController):
         def _shift(self):
@@ -265,7 +265,7 @@ def test_huge_teams_exit_2(capsys):
 
 
 def test_distinct_targets_invariant_on_hand_made_states():
-    from swarmproof.reference_impl.leechong import _distinct_targets
+    from swarmproof.reference_impl.leechong.algorithm import _distinct_targets
 
     def st(i, target, failed=False):
         return (("failed", failed), ("phase", "form"), ("id", i), ("target", target), ("epoch", (0, 0)),

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.checkers.leechong_checks import allocated_ids, id_formula, neighbor_links
+from swarmproof.reference_impl.leechong.checks import allocated_ids, id_formula, neighbor_links
 from swarmproof.models.errors import UsageError
-from swarmproof.reference_impl.leechong import agree, allocate_ids, neighbor_id
+from swarmproof.reference_impl.leechong.algorithm import agree, allocate_ids, neighbor_id
 
 
 def _rot(points, ang, shift=(0.0, 0.0)):

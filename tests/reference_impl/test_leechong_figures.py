@@ -1,7 +1,7 @@
 """Lee & Chong (003) figure runs as checks: flocking (Figs. 9, 20), switching (Figs. 15, 24),
 failures (Figs. 12, 13, 22) and positioning errors (Figs. 27, 28).
 
-The scenarios and the measures are those of ``benchmarks/leechong_figures.py`` (which also
+The scenarios and the measures are those of ``benchmarks/leechong/leechong_figures.py`` (which also
 draws them); every run starts from testbed 5 (12 robots, Alg. 1's printed formula gives IDs
 0..11 there).  Each test asserts the paper's statement, or, where the run differs from it,
 exactly what happens (a finding; docs/leechong.md "Experiments").  Each run is 12 robots or
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from swarmproof.models.targets import LinePattern, resolve_target
-from swarmproof.reference_impl.leechong import neighbor_id
+from swarmproof.reference_impl.leechong.algorithm import neighbor_id
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -28,7 +28,7 @@ def _load(name):
     return load_benchmark(name)
 
 
-F = _load("leechong_figures")
+F = _load("leechong/leechong_figures")
 VDT = 0.2 * 0.5          # default_params: v = 0.2, dt = 0.5
 
 

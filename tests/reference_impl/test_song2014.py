@@ -18,8 +18,8 @@ from swarmproof.models.trace import InitialConfiguration
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.protocol import Params
 from swarmproof.reference_impl.registry import get_algorithm
-from swarmproof.reference_impl.song2014 import ROLE_UNMATCHED, Song2014
-from swarmproof.reference_impl.song2014_experiments import (
+from swarmproof.reference_impl.song2014.algorithm import ROLE_UNMATCHED, Song2014
+from swarmproof.reference_impl.song2014.experiments import (
     execution_time, run_formation, run_robustness,
 )
 

@@ -18,7 +18,7 @@ from swarmproof.models.errors import AssumptionError, ProtocolError
 from swarmproof.models.lattice import LatticeGraph
 from swarmproof.models.se2 import SE2
 from swarmproof.reference_impl.protocol import Observation, Params
-from swarmproof.reference_impl.song2014 import (
+from swarmproof.reference_impl.song2014.algorithm import (
     ROLE_UNMATCHED, Song2014, Song2014Message, authority_key, descendant_motion, is_higher,
     match_positions, select_parent, solve_matching, unmatched_steps, weight_matrix,
 )
@@ -248,7 +248,7 @@ def test_state_is_hashable_and_names_the_documented_keys():
 
 
 def test_zero_speed_controller_is_built_and_disperses_forever():
-    from swarmproof.reference_impl.song2014 import NEVER
+    from swarmproof.reference_impl.song2014.algorithm import NEVER
     c = ctrl(3, params=Params(range=1.2, v=0.0))
     c.step(obs(0, [9], [[0.5, 0, 0]], {9: Song2014Message((9,), ((3, None),))}, rid=3))
     assert dict(c.state())["unmatched_until"] == NEVER

@@ -21,11 +21,11 @@ from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Observation, Params
 from swarmproof.reference_impl.registry import get_algorithm
-from swarmproof.reference_impl.song2016 import (PARENT_RULES, Song2016, Song2016Controller,
+from swarmproof.reference_impl.song2016.algorithm import (PARENT_RULES, Song2016, Song2016Controller,
                                                 Song2016Message, Vacancy, compute_message, get_parent_msg,
                                                 sequential_fill, vacancies,
                                                 vacancy_in_observer_frame)
-from swarmproof.reference_impl.song2016_geometry import (closest_point_in_discs, in_discs,
+from swarmproof.reference_impl.song2016.geometry import (closest_point_in_discs, in_discs,
                                                          reachable_point)
 
 SQUARE = load("square")

@@ -42,7 +42,7 @@ from swarmproof.models.se2 import relative_many
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
-from swarmproof.reference_impl.song2016 import Song2016, sequential_fill
+from swarmproof.reference_impl.song2016.algorithm import Song2016, sequential_fill
 
 LATTICES = ("square", "hexagon", "octagon-square")
 SIZES = (10, 20, 30, 40)

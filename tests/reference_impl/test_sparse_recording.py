@@ -78,7 +78,7 @@ def test_streaming_and_trace_judgments_agree_on_a_real_run():
     from swarmproof.invariants.connectivity import tree_links_survive
     from swarmproof.models.library import load
     from swarmproof.reference_impl.initial import random_connected
-    from swarmproof.reference_impl.song2014 import Song2014
+    from swarmproof.reference_impl.song2014.algorithm import Song2014
 
     start = random_connected(10, 2, range=1.2)
     p = Params(range=1.2, v=0.05)
@@ -122,7 +122,7 @@ def test_premise_monitors_stream_every_step_and_find_a_failure_a_sparse_trace_sk
     from swarmproof.invariants.properties import premises
     from swarmproof.models.library import load
     from swarmproof.reference_impl.initial import random_connected
-    from swarmproof.reference_impl.song2014 import Song2014
+    from swarmproof.reference_impl.song2014.algorithm import Song2014
 
     start = random_connected(10, 2, range=1.2)
     p = Params(range=1.2, v=0.05)
@@ -137,7 +137,7 @@ def test_premise_monitors_stream_every_step_and_find_a_failure_a_sparse_trace_sk
     ctx = PropertyContext(Song2014(), load("square"), p, sparse, {})
     assert get_property("premises").judge(sparse.trace, ctx).witness == want.witness
     # on a run where every premise holds, the streamed verdict is held too
-    from swarmproof.reference_impl.song2016 import Song2016
+    from swarmproof.reference_impl.song2016.algorithm import Song2016
 
     s16 = Song2016(n_robots=8)
     start = random_connected(8, 0, range=1.2)

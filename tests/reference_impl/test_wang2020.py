@@ -19,7 +19,7 @@ from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_grid_connected
 from swarmproof.reference_impl.protocol import Observation, Params
 from swarmproof.reference_impl.registry import get_algorithm
-from swarmproof.reference_impl.wang2020 import (J1, J2, Wang2020, Wang2020Controller, WangMsg, default_params,
+from swarmproof.reference_impl.wang2020.algorithm import (J1, J2, Wang2020, Wang2020Controller, WangMsg, default_params,
                                                 delta_t_of)
 
 L = 0.2

@@ -1,5 +1,5 @@
 """The centralized method 004 compares against ([12], Yu & LaValle 2013) and the Fig. 10-12 trial
-runner (reference_impl/wang2020_experiments.py)."""
+runner (reference_impl/wang2020/experiments.py)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 from swarmproof.models.assignment import optimal_assignment
 from swarmproof.models.errors import UsageError
 from swarmproof.models.shapes import centered_arena, random_shape, random_start_cells
-from swarmproof.reference_impl.wang2020_experiments import centralized_schedule, shortest_path
+from swarmproof.reference_impl.wang2020.experiments import centralized_schedule, shortest_path
 
 
 def _check_schedule(starts, goals, s):
@@ -92,7 +92,7 @@ def test_a_non_optimal_assignment_with_crossing_paths_is_refused():
 # -- the decentralized trial runner ---------------------------------------------------------------
 
 def test_wang_trial_stops_when_formed_and_measures_the_distance():
-    from swarmproof.reference_impl.wang2020_experiments import start_cells, wang_trial
+    from swarmproof.reference_impl.wang2020.experiments import start_cells, wang_trial
 
     rng = np.random.default_rng(3)
     goals = random_shape(9, rng)
@@ -110,7 +110,7 @@ def test_wang_trial_stops_when_formed_and_measures_the_distance():
 
 
 def test_sparse_grid_trace_keeps_edge_events_but_not_their_frames():
-    from swarmproof.reference_impl.wang2020_experiments import start_cells, wang_trial
+    from swarmproof.reference_impl.wang2020.experiments import start_cells, wang_trial
 
     rng = np.random.default_rng(4)
     goals = random_shape(9, rng)
@@ -141,7 +141,7 @@ def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
     from swarmproof.models.shapes import shape_for
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.wang2020 import Wang2020
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020
 
     root = pathlib.Path(__file__).resolve().parents[2]
     spec = importlib.util.spec_from_file_location("trace_hashes", root / "benchmarks" / "trace_hashes.py")
@@ -162,7 +162,7 @@ def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
 
     from testkit import load_benchmark
 
-    bench = load_benchmark("bench_wang2020")
+    bench = load_benchmark("wang2020/bench_wang2020")
     log = tmp_path / "t.jsonl"
     out = bench.fig10([4, 6], 1, str(tmp_path / "f10.png"), jsonl=str(log))
     assert [r["n"] for r in out["rows"]] == [4, 6] and (tmp_path / "f10.png").stat().st_size > 0
@@ -182,7 +182,7 @@ def test_bench_fig9_draws_a_run_whose_n_never_formed_on_ns_goals(tmp_path):
     with the number held; the count agrees with the run's own progress observer."""
     from testkit import load_benchmark
 
-    bench = load_benchmark("bench_wang2020")
+    bench = load_benchmark("wang2020/bench_wang2020")
     png = tmp_path / "f9.png"
     out = bench.fig9(30, 0, str(png), 200, arena=8)
     assert out["status"] == "step_cap" and out["N_detected_s"] is None

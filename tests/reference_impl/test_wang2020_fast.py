@@ -1,4 +1,4 @@
-"""wang2020's vectorised path (reference_impl/wang2020_fast.py) against the per-robot reference:
+"""wang2020's vectorised path (reference_impl/wang2020/fast.py) against the per-robot reference:
 the same trace bit for bit (poses, states, events, meta, status), over asynchronous clock phases,
 both time steps in use, handshakes, a second shape, sparse recording, step caps and the
 k-d-tree neighbour search above 50 agents; and the runs it refuses."""
@@ -12,9 +12,9 @@ from swarmproof.models.errors import UsageError
 from swarmproof.models.shapes import shape_for
 from swarmproof.models.targets import resolve_target
 from swarmproof.reference_impl.engine import FaultModel, simulate
-from swarmproof.reference_impl.wang2020 import Wang2020, Wang2020Controller
-from swarmproof.reference_impl.wang2020_experiments import experiment_params
-from swarmproof.reference_impl.wang2020_fast import simulate_fast, trace_json, unsupported
+from swarmproof.reference_impl.wang2020.algorithm import Wang2020, Wang2020Controller
+from swarmproof.reference_impl.wang2020.experiments import experiment_params
+from swarmproof.reference_impl.wang2020.fast import simulate_fast, trace_json, unsupported
 
 
 def _pair(shape, n, seed, **kw):
@@ -200,7 +200,7 @@ def test_fig_9_at_its_density_identical(n, arena, ticks):
     48 x 48), the experiments' time step: the first ticks, every 50th recorded, identical (about a
     minute of the reference at 256 agents, 25 s CPU at 1,024)."""
     from swarmproof.models.trace import InitialConfiguration
-    from swarmproof.reference_impl.wang2020_experiments import start_cells
+    from swarmproof.reference_impl.wang2020.experiments import start_cells
 
     N, U = shape_for("letter-n", n), shape_for("letter-u", n)
     starts = start_cells(N.cells, n, np.random.default_rng(0), arena=arena)

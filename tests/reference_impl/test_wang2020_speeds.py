@@ -15,7 +15,7 @@ from swarmproof.models.targets import resolve_target
 from swarmproof.models.trace import InitialConfiguration
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.protocol import Params
-from swarmproof.reference_impl.wang2020 import Wang2020, default_params, speed_buffer_bound, speed_range
+from swarmproof.reference_impl.wang2020.algorithm import Wang2020, default_params, speed_buffer_bound, speed_range
 
 SHAPE = resolve_target("shape:letter-l")
 #: v_min / v_max at which 004 Sec. V-B3's bound is exactly l = 0.20 m with r = 0.05 m: 1 / sqrt(3)

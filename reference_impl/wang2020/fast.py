@@ -64,10 +64,10 @@ from scipy.spatial import cKDTree
 from swarmproof.models.sensing import _BRUTE_MAX, _INFLATE, INCLUSIVE_SLACK, neighbor_pairs
 from swarmproof.models.trace import Event
 
-from .engine.clocks import AsyncClocks
-from .engine.common import _ro
-from .engine.motion import GridMotion
-from .engine.run import (PROGRESS_EVERY, Recording, SimulationResult, _robot_rng, preflight, run_caps,
+from ..engine.clocks import AsyncClocks
+from ..engine.common import _ro
+from ..engine.motion import GridMotion
+from ..engine.run import (PROGRESS_EVERY, Recording, SimulationResult, _robot_rng, preflight, run_caps,
                          run_meta)
 
 __all__ = ["simulate_fast", "unsupported", "trace_json"]
@@ -97,10 +97,9 @@ def trace_json(result) -> str:
 
 def unsupported(algorithm, params, *, faults=None, record_messages: bool = False) -> str | None:
     """Why this run cannot take the vectorised path (None: it can)."""
-    from .wang2020 import Wang2020Controller
-
-    if getattr(algorithm, "name", None) != "wang2020" or getattr(algorithm, "controller_class", None) \
-            is not Wang2020Controller:
+    reference = getattr(type(algorithm), "vectorised_controller", None)
+    if getattr(algorithm, "name", None) != "wang2020" or reference is None \
+            or getattr(algorithm, "controller_class", None) is not reference:
         return f"algorithm {getattr(algorithm, 'name', algorithm)!r} is not wang2020 with its reference controller"
     m = algorithm.model
     if (m.sensing, m.communication, m.motion, m.clocks) != ("global", "neighbors", "grid", "async"):

@@ -1,6 +1,6 @@
 """song2016: execution time (steps) against n, the fitted exponent, and robot-steps/s.
 
-Usage: ``python benchmarks/bench_song2016.py [--quick] [--lattice square] [--seeds 3] [--sizes 100]``.
+Usage: ``python benchmarks/song2016/bench_song2016.py [--quick] [--lattice square] [--seeds 3] [--sizes 100]``.
 
 For each n, runs song2016 (001 Sec. V; timeouts = n as in Sec. VI; range = the
 library's, v = 0.05, omega = pi/4, dt = 1) from ``random_connected`` starts to
@@ -28,7 +28,7 @@ from swarmproof.models.library import load
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
-from swarmproof.reference_impl.song2016 import Song2016
+from swarmproof.reference_impl.song2016.algorithm import Song2016
 
 
 def run(lattice, n: int, seed: int):

@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong_figures.py [--out docs] [--scale paper|test]
+    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong/leechong_figures.py [--out docs] [--scale paper|test]
 
 The scenarios of :data:`SCENARIOS` re-run the simulations of 003's Figs. 9, 12, 13, 15, 20, 22,
 24, 27 and 28 with 12 robots from one seeded start (testbed :data:`SEED`, on which Alg. 1's
@@ -32,7 +32,7 @@ from swarmproof.models.errors import UsageError
 __all__ = ["SEED", "SCENARIOS", "FIG15", "scenario", "run_scenario", "allocated_ids", "flock_start",
            "leader_drift", "chain_depth", "neighbor_gaps", "reversals", "pattern_epochs", "draw_run", "main"]
 
-#: The start of every figure run (testbed 5 of benchmarks/leechong_tables.py: 12 robots whose
+#: The start of every figure run (testbed 5 of benchmarks/leechong/leechong_tables.py: 12 robots whose
 #: half planes hold 5 and 6 followers, so Alg. 1's printed formula gives 1..11).
 SEED = 5
 #: 003 Sec. 3.6 (Fig. 15): circle first, then "hexagon, arc, two columns, diamond, circle, and wedge".
@@ -152,7 +152,7 @@ def chain_depth(rid: int, kind: str = "uni", k: int | None = None) -> int:
     >>> [chain_depth(i) for i in range(1, 12)]
     [1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6]
     """
-    from swarmproof.reference_impl.leechong import neighbor_id
+    from swarmproof.reference_impl.leechong.algorithm import neighbor_id
 
     depth = 0
     while rid != 0:
@@ -173,7 +173,7 @@ def neighbor_gaps(points_by_id: dict, pattern: str, n: int, d_u: float = 1.0) ->
     {1: 0.0, 2: 0.0, 3: -0.245, 4: 0.0}
     """
     from swarmproof.models.line_patterns import line_count, pattern_info, target_points
-    from swarmproof.reference_impl.leechong import neighbor_id
+    from swarmproof.reference_impl.leechong.algorithm import neighbor_id
 
     f = target_points(pattern, n, d_u)
     info = pattern_info(pattern)

@@ -13,7 +13,7 @@ the two half planes of Alg. 1 (``a`` with ``v >= 0``, ``b = n - 1 - a`` with ``v
   links form a tree rooted at the leader.
 
 The pattern targets' distinctness (Table 1, Alg. 3) is checked by
-:mod:`swarmproof.checkers.leechong_patterns_check`.
+:mod:`swarmproof.reference_impl.leechong.patterns_check`.
 
 >>> id_formula(4)["non_bijective_splits"]
 [[0, 3], [2, 1], [3, 0]]
@@ -66,7 +66,7 @@ def neighbor_links(n: int, kind: str, k: int | None, numbering: str = "formula")
     ``kind`` "uni" or "multi" with ``k`` = NoLine of Alg. 4 line 7.  Returns ``{"status",
     "checked", "counterexample": {"n", "split", "id", "n_id", "why"} | None}``.
     """
-    from swarmproof.reference_impl.leechong import neighbor_id
+    from .numbering import neighbor_id
 
     checked = 0
     for a in range(n):
@@ -122,7 +122,7 @@ def verify_rows(max_n: int = MAX_N) -> list:
     """The checks as ``swarmproof verify`` rows (section ``formulas``): ``{subject, property,
     status ("proved" | "violated" | "inconclusive"), detail, cites, data}``.  Exhaustive over
     n = 2..max_n, so "proved" means proved for exactly those n (the subject says so)."""
-    from swarmproof.checkers.leechong_patterns_check import check_all as distinct_all, summarize
+    from swarmproof.reference_impl.leechong.patterns_check import check_all as distinct_all, summarize
 
     res = check_all(max_n)
     rows = []

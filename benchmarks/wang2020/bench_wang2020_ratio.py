@@ -2,10 +2,10 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py decompose --n 144 --seeds 0,1
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py decompose --n 64 --seeds 0,1,2 --reading req
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py decompose --n 144 --seeds 0 --params '{"beta": 0.1}'
-    .venv/bin/python benchmarks/bench_wang2020_ratio.py bounds --sizes 16,64,144,256,529 --seeds 0,1,2
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py decompose --n 144 --seeds 0,1
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py decompose --n 64 --seeds 0,1,2 --reading req
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py decompose --n 144 --seeds 0 --params '{"beta": 0.1}'
+    .venv/bin/python benchmarks/wang2020/bench_wang2020_ratio.py bounds --sizes 16,64,144,256,529 --seeds 0,1,2
 
 ``decompose`` runs the per-robot reference (Fig. 10's trial: ``random_shape(n)``, starts uniform in a
 32 x 32 arena, stop once formed) with an instrumented controller and prints one JSON line per seed:
@@ -45,11 +45,11 @@ import time
 import numpy as np
 
 from swarmproof.models.assignment import optimal_assignment
-from swarmproof.reference_impl import wang2020 as W
+from swarmproof.reference_impl.wang2020 import algorithm as W
 from swarmproof.reference_impl.protocol import Command
-from swarmproof.reference_impl.wang2020 import manhattan as md
-from swarmproof.reference_impl.wang2020_experiments import ARENA, ProgressObserver, experiment_params
-from swarmproof.reference_impl.wang2020_experiments import fig10_instance as instance
+from swarmproof.reference_impl.wang2020.algorithm import manhattan as md
+from swarmproof.reference_impl.wang2020.experiments import ARENA, ProgressObserver, experiment_params
+from swarmproof.reference_impl.wang2020.experiments import fig10_instance as instance
 
 R_CELLS = 3.0    # R / l = 0.6 m / 0.2 m (004 Sec. V-A, V-B3)
 

@@ -60,7 +60,7 @@ from swarmproof.models.errors import AssumptionError, ProtocolError
 from swarmproof.models.geometry import nearest_xy
 from swarmproof.models.se2 import wrap_angle
 
-from .protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
+from ..protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
 
 __all__ = [
     "Song2014", "Song2014Controller", "Song2014Message", "authority_key", "is_higher",

@@ -2,9 +2,9 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/bench_song2014.py perf              # robot-steps/s at 50 and 250
-    .venv/bin/python benchmarks/bench_song2014.py figs --seeds 5    # Figs. 8-9 table
-    .venv/bin/python benchmarks/bench_song2014.py robustness --seeds 3   # Fig. 10 numbers
+    .venv/bin/python benchmarks/song2014/bench_song2014.py perf              # robot-steps/s at 50 and 250
+    .venv/bin/python benchmarks/song2014/bench_song2014.py figs --seeds 5    # Figs. 8-9 table
+    .venv/bin/python benchmarks/song2014/bench_song2014.py robustness --seeds 3   # Fig. 10 numbers
 
 Each mode prints a Markdown table (pasted into docs/song2014.md and
 docs/performance.md) and, with ``--json FILE``, writes the raw numbers
@@ -31,8 +31,8 @@ from swarmproof.models.fileio import atomic_write_text, dumps_json
 from swarmproof.models.library import load
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
-from swarmproof.reference_impl.song2014 import ROLE_UNMATCHED, Song2014
-from swarmproof.reference_impl.song2014_experiments import (
+from swarmproof.reference_impl.song2014.algorithm import ROLE_UNMATCHED, Song2014
+from swarmproof.reference_impl.song2014.experiments import (
     default_params, execution_time, run_formation, run_robustness,
 )
 

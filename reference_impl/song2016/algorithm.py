@@ -43,7 +43,7 @@ children whose bounded ranges formed this step's safe region), ``relocate``
 vacancy, else None), ``target`` (body-frame ``(x, y)`` where the command ends
 the step: inside the safe region when ``moving``; else None),
 ``safe_radius`` (float, ``phi - v*dt`` shrunk by
-:data:`~swarmproof.reference_impl.song2016_geometry.SAFE_MARGIN`),
+:data:`~swarmproof.reference_impl.song2016.geometry.SAFE_MARGIN`),
 ``highest_id``/``highest_since``, ``root_id``, ``relocate_id``/``relocate_since``
 (the principal information and the step at which it last changed, which
 drive the communication timeouts), ``mover``/``mover_since`` (``"relocate"``,
@@ -69,8 +69,8 @@ import numpy as np
 
 from swarmproof.models.errors import ProtocolError, UsageError, check_finite
 from swarmproof.models.se2 import wrap_angle
-from .protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start
-from .song2016_geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
+from ..protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start
+from .geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
                                 farthest_point_toward, in_discs, reachable_point)
 
 __all__ = [

@@ -5,7 +5,7 @@ plane" (a 15 m x 15 m square for n = 50..300), moves them at 10 cm/s, and
 reports the formation quality and the total distance; it compares with Song's
 algorithm [16] (001).  :func:`uniform_start` draws such a start (seeded; a
 minimum separation keeps robots distinct, Def. 1); :func:`run_sec5` runs one
-and returns its figures; ``benchmarks/bench_jiang.py`` tables them
+and returns its figures; ``benchmarks/jiang/bench_jiang.py`` tables them
 (docs/jiang.md).
 
 >>> s = uniform_start(20, 0)

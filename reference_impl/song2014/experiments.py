@@ -26,10 +26,10 @@ import numpy as np
 from swarmproof.models.errors import UsageError, check_type
 from swarmproof.models.library import load
 
-from .engine import FaultModel, SimulationResult, simulate
-from .initial import random_connected
-from .protocol import Params
-from .song2014 import Song2014
+from ..engine import FaultModel, SimulationResult, simulate
+from ..initial import random_connected
+from ..protocol import Params
+from .algorithm import Song2014
 
 __all__ = ["execution_time", "run_formation", "run_robustness", "RobustnessResult", "default_params"]
 
@@ -166,7 +166,7 @@ def run_robustness(seed: int, *, lattice_name: str = "hexagon", n: int = 150, re
     removed = tuple(sorted(int(i) for i in rng.choice(init.ids, size=remove, replace=False)))
     cap = None if max_steps is None else t1 + int(max_steps)
     if cap is None:
-        from .engine import default_max_steps
+        from ..engine import default_max_steps
         cap = t1 + default_max_steps(n - remove, params)
     after = simulate(Song2014(), lattice, init, params, seed=seed, max_steps=cap,
                      faults=FaultModel(crashes={t1: removed}))

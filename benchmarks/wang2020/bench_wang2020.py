@@ -2,16 +2,16 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/bench_wang2020.py perf                       # 1,024 robots N -> U; a 529 trial
-    .venv/bin/python benchmarks/bench_wang2020.py fig10 --sizes 16,64,144 --trials 3 --plot docs/wang2020-fig10.png
-    .venv/bin/python benchmarks/bench_wang2020.py fig9 --plot docs/wang2020-fig9.png
-    .venv/bin/python benchmarks/bench_wang2020.py fig11 --robots 100 --shapes 3 --runs 2 --plot docs/wang2020-fig11.png
-    .venv/bin/python benchmarks/bench_wang2020.py fig12 --robots 100 --shapes 6 --plot docs/wang2020-fig12.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py perf                       # 1,024 robots N -> U; a 529 trial
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig10 --sizes 16,64,144 --trials 3 --plot docs/wang2020-fig10.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig9 --plot docs/wang2020-fig9.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig11 --robots 100 --shapes 3 --runs 2 --plot docs/wang2020-fig11.png
+    .venv/bin/python benchmarks/wang2020/bench_wang2020.py fig12 --robots 100 --shapes 6 --plot docs/wang2020-fig12.png
 
 Every run is seeded (the same command prints the same experiment numbers; timings vary).  The
 experiments use ``experiment_params`` (dt = 0.1 s, f_comm = 10 Hz, Delta t = 0.2 s; Sec. V-A's
 r, R, v and Sec. V-B3's l) and the centralized method [12] of
-``swarmproof.reference_impl.wang2020_experiments.centralized_schedule`` (one grid edge per step,
+``swarmproof.reference_impl.wang2020.experiments.centralized_schedule`` (one grid edge per step,
 l / v = 4 s).  ``--json FILE`` writes the numbers; ``--plot FILE`` a PNG.  docs/wang2020.md and
 docs/performance.md hold the results.
 """
@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from swarmproof.models.shapes import random_shape, shape_for
-from swarmproof.reference_impl.wang2020_experiments import (centralized_schedule, experiment_params,
+from swarmproof.reference_impl.wang2020.experiments import (centralized_schedule, experiment_params,
                                                             fig10_instance, start_cells, wang_trial)
 
 L = 0.2          # grid length (004 Sec. V-B3)
@@ -72,9 +72,9 @@ def fig9_run(n: int = 1024, seed: int = 0, arena: int = 48, max_steps: int | Non
             return None
 
     from swarmproof.models.trace import InitialConfiguration
-    from swarmproof.reference_impl.wang2020 import Wang2020, goal_cells
-    from swarmproof.reference_impl.wang2020_experiments import ProgressObserver
-    from swarmproof.reference_impl.wang2020_fast import simulate_fast as simulate
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, goal_cells
+    from swarmproof.reference_impl.wang2020.experiments import ProgressObserver
+    from swarmproof.reference_impl.wang2020.fast import simulate_fast as simulate
 
     p = experiment_params(n)
     alg = Wang2020(then=U)
@@ -230,7 +230,7 @@ def _draw(ax, cells_xy, goals, title):
 
 def _goals_held(xy, goals) -> int:
     """Goal cells with an agent resting on them (positions in metres): the progress observer's count."""
-    from swarmproof.reference_impl.wang2020_experiments import ProgressObserver
+    from swarmproof.reference_impl.wang2020.experiments import ProgressObserver
 
     return ProgressObserver(goals, L).occupied(np.asarray(xy, dtype=float))
 

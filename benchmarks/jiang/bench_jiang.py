@@ -2,9 +2,9 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/bench_jiang.py perf                     # n = 300: run and epsilon times
-    .venv/bin/python benchmarks/bench_jiang.py sec5 --seeds 5           # Fig. 7a/7b table + plot
-    .venv/bin/python benchmarks/bench_jiang.py compare --seeds 5        # against song2016, same starts
+    .venv/bin/python benchmarks/jiang/bench_jiang.py perf                     # n = 300: run and epsilon times
+    .venv/bin/python benchmarks/jiang/bench_jiang.py sec5 --seeds 5           # Fig. 7a/7b table + plot
+    .venv/bin/python benchmarks/jiang/bench_jiang.py compare --seeds 5        # against song2016, same starts
 
 ``sec5``: the four patterns of Fig. 1 (bundled), n = 50..300 in steps of 50,
 uniform starts in a 15 m x 15 m square (Sec. V-A), 10 cm/s; per cell the
@@ -26,10 +26,16 @@ import platform
 import statistics
 import sys
 import time
+from pathlib import Path
 
 from swarmproof.models.fileio import atomic_write_text, dumps_json
 from swarmproof.models.repeating_pattern import load_pattern, resolve_pattern
-from swarmproof.reference_impl.jiang_experiments import run_sec5, uniform_start
+
+# benchmarks/ is not a package: put it on sys.path so that ``jiang.experiments`` (this folder's
+# benchmarks/jiang/experiments.py) imports both when this runs as ``python benchmarks/jiang/bench_jiang.py``
+# (sys.path[0] is then benchmarks/jiang/) and when a test loads it by path (tests/testkit.py).
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from jiang.experiments import run_sec5, uniform_start  # noqa: E402
 
 FIG1 = ("square-segments", "triangle-segments", "rhombus-triangles", "trapezoid-hexagons")
 SIZES = (50, 100, 150, 200, 250, 300)

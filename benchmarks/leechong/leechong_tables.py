@@ -2,10 +2,10 @@
 
 Usage (from the repository root)::
 
-    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong_tables.py                # all, both approaches
-    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong_tables.py --approach leader --testbeds 2 \\
+    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong/leechong_tables.py                # all, both approaches
+    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong/leechong_tables.py --approach leader --testbeds 2 \\
         --json /tmp/t.json --plot-dir /tmp                                       # smaller
-    .venv/bin/python benchmarks/leechong_tables.py --paper-only                  # the paper's exceptions
+    .venv/bin/python benchmarks/leechong/leechong_tables.py --paper-only                  # the paper's exceptions
 
 What it does (003 Secs. 3.7 and 4.6, Tables 2-5, Figs. 16 and 25):
 
@@ -47,7 +47,7 @@ import sys
 import time
 
 from swarmproof.models.errors import UsageError
-from swarmproof.reference_impl.leechong import LeeChongNeighbor
+from swarmproof.reference_impl.leechong.algorithm import LeeChongNeighbor
 
 __all__ = ["PAPER", "PATTERNS", "PAPER_PATTERNS", "COLUMNS", "TESTBEDS", "LeeChongNeighborProse",
            "paper_exceptions", "paper_mean_exceptions", "paper_repeated_cells", "testbed", "run_cell", "rerun", "summarize",

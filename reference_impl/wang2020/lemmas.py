@@ -1,7 +1,7 @@
 """z3 lemmas for Wang & Rubenstein 2020's collision-freedom (004 Sec. IV-A; issue 15).
 
-Registered into :data:`swarmproof.checkers.proofs.LEMMAS` (ids prefixed ``wang2020_``) and
-solved by :func:`swarmproof.checkers.proofs.prove` like every lemma of the suite: premises
+Listed in the algorithm registry's lemma sets, so :data:`swarmproof.checkers.proofs.LEMMAS`
+holds them (ids prefixed ``wang2020_``), and solved by :func:`swarmproof.checkers.proofs.prove` like every lemma of the suite: premises
 satisfiable, the negated conclusion ``unsat``, a negative control refuted, vacuity controls.
 
 Seven lemmas and a normalisation (docs/proofs.md, "Wang & Rubenstein 2020"):
@@ -58,8 +58,7 @@ from __future__ import annotations
 
 import z3
 
-from . import proofs
-from .proofs import Encoding, Lemma, _vars, dist2
+from swarmproof.invariants.lemmas import Encoding, Lemma, dist2, variables as _vars
 
 __all__ = ["planner_one_moment", "lemma_iv_a_1", "theorem_iv_a_2", "separation", "speed_buffer_cases",
            "separation_speeds", "time_normalisation", "LEMMAS", "UNITS"]
@@ -726,8 +725,6 @@ _LEMMA_LIST = [
     ),
 ]
 
-#: This module's lemmas by id, in order; :mod:`swarmproof.checkers.proofs` adds them to its
-#: ``LEMMAS`` (the suite ``swarmproof prove`` runs).
+#: This module's lemmas by id, in order; :mod:`swarmproof.checkers.proofs` puts them in its
+#: suite (``swarmproof prove``) through the algorithm registry's lemma sets.
 LEMMAS: dict = {lem.id: lem for lem in _LEMMA_LIST}
-
-proofs.LEMMAS.update(LEMMAS)

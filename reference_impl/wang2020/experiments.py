@@ -278,7 +278,7 @@ def experiment_params(n: int, **extra):
     """
     import dataclasses
 
-    from swarmproof.reference_impl.wang2020 import default_params
+    from .algorithm import default_params
 
     p = dataclasses.replace(default_params(0.6, n), dt=EXPERIMENT_DT)
     p.extra.update({"broadcast_every": EXPERIMENT_BROADCAST_EVERY, **extra})
@@ -365,12 +365,12 @@ def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_form
     occupied, distance) every ``every`` steps), ``result`` (the SimulationResult; sparse trace).
     With ``stop_when_formed`` the run stops once the shape is formed (the convergence time of
     Fig. 10); otherwise it runs until every agent detects completion (Sec. III-B) or the cap.
-    ``vectorised``: run it on :func:`~swarmproof.reference_impl.wang2020_fast.simulate_fast` (the
+    ``vectorised``: run it on :func:`~swarmproof.reference_impl.wang2020.fast.simulate_fast` (the
     same trace as the per-robot reference, tested bit for bit; ``False``: the reference itself).
     """
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.wang2020 import Wang2020, goal_cells
+    from .algorithm import Wang2020, goal_cells
 
     n = len(starts)
     params = params if params is not None else experiment_params(n)
@@ -380,7 +380,7 @@ def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_form
     ob = ProgressObserver(goal_cells(goals, l), l, every=every)
     stop = (lambda t, poses, states, present: ob.formed_step is not None) if stop_when_formed else None
     if vectorised:
-        from swarmproof.reference_impl.wang2020_fast import simulate_fast as simulate   # noqa: F811
+        from swarmproof.reference_impl.wang2020.fast import simulate_fast as simulate   # noqa: F811
     r = simulate(alg, goals, init, params, seed=seed, record_every=record_every, observers=[ob],
                  stop_when=stop, max_steps=max_steps)
     res = ob.result()

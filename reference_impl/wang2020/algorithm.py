@@ -863,6 +863,9 @@ class Wang2020:
     assumptions = ASSUMPTIONS
     randomized = True
     controller_class = Wang2020Controller
+    #: the controller :mod:`.fast` reproduces: the vectorised path refuses an algorithm whose
+    #: ``controller_class`` is another (a subclass that swaps the controller)
+    vectorised_controller = Wang2020Controller
     claims = {
         "collision": "004 Theorems IV-A.1/IV-A.2 with l >= 2 sqrt(2) r (Sec. III-A): discs never overlap",
         "invariants": "004 Constraints III-A.1/2 (Theorems IV-A.1/2), Lemmas IV-B.1/IV-B.2 (J1, J2)",
@@ -872,7 +875,7 @@ class Wang2020:
     }
     own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
     explore_targets = ("shape:letter-l", "shape:square-9")
-    #: The premises of the z3 lemmas (checkers/proofs_wang2020.py) monitored on every step (the
+    #: The premises of the z3 lemmas (reference_impl/wang2020/lemmas.py) monitored on every step (the
     #: ``premises`` property): claims distinct and no swap, distinct priorities within R, waited
     #: longer than the window, every neighbour within R heard (invariants/premises.py).
     premise_monitors = ("grid_claims", "grid_priorities", "grid_waited", "grid_heard")
@@ -895,10 +898,10 @@ class Wang2020:
 
     @staticmethod
     def vectorised_simulate(*args, **kwargs):
-        """The vectorised path (:func:`~swarmproof.reference_impl.wang2020_fast.simulate_fast`):
+        """The vectorised path (:func:`~swarmproof.reference_impl.wang2020.fast.simulate_fast`):
         ``engine.simulate``'s signature and the same trace bit for bit (tested), for the plain model;
         a run it does not cover is a ``UsageError`` saying why (``swarmproof simulate --vectorised``)."""
-        from .wang2020_fast import simulate_fast
+        from .fast import simulate_fast
 
         return simulate_fast(*args, **kwargs)
 

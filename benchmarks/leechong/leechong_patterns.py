@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong_patterns.py [--n 12] [--out docs/leechong-patterns.png]
+    MPLBACKEND=Agg .venv/bin/python benchmarks/leechong/leechong_patterns.py [--n 12] [--out docs/leechong-patterns.png]
 
 Draws every bundled ``lines`` pattern of :data:`swarmproof.models.line_patterns.PATTERN_NAMES`
 with its default parameters, d_u = 1 and u_l = 0, in the common frame (u to the right,
@@ -11,7 +11,7 @@ the k-polygons also the regular polygon of the fixed-centre reading (grey, dashe
 the fan-shape the leader's own position (u_l, 0) (red ring), which Table 1 does not give
 it.  Nothing is random; the PNG carries no software/version metadata, so the same command
 writes the same bytes.  Also prints the exact distinctness summary for n <= 64
-(:func:`swarmproof.checkers.leechong_patterns_check.check_all`).
+(:func:`swarmproof.reference_impl.leechong.patterns_check.check_all`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from swarmproof.checkers.leechong_patterns_check import check_all, summarize  # noqa: E402
+from swarmproof.reference_impl.leechong.patterns_check import check_all, summarize  # noqa: E402
 from swarmproof.models.fileio import atomic_write_bytes  # noqa: E402
 from swarmproof.models.line_patterns import PATTERN_NAMES, pattern_info, target_points  # noqa: E402
 

@@ -2,8 +2,8 @@
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/wang2020_shapes.py                      # docs/wang2020-shapes.png, n = 256
-    .venv/bin/python benchmarks/wang2020_shapes.py --robots 100 --plot out.png --seed 3
+    .venv/bin/python benchmarks/wang2020/wang2020_shapes.py                      # docs/wang2020-shapes.png, n = 256
+    .venv/bin/python benchmarks/wang2020/wang2020_shapes.py --robots 100 --plot out.png --seed 3
 
 Draws every bundled shape (letter-n, letter-u of 004 Figs. 1 and 9; square-9,
 letter-l) and one random connected shape (Figs. 10-12) scaled to ``--robots``

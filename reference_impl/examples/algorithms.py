@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import math
 
-from .protocol import (Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start,
+from ..protocol import (Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start,
                        steer_toward)
 
 __all__ = ["GatherToLowestId", "GatherController", "AnonymousLine", "AnonymousLineController", "GridGoals",

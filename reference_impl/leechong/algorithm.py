@@ -68,7 +68,10 @@ from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.models.errors import UsageError
 from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
 
-__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderProse", "LeeChongController", "Agreement",
+from .numbering import neighbor_id
+
+__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderProse", "LeeChongLeaderFTeam", "LeeChongNeighborFTeam",
+           "LeeChongController", "Agreement",
            "agree", "allocate_ids", "neighbor_id", "NUMBERINGS", "ID_ORDERS", "TEAMS"]
 
 NUMBERINGS = ("formula", "prose")
@@ -169,23 +172,6 @@ def agree(points, *, numbering: str = "formula", order: str = "u-increasing", le
 # ---------------------------------------------------------------------------------------------
 # Algorithm 4
 # ---------------------------------------------------------------------------------------------
-
-def neighbor_id(robot_id: int, kind: str, k: int | None = None) -> int:
-    """003 Alg. 4: N_id of the robot with ID ``robot_id`` for a uni-line (``kind="uni"``) or a
-    multi-line pattern of ``k`` lines (``NoLine := k``, line 7).
-
-    Uni-line: ``ID - 2`` for ``ID > 2``, else 0.  Multi-line: ``LiOrder = ID % NoLine``;
-    ``ID - NoLine`` when ``LiOrder = 0``, else ``ID - floor((LiOrder + 1) / 2)`` ("the quotient
-    from the division of ... LiOrder plus one, by ... 2", Sec. 4.1).
-    """
-    if kind == "uni":
-        return robot_id - 2 if robot_id > 2 else 0
-    no_line = int(k)
-    li_order = robot_id % no_line
-    if li_order == 0:
-        return robot_id - no_line
-    return robot_id - (li_order + 1) // 2
-
 
 # ---------------------------------------------------------------------------------------------
 # the controller
@@ -1002,8 +988,8 @@ class LeeChongLeader:
     @staticmethod
     def exact_checks() -> list:
         """``swarmproof verify``'s ``formulas`` rows: Alg. 1's numbering, Alg. 4's N_id and the pattern
-        targets, checked exactly for n = 2..64 (:func:`swarmproof.checkers.leechong_checks.verify_rows`)."""
-        from swarmproof.checkers.leechong_checks import verify_rows
+        targets, checked exactly for n = 2..64 (:func:`swarmproof.reference_impl.leechong.checks.verify_rows`)."""
+        from swarmproof.reference_impl.leechong.checks import verify_rows
 
         return verify_rows()
 

@@ -1,0 +1,513 @@
+"""z3 encodings of Song & O'Kane's geometric safety lemmas (000 and 001; issue 5).
+
+One small encoding per lemma, named after the mathematics, its variables indexed by time
+step (``p_i_0`` is ``p_i(t)``, ``p_i_1`` is ``p_i(t+dt)``); the prover
+(:mod:`swarmproof.checkers.proofs`) shows each valid by refuting its negation, with a
+negative control and vacuity controls.  Every lemma is stated normalised (a point at the
+origin, ``phi = 1``, ``s = v*dt/phi``: the normalisation lemmas of
+:mod:`swarmproof.invariants.lemmas`).
+
+* :data:`LEMMAS` -- the suite: ``bounded_range`` (000/001 Lemma 7), its strict form,
+  ``nclb_link_kept`` (001 Sec. V-C, Def. 8), ``spanning_tree_kept`` (one link of Lemma 11's
+  proof), ``relocate_stays_in_range``, ``safe_region_nonempty``, ``intermediate_goal_in_region``;
+* :data:`EXTRA_LEMMAS` -- run only when named: known-false variants (findings) and a true
+  lemma too hard for z3;
+* :data:`CASE_FAMILIES` -- Lemma 11 stated directly on every small rooted tree
+  (:func:`tree_case_encoding`, :func:`tree_cases`, :func:`rooted_shape`), confirmed by
+  :func:`swarmproof.checkers.proofs.confirm_trees`.
+
+Their runtime monitors (the premises on every step of a run) are in :mod:`.monitors`.
+
+References
+----------
+000_3ad33c5b62f11d5f.txt Lemma 7, Sec. IV-C, Fig. 6;
+001_7a4e517b856331bc.txt Lemma 7, Def. 8, Sec. V-C, Lemma 11.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import z3
+
+from swarmproof.invariants.lemmas import (ORIGIN as _ORIGIN, Encoding, Lemma, add as _add, dist2, eq as _eq,
+                                          point as _pt, scale as _scale, sub as _sub, variables as _vars)
+
+__all__ = ["LEMMAS", "EXTRA_LEMMAS", "CASE_FAMILIES", "TREE_SOLVER_PARAMS", "tree_case_encoding", "tree_cases",
+           "rooted_shape", "bounded_range", "nclb_link_kept", "tree_link_kept", "tree_link_kept_control",
+           "relocate_stays_in_range", "safe_region_nonempty", "intermediate_goal_in_region",
+           "intermediate_goal_partial_progress", "nclb_three_children_direct"]
+
+
+def _step_range(s) -> tuple:
+    """``0 < s < 1``: ``s = v*dt/phi``; the papers assume ``v*dt < phi``."""
+    return ("step_below_range", z3.And(s > 0, s < 1))
+
+
+# ---------------------------------------------------- the safety lemmas
+
+def bounded_range(range_radius_factor: str = "phi_minus_vdt", strict: bool = False,
+                  open_range: bool = False) -> Encoding:
+    """000 Lemma 7 / 001 Lemma 7, normalised: ``p_p(t) = 0``, ``phi = 1``, ``s = v dt/phi``.
+
+    Premises: ``||p_i(t)|| <= 1`` (neighbours; ``< 1`` if ``strict``),
+    ``||p_i(t+dt) - p_i(t)|| <= s``, ``||p_p(t+dt)|| <= s``,
+    ``||p_i(t+dt)|| <= 1 - s`` (``< 1 - s`` if ``open_range``).
+    Conclusion: ``||p_i(t+dt) - p_p(t+dt)|| <= 1`` (``< 1`` if ``strict``).
+    The control uses the radius ``phi`` (1) instead of ``phi - v dt``."""
+    s = z3.Real("s")
+    pi0, pi1, pp1 = _pt("p_i_0"), _pt("p_i_1"), _pt("p_p_1")
+    rad2 = (1 - s) * (1 - s) if range_radius_factor == "phi_minus_vdt" else z3.RealVal(1)
+    near = (lambda d: d < 1) if strict else (lambda d: d <= 1)
+    in_range = dist2(pi1) < rad2 if open_range else dist2(pi1) <= rad2
+    prem = [
+        _step_range(s),
+        ("neighbours_at_t", near(dist2(pi0))),
+        ("child_moves_at_most_v_dt", dist2(pi1, pi0) <= s * s),
+        ("parent_moves_at_most_v_dt", dist2(pp1) <= s * s),
+        ("child_in_parent_bounded_range", in_range),
+    ]
+    return Encoding(premises=prem, conclusion=near(dist2(pi1, pp1)),
+                    variables=_vars(s, pi0, pi1, pp1))
+
+
+def nclb_link_kept(radius: str = "phi_minus_vdt") -> Encoding:
+    """001 Sec. V-C (NCLB) for one parent-child link, normalised: ``p_c(t) = 0``.
+
+    Premises: the link holds at ``t`` (``||p_p(t)|| <= 1``), the parent moves at
+    most ``s`` and ends in the child's bounded range (Def. 8:
+    ``||p_p(t+dt)|| <= 1 - s``), the child moves at most ``s``.
+    Conclusion: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``."""
+    s = z3.Real("s")
+    pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
+    rad2 = (1 - s) * (1 - s) if radius == "phi_minus_vdt" else z3.RealVal(1)
+    prem = [
+        _step_range(s),
+        ("link_at_t", dist2(pp0) <= 1),
+        ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
+        ("parent_in_child_bounded_range", dist2(pp1) <= rad2),
+        ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
+    ]
+    return Encoding(premises=prem, conclusion=dist2(pp1, pc1) <= 1,
+                    variables=_vars(s, pp0, pp1, pc1))
+
+
+def tree_link_kept() -> Encoding:
+    """One link of the spanning tree in the cases of 001 Sec. V-C's motion strategy that
+    :func:`swarmproof.invariants.premises.tree_links_in_proved_cases` checks at run time;
+    normalised: ``p_c(t) = 0``.
+
+    * ``nclb``: the parent moves inside the child's bounded range, the child
+      moves at most ``s`` (the premises of ``nclb_link_kept``);
+    * ``child_not_farther_from_still_parent``: the parent does not move and the child
+      ends no farther from it than it started (case 3 of Sec. V-C, and "children ...
+      will only move toward the robot" when a safe region is empty).
+
+    In each case the link is kept: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``.  Not covered
+    (``Lemma.not_proved``): links a child chose in the step, the relocate robot heading for
+    its vacancy, the relocate robot's nearest-safe-point move toward a non-root parent."""
+    s = z3.Real("s")
+    pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
+    common = [_step_range(s), ("link_at_t", dist2(pp0) <= 1)]
+    cases = [
+        ("nclb", [
+            ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
+            ("parent_in_child_bounded_range", dist2(pp1) <= (1 - s) * (1 - s)),
+            ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
+        ]),
+        ("child_not_farther_from_still_parent", [
+            ("parent_still", _eq(pp1, pp0)),
+            ("child_not_farther", dist2(pc1, pp0) <= dist2(pp0)),
+        ]),
+    ]
+    return Encoding(premises=common, conclusion=dist2(pp1, pc1) <= 1,
+                    variables=_vars(s, pp0, pp1, pc1), cases=cases)
+
+
+def tree_link_kept_control() -> Encoding:
+    """Control of ``spanning_tree_kept``: the ``nclb`` case with radius ``phi``."""
+    return nclb_link_kept(radius="phi")
+
+
+def relocate_stays_in_range(endpoint_radius2: int = 1) -> Encoding:
+    """A point on a segment between two points within ``phi`` of a stationary
+    robot is within ``phi`` of it.  Normalised: the stationary robot (the root)
+    at the origin, ``phi = 1``.  The control lets one endpoint be ``2 phi`` away."""
+    a, b = _pt("a"), _pt("b")
+    lam = z3.Real("l")
+    q = _add(a, _scale(lam, _sub(b, a)))
+    prem = [
+        ("start_within_range", dist2(a) <= 1),
+        ("end_within_range", dist2(b) <= endpoint_radius2),
+        ("on_segment", z3.And(lam >= 0, lam <= 1)),
+    ]
+    return Encoding(premises=prem, conclusion=dist2(q) <= 1, variables=_vars(a, b, lam))
+
+
+def safe_region_nonempty(children: int = 3, ds_bound: str = "phi_minus_vdt") -> Encoding:
+    """001 Sec. V-C: every child within ``d_s < phi - v dt`` of its parent puts the
+    parent's own position in every child's bounded range.  Normalised: the
+    parent at the origin.  Stated for ``children`` children at once (each
+    conjunct uses only its own child's premise).  The control allows
+    ``d_s < phi``."""
+    s, ds = z3.Reals("s d_s")
+    cs = [_pt(f"c{k}_0") for k in range(children)]
+    bound = 1 - s if ds_bound == "phi_minus_vdt" else z3.RealVal(1)
+    prem = [_step_range(s), ("safe_distance", z3.And(ds > 0, ds < bound))]
+    prem += [(f"child_{k}_within_d_s", dist2(c) <= ds * ds) for k, c in enumerate(cs)]
+    concl = z3.And([dist2(_ORIGIN, c) <= (1 - s) * (1 - s) for c in cs])
+    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, ds, *cs))
+
+
+def intermediate_goal_in_region(neighbour_radius2: int = 1) -> Encoding:
+    """000 Sec. IV-C, Fig. 6: ``P_i & P_p`` (discs of radius ``v dt`` around ``p_i(t)`` and
+    ``phi - v dt`` around ``p_p(t)``) is not empty when the robots are neighbours: the point
+    ``(1 - s) p_i(t)`` lies in both.  Normalised: ``p_p(t) = 0``.
+
+    (That a goal chosen in ``P_i & P_p`` and reached at ``t+dt`` meets the premises of
+    ``bounded_range`` is the definition of the two discs, not a fact for z3: the two
+    conclusion parts that said so repeated the premises and were removed, issue 19.)
+    The control lets the robots be up to ``2 phi`` apart."""
+    s = z3.Real("s")
+    pi0 = _pt("p_i_0")
+    w = _scale(1 - s, pi0)
+    prem = [
+        _step_range(s),
+        ("neighbours_at_t", dist2(pi0) <= neighbour_radius2),
+    ]
+    parts = [("witness_in_P_i", dist2(w, pi0) <= s * s),
+             ("witness_in_P_p", dist2(w) <= (1 - s) * (1 - s))]
+    return Encoding(premises=prem, conclusion=z3.And([t for _, t in parts]), variables=_vars(s, pi0),
+                    parts=parts)
+
+
+# -------------------------------------------- findings and hard lemmas
+
+def intermediate_goal_partial_progress() -> Encoding:
+    """A robot that drives only part of the way to its intermediate goal ``g``
+    (``p_i(t+dt) = p_i(t) + l (g - p_i(t))``, ``0 <= l <= 1``, e.g. because part of
+    the step was spent turning) is NOT always in the parent's bounded range:
+    z3 finds a counterexample.  000 Sec. IV-C assumes the goal is reached."""
+    s, lam = z3.Reals("s l")
+    pi0, g = _pt("p_i_0"), _pt("g")
+    pi1 = _add(pi0, _scale(lam, _sub(g, pi0)))
+    prem = [
+        _step_range(s),
+        ("neighbours_at_t", dist2(pi0) <= 1),
+        ("goal_in_P_i", dist2(g, pi0) <= s * s),
+        ("goal_in_P_p", dist2(g) <= (1 - s) * (1 - s)),
+        ("partial_progress", z3.And(lam >= 0, lam <= 1)),
+    ]
+    return Encoding(premises=prem, conclusion=dist2(pi1) <= (1 - s) * (1 - s),
+                    variables=_vars(s, lam, pi0, g))
+
+
+def nclb_three_children_direct() -> Encoding:
+    """NCLB for a parent with three children at once, not normalised per child
+    (DESIGN.md section 4: did not finish in 300 s).  True, but too hard for
+    z3 in any short timeout: the honest source of a timeout in the tests."""
+    s = z3.Real("s")
+    pp1 = _pt("p_p_1")
+    c0 = [_pt(f"c{k}_0") for k in range(3)]
+    c1 = [_pt(f"c{k}_1") for k in range(3)]
+    prem = [_step_range(s), ("parent_moves_at_most_v_dt", dist2(pp1) <= s * s)]
+    for k in range(3):
+        prem += [
+            (f"link_{k}_at_t", dist2(c0[k]) <= 1),
+            (f"child_{k}_moves_at_most_v_dt", dist2(c1[k], c0[k]) <= s * s),
+            (f"parent_in_bounded_range_of_{k}", dist2(pp1, c0[k]) <= (1 - s) * (1 - s)),
+        ]
+    concl = z3.And([dist2(pp1, c) <= 1 for c in c1])
+    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, pp1, *c0, *c1))
+
+
+# ------------------------------------------------------------- the suite
+
+_S_NORM = "scale: phi = 1, s = v*dt/phi in (0, 1) (scale_invariance)"
+
+
+def _t(what: str) -> str:
+    return f"translation: {what} at the origin (translation_invariance)"
+
+
+#: The suite's lemmas of these papers, in order (``swarmproof prove`` runs them after the
+#: normalisation lemmas).
+_LEMMA_LIST = [
+    Lemma(
+        id="bounded_range",
+        statement="If r_i and r_p are neighbours at t (||p_i(t) - p_p(t)|| <= phi), each moves "
+                  "at most v dt, and ||p_i(t+dt) - p_p(t)|| <= phi - v dt, then "
+                  "||p_i(t+dt) - p_p(t+dt)|| <= phi.",
+        cites=("000_3ad33c5b62f11d5f.txt Lemma 7, Eqs. 5-7",
+               "001_7a4e517b856331bc.txt Lemma 7"),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=bounded_range,
+        control=lambda: bounded_range(range_radius_factor="phi"),
+        control_note="bounded range of radius phi instead of phi - v dt",
+        kind="paper lemma",
+    ),
+    Lemma(
+        id="bounded_range_strict",
+        statement="With neighbours strictly closer than phi (docs/decisions.md, Model and "
+                  "geometry) Lemma 7 needs the open bounded range: if ||p_i(t) - p_p(t)|| < phi, "
+                  "each moves at most v dt and ||p_i(t+dt) - p_p(t)|| < phi - v dt, then "
+                  "||p_i(t+dt) - p_p(t+dt)|| < phi.",
+        cites=("000_3ad33c5b62f11d5f.txt Lemma 7", "001_7a4e517b856331bc.txt Lemma 7, Def. 4"),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=lambda: bounded_range(strict=True, open_range=True),
+        control=lambda: bounded_range(strict=True, open_range=False),
+        control_note="closed bounded range (<= phi - v dt) with strict neighbours: "
+                     "a pair can end exactly phi apart",
+    ),
+    Lemma(
+        id="nclb_link_kept",
+        statement="A parent that moves at most v dt into the bounded range (Def. 8: disc of "
+                  "radius phi - v dt around p_c(t)) of a child that moves at most v dt stays "
+                  "within phi of that child: ||p_p(t+dt) - p_c(t+dt)|| <= phi.",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C (NCLB), Def. 8, Lemma 7",),
+        normalisations=(_t("p_c(t)"), _S_NORM),
+        build=nclb_link_kept,
+        control=lambda: nclb_link_kept(radius="phi"),
+        control_note="parent anywhere within phi of the child's old position",
+    ),
+    Lemma(
+        id="spanning_tree_kept",
+        statement="One link of the spanning tree, in the two cases of the motion strategy the "
+                  "run-time monitor tree_link_cases checks (the parent moves inside the child's "
+                  "bounded range and the child moves at most v dt; the parent stays still and the "
+                  "child ends no farther from it): the link is kept, ||p_p(t+dt) - p_c(t+dt)|| <= phi. "
+                  "One link only, not Lemma 11: the composition over the tree's links is argued on "
+                  "paper (docs/proofs.md), and the cases listed as not proved are not covered.",
+        cites=("001_7a4e517b856331bc.txt Lemma 11's proof, Sec. V-C (one link; Lemma 11 itself is not proved)",),
+        normalisations=(_t("p_c(t)"), _S_NORM),
+        build=tree_link_kept,
+        control=tree_link_kept_control,
+        control_note="nclb case with the parent anywhere within phi of the child",
+        not_proved=(
+            "links a child chose in the step: the parent moves without counting it among its "
+            "children (messages take one step), so no NCLB premise holds for them -- swarmproof "
+            "finds them breaking (song2016, square n=20 seed 1, step 344)",
+            "the relocate robot heading for its vacancy while its parent is the root: its link "
+            "is checked at run time only (monitor tree_link_cases, case relocate_in_root_range_monitored)",
+            "the relocate robot moving toward a parent that is not the root by the nearest safe "
+            "point (Fig. 11's intermediate goal): it can move away from that parent, and a "
+            "crafted state breaks the link",
+            "the composition of the per-link cases into Lemma 11 (the tree at t+dt spans the "
+            "communication graph): argued on paper in docs/proofs.md, not by z3",
+        ),
+    ),
+    Lemma(
+        id="relocate_stays_in_range",
+        statement="A robot moving along the straight segment between two points within phi of "
+                  "a stationary robot stays within phi of it.",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C case 2 (relocate robot toward the vacancy)",),
+        normalisations=(_t("the stationary robot"), "scale: phi = 1 (scale_invariance)"),
+        build=relocate_stays_in_range,
+        control=lambda: relocate_stays_in_range(endpoint_radius2=4),
+        control_note="the segment's end may be 2 phi away",
+        not_proved=("that the relocate robot's step ends within phi of the root: the run-time "
+                    "monitor checks that end directly (a disc is convex; this lemma only extends "
+                    "the two ends to the path between them)",),
+    ),
+    Lemma(
+        id="safe_region_nonempty",
+        statement="If every child is within d_s < phi - v dt of its parent, the parent's own "
+                  "position lies in every child's bounded range, so the safe region (their "
+                  "intersection) is not empty (stated for 3 children).",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C (safe distance d_s), Def. 8",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=safe_region_nonempty,
+        control=lambda: safe_region_nonempty(ds_bound="phi"),
+        control_note="d_s < phi instead of d_s < phi - v dt",
+        not_proved=("that the children do come within d_s (Sec. V-C's 'the safe region will "
+                    "eventually be non-empty' is a liveness claim; this is one moment of it)",),
+    ),
+    Lemma(
+        id="intermediate_goal_in_region",
+        statement="P_i & P_p (discs of radius v dt around p_i(t) and phi - v dt around p_p(t)) is "
+                  "not empty when the robots are neighbours: (1 - s) p_i(t) lies in both. (A goal "
+                  "chosen there and reached at t+dt meets bounded_range's premises by definition.)",
+        cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C steps 1-3, Fig. 6, Lemma 7",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=intermediate_goal_in_region,
+        control=lambda: intermediate_goal_in_region(neighbour_radius2=4),
+        control_note="the robots up to 2 phi apart instead of phi",
+        not_proved=("that the robot reaches its goal within the step: it may not "
+                    "(intermediate_goal_partial_progress, a counterexample)",),
+    ),
+]
+
+#: These papers' lemmas by id, in order (:mod:`swarmproof.checkers.proofs` puts them in its suite).
+LEMMAS: dict = {lem.id: lem for lem in _LEMMA_LIST}
+
+#: Lemmas run only when named: known-false variants (findings) and a true
+#: lemma too hard for z3 (the honest timeout).
+EXTRA_LEMMAS: dict = {
+    "bounded_range_strict_closed": Lemma(
+        id="bounded_range_strict_closed",
+        statement="FINDING (expected counterexample): with neighbours strictly closer than phi "
+                  "and the closed bounded range of Def. 8, a pair can end exactly phi apart.",
+        cites=("001_7a4e517b856331bc.txt Lemma 7, Def. 8",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=lambda: bounded_range(strict=True, open_range=False),
+        control=lambda: bounded_range(strict=True, range_radius_factor="phi"),
+        control_note="bounded range of radius phi",
+    ),
+    "intermediate_goal_partial_progress": Lemma(
+        id="intermediate_goal_partial_progress",
+        statement="FINDING (expected counterexample): a robot that covers only part of the way "
+                  "to its intermediate goal may end outside the parent's bounded range.",
+        cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C, Lemma 7",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        build=intermediate_goal_partial_progress,
+        control=lambda: intermediate_goal_in_region(neighbour_radius2=4),
+        control_note="the robots up to 2 phi apart",
+    ),
+    "nclb_three_children_direct": Lemma(
+        id="nclb_three_children_direct",
+        statement="NCLB for three children at once, un-normalised (true; too hard for z3 in a "
+                  "short timeout, DESIGN.md section 4).",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C",),
+        normalisations=(_S_NORM,),
+        build=nclb_three_children_direct,
+        control=lambda: nclb_link_kept(radius="phi"),
+        control_note="one child, radius phi",
+    ),
+}
+
+
+# ------------------------------------- direct confirmation on small trees
+
+#: nlsat option for the direct tree confirmation: keep the variables in the order
+#: they first appear (``s``, the moves ``m_k``, then each link's vector) instead
+#: of nlsat's reordering heuristic.  Measured (docs/performance.md, "Proof
+#: suite"): with the heuristic 222 of the 640 cases up to 5 robots timed out at
+#: 2 s; with this order and the conclusion proved link by link, none.
+TREE_SOLVER_PARAMS = (("variable_ordering_strategy", 3),)
+
+
+def tree_case_encoding(tree, root, moving, bounded_range: str = "phi_minus_vdt") -> Encoding:
+    """001 Lemma 11 stated directly for one rooted tree and one set of moving
+    robots (no per-link lemma used): all links' premises at once, conclusion
+    "every link kept", one ``part`` per link.
+
+    Normalisations (docs/proofs.md): the root's old position at the origin,
+    ``phi = 1``, ``s = v dt / phi``; a robot that does not move has the
+    constant move ``(0, 0)``.  Variables are per link (a linear change of
+    coordinates, one-to-one for a tree): for a moving parent
+    ``u_c = p_p(t+dt) - p_c(t)``, for a still parent ``d_c = p_c(t) - p_p(t)``;
+    ``m_k = p_k(t+dt) - p_k(t)`` for a moving robot.  The case of each link
+    follows the motion strategy (001 Sec. V-C): a moving parent obeys NCLB,
+    a child of a still parent moves straight toward it.  ``bounded_range="phi"``
+    is the negative control (NCLB with radius ``phi`` instead of ``phi - v dt``).
+
+    Examples
+    --------
+    >>> import networkx as nx
+    >>> enc = tree_case_encoding(nx.path_graph(3), 0, frozenset({1}))
+    >>> [name for name, _ in enc.premises]
+    ['step_below_range', 'robot_1_moves_at_most_v_dt', 'link_0_1_at_t', 'child_1_toward_still_parent_0', 'link_1_2_at_t', 'nclb_1_in_bounded_range_of_2']
+    >>> [name for name, _ in enc.parts]
+    ['link_0_1_kept', 'link_1_2_kept']
+    """
+    import networkx as nx
+
+    s = z3.Real("s")
+    parent = {v: u for u, v in nx.bfs_edges(tree, root)}
+    rad2 = (1 - s) * (1 - s) if bounded_range == "phi_minus_vdt" else z3.RealVal(1)
+    m = {k: (_pt(f"m{k}") if k in moving else _ORIGIN) for k in sorted(tree.nodes)}
+    prem = [_step_range(s)] + [(f"robot_{k}_moves_at_most_v_dt", dist2(m[k]) <= s * s)
+                               for k in sorted(moving)]
+    parts, variables = [], [s] + _vars(*[m[k] for k in sorted(moving)])
+    for c, p in sorted(parent.items()):
+        if p in moving:
+            u = _pt(f"u{c}")
+            prem += [(f"link_{p}_{c}_at_t", dist2(u, m[p]) <= 1),
+                     (f"nclb_{p}_in_bounded_range_of_{c}", dist2(u) <= rad2)]
+            parts.append((f"link_{p}_{c}_kept", dist2(m[c], u) <= 1))
+            variables += list(u)
+        else:
+            d = _pt(f"d{c}")
+            prem.append((f"link_{p}_{c}_at_t", dist2(d) <= 1))
+            if c in moving:
+                lam = z3.Real(f"l{c}")
+                prem.append((f"child_{c}_toward_still_parent_{p}",
+                             z3.And(lam >= 0, lam <= 1, _eq(m[c], _scale(-lam, d)))))
+                variables.append(lam)
+            parts.append((f"link_{p}_{c}_kept", dist2(_add(d, m[c])) <= 1))
+            variables += list(d)
+    return Encoding(premises=prem, conclusion=z3.And([t for _, t in parts]),
+                    variables=variables, parts=parts)
+
+
+def rooted_shape(tree, root, moving) -> str:
+    """Canonical form of a rooted tree whose vertices are marked moving (``m``)
+    or still (``s``): nested brackets, children sorted (Aho, Hopcroft and
+    Ullman's tree isomorphism code).  Two cases get the same string iff an
+    isomorphism of rooted trees maps one onto the other and its moving robots
+    onto the other's moving robots; their Lemma 11 statements are then the same
+    formula up to renaming variables and reordering conjuncts, so one z3
+    answer decides both (docs/proofs.md, "Symmetry reduction").
+
+    Examples
+    --------
+    >>> import networkx as nx
+    >>> rooted_shape(nx.path_graph(3), 0, {2})
+    '(s(s(m)))'
+    >>> rooted_shape(nx.path_graph(3), 2, {0}) == rooted_shape(nx.path_graph(3), 0, {2})
+    True
+    >>> rooted_shape(nx.path_graph(3), 1, {0})
+    '(s(m)(s))'
+    """
+    def code(v, up):
+        kids = sorted(code(w, v) for w in tree[v] if w != up)
+        return "(" + ("m" if v in moving else "s") + "".join(kids) + ")"
+
+    return code(root, None)
+
+
+def tree_cases(max_robots: int):
+    """Every case of the direct confirmation, in a fixed order: for ``n`` from 2
+    to ``max_robots``, every tree shape (``networkx.nonisomorphic_trees``, nodes
+    ``0..n-1``), every root, every subset of moving robots (by bit mask).
+
+    Yields ``(n, tree, root, moving)``.
+
+    Examples
+    --------
+    >>> sum(1 for _ in tree_cases(3))
+    32
+    """
+    import networkx as nx
+
+    for n in range(2, max_robots + 1):
+        for tree in nx.nonisomorphic_trees(n):
+            tree = nx.convert_node_labels_to_integers(tree)
+            for root in range(n):
+                for mask in range(2 ** n):
+                    yield n, tree, root, frozenset(k for k in range(n) if mask >> k & 1)
+
+
+@dataclass(frozen=True)
+class CaseFamily:
+    """A lemma stated directly on every small case (each case one z3 problem) with a symmetry
+    key: what :func:`swarmproof.checkers.proofs.confirm_trees` solves."""
+
+    lemma: str
+    cases: Callable
+    encode: Callable
+    key: Callable
+    solver_params: tuple
+    variants: tuple
+
+
+#: Lemma 11 on every rooted tree and set of moving robots (001 Sec. V-C; docs/proofs.md):
+#: ``variants`` are the bounded ranges, the lemma's first, the negative control's second.
+CASE_FAMILIES = {
+    "spanning_tree_kept": CaseFamily(
+        lemma="spanning_tree_kept", cases=tree_cases,
+        encode=lambda case, variant: tree_case_encoding(case[1], case[2], case[3], variant),
+        key=lambda case: rooted_shape(case[1], case[2], case[3]),
+        solver_params=TREE_SOLVER_PARAMS, variants=("phi_minus_vdt", "phi")),
+}

@@ -1,0 +1,499 @@
+"""Runtime monitors of the premises of Wang & Rubenstein 2020's lemmas on the grid (004, issue 15).
+
+The z3 lemmas (:mod:`.lemmas`) prove the planner collision-free (Theorems IV-A.1/IV-A.2)
+under premises about claims, priorities, spacing and what each robot has heard; these checks
+over a trace (or one step of a streaming run) say whether a run met them.  Importing this
+module registers them with :mod:`swarmproof.invariants.premises` (the shared mechanism):
+``grid_claims`` (:func:`grid_claims_distinct`), ``grid_priorities``
+(:func:`grid_priorities_distinct`), ``grid_spacing`` (:func:`grid_spacing_of_trace`),
+``grid_waited`` (:func:`grid_waited_window`) and ``grid_heard``
+(:func:`grid_heard_neighbours`, :class:`GridHeard`).
+
+References
+----------
+004_004a3703645971e3.txt Sec. II-A, Sec. III-A (Constraints III-A.1/2), Alg. 2, Thms. IV-A.1/IV-A.2.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from swarmproof.invariants.premises import MISSING, examined_steps, present_robot_steps, register_monitor
+from swarmproof.invariants.result import InvariantResult, state_value
+from swarmproof.models.sensing import INCLUSIVE_SLACK
+
+__all__ = ["grid_claims_distinct", "grid_priorities_distinct", "grid_spacing_bound", "grid_spacing_of_trace",
+           "grid_waited_window", "grid_heard_neighbours", "GridHeard"]
+
+#: Cites of the grid monitors: the lemmas of :mod:`swarmproof.reference_impl.wang2020.lemmas`.
+_GRID_CITES = {
+    "claims": "wang2020_separation_equal_speeds, wang2020_theorem_iv_a_2 (004 Thms. IV-A.1/IV-A.2, Constraints III-A.1/2)",
+    "priorities": "wang2020_planner_vertex_one_moment, wang2020_lemma_iv_a_1 (004 Alg. 2 line 28, Sec. II-B)",
+    "spacing": "wang2020_separation_equal_speeds, wang2020_planner_vertex_one_moment (004 Sec. III-A: 2 sqrt(2) r <= l <= R/2)",
+    "waited": "wang2020_lemma_iv_a_1 (004 Alg. 2 line 30: waited longer than Delta t)",
+    "heard": "wang2020_lemma_iv_a_1 (004 Sec. II-A c, e: every robot within R throughout the window heard)",
+}
+
+
+def _cell(value):
+    """A waypoint from a state value: a pair of integers as a tuple, None stays None."""
+    return None if value is None else tuple(int(c) for c in value)
+
+
+def _grid_states(trace, t, keys):
+    """``{slot: {key: value}}`` for the robots present at ``t``; ``(slot, key)`` of the first
+    state that lacks a key instead, as ``("missing", slot, key)``."""
+    out = {}
+    pres = trace.present_at(t)
+    for k in range(trace.n):
+        if not pres[k]:
+            continue
+        st = trace.states[t][k]
+        row = {}
+        for key in keys:
+            val = state_value(st, key, MISSING)
+            if val is MISSING:
+                return ("missing", k, key)
+            row[key] = val
+        out[k] = row
+    return out
+
+
+def _grid_steps(trace):
+    """The recorded states a grid monitor reads: after every examined step (and the start)."""
+    r = examined_steps(trace)
+    return ([r.start] if r.start == 0 else []) + [t + 1 for t in r]
+
+
+def grid_claims_distinct(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """Claims distinct and no edge swap, in every recorded state (004 Constraints III-A.1/2, the
+    conclusions of Thms. IV-A.1/IV-A.2 and premises of ``wang2020_separation_equal_speeds``).
+
+    A robot's claim (Alg. 2's ``wp``) is its state's ``"next"`` when that is not None (the
+    waypoint it moves or decided to move to), else its ``"cell"``.  Violated when two robots
+    share a cell or a claim, or when one's ``next`` is the other's ``cell`` and the other way
+    round (opposite travel on one edge).  A state without ``cell`` and ``next`` is
+    ``inconclusive``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> st = ((("cell", (0, 0)), ("next", (1, 1))), (("cell", (1, 0)), ("next", (1, 1))))
+    >>> r = grid_claims_distinct(Trace(ids=[1, 2], poses=poses, states=[st, st]))
+    >>> r.status, r.witness["robots"], r.witness["waypoint"], r.witness["lemma"]
+    ('violated', [1, 2], [1, 1], 'wang2020_separation_equal_speeds')
+    """
+    name, cites = "premise:grid_claims", _GRID_CITES["claims"]
+    checked = 0
+    for t in _grid_steps(trace):
+        rows = _grid_states(trace, t, ("cell", "next"))
+        if isinstance(rows, tuple):
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[rows[1]])} has no {rows[2]!r} in its state at step {t}")
+        cells, claims, nxt = {}, {}, {}
+        for k, row in sorted(rows.items()):
+            cell, n = _cell(row["cell"]), _claim_of(trace.states[t][k], row)
+            if cell is None:                    # not started yet (no waypoint before its first tick)
+                continue
+            checked += 1
+            nxt[k] = n
+            claim = _cell(state_value(trace.states[t][k], "wp", None)) or (n if n is not None else cell)
+            for what, key, table in (("cell", cell, cells), ("claim", claim, claims)):
+                if key in table:
+                    a, b = int(trace.ids[table[key]]), int(trace.ids[k])
+                    return InvariantResult(
+                        name, "violated", cites,
+                        {"step": t, "robots": [a, b], "waypoint": list(key), "kind": f"shared_{what}",
+                         "lemma": "wang2020_separation_equal_speeds"},
+                        f"robots {a} and {b} share the {what} {key} at step {t} (Constraint III-A.1)")
+                table[key] = k
+        for k, n in nxt.items():
+            if n is None:
+                continue
+            j = cells.get(n)
+            if j is not None and j != k and nxt.get(j) == _cell(rows[k]["cell"]):
+                a, b = sorted((int(trace.ids[k]), int(trace.ids[j])))
+                return InvariantResult(
+                    name, "violated", cites,
+                    {"step": t, "robots": [a, b], "waypoint": list(n), "kind": "edge_swap",
+                     "lemma": "wang2020_theorem_iv_a_2"},
+                    f"robots {a} and {b} travel one edge in opposite directions at step {t} (Constraint III-A.2)")
+    return InvariantResult(name, "held", cites, None, f"{checked} robot-states with distinct cells and claims",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def grid_priorities_distinct(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """Robots within ``phi`` (= ``R``) of each other have distinct ``"priority"`` values in every
+    recorded state (the lexicographic priority of distinct waypoints, 004 Sec. II-B; premise
+    ``distinct_priorities`` of ``wang2020_planner_vertex_one_moment``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> st = ((("priority", (0, 0)),), (("priority", (0, 0)),))
+    >>> grid_priorities_distinct(Trace(ids=[1, 2], poses=poses, states=[st, st]), 0.6).witness["robots"]
+    [1, 2]
+    """
+    name, cites = "premise:grid_priorities", _GRID_CITES["priorities"]
+    checked = 0
+    for t in _grid_steps(trace):
+        rows = _grid_states(trace, t, ("priority",))
+        if isinstance(rows, tuple):
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[rows[1]])} has no 'priority' in its state at step {t}")
+        p = trace.poses[t]
+        ks = sorted(rows)
+        for x, k in enumerate(ks):
+            for j in ks[x + 1:]:
+                if math.hypot(*(p[k, :2] - p[j, :2])) > phi * INCLUSIVE_SLACK:
+                    continue
+                if rows[k]["priority"] is None or rows[j]["priority"] is None:
+                    continue                    # not started yet
+                checked += 1
+                if tuple(rows[k]["priority"]) == tuple(rows[j]["priority"]):
+                    a, b = int(trace.ids[k]), int(trace.ids[j])
+                    return InvariantResult(
+                        name, "violated", cites,
+                        {"step": t, "robots": [a, b], "priority": list(rows[k]["priority"]),
+                         "lemma": "wang2020_planner_vertex_one_moment"},
+                        f"robots {a} and {b}, within R, have the same priority at step {t}")
+    return InvariantResult(name, "held", cites, None, f"{checked} pairs within R with distinct priorities",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def grid_spacing_bound(l: float, r: float, R: float) -> InvariantResult:
+    """``2 sqrt(2) r <= l <= R / 2`` (004 Sec. III-A), the grid-length premise of
+    ``wang2020_separation_equal_speeds`` (lower bound) and of the planner lemmas (upper bound:
+    agents that can conflict, at most ``2l`` apart, hear each other).  Sec. V's values pass:
+
+    >>> grid_spacing_bound(0.20, 0.05, 0.6).status
+    'held'
+    >>> grid_spacing_bound(0.14, 0.05, 0.6).witness["bound"]
+    'l >= 2 sqrt(2) r'
+    """
+    name, cites = "premise:grid_spacing", _GRID_CITES["spacing"]
+    vals = {"l": l, "r": r, "R": R}
+    for key, val in vals.items():
+        if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+            return InvariantResult(name, "inconclusive", cites, None, f"{key}={val!r} is not a positive number")
+    low = 2 * math.sqrt(2) * r
+    for ok, bound in ((l >= low * (1 - 1e-12), "l >= 2 sqrt(2) r"), (l <= R / 2 * (1 + 1e-12), "l <= R/2")):
+        if not ok:
+            return InvariantResult(name, "violated", cites,
+                                   {"step": 0, **vals, "bound": bound, "lemma": "wang2020_separation_equal_speeds"
+                                    if bound.startswith("l >=") else "wang2020_planner_vertex_one_moment"},
+                                   f"grid length l={l!r} breaks {bound} (r={r!r}, R={R!r})")
+    return InvariantResult(name, "held", cites, None, f"2 sqrt(2) r = {low:.6g} <= l = {l:g} <= R/2 = {R / 2:g}")
+
+
+def _grid_params(trace, phi: float):
+    """``(l, r)`` from the trace's meta (``grid_spacing``; ``params.extra`` ``grid_spacing`` and
+    ``robot_radius`` or ``radius``), None where absent."""
+    meta = getattr(trace, "meta", None) or {}
+    extra = (meta.get("params") or {}).get("extra") or {}
+    l = meta.get("grid_spacing", extra.get("grid_spacing"))
+    r = extra.get("robot_radius", extra.get("radius"))
+    return l, r
+
+
+def grid_spacing_of_trace(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """:func:`grid_spacing_bound` with ``l`` and ``r`` from ``trace.meta`` (``inconclusive``,
+    never held, when the trace does not record them, e.g. a one-step streaming window)."""
+    l, r = _grid_params(trace, phi)
+    if l is None or r is None:
+        return InvariantResult("premise:grid_spacing", "inconclusive", _GRID_CITES["spacing"], None,
+                               "the trace records no grid_spacing and robot_radius (params.extra)")
+    return grid_spacing_bound(float(l), float(r), phi)
+
+
+def _claim_of(state, row):
+    """The waypoint a robot travels to: with a ``"moving"`` key (the wang2020 controller), its
+    ``"wp"`` while it moves and None while it waits (its ``"next"`` is then only an intent);
+    without one, its ``"next"``."""
+    moving = state_value(state, "moving", MISSING)
+    if moving is MISSING:
+        return _cell(row["next"])
+    return _cell(state_value(state, "wp", None)) if moving else None
+
+
+def _decided(trace, t, k):
+    """Robot slot ``k`` set off in step ``t``: ``moving`` False before the step and True after when
+    the state has that key (the wang2020 controller), else ``next`` None before, not None after."""
+    m0 = state_value(trace.states[t][k], "moving", MISSING)
+    m1 = state_value(trace.states[t + 1][k], "moving", MISSING)
+    if m0 is not MISSING and m1 is not MISSING:
+        return (not m0) and bool(m1)
+    before = state_value(trace.states[t][k], "next", MISSING)
+    after = state_value(trace.states[t + 1][k], "next", MISSING)
+    if before is MISSING or after is MISSING:
+        return MISSING
+    return before is None and after is not None
+
+
+def grid_waited_window(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """A robot that sets off in step ``t`` (its ``"next"`` None before, not None after) had waited
+    at its waypoint longer than the window: state keys ``"waited"`` (time since ``last_check``
+    when it decided) and ``"window"`` (its ``Delta t``), from the state after the step
+    (004 Alg. 2 line 30; premise ``i_waited_longer_than_window`` of ``wang2020_lemma_iv_a_1``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((2, 1, 3))
+    >>> before = ((("next", None), ("waited", 1.0), ("window", 2.0)),)
+    >>> after = ((("next", (1, 0)), ("waited", 1.5), ("window", 2.0)),)
+    >>> r = grid_waited_window(Trace(ids=[7], poses=poses, states=[before, after]))
+    >>> r.status, r.witness["robot"], r.witness["waited"]
+    ('violated', 7, 1.5)
+    """
+    name, cites = "premise:grid_waited", _GRID_CITES["waited"]
+    checked = 0
+    for t, k, before, after, *_ in present_robot_steps(trace):
+        went = _decided(trace, t, k)
+        if went is MISSING:
+            return InvariantResult(name, "inconclusive", cites, None, f"robot {int(trace.ids[k])} has no 'next' in its state")
+        if not went:
+            continue
+        waited, window = state_value(after[k], "waited", MISSING), state_value(after[k], "window", MISSING)
+        if waited is MISSING or window is MISSING:
+            return InvariantResult(name, "inconclusive", cites, None,
+                                   f"robot {int(trace.ids[k])} set off in step {t} without 'waited' and 'window' in its state")
+        checked += 1
+        if not float(waited) > float(window):
+            rid = int(trace.ids[k])
+            return InvariantResult(name, "violated", cites,
+                                   {"step": t, "robot": rid, "waited": float(waited), "window": float(window),
+                                    "lemma": "wang2020_lemma_iv_a_1"},
+                                   f"robot {rid} set off in step {t} after waiting {float(waited):g} <= Delta t = {float(window):g}")
+    return InvariantResult(name, "held", cites, None, f"{checked} departures after waiting longer than the window",
+                           applicable=checked > 0, detail={"checked": checked})
+
+
+def grid_heard_neighbours(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """A robot that sets off in step ``t`` had heard, within its window, every robot that was within
+    ``phi`` (= ``R``) of it throughout that window (004 Sec. II-A b, c, e; premise
+    ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``): the whole-trace form of
+    :class:`GridHeard`, which states the premise exactly (which robots, which frames, which window).
+
+    State keys, from the state after the step: ``"heard"`` (the ids the robot holds a message of in
+    its ``msg_buff``, 004 Alg. 2 line 15) and ``"window"`` (its ``Delta t``, local clock units); a
+    departure is read by ``"moving"`` (or ``"next"``).  The clocks come from ``trace.meta``
+    (``clocks``: the engine's per-robot rates and ``broadcast_every``; else ``params.extra``'s
+    ``clock_rate_min`` / ``clock_rate_max`` / ``broadcast_every``; else 1, the engine's defaults).
+
+    Examples
+    --------
+    Robot 2 stands 0.2 m from robot 1 for three steps (a window of 2 steps, a broadcast every
+    step); robot 1 sets off in step 2 without a message from it:
+
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.zeros((4, 2, 3)); poses[:, 1, 0] = 0.2
+    >>> wait = ((("moving", False), ("heard", ()), ("window", 2.0)),) * 2
+    >>> went = ((("moving", True), ("heard", ()), ("window", 2.0)), wait[1])
+    >>> r = grid_heard_neighbours(Trace(ids=[1, 2], poses=poses, states=[wait] * 3 + [went]), 0.6)
+    >>> r.status, r.witness["robot"], r.witness["unheard"], r.witness["frames"]
+    ('violated', 1, [2], [1, 2])
+
+    Had robot 2 come within R only in step 2 (it was 0.8 m away before), nothing was owed yet:
+
+    >>> poses[:2, 1, 0] = 0.8
+    >>> r = grid_heard_neighbours(Trace(ids=[1, 2], poses=poses, states=[wait] * 3 + [went]), 0.6)
+    >>> r.status, r.detail["arrived_unheard"]
+    ('held', 1)
+    """
+    acc = GridHeard(phi, meta=getattr(trace, "meta", None))
+    acc.scan(trace)
+    return acc.result()
+
+
+def _clock_facts(meta) -> tuple:
+    """``(rates by slot or None, rate_min, rate_max, broadcast_every)`` from a trace's meta: the
+    engine's recorded ``clocks`` (exact), else ``params.extra`` (bounds), else the engine's
+    defaults (every rate 1, a broadcast every step)."""
+    meta = meta or {}
+    extra = (meta.get("params") or {}).get("extra") or {}
+    try:
+        lo = float(extra.get("clock_rate_min", 1.0))
+        hi = float(extra.get("clock_rate_max", lo))
+        every = float(extra.get("broadcast_every", 1.0))
+    except (TypeError, ValueError):
+        lo = hi = every = 1.0
+    clocks = meta.get("clocks") or {}
+    rates = clocks.get("rate")
+    if rates is not None:
+        rates = [float(x) for x in rates]
+        every = float(clocks.get("broadcast_every", every))
+        if rates:
+            lo, hi = min(rates), max(rates)
+    return rates, lo, hi, every
+
+
+#: Frames :class:`GridHeard` keeps at least (a window longer than this many steps is still judged:
+#: the history grows to the longest window read).
+_HEARD_HISTORY = 64
+
+
+class GridHeard:
+    """The premise ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``, exactly as the lemma
+    uses it, over a whole trace or step by step (:meth:`scan` the one-step windows of
+    :class:`PremisesMonitor`; it keeps the frames of the last windows itself).
+
+    The statement (004 Lemma IV-A.1's proof, Sec. II-A b, c, e; the engine's timing,
+    docs/engine.md): robot ``i`` sets off in step ``t`` (Alg. 2 lines 30-31) reading its
+    ``msg_buff`` (line 15): the messages received in the steps ``u`` with ``t - W <= u <= t``,
+    where ``W = floor(Delta t / rate_i)`` steps.  A message received in step ``u`` is a broadcast
+    of step ``u - 1`` delivered to the robots within ``R`` (inclusive) at frame ``u``, the start of
+    step ``u``.  Every robot ``j`` that was present and within ``R`` of ``i`` at *every* frame
+    ``u`` of that window, and broadcast in it, must be among ``i``'s ``"heard"``.
+
+    Why these robots.  The lemma's other agent ``a_j`` changes its claim to ``wp^1`` at
+    ``t_j <= t*`` (the case the proof excludes); it waited more than ``Delta t`` one edge from
+    ``wp^1`` before ``t_j`` and then travels toward ``wp^1``, so throughout ``i``'s window it is
+    at most ``2 l <= R`` from ``i`` (Sec. III-A); every robot within ``R`` throughout is owed
+    delivery by Sec. II-A c, e.  A robot that comes within ``R`` during the window is neither the
+    lemma's ``a_j`` nor owed its earlier broadcasts (sent from beyond ``R``), so it is not checked
+    (``detail["arrived_unheard"]`` counts those that were not heard; issue 15, the explorer's first
+    counterexample, docs/wang2020.md).
+
+    Where the window is not known exactly (the streaming form, which sees no per-robot clock
+    rates): the span ``i``'s window may cover is taken at its longest (``rate_min``) for "within
+    ``R`` throughout", and at its shortest (``rate_max``), less the boundary step (floating
+    point at the cutoff), for "``j`` broadcast in it": ``K`` steps with ``K * rate_j >=
+    broadcast_every``.  With equal rates (Sec. II-A a) both are the same window.  Receipts before
+    step 1 do not exist (nobody broadcast before step 0).
+
+    Blind spots: ``"heard"`` lists senders, not messages, so "every broadcast of ``j`` reached
+    ``i``" is checked as "at least one did"; a window whose frames a sparse trace did not keep is
+    not judged (``inconclusive`` if no violation is found; the streaming form sees every step).
+    """
+
+    name = "premise:grid_heard"
+
+    def __init__(self, phi: float, meta=None) -> None:
+        self.phi = float(phi)
+        self.rates, self.rate_min, self.rate_max, self.every = _clock_facts(meta)
+        self.frames: dict = {}         # engine step -> (xy (n, 2), present (n,))
+        self.keep = _HEARD_HISTORY
+        self.checked = 0               # departures judged
+        self.owed = 0                  # (departure, robot) pairs owed delivery
+        self.arrived_unheard = 0       # pairs within R at the departure, not throughout the window, unheard
+        self.unjudged = 0              # departures whose window frames were not kept (sparse trace)
+        self.first = None              # (witness, message) of the first violation
+        self.missing = None            # message of a state without the keys
+
+    def _rate(self, k: int, low: bool) -> float:
+        if self.rates is not None and k < len(self.rates):
+            return self.rates[k]
+        return self.rate_min if low else self.rate_max
+
+    def scan(self, trace) -> None:
+        if self.missing is not None or self.first is not None:
+            return
+        times = getattr(trace, "times", None)
+        at = (lambda f: f) if times is None else (lambda f: times[f])
+        for t in examined_steps(trace):
+            for f in (t, t + 1):
+                step = at(f)
+                if step not in self.frames:
+                    self.frames[step] = (np.asarray(trace.poses[f])[:, :2].copy(), np.asarray(trace.present_at(f), bool).copy())
+            a = at(t)
+            for old in [s for s in self.frames if s < a - self.keep]:
+                del self.frames[old]
+            pres0, pres1 = trace.present_at(t), trace.present_at(t + 1)
+            for k in range(trace.n):
+                if not (pres0[k] and pres1[k]):
+                    continue
+                went = _decided(trace, t, k)
+                if went is MISSING:
+                    self.missing = f"robot {int(trace.ids[k])} has no 'moving' or 'next' in its state"
+                    return
+                if not went:
+                    continue
+                after = trace.states[t + 1][k]
+                heard, window = state_value(after, "heard", MISSING), state_value(after, "window", MISSING)
+                if heard is MISSING or window is MISSING:
+                    self.missing = (f"robot {int(trace.ids[k])} set off in step {a} without 'heard' and 'window' "
+                                    "in its state")
+                    return
+                self._departure(trace, a, k, float(window), {int(h) for h in heard})
+                if self.first is not None:
+                    return
+
+    def _departure(self, trace, a: int, k: int, window: float, heard: set) -> None:
+        span = int(math.floor(window / self._rate(k, True) + 1e-9))       # the longest window, in steps
+        sure = int(math.floor(window / self._rate(k, False) + 1e-9))      # the shortest
+        self.keep = max(self.keep, span + 2)
+        lo = max(1, a - span)                                             # receipts exist from step 1
+        steps = range(lo, a + 1)
+        if not steps:
+            self.checked += 1                                             # step 0: nothing received yet
+            return
+        if any(u not in self.frames for u in steps):
+            self.unjudged += 1
+            return
+        self.checked += 1
+        xy = np.stack([self.frames[u][0] for u in steps])                 # (frames, n, 2)
+        pres = np.stack([self.frames[u][1] for u in steps])
+        d = np.hypot(xy[:, :, 0] - xy[:, k:k + 1, 0], xy[:, :, 1] - xy[:, k:k + 1, 1])
+        within = (d <= self.phi * INCLUSIVE_SLACK) & pres & pres[:, k:k + 1]
+        throughout = within.all(axis=0)
+        now = within[-1]
+        K = a - max(1, a - sure + 1) + 1                                  # broadcast steps surely read
+        ids = trace.ids
+        unheard, arrived = [], 0
+        for j in range(trace.n):
+            if j == k or not now[j]:
+                continue
+            rid = int(ids[j])
+            if rid in heard:
+                continue
+            if not throughout[j]:
+                arrived += 1
+                continue
+            if K * self._rate(j, True) < self.every * (1 - 1e-12):
+                continue                                                  # j need not have broadcast in it
+            unheard.append(rid)
+        owed = int(sum(1 for j in range(trace.n) if j != k and throughout[j]))
+        self.owed += owed
+        self.arrived_unheard += arrived
+        if unheard:
+            rid = int(ids[k])
+            witness = {"step": a, "robot": rid, "unheard": sorted(unheard), "frames": [lo, a],
+                       "window_steps": span, "lemma": "wang2020_lemma_iv_a_1"}
+            self.first = (witness, f"robot {rid} set off in step {a} without having heard {sorted(unheard)}, "
+                                   f"within R throughout its window (steps {lo}..{a})")
+
+    def result(self) -> InvariantResult:
+        cites = _GRID_CITES["heard"]
+        detail = {"checked": self.checked, "owed": self.owed, "arrived_unheard": self.arrived_unheard,
+                  "unjudged": self.unjudged}
+        if self.missing is not None:
+            return InvariantResult(self.name, "inconclusive", cites, None, self.missing, detail=detail)
+        if self.first is not None:
+            witness, message = self.first
+            return InvariantResult(self.name, "violated", cites, witness, message, detail=detail)
+        if self.unjudged:
+            return InvariantResult(self.name, "inconclusive", cites, None,
+                                   f"{self.unjudged} departures whose window the trace did not keep (sparse); "
+                                   f"{self.checked} judged, none unheard", detail=detail)
+        return InvariantResult(self.name, "held", cites, None,
+                               f"{self.checked} departures with every robot within R throughout the window heard "
+                               f"({self.arrived_unheard} robots that came within R during a window, not owed)",
+                               applicable=self.checked > 0, detail=detail)
+
+
+# the premises of reference_impl/wang2020/lemmas.py's lemmas
+register_monitor("grid_claims", grid_claims_distinct, "wang2020_separation_equal_speeds")
+register_monitor("grid_priorities", grid_priorities_distinct, "wang2020_planner_vertex_one_moment")
+register_monitor("grid_spacing", grid_spacing_of_trace, "wang2020_separation_equal_speeds")
+register_monitor("grid_waited", grid_waited_window, "wang2020_lemma_iv_a_1")
+register_monitor("grid_heard", grid_heard_neighbours, "wang2020_lemma_iv_a_1",
+                 accumulating=lambda phi, v, dt, meta: GridHeard(phi, meta=meta))
