@@ -45,7 +45,7 @@ Examples
 >>> loads_campaign("format: swarmproof-campaign/1\\nname: x\\nexplore:\\n  - algorithm: song2014\\n    robots: [6, 3]\\n")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.InputFileError: <string>:5: field 'explore[0].robots': explore[0].robots=[6, 3] must be [MIN, MAX] with 1 <= MIN <= MAX; fix: e.g. robots: [3, 8]
+swarmproof.models.errors.InputFileError: <string>:5: field 'explore[0].robots': explore[0].robots=[6, 3] must be [MIN, MAX] with 1 <= MIN <= MAX <= 100000; fix: e.g. robots: [3, 8]
 """
 
 from __future__ import annotations
@@ -247,7 +247,7 @@ def _explore_cell(c: _Check, i: int, d) -> ExploreCell:
     r = d.get("robots", [3, 8])
     if (not isinstance(r, list) or len(r) != 2 or not all(isinstance(x, int) and not isinstance(x, bool) for x in r)
             or not 1 <= r[0] <= r[1] <= MAX_ROBOTS):
-        c.fail(p + ("robots",), f"explore[{i}].robots={r!r} must be [MIN, MAX] with 1 <= MIN <= MAX",
+        c.fail(p + ("robots",), f"explore[{i}].robots={r!r} must be [MIN, MAX] with 1 <= MIN <= MAX <= {MAX_ROBOTS}",
                "e.g. robots: [3, 8]")
     seeds = c.seeds(p + ("seeds",), d.get("seeds", [0]))
     mx = c.int_(p + ("max_examples",), d.get("max_examples", 100), 1, 1_000_000, "max_examples: 100")

@@ -107,6 +107,10 @@ class LatticeGraph:
         non-positive range.  Messages name the field, e.g. ``edges[3][1]``.
     """
 
+    #: The unit the source file wrote its angles in (``deg`` or ``rad``; set by the file reader):
+    #: a checker's suggested rows are printed in it.
+    angle_unit: str = "deg"
+
     def __init__(self, name: str, roles: Sequence[str], edges: Iterable[tuple[str, str, SE2]],
                  range: float | None = None, source: str | None = None) -> None:
         self.name = str(name)

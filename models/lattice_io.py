@@ -23,7 +23,7 @@ Every problem with a file raises :class:`~swarmproof.models.errors.InputFileErro
 naming the file, the 1-based line, the field (e.g. ``edges[3][2]``), the
 offending value as ``name=value!r`` and a fix; no other exception escapes
 :func:`loads_lattice` or :func:`load_lattice_file`.  YAML is read with
-``yaml.SafeLoader`` only.  A JSON Schema (draft 2020-12) of the format ships as
+PyYAML's safe loader only (libyaml's ``CSafeLoader`` where installed).  A JSON Schema (draft 2020-12) of the format ships as
 ``swarmproof/models/schemas/lattice-graph-1.schema.json``
 (:func:`schema_path`).
 
@@ -146,42 +146,16 @@ class _Ctx:
 # ---------------------------------------------------------------------------
 
 def parse_yaml_node(text: str, source: str, *, nesting: str) -> tuple[Any, Any]:
-    """Parse one YAML document with ``SafeLoader``: ``(data, root node)`` (the node gives lines).
+    """Parse one YAML document: ``(data, root node)`` (the node gives lines).
 
-    Every YAML problem is an :class:`InputFileError` naming the file and, where
-    known, the line; ``nesting`` is the fix given for a document nested too deep.
-    Shared by the lattice-graph/1 and swarmproof-campaign/1 readers.
+    The one YAML reader of every file format (:func:`swarmproof.models.doclines.load_yaml`:
+    libyaml where installed, a key written twice refused); every YAML problem is an
+    :class:`InputFileError` naming the file and, where known, the line; ``nesting`` is the
+    fix given for a document nested too deep.
     """
-    try:
-        loader = yaml.SafeLoader(text)
-        try:
-            node = loader.get_single_node()
-            data = None if node is None else loader.construct_document(node)
-        finally:
-            loader.dispose()
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark is not None else None
-        what = " ".join(" ".join(str(p).split()) for p in (exc.context, exc.problem) if p)
-        raise InputFileError(f"malformed YAML: {what}", file=source, line=line,
-                             fix="check indentation, brackets and quoting near this line; "
-                                 "quote values that contain ':' or '#'") from None
-    except yaml.reader.ReaderError as exc:
-        line = text.count("\n", 0, exc.position) + 1 if isinstance(exc.position, int) else None
-        ch = chr(exc.character) if isinstance(exc.character, int) else exc.character
-        raise InputFileError(f"malformed YAML: character {ch!r} is not allowed in YAML text",
-                             file=source, line=line,
-                             fix="remove control characters; save the file as plain UTF-8 text") from None
-    except yaml.YAMLError as exc:
-        what = " ".join(str(exc).split())
-        raise InputFileError(f"malformed YAML: {what}", file=source,
-                             fix="check the file is one YAML document") from None
-    except RecursionError:
-        raise InputFileError("malformed YAML: nesting is too deep", file=source, fix=nesting) from None
-    except (ValueError, TypeError, OverflowError) as exc:  # e.g. a timestamp 2020-13-45
-        raise InputFileError(f"malformed YAML: a value cannot be read ({exc})", file=source,
-                             fix="quote the value or write a plain number") from None
-    return data, node
+    from .doclines import load_yaml
+
+    return load_yaml(text, source, nesting=nesting)
 
 
 def _parse_yaml(text: str, source: str) -> tuple[Any, dict[Path, int]]:
@@ -301,26 +275,53 @@ def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def _number(ctx: _Ctx, path: Path, v: Any, what: str) -> float:
+#: Largest |x|, |y|, |theta| (in the file's angle unit) and range a file may hold: far above any
+#: lattice in metres or millimetres, and far enough below the float range that the checker's
+#: holonomy products, squared lengths and translation refinement stay exact to its tolerances
+#: (a coordinate of 1e160 squared overflows; docs/file-format.md "Limits").
+MAX_MAGNITUDE = 1e6
+#: Largest file, roles and edges a lattice file may hold (docs/file-format.md "Limits"; a
+#: 100 x 100 supercell, 10,000 roles and 40,000 edges, is checked in a few seconds).
+MAX_FILE_BYTES = 16_000_000
+MAX_ROLES = 20_000
+MAX_EDGES = 100_000
+
+
+def _e(bound: float) -> str:
+    """``1e6`` for 1e6 (not ``1e+06``)."""
+    m, e = f"{bound:.0e}".split("e")
+    return f"{m}e{int(e)}"
+
+
+def _number(ctx: _Ctx, path: Path, v: Any, what: str, bound: float = MAX_MAGNITUDE) -> float:
+    from .doclines import num_text, text_number_fix
+
     name = _field(path)
     if isinstance(v, bool):
         raise ctx.error(path, f"{name}={v!r} must be a number, not a boolean", f"write {what} as a number")
     if not _is_number(v):
         fix = f"write {what} as a plain number"
-        if isinstance(v, str):
+        hint = text_number_fix(v) if isinstance(v, str) else None
+        if hint:
+            fix += hint
             try:
-                float(v)
-                fix += (" without quotes (YAML reads 1e-3 as text: write 1.0e-3)"
-                        if re.search(r"[eE]", v) else " without quotes")
-            except ValueError:
+                if not abs(float(v)) <= bound:
+                    fix += f"; and note |{what.split()[0]}| <= {_e(bound)}"
+            except ValueError:  # pragma: no cover - text_number_fix parsed it
                 pass
         raise ctx.error(path, f"{name}={_r(v)} must be a number, got {type(v).__name__}", fix)
     try:
         x = float(v)
-    except OverflowError:
-        raise ctx.error(path, f"{name}={_r(v)} is too large", f"write {what} as a finite number") from None
-    if not math.isfinite(x):
-        raise ctx.error(path, f"{name}={v!r} must be a finite number", f"write {what} as a finite number")
+    except OverflowError:  # an integer of more than 308 digits
+        x = math.inf if v > 0 else -math.inf
+    else:
+        if not math.isfinite(x):
+            raise ctx.error(path, f"{name}={v!r} must be a finite number", f"write {what} as a finite number")
+    if not abs(x) <= bound:
+        raise ctx.error(path, f"{name}={num_text(v)} is beyond the bound |{what.split()[0]}| <= {_e(bound)}",
+                        "reduce the angle modulo 360 deg (2 pi rad)" if what.startswith("theta") else
+                        f"scale the whole lattice (every x, y and the range by one factor, e.g. metres "
+                        f"instead of micrometres) so that coordinates and range are at most {_e(bound)}")
     return x
 
 
@@ -361,7 +362,9 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
     if "range" in data:
         rng = _number(ctx, ("range",), data["range"], "range")
         if not rng > 0:
-            raise ctx.error(("range",), f"range={data['range']!r} must be > 0",
+            from .doclines import num_text
+
+            raise ctx.error(("range",), f"range={num_text(data['range'])} must be > 0",
                             "give the sensing range phi as a positive number, or remove the key")
     unit = data.get("angle_unit", "deg")
     if unit not in _ANGLE_UNITS or not isinstance(unit, str):
@@ -373,6 +376,10 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
                         "write `roles: [A, B]`")
     if not roles:
         raise ctx.error(("roles",), "roles=[] is empty", "list at least one role; the first is v0")
+    if len(roles) > MAX_ROLES:
+        raise ctx.error(("roles",), f"roles has {len(roles)} entries, more than the limit of {MAX_ROLES}",
+                        f"check at most {MAX_ROLES} roles at a time: use a smaller supercell "
+                        "(docs/file-format.md, Limits)")
     seen: dict[str, int] = {}
     for i, r in enumerate(roles):
         if not isinstance(r, str) or not r:
@@ -391,6 +398,10 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
     if not isinstance(edges, list):
         raise ctx.error(("edges",), f"edges={_r(edges)} must be a list of rows [from, to, x, y, theta]",
                         "write one row per line: `- [A, A, 1, 0, 0]`")
+    if len(edges) > MAX_EDGES:
+        raise ctx.error(("edges",), f"edges has {len(edges)} rows, more than the limit of {MAX_EDGES}",
+                        f"check at most {MAX_EDGES} edges at a time: use a smaller supercell "
+                        "(docs/file-format.md, Limits)")
     scale = math.pi / 180.0 if unit == "deg" else 1.0
     rows: list[tuple[str, str, SE2]] = []
     for i, row in enumerate(edges):
@@ -414,7 +425,9 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
             raise ctx.error(("edges", i, 4), f"edges[{i}][4]={row[4]!r} is too large", "use a smaller angle")
         rows.append((row[0], row[1], SE2(x, y, t)))
     try:
-        return LatticeGraph(name, roles, rows, range=rng, source=ctx.source)
+        graph = LatticeGraph(name, roles, rows, range=rng, source=ctx.source)
+        graph.angle_unit = unit   # fix rows are printed in the file's own unit
+        return graph
     except UsageError as exc:  # pragma: no cover - everything was checked above
         raise ctx.error((), str(exc), "see docs/file-format.md") from None
 
@@ -494,7 +507,7 @@ def load_lattice_file(path: str | os.PathLike) -> LatticeGraph:
                              fix="give the path of a .yaml or .json file")
     try:
         with open(source, "rb") as f:
-            raw = f.read()
+            raw = f.read(MAX_FILE_BYTES + 1)
     except FileNotFoundError:
         raise InputFileError("no such file", file=source,
                              fix="check the path, or give a bundled lattice name "
@@ -505,6 +518,14 @@ def load_lattice_file(path: str | os.PathLike) -> LatticeGraph:
     except OSError as exc:
         raise InputFileError(f"cannot read the file ({exc.strerror or exc})", file=source,
                              fix="give a readable regular file") from None
+    if len(raw) > MAX_FILE_BYTES:
+        try:
+            size = f"{os.path.getsize(source) / 1e6:.1f} MB"
+        except OSError:  # pragma: no cover - a pipe
+            size = "larger"
+        raise InputFileError(f"the file is {size}, more than the limit of {MAX_FILE_BYTES // 1_000_000} MB "
+                             f"(and at most {MAX_ROLES} roles, {MAX_EDGES} edges)", file=source,
+                             fix="check a smaller supercell of the lattice (docs/file-format.md, Limits)")
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -36,22 +36,28 @@ def _positive_float(name: str):
     return parse
 
 
-def _file_angle_unit(file: str) -> str:
-    """The ``angle_unit`` of a lattice file (``deg`` for bundled names and files without one).
+def _progress():
+    """A progress line on stderr while a check runs, only when stderr is a terminal (the line
+    is erased when the check ends; redirected output never sees it)."""
+    import sys
+    import time
 
-    The file was already read and validated by the loader; this reads the one key again so
-    the suggested fix rows are printed in the file's own unit (issue 13 item 8).
-    """
-    import os
+    stream = sys.stderr
+    try:
+        tty = stream.isatty()
+    except (AttributeError, ValueError):
+        tty = False
+    if not tty:
+        return lambda text: None
+    start = time.monotonic()
 
-    import yaml
-
-    if not os.path.isfile(file):
-        return "deg"
-    with open(file, encoding="utf-8") as fh:
-        doc = yaml.safe_load(fh)
-    unit = doc.get("angle_unit", "deg") if isinstance(doc, dict) else "deg"
-    return unit if unit in ("deg", "rad") else "deg"
+    def show(text) -> None:
+        if text is None:
+            stream.write("\r\033[K")
+        else:
+            stream.write(f"\r\033[Kcheck-lattice: {text} ({time.monotonic() - start:.0f} s)"[:200])
+        stream.flush()
+    return show
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -79,9 +85,16 @@ def run(args) -> int:
         from swarmproof.models.fileio import check_output_path
 
         check_output_path(args.plot, "--plot")
+    show = _progress()
+    show(f"reading {args.file}")
     graph = library.resolve(args.file)
-    report = check_lattice(graph, args.range, pos_tol=args.pos_tol, ang_tol=args.ang_tol)
-    report.angle_unit = _file_angle_unit(args.file)
+    try:
+        report = check_lattice(graph, args.range, pos_tol=args.pos_tol, ang_tol=args.ang_tol,
+                               progress=lambda phase: show(f"{len(graph.roles)} roles, {len(graph.edges)} "
+                                                           f"edges: {phase}"))
+    finally:
+        show(None)
+    report.angle_unit = getattr(graph, "angle_unit", "deg")   # read with the file, once
     if args.plot is not None:
         plot_lattice_check(graph, report, args.plot)
     if args.json:
