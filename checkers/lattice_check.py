@@ -65,6 +65,7 @@ import networkx as nx
 import numpy as np
 from scipy.spatial import cKDTree
 
+from swarmproof.models.doclines import distinct_texts, num_text
 from swarmproof.models.errors import UsageError, check_positive
 from swarmproof.models.lattice import Edge, LatticeGraph
 from swarmproof.models.se2 import SE2, wrap_angle
@@ -223,14 +224,14 @@ class LatticeReport:
         lines = []
         if self.verdict is Verdict.HELD:
             lines.append(f"{self.name}{where}: valid and self-consistent for range "
-                         f"{_num(self.range)} ({shape})")
+                         f"{num_text(self.range)} ({shape})")
         elif self.verdict is Verdict.INCONCLUSIVE:
-            lines.append(f"{self.name}{where}: INCONCLUSIVE for range {_num(self.range)}: "
+            lines.append(f"{self.name}{where}: INCONCLUSIVE for range {num_text(self.range)}: "
                          f"{self.inconclusive_reason}")
         else:
             n = len(self.defects)
             lines.append(f"{self.name}{where}: {n} defect{'s' if n != 1 else ''} for range "
-                         f"{_num(self.range)} ({shape})")
+                         f"{num_text(self.range)} ({shape})")
         shown: dict[str, int] = {}
         for d in self.defects:
             shown[d.kind] = shown.get(d.kind, 0) + 1
@@ -385,7 +386,7 @@ class _Analysis:
     """
 
     def __init__(self, full: LatticeGraph, start: str, phi: float, pos_tol: float,
-                 ang_tol: float, max_rotation_order: int, budget: int) -> None:
+                 ang_tol: float, max_rotation_order: int, budget: int, inv: list | None = None) -> None:
         self.g = full
         self.phi = phi
         self.pos_tol = pos_tol
@@ -395,7 +396,7 @@ class _Analysis:
         edges = full.edges
         self.edges = edges
         # Inverse edge index of every edge (all exist in the completed graph).
-        self.inv = [_find_inverse_index(full, e, pos_tol, ang_tol) for e in edges]
+        self.inv = inv if inv is not None else [_find_inverse_index(full, e, pos_tol, ang_tol) for e in edges]
         # 1. BFS spanning tree from the start role, out-edges in file order.
         self.start = start
         self.tree_T: dict[str, SE2] = {start: SE2.identity()}
@@ -418,11 +419,12 @@ class _Analysis:
         gens: list[SE2] = []
         gen_words: list[list[int]] = []
         keys: set = set()
+        identity = SE2.identity()
         for e in edges:
             if e.index in tree_edges or e.source not in self.tree_T:
                 continue
             g = self.tree_T[e.source] @ e.transform @ self.tree_T[e.target].inverse()
-            if g.isclose(SE2.identity(), pos_tol, ang_tol):
+            if g.isclose(identity, pos_tol, ang_tol):
                 continue
             key = (round(g.x / (100 * pos_tol)), round(g.y / (100 * pos_tol)),
                    round(g.theta / (100 * ang_tol)))
@@ -883,13 +885,30 @@ def _strong_connectivity_defects(graph: LatticeGraph) -> list[Defect]:
         "fix": "add edges (with their inverses) joining the components, or remove unused roles"})]
 
 
+def _inverse_indices(graph: LatticeGraph, pt: float, at: float) -> list:
+    """For every edge, the index of its inverse edge (the first in file order, as
+    :meth:`LatticeGraph.find_inverse` finds it) or None; each inverse transform computed once."""
+    by_pair: dict[tuple[str, str], list[Edge]] = {}
+    for e in graph.edges:
+        by_pair.setdefault((e.source, e.target), []).append(e)
+    out = []
+    for e in graph.edges:
+        t = e.transform.inverse()
+        out.append(next((c.index for c in by_pair.get((e.target, e.source), ())
+                         if c.transform.isclose(t, pt, at)), None))
+    return out
+
+
 def _missing_inverse_defects(graph: LatticeGraph, pt: float, at: float,
-                             suggestions: _Suggestions) -> tuple[list[Defect], list[Edge]]:
+                             suggestions: _Suggestions, inv: list | None = None
+                             ) -> tuple[list[Defect], list[Edge]]:
     """001 Def. 1: every edge has its inverse; a defect (and a suggested row) per edge without
     one.  Returns the defects and those edges."""
     defects, missing = [], []
+    if inv is None:
+        inv = _inverse_indices(graph, pt, at)
     for e in graph.edges:
-        if graph.find_inverse(e, pt, at) is None:
+        if inv[e.index] is None:
             row = _fix_row(e.target, e.source, e.transform.inverse())
             missing.append(e)
             defects.append(Defect("missing_inverse",
@@ -907,20 +926,84 @@ def _zero_length_defects(graph: LatticeGraph, pt: float) -> list[Defect]:
             for e in graph.edges if e.transform.norm() <= pt]
 
 
+def _duplicate_groups(points: list[tuple[float, float]], pt: float) -> list[list[int]]:
+    """Groups (indices, in order) of points joined by chains of pairs within ``pt`` in x and in y.
+
+    Linear in the number of points on ordinary input: each point is hashed to a square cell
+    of side ``pt`` (points of one cell are within ``pt`` of each other), and only the eight
+    neighbouring cells are compared (once per cell pair, until one pair joins them).
+
+    >>> _duplicate_groups([(0, 0), (1, 0), (0, 1e-9), (1, 1e-12), (2, 0)], 1e-7)
+    [[0, 2], [1, 3]]
+    """
+    n = len(points)
+    if n <= 8 and not any(abs(points[i][0] - points[j][0]) <= pt and abs(points[i][1] - points[j][1]) <= pt
+                          for i in range(n) for j in range(i)):
+        return []    # the usual role: a few out-edges, all apart (checked pairwise: cheaper than hashing)
+    parent = list(range(n))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    def union(i: int, j: int) -> None:
+        a, b = find(i), find(j)
+        if a != b:
+            parent[max(a, b)] = min(a, b)
+
+    cells: dict[tuple, list[int]] = {}
+    for i, (x, y) in enumerate(points):
+        kx, ky = x / pt, y / pt
+        # a tolerance below 1e-300 overflows the cell index: such points are one only if equal
+        key = (math.floor(kx), math.floor(ky)) if math.isfinite(kx) and math.isfinite(ky) else ("=", x, y)
+        cells.setdefault(key, []).append(i)
+    for members in cells.values():
+        for i in members[1:]:
+            union(members[0], i)
+    for key, members in cells.items():
+        if key[0] == "=":
+            continue
+        cx, cy = key
+        for dx, dy in ((1, -1), (1, 0), (1, 1), (0, 1)):   # each neighbouring pair of cells once
+            other = cells.get((cx + dx, cy + dy))
+            if other is None or find(members[0]) == find(other[0]):
+                continue
+            a = np.asarray([points[i] for i in members])
+            for j in other:
+                p = points[j]
+                if bool(np.any((np.abs(a[:, 0] - p[0]) <= pt) & (np.abs(a[:, 1] - p[1]) <= pt))):
+                    union(members[0], j)
+                    break
+    groups: dict[int, list[int]] = {}
+    for i in range(len(points)):
+        groups.setdefault(find(i), []).append(i)
+    return [g for g in groups.values() if len(g) > 1]
+
+
 def _duplicate_position_defects(graph: LatticeGraph, pt: float) -> list[Defect]:
-    """Two out-edges of one role to one position."""
+    """Out-edges of one role to one position: one defect per group of such edges (a file with
+    1,000 copies of a row has one defect naming them, not 499,500 pairs)."""
     defects = []
     for r in graph.roles:
         outs = graph.out_edges(r)
-        for i, e1 in enumerate(outs):
-            for e2 in outs[i + 1:]:
-                if abs(e1.transform.x - e2.transform.x) <= pt and abs(e1.transform.y - e2.transform.y) <= pt:
-                    defects.append(Defect(
-                        "duplicate_position",
-                        f"role {r!r} has two out-edges to one position: {e1.describe()} and "
-                        f"{e2.describe()}",
-                        {"edges": [e1.index, e2.index],
-                         "fix": f"delete one of edges[{e1.index}] and edges[{e2.index}]"}))
+        if len(outs) < 2:
+            continue
+        for group in _duplicate_groups([(e.transform.x, e.transform.y) for e in outs], pt):
+            es = [outs[k] for k in group]
+            idx = [e.index for e in es]
+            if len(es) == 2:
+                msg = (f"role {r!r} has two out-edges to one position: {es[0].describe()} and "
+                       f"{es[1].describe()}")
+                fix = f"delete one of edges[{idx[0]}] and edges[{idx[1]}]"
+            else:
+                shown = ", ".join(f"edges[{i}]" for i in idx[:6]) + (f", ... ({len(idx)} in all)"
+                                                                       if len(idx) > 6 else "")
+                msg = (f"role {r!r} has {len(es)} out-edges to one position: {es[0].describe()} "
+                       f"and {shown[len(f'edges[{idx[0]}], '):]}")
+                fix = f"keep one of {shown} and delete the others"
+            defects.append(Defect("duplicate_position", msg, {"edges": idx, "fix": fix}))
     return defects
 
 
@@ -928,7 +1011,8 @@ def _out_of_range_defects(graph: LatticeGraph, phi: float, pt: float) -> list[De
     """An edge at least phi long: neighbors are strictly closer than phi (001 Sec. III)."""
     return [Defect(
         "out_of_range_edge",
-        f"{e.describe()} has length {e.transform.norm():.9g} >= range {phi:g}: a robot "
+        f"{e.describe()} has length {distinct_texts(e.transform.norm(), phi, 9)[0]} >= range "
+        f"{distinct_texts(e.transform.norm(), phi, 9)[1]}: a robot "
         "cannot sense that neighbor (neighbors are strictly closer than phi)",
         {"edge": e.index, "length": _r(e.transform.norm()),
          "fix": f"use a range above {e.transform.norm():.9g} or delete edges[{e.index}]"})
@@ -946,7 +1030,7 @@ class _SelfConsistency(NamedTuple):
 
 def _self_consistency(graph: LatticeGraph, missing_inv: list[Edge], phi: float, pt: float, at: float,
                       max_rotation_order: int, budget: int, suggestions: _Suggestions,
-                      notes: list[str]) -> _SelfConsistency:
+                      notes: list[str], inv: list | None = None) -> _SelfConsistency:
     """001 Def. 4 on the graph completed with its missing inverses: the classification of its
     pattern, then every pair of pattern points closer than phi (:func:`_enumerate_pairs`); a
     dense pattern or a crowded one is a defect, a search past its limits leaves it undecided.
@@ -960,7 +1044,8 @@ def _self_consistency(graph: LatticeGraph, missing_inv: list[Edge], phi: float, 
     classification: dict[str, Any] = {"kind": None, "rotation_order": None,
                                       "translation_rank": None, "translation_basis": None}
     try:
-        an = _Analysis(full, graph.v0, phi, pt, at, max_rotation_order, budget)
+        an = _Analysis(full, graph.v0, phi, pt, at, max_rotation_order, budget,
+                       inv if not missing_inv else None)
         if len(an.roles) < len(graph.roles):
             notes.append(f"self-consistency was decided on the {len(an.roles)} roles reachable "
                          f"from v0={graph.v0!r} (inverse edges included)")
@@ -995,10 +1080,56 @@ def _self_consistency(graph: LatticeGraph, missing_inv: list[Edge], phi: float, 
         return _SelfConsistency(classification, None, str(exc), [])
 
 
+def _nice_above(x: float) -> float:
+    """The one-significant-digit number at or above ``x`` (4.6e-4 -> 5e-4, 9.2e-4 -> 1e-3)."""
+    e = math.floor(math.log10(x))
+    c = math.ceil(x / 10 ** e - 1e-9)
+    return float(f"{c}e{e}")
+
+
+def _tolerance_hints(graph: LatticeGraph, defects: list, pt: float, at: float) -> None:
+    """A suggested row that sits next to an existing row (the same roles, a little apart) is
+    most often a rounded number in the file: say that the tolerance decides it, and which
+    ``--pos-tol``/``--ang-tol`` would make the two one edge (issue 29 item 12)."""
+    fixes = [d for d in defects if "fix_edge" in d.details]
+    if not fixes:
+        return
+    shortest = min((e.transform.norm() for e in graph.edges if e.transform.norm() > pt), default=None)
+    if not shortest:
+        return
+    pos_limit = MAX_REL_POS_TOL * shortest / 2
+    by_pair: dict[tuple[str, str], list[Edge]] = {}
+    for e in graph.edges:
+        by_pair.setdefault((e.source, e.target), []).append(e)
+    for d in fixes:
+        src, dst, x, y, th_deg = d.details["fix_edge"]
+        th = math.radians(th_deg)
+        best = None
+        for e in by_pair.get((src, dst), ()):
+            dp = math.hypot(e.transform.x - x, e.transform.y - y)
+            da = abs(wrap_angle(e.transform.theta - th))
+            if dp <= pos_limit and da <= MAX_ANG_TOL_RAD / 2 and (dp > pt or da > at):
+                if best is None or (dp, da) < best[:2]:
+                    best = (dp, da, e)
+        if best is None:
+            continue
+        dp, da, e = best
+        opts = []
+        if dp > pt:
+            opts.append(f"--pos-tol {_nice_above(2 * dp):g} (now {pt:.3g})")
+        if da > at:
+            opts.append(f"--ang-tol {_nice_above(2 * da):g} (now {at:.3g})")
+        hint = (f"{e.describe()} is {dp:.3g} (and {math.degrees(da):.3g} deg) from this row: if the two are "
+                f"meant to be one edge (a rounded number in the file), the tolerance decides it: try "
+                + " and ".join(opts) + ", or give the numbers with more digits")
+        d.message += f"; note: {hint}"
+        d.details["tolerance_hint"] = hint
+
+
 def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: float | None = None,
                   ang_tol: float | None = None,
                   max_rotation_order: int = DEFAULT_MAX_ROTATION_ORDER,
-                  budget: int = DEFAULT_BUDGET) -> LatticeReport:
+                  budget: int = DEFAULT_BUDGET, progress=None) -> LatticeReport:
     """Decide whether ``graph`` is a valid, self-consistent lattice graph for ``range``.
 
     Parameters
@@ -1016,6 +1147,8 @@ def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: f
         Largest rotation order of the holonomy that is resolved.
     budget : int
         Largest number of candidate pattern points examined.
+    progress : callable, optional
+        Called with a short text as each phase starts (the command shows it on a terminal).
 
     Returns
     -------
@@ -1047,20 +1180,27 @@ def check_lattice(graph: LatticeGraph, range: float | None = None, *, pos_tol: f
     pt, at = _tolerances(graph, pos_tol, ang_tol)
     suggestions = _Suggestions(pt, at)
 
+    say = progress or (lambda text: None)
     # ---- Definition 1 (001 Sec. III-B) and the project's additions ----------
+    say("Def. 1: strong connectivity")
     defects = _strong_connectivity_defects(graph)
-    inverse_defects, missing_inv = _missing_inverse_defects(graph, pt, at, suggestions)
+    say("Def. 1: inverse edges")
+    inv = _inverse_indices(graph, pt, at)
+    inverse_defects, missing_inv = _missing_inverse_defects(graph, pt, at, suggestions, inv)
     defects += inverse_defects
+    say("Def. 1: zero-length and duplicate edges, range")
     defects += _zero_length_defects(graph, pt)
     defects += _duplicate_position_defects(graph, pt)
     defects += _out_of_range_defects(graph, phi, pt)
 
     # ---- Definition 4 (001 Sec. III-B) on the completed graph ------------------
+    say("Def. 4: self-consistency")
     notes: list[str] = []
-    sc = _self_consistency(graph, missing_inv, phi, pt, at, max_rotation_order, budget, suggestions, notes)
+    sc = _self_consistency(graph, missing_inv, phi, pt, at, max_rotation_order, budget, suggestions, notes, inv)
     defects += sc.defects
 
     defects.sort(key=lambda d: DEFECT_KINDS.index(d.kind))
+    _tolerance_hints(graph, defects, pt, at)
     if defects:
         verdict = Verdict.VIOLATED
     elif sc.self_consistent is None:
@@ -1123,6 +1263,19 @@ def _has_edge(edges_wz: np.ndarray | None, rel: SE2, pt: float, at: float) -> bo
     ok = ((np.abs(edges_wz[:, 0] - rel.x) <= pt) & (np.abs(edges_wz[:, 1] - rel.y) <= pt)
           & (np.abs(wrap_angle(edges_wz[:, 2] - rel.theta)) <= at))
     return bool(ok.any())
+
+
+def _has_edge_rows(rows, rel: SE2, pt: float, at: float) -> bool:
+    """:func:`_has_edge` on a short list of ``[x, y, theta]`` rows, in plain floats (numpy's
+    per-call cost dominated on rows of 4); the same arithmetic, so the same answers."""
+    rx, ry, rt = rel.x, rel.y, rel.theta
+    for x, y, th in rows:
+        if abs(x - rx) <= pt and abs(y - ry) <= pt and abs((th - rt + math.pi) % _TWO_PI - math.pi) <= at:
+            return True
+    return False
+
+
+_TWO_PI = 2.0 * math.pi
 
 
 def _relative_poses(a: np.ndarray, points: np.ndarray):
@@ -1211,7 +1364,7 @@ def _enumerate_pairs(an: _Analysis, phi: float, pt: float, at: float) -> list[De
     A = np.array([an.tree_T[w].as_tuple() for w in roles])
     hits, cand, cz, ck, lc = an.points_near(A[:, :2], phi)
     _check_not_crowded(an, A, hits, cand, phi, pt)
-    by_pair = _edge_arrays(an.g)
+    by_pair = {k: v.tolist() for k, v in _edge_arrays(an.g).items()}   # a few rows each: plain floats
     found = _PairDefects(an, phi, pt, at)
     for wi, w in enumerate(roles):
         idx = np.asarray(hits[wi], dtype=np.int64)
@@ -1228,7 +1381,7 @@ def _enumerate_pairs(an: _Analysis, phi: float, pt: float, at: float) -> list[De
                 same_robot = z == w and abs(float(rth[j])) <= at   # one robot reached by two walks
                 if not same_robot:
                     found.contradiction(w, z, rel, d, point)
-            elif d < phi - pt and not _has_edge(by_pair.get((w, z)), rel, pt, at):
+            elif d < phi - pt and not _has_edge_rows(by_pair.get((w, z), ()), rel, pt, at):
                 # (a point at phi, within tolerance, or beyond is no neighbor)
                 found.missing_edge(w, z, rel, d, point)
     return found.defects

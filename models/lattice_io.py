@@ -123,9 +123,15 @@ def _field(path: Path) -> str:
 class _Ctx:
     """Where we are: the source name and a field-path -> line table."""
 
-    def __init__(self, source: str, lines: dict[Path, int]) -> None:
+    def __init__(self, source: str, lines) -> None:
         self.source = source
-        self.lines = lines
+        self._lines = lines     # a dict, or a function that makes it (only when an error needs it)
+
+    @property
+    def lines(self) -> dict[Path, int]:
+        if callable(self._lines):
+            self._lines = self._lines()
+        return self._lines
 
     def line(self, path: Path) -> int | None:
         path = tuple(path)
@@ -197,8 +203,14 @@ def _parse_json(text: str, source: str) -> tuple[Any, dict[Path, int]]:
     """
     if text.startswith("\ufeff"):
         text = text[1:]
+    from .doclines import _DuplicateJsonKey, _json_pairs, load_json
+
     try:
-        data = json.loads(text)
+        data = json.loads(text, object_pairs_hook=_json_pairs)
+    except _DuplicateJsonKey:
+        _json_lines(text, source)   # names both lines of a repeated top-level key
+        load_json(text, source)     # a key repeated deeper down
+        raise AssertionError("unreachable: a repeated key was found")  # pragma: no cover
     except json.JSONDecodeError as exc:
         raise InputFileError(f"malformed JSON: {exc.msg} (column {exc.colno})", file=source,
                              line=exc.lineno,
@@ -209,6 +221,12 @@ def _parse_json(text: str, source: str) -> tuple[Any, dict[Path, int]]:
     except (ValueError, TypeError, OverflowError) as exc:  # e.g. an integer with 5000 digits
         raise InputFileError(f"malformed JSON: a value cannot be read ({_r(str(exc))})",
                              file=source, fix="write plain numbers of ordinary size") from None
+    return data, lambda: _json_lines(text, source)
+
+
+def _json_lines(text: str, source: str) -> dict[Path, int]:
+    """Where each top-level key, each ``roles``/``edges`` item and each row cell starts (a second
+    pass over the text, known valid; made only when an error message needs a line)."""
     newlines = [m.start() for m in re.finditer("\n", text)]
 
     def line_at(pos: int) -> int:
@@ -264,7 +282,7 @@ def _parse_json(text: str, source: str) -> tuple[Any, dict[Path, int]]:
         raise
     except Exception:  # pragma: no cover - the text parsed above; keep what we have
         pass
-    return data, lines
+    return lines
 
 
 # ---------------------------------------------------------------------------
@@ -285,6 +303,9 @@ MAX_MAGNITUDE = 1e6
 MAX_FILE_BYTES = 16_000_000
 MAX_ROLES = 20_000
 MAX_EDGES = 100_000
+
+
+_PLAIN = (int, float)
 
 
 def _e(bound: float) -> str:
@@ -417,9 +438,16 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
             if not isinstance(r, str) or r not in seen:
                 raise ctx.error(("edges", i, j), f"edges[{i}][{j}]={_r(r)} is not a declared role",
                                 f"use one of roles={list(roles)!r} or add {_r(r)} to roles")
-        x = _number(ctx, ("edges", i, 2), row[2], "x")
-        y = _number(ctx, ("edges", i, 3), row[3], "y")
-        th = _number(ctx, ("edges", i, 4), row[4], f"theta (in {unit})")
+        x, y, th = row[2], row[3], row[4]
+        # the common case first (plain finite numbers within the bound); anything else is
+        # judged, and refused with its message, by _number
+        if not (type(x) in _PLAIN and type(y) in _PLAIN and type(th) in _PLAIN
+                and -MAX_MAGNITUDE <= x <= MAX_MAGNITUDE and -MAX_MAGNITUDE <= y <= MAX_MAGNITUDE
+                and -MAX_MAGNITUDE <= th <= MAX_MAGNITUDE):
+            x = _number(ctx, ("edges", i, 2), x, "x")
+            y = _number(ctx, ("edges", i, 3), y, "y")
+            th = _number(ctx, ("edges", i, 4), th, f"theta (in {unit})")
+        x, y, th = float(x), float(y), float(th)
         t = th * scale
         if not math.isfinite(t):  # pragma: no cover - scale <= 1 keeps it finite
             raise ctx.error(("edges", i, 4), f"edges[{i}][4]={row[4]!r} is too large", "use a smaller angle")
