@@ -188,9 +188,12 @@ class CollisionMonitor:
         radius = self.radius
         if self.hit is not None:
             w = self.hit
+            from swarmproof.models.doclines import distinct_texts   # never "0.2 < 2r = 0.2"
+
+            dist, two_r = distinct_texts(w["distance"], 2 * radius)
             return InvariantResult("collision", "violated", CITE_COLLISION, w,
                                    f"robots {w['robots'][0]} and {w['robots'][1]} overlap in step {w['step']}: "
-                                   f"distance {w['distance']:.4g} < 2r = {2 * radius:.4g} at {w['fraction']:.2f} "
+                                   f"distance {dist} < 2r = {two_r} at {w['fraction']:.2f} "
                                    "of the step")
         return InvariantResult("collision", "held", CITE_COLLISION, None,
                                f"no overlap of discs of radius {radius:g} over {self.steps} steps",

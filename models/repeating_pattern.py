@@ -255,18 +255,19 @@ class _Doc:
                              field=field_name(path) or None, fix=fix)
 
     def number(self, path: tuple, v: Any, what: str, *, limit: float = MAX_COORD) -> float:
+        from .doclines import num_text, text_number_fix
+
         if isinstance(v, bool) or not isinstance(v, (int, float)):
-            hint = ""
-            if isinstance(v, str) and _is_float(v):
-                hint = (" (YAML reads 1e-6 as text: write 1.0e-6)" if "e" in v.lower() and "." not in v
-                        else " without quotes")
-            self.fail(path, f"{field_name(path)}={_short(v)} must be a number", f"write {what} as a plain number{hint}")
+            hint = text_number_fix(v) if isinstance(v, str) else None
+            self.fail(path, f"{field_name(path)}={_short(v)} must be a number",
+                      f"write {what} as a plain number" + (hint or ""))
         try:
             x = float(v)
         except OverflowError:
             x = math.inf
         if not math.isfinite(x) or abs(x) > limit:
-            self.fail(path, f"{field_name(path)}={_short(v)} must be a finite number of size at most {limit:g}",
+            shown = num_text(v) if not isinstance(v, float) or math.isfinite(x) else repr(v)
+            self.fail(path, f"{field_name(path)}={shown} must be a finite number of size at most {limit:g}",
                       f"write {what} in units where the pattern spans less than {limit:g}")
         return x
 
@@ -307,9 +308,38 @@ def _distinct(doc: _Doc, key: str, pts: list, tol: float, what: str, min_distanc
                 doc.fail((key, i), f"{key}[{i}]={list(pts[i])!r} repeats {key}[{j}]={list(pts[j])!r} "
                                    f"(within tol={tol:g})", f"{what} (remove one, or lower tol)")
             if d < min_distance:
-                doc.fail((key, i), f"{key}[{i}]={list(pts[i])!r} is {d:.3g} from {key}[{j}] "
-                                   f"(less than {min_distance:g})",
+                from .doclines import distinct_texts
+
+                dt, mt = distinct_texts(d, min_distance, 3)
+                doc.fail((key, i), f"{key}[{i}]={list(pts[i])!r} is {dt} from {key}[{j}] "
+                                   f"(less than {mt})",
                          f"scale the pattern so that its points are at least {min_distance:g} apart")
+
+
+#: A given ``tol`` larger than this share of the pattern's shortest nonzero length is blamed
+#: itself: it merges points that the file lists as distinct.
+MAX_REL_TOL = 0.5
+
+
+def _check_tol(doc: _Doc, tol: float, basic: list, assembling: list) -> None:
+    """Blame ``tol`` (not the points) when it is as large as the pattern's own lengths: a
+    tolerance absorbs rounding, it must be far below the distances it tells apart."""
+    from .doclines import num_text
+
+    lengths = [math.hypot(p[0] - q[0], p[1] - q[1]) for i, p in enumerate(basic) for q in basic[:i]]
+    lengths += [math.hypot(*a) for a in assembling]
+    scale = max(lengths, default=0.0)
+    nonzero = [d for d in lengths if d > 1e-9 * scale]
+    if not nonzero:
+        return
+    shortest = min(nonzero)
+    # only when tol is also large against the pattern: a tiny tol beside a near-duplicate
+    # point blames the point
+    if tol >= MAX_REL_TOL * shortest and tol > 1e-2 * scale:
+        doc.fail(("tol",), f"tol={num_text(tol)} is not small against the pattern: its shortest distance "
+                           f"between points of B or length of a vector of A is {num_text(shortest)}",
+                 f"tol is an equality tolerance for rounding: give tol below {shortest * MAX_REL_TOL:g} "
+                 "(e.g. tol: 1.0e-6), or leave it out for the default")
 
 
 def _from_document(data: Any, source: str, lines: dict, default_name: str) -> RepeatingPattern:
@@ -342,15 +372,17 @@ def _from_document(data: Any, source: str, lines: dict, default_name: str) -> Re
     if data.get("tol") is not None:
         tol = doc.number(("tol",), data["tol"], "tol")
         if tol <= 0:
-            doc.fail(("tol",), f"tol={data['tol']!r} must be > 0", "e.g. tol: 1.0e-6")
+            doc.fail(("tol",), f"tol={_short(data['tol'])} must be > 0", "e.g. tol: 1.0e-6")
     rng = None
     if data.get("range") is not None:
         rng = doc.number(("range",), data["range"], "range")
         if rng <= 0:
-            doc.fail(("range",), f"range={data['range']!r} must be > 0", "e.g. range: 1.2")
+            doc.fail(("range",), f"range={_short(data['range'])} must be > 0", "e.g. range: 1.2")
     from .formation_quality import default_tol
 
     t = tol if tol is not None else default_tol(basic, assembling)
+    if tol is not None:
+        _check_tol(doc, tol, basic, assembling)
     _distinct(doc, "basic", basic, t, "002 Def. 3: the points of B do not overlap", MIN_LENGTH)
     _distinct(doc, "assembling", assembling, t, "002 Def. 7: the vectors of A are distinct")
     steps = [k for k, a in enumerate(assembling) if math.hypot(*a) > t]

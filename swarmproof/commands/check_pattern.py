@@ -48,6 +48,10 @@ def run(args) -> int:
     from swarmproof.models.repeating_pattern import check_pattern, pattern_names, resolve_pattern
 
     if args.list:
+        if args.file is not None:
+            raise UsageError(f"--list takes no name (got FILE={args.file!r})",
+                             fix=f"run `swarmproof check-pattern --list` for the names, or "
+                                 f"`swarmproof check-pattern {args.file}` to check that pattern")
         if args.json:
             emit_json({"patterns": pattern_names()})
         else:

@@ -28,7 +28,19 @@ def files(tmp_path_factory):
     (d / "list.json").write_text("[1, 2, 3]")
     (d / "existing.txt").write_text("x")
     (d / "folder").mkdir()
+    # issue 29: magnitudes (item 1), a duplicate-heavy file (item 2), repeated keys and deep nesting (item 11)
+    (d / "e308.json").write_text('{"format": "lattice-graph/1", "range": 1.2, "roles": ["A"], "edges": '
+                                 '[["A", "A", 1e308, 0, 0], ["A", "A", -1e308, 0, 0]]}')
+    (d / "e160.yaml").write_text("format: lattice-graph/1\nrange: 1.0e+160\nroles: [A]\nedges:\n"
+                                 "  - [A, A, 1.0e+160, 0, 0]\n  - [A, A, -1.0e+160, 0, 0]\n")
+    (d / "dups.yaml").write_text("format: lattice-graph/1\nrange: 1.2\nroles: [A]\nedges:\n"
+                                 + "  - [A, A, 1, 0, 0]\n" * 300 + "  - [A, A, -1, 0, 0]\n")
+    (d / "twice.yaml").write_text("format: swarmproof-campaign/1\nname: x\nname: y\nformat: lattice-graph/1\n"
+                                  "roles: [A]\nedges: []\nexplore:\n  - algorithm: song2014\n")
+    (d / "deep.yaml").write_text("format: lattice-graph/1\nroles: " + "[" * 50_000 + "]" * 50_000 + "\n")
     return {"binary": str(d / "binary.json"), "empty": str(d / "empty.yaml"), "huge": str(d / "huge.yaml"),
+            "e308": str(d / "e308.json"), "e160": str(d / "e160.yaml"), "dups": str(d / "dups.yaml"),
+            "twice": str(d / "twice.yaml"), "deep": str(d / "deep.yaml"),
             "nan": str(d / "nan.json"), "list": str(d / "list.json"), "existing": str(d / "existing.txt"),
             "folder": str(d / "folder"), "missing": str(d / "no" / "such.json"), "blank": ""}
 
@@ -40,7 +52,8 @@ NUMBERS = st.sampled_from(["0", "1", "2", "-1", "1e308", "-1e308", "nan", "inf",
 
 
 def _argv(draw, files):
-    cmd = draw(st.sampled_from(["check-lattice", "simulate", "explore", "replay", "prove", "verify"]))
+    cmd = draw(st.sampled_from(["check-lattice", "simulate", "explore", "replay", "prove", "verify",
+                                "check-pattern", "campaign"]))
     fileval = st.sampled_from(sorted(files.values()))
     argv = [cmd]
     if cmd == "check-lattice":
@@ -60,6 +73,13 @@ def _argv(draw, files):
                 "--fault": WORDS, "--v": NUMBERS, "--speeds": WORDS, "--param": WORDS,
                 "--budget": st.sampled_from(["5", "none", "0", "-1", "nan", "inf", "x"])}
         argv += ["--max-examples", "2", "--max-steps", "40"]
+    elif cmd == "check-pattern":
+        argv.append(draw(st.one_of(fileval, WORDS)))
+        opts = {"--copies": NUMBERS, "--list": st.just("--json")}
+    elif cmd == "campaign":
+        argv.append(draw(fileval))
+        opts = {"--workers": NUMBERS}
+        argv += ["--out", os.path.join(os.path.dirname(files["empty"]), "campaign-out")]
     elif cmd == "replay":
         argv.append(draw(st.one_of(fileval, WORDS)))
         opts = {"--plot": fileval, "--gif": fileval}
@@ -100,5 +120,6 @@ def test_the_fuzzing_reached_every_command_and_more_than_usage_errors():
     """The fuzz test above ran first (same module): it must not have tested only argparse."""
     if not SEEN:
         pytest.skip("run with the fuzz test")
-    assert {c for c, _ in SEEN} == {"check-lattice", "simulate", "explore", "replay", "prove", "verify"}
+    assert {c for c, _ in SEEN} == {"check-lattice", "simulate", "explore", "replay", "prove", "verify",
+                                    "check-pattern", "campaign"}
     assert {code for _, code in SEEN} - {2}, "every drawn command was a usage error"
