@@ -42,6 +42,7 @@ HERE = Path(__file__).resolve().parent
 #: Arguments that keep each benchmark small (``--full`` drops them).
 SMALL_ARGS: dict[str, list[str]] = {
     "bench_engine": ["--quick"],
+    "bench_engine_compare": ["--repeat", "2"],
     "bench_lattice_check": ["--repeat", "3"],
     "bench_proofs": ["--repeat", "1", "--trees", "3"],   # trees up to 5 robots: about 500 s
     "bench_song2014": ["perf", "--repeats", "1", "--sizes", "50"],
@@ -57,6 +58,8 @@ REQUIRED_ARGS: dict[str, list[str]] = {
 #: Where each benchmark's figures are recorded (docs/performance.md sections).
 FIGURES: dict[str, str] = {
     "bench_engine": 'docs/performance.md "Simulation engine and song2016" > "Engine alone"',
+    "bench_engine_compare": 'docs/performance.md "Simulation engine and song2016" > "Engine loop split into phases '
+                            '(issue 28)"',
     "bench_lattice_check": 'docs/performance.md "Lattice checker"',
     "bench_proofs": 'docs/performance.md "Proof suite"',
     "bench_song2014": 'docs/performance.md "song2014" (experiments: docs/song2014.md)',

@@ -98,6 +98,128 @@ def _rel(frames: np.ndarray, poses: np.ndarray) -> np.ndarray:
     return np.column_stack((c * dx + s * dy, -s * dx + c * dy, wrap_angle(poses[:, 2] - frames[:, 2])))
 
 
+def _matching_role_pairs(src, dst, rel, edges, pos_tol: float, ang_tol: float) -> tuple[dict, int | None]:
+    """``(allowed, k)``: per directed neighbor pair ``(a, b)`` the ``(role of a, role of b)`` pairs
+    of the edges whose transform matches the pose of b in a's frame (``rel``), in pair order,
+    up to the first pair ``k`` that matches no edge (``k`` None: every pair matches one)."""
+    if edges:
+        et = np.array([[e.transform.x, e.transform.y, e.transform.theta] for e in edges])
+    else:
+        et = np.empty((0, 3))
+    allowed: dict[tuple[int, int], set] = {}
+    for k in range(len(src)):
+        a, b = int(src[k]), int(dst[k])
+        if len(et):
+            dpos = np.hypot(et[:, 0] - rel[k, 0], et[:, 1] - rel[k, 1])
+            dang = np.abs(wrap_angle(et[:, 2] - rel[k, 2]))
+            hits = np.flatnonzero((dpos <= pos_tol) & (dang <= ang_tol))
+        else:
+            hits = []
+        allowed[(a, b)] = {(edges[h].source, edges[h].target) for h in hits}
+        if not allowed[(a, b)]:
+            return allowed, k
+    return allowed, None
+
+
+def _bfs_order(comp, nbrs: list, ids: list) -> list:
+    """The robots of one component breadth first from its lowest ID, neighbors in ID order."""
+    start = min(comp, key=lambda k: ids[k])
+    order = [start]
+    seen = {start}
+    for x in order:
+        for y in sorted(nbrs[x], key=lambda k: ids[k]):
+            if y not in seen:
+                seen.add(y)
+                order.append(y)
+    return order
+
+
+class _RoleSearch:
+    """The backtracking search for a role function (module docstring), one component after the
+    other: the roles given so far (``role_of``), the assignments tried (``nodes``, the budget
+    counts them over all components) and the deepest dead end met (``deepest``: ``(level,
+    (robot, neighbor to blame or None))``, the violation's witness)."""
+
+    def __init__(self, roles: list, nbrs: list, allowed: dict, max_nodes: int) -> None:
+        self.roles, self.nbrs, self.allowed, self.max_nodes = roles, nbrs, allowed, max_nodes
+        self.role_of: dict[int, str] = {}
+        self.nodes = 0
+        self.deepest = (-1, None)
+
+    def candidates(self, x: int, start: int) -> tuple[list, int | None]:
+        """The roles robot ``x`` can take given its neighbors' roles so far, in the lattice's role
+        order (every role for the component's first robot ``start``), and the neighbor that
+        ruled out the last one (None when some role is left)."""
+        roles, role_of, allowed = self.roles, self.role_of, self.allowed
+        cand = set(roles) if x == start else None
+        blame = None
+        for a in self.nbrs[x]:
+            if a not in role_of:
+                continue
+            ra = role_of[a]
+            ok = {w for (u, w) in allowed[(a, x)] if u == ra} & {u for (u, w) in allowed[(x, a)] if w == ra}
+            cand = ok if cand is None else cand & ok
+            if not cand:
+                blame = a
+                break
+        return [r for r in roles if r in (cand or ())], blame
+
+    def solve(self, order: list) -> bool | None:
+        """Give the robots of one component (in ``order``) roles: True when every one has a role,
+        False when no role function fits, None when the budget ``max_nodes`` is spent."""
+        role_of, start = self.role_of, order[0]
+        first, _ = self.candidates(start, start)
+        stack: list[tuple[int, list[str]]] = [(0, first)]
+        while stack:
+            level, cands = stack[-1]
+            x = order[level]
+            role_of.pop(x, None)
+            if not cands:
+                stack.pop()
+                continue
+            role_of[x] = cands.pop(0)
+            self.nodes += 1
+            if self.nodes > self.max_nodes:
+                return None
+            if level + 1 == len(order):
+                return True
+            nxt, blame = self.candidates(order[level + 1], start)
+            if not nxt and level + 1 > self.deepest[0]:
+                self.deepest = (level + 1, (order[level + 1], blame))
+            stack.append((level + 1, nxt))
+        return False
+
+
+def _no_matching_edge(ids: list, a: int, b: int, rel_ab, lattice) -> SatisfactionResult:
+    """Violated: neighbors ``a`` and ``b`` whose relative pose matches no edge of the lattice."""
+    x, y, th = (float(v) for v in rel_ab)
+    return SatisfactionResult(
+        "violated", None,
+        {"pair": [ids[a], ids[b]], "relative_pose": [x, y, th], "roles": None,
+         "reason": "no_matching_edge"},
+        f"robots {ids[a]} and {ids[b]} are neighbors but the pose of {ids[b]} in the "
+        f"frame of {ids[a]}, ({x:.6g}, {y:.6g}, {np.degrees(th):.6g}deg), matches no edge "
+        f"of lattice {lattice.name!r}")
+
+
+def _no_role_function(ids: list, dead_end, first: int, src, dst, rel) -> SatisfactionResult:
+    """Violated: no role function fits; the witness is the search's deepest dead end
+    ``(robot, neighbor to blame)`` (None: the component's ``first`` robot, no role at all)."""
+    x, a = dead_end if dead_end is not None else (first, None)
+    if a is None:
+        return SatisfactionResult("violated", None, {"pair": [ids[x]], "reason": "no_role"},
+                                  f"no role fits robot {ids[x]}")
+    k = np.flatnonzero((src == a) & (dst == x))[0]
+    xr, yr, th = (float(v) for v in rel[k])
+    return SatisfactionResult(
+        "violated", None,
+        {"pair": [ids[a], ids[x]], "relative_pose": [xr, yr, th],
+         "reason": "no_consistent_role_function"},
+        f"no role function fits: with the roles forced on the robots before it, robot "
+        f"{ids[x]} can take no role consistent with its neighbor {ids[a]} (pose of {ids[x]} "
+        f"in the frame of {ids[a]}: ({xr:.6g}, {yr:.6g}, {np.degrees(th):.6g}deg))")
+
+
 def satisfies_lattice(ids, poses, lattice, phi: float, *, pos_tol: float = DEFAULT_SAT_POS_TOL,
                       ang_tol: float = DEFAULT_SAT_ANG_TOL, max_nodes: int = 1_000_000
                       ) -> SatisfactionResult:
@@ -129,102 +251,24 @@ def satisfies_lattice(ids, poses, lattice, phi: float, *, pos_tol: float = DEFAU
     src = np.concatenate((i, j))
     dst = np.concatenate((j, i))
     rel = _rel(poses[src], poses[dst]) if len(src) else np.empty((0, 3))
-    edges = list(lattice.edges)
-    if edges:
-        et = np.array([[e.transform.x, e.transform.y, e.transform.theta] for e in edges])
-    else:
-        et = np.empty((0, 3))
     # allowed[(a, b)] = set of (role_a, role_b) with an edge matching pose of b in a's frame
-    allowed: dict[tuple[int, int], set] = {}
-    for k in range(len(src)):
-        a, b = int(src[k]), int(dst[k])
-        if len(et):
-            dpos = np.hypot(et[:, 0] - rel[k, 0], et[:, 1] - rel[k, 1])
-            dang = np.abs(wrap_angle(et[:, 2] - rel[k, 2]))
-            hits = np.flatnonzero((dpos <= pos_tol) & (dang <= ang_tol))
-        else:
-            hits = []
-        allowed[(a, b)] = {(edges[h].source, edges[h].target) for h in hits}
-        if not allowed[(a, b)]:
-            x, y, th = (float(v) for v in rel[k])
-            return SatisfactionResult(
-                "violated", None,
-                {"pair": [ids[a], ids[b]], "relative_pose": [x, y, th], "roles": None,
-                 "reason": "no_matching_edge"},
-                f"robots {ids[a]} and {ids[b]} are neighbors but the pose of {ids[b]} in the "
-                f"frame of {ids[a]}, ({x:.6g}, {y:.6g}, {np.degrees(th):.6g}deg), matches no edge "
-                f"of lattice {lattice.name!r}")
+    allowed, unmatched = _matching_role_pairs(src, dst, rel, list(lattice.edges), pos_tol, ang_tol)
+    if unmatched is not None:
+        return _no_matching_edge(ids, int(src[unmatched]), int(dst[unmatched]), rel[unmatched], lattice)
     nbrs: list[list[int]] = [[] for _ in range(n)]
     for a, b in zip(src.tolist(), dst.tolist()):
         nbrs[a].append(b)
-    role_of: dict[int, str] = {}
-    nodes = 0
-    deepest = (-1, None)
+    search = _RoleSearch(roles, nbrs, allowed, max_nodes)
     for comp in components(n, i, j):
-        start = min(comp, key=lambda k: ids[k])
-        order = [start]
-        seen = {start}
-        for x in order:  # BFS (neighbors in ID order for determinism)
-            for y in sorted(nbrs[x], key=lambda k: ids[k]):
-                if y not in seen:
-                    seen.add(y)
-                    order.append(y)
-
-        def candidates(x: int):
-            cand = set(roles) if x == start else None
-            blame = None
-            for a in nbrs[x]:
-                if a not in role_of:
-                    continue
-                ra = role_of[a]
-                ok = {w for (u, w) in allowed[(a, x)] if u == ra} & {u for (u, w) in allowed[(x, a)] if w == ra}
-                cand = ok if cand is None else cand & ok
-                if not cand:
-                    blame = a
-                    break
-            return [r for r in roles if r in (cand or ())], blame
-
-        stack: list[tuple[int, list[str]]] = []
-        level = 0
-        first, _ = candidates(order[0])
-        stack.append((0, first))
-        ok_comp = False
-        while stack:
-            level, cands = stack[-1]
-            x = order[level]
-            role_of.pop(x, None)
-            if not cands:
-                stack.pop()
-                continue
-            role_of[x] = cands.pop(0)
-            nodes += 1
-            if nodes > max_nodes:
-                return SatisfactionResult("inconclusive", None, None,
-                                          f"search budget max_nodes={max_nodes} spent")
-            if level + 1 == len(order):
-                ok_comp = True
-                break
-            nxt, blame = candidates(order[level + 1])
-            if not nxt and level + 1 > deepest[0]:
-                deepest = (level + 1, (order[level + 1], blame))
-            stack.append((level + 1, nxt))
-        if not ok_comp:
-            x, a = deepest[1] if deepest[1] is not None else (order[0], None)
-            for y in order:
-                role_of.pop(y, None)
-            if a is None:
-                return SatisfactionResult("violated", None, {"pair": [ids[x]], "reason": "no_role"},
-                                          f"no role fits robot {ids[x]}")
-            k = np.flatnonzero((src == a) & (dst == x))[0]
-            xr, yr, th = (float(v) for v in rel[k])
-            return SatisfactionResult(
-                "violated", None,
-                {"pair": [ids[a], ids[x]], "relative_pose": [xr, yr, th],
-                 "reason": "no_consistent_role_function"},
-                f"no role function fits: with the roles forced on the robots before it, robot "
-                f"{ids[x]} can take no role consistent with its neighbor {ids[a]} (pose of {ids[x]} "
-                f"in the frame of {ids[a]}: ({xr:.6g}, {yr:.6g}, {np.degrees(th):.6g}deg))")
-    return SatisfactionResult("held", {ids[k]: role_of[k] for k in range(n)}, None,
+        order = _bfs_order(comp, nbrs, ids)
+        solved = search.solve(order)
+        if solved is None:
+            return SatisfactionResult("inconclusive", None, None, f"search budget max_nodes={max_nodes} spent")
+        if not solved:
+            # (the deepest dead end of the whole search: it may lie in an earlier component that
+            # did get roles, so the witness can name robots outside this one; left as it was)
+            return _no_role_function(ids, search.deepest[1], order[0], src, dst, rel)
+    return SatisfactionResult("held", {ids[k]: search.role_of[k] for k in range(n)}, None,
                               f"{n} robots satisfy lattice {lattice.name!r}")
 
 

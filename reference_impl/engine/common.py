@@ -10,6 +10,14 @@ from swarmproof.models.errors import UsageError
 
 from ..protocol import Params
 
+#: How often (in steps) the progress callback is called.
+PROGRESS_EVERY = 50
+
+
+def _robot_rng(seed: int, slot: int) -> np.random.Generator:
+    """Robot slot ``slot``'s generator: ``SeedSequence(seed, spawn_key=(0, slot))``."""
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
+
 
 def _ro(a: np.ndarray) -> np.ndarray:
     """A read-only view (observers must not change the engine's arrays)."""

@@ -2,8 +2,9 @@
 
 The model is that of 001 Sec. III-A (and 000 Sec. III-A): n robots with
 unique comparable IDs and poses in a global frame that only the engine
-knows; time runs in steps of ``dt``.  The loop below runs the phases of a
-step; each phase's model lives in a module of its own:
+knows; time runs in steps of ``dt``.  :func:`simulate` runs the phases of a
+step, one function each in :mod:`.phases` (over a :class:`~.phases.RunState`);
+each phase's model lives in a module of its own:
 
 1. *Faults and activation (start of step)*: robots crash or join
    (:mod:`.faults`), the schedule picks which robots act, and with
@@ -90,11 +91,11 @@ from swarmproof.models.trace import Event, InitialConfiguration, Trace, to_jsona
 
 from ..protocol import Params
 from .clocks import clock_model
-from .common import _ro
+from .common import PROGRESS_EVERY, _ro, _robot_rng
 from .communication import Delivery
 from .faults import DropSet, FaultModel, TableSchedule
-from .motion import _command_values, motion_model
-from .sensing import _new_observation, sense
+from .motion import motion_model
+from .phases import RunState, StepView, activate, apply_faults, decide, move, record, sense, stop_test
 
 __all__ = [
     "simulate", "SimulationResult", "Trace", "FaultModel", "TableSchedule", "DropSet", "default_max_steps",
@@ -103,10 +104,6 @@ __all__ = [
 
 #: The engine's own assumption names (checked before every run).
 ENGINE_ASSUMPTIONS = ("unique_ids",)
-
-#: How often (in steps) the progress callback is called.
-PROGRESS_EVERY = 50
-
 
 #: Anonymous sensing gives every robot every other robot's position: n^2 rows per step.
 ANONYMOUS_MAX_ROBOTS = 2000
@@ -367,10 +364,6 @@ def _check_params(params: Params) -> None:
         raise UsageError(f"params.v={params.v!r} must be a finite number >= 0")
 
 
-def _robot_rng(seed: int, slot: int) -> np.random.Generator:
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(0, slot)))
-
-
 def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
               faults: FaultModel | None):
     """The checks before a run's first step (shared by :func:`simulate` and an algorithm's
@@ -429,6 +422,201 @@ def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params,
         events.append(Event(0, "assumption_broken", (), (("assumption", name),)))
     broken.extend(faults.broken_model_assumptions(model))
     return seed, faults, events, broken
+
+
+def _slots(initial: InitialConfiguration, faults: FaultModel) -> tuple:
+    """One slot per robot that is ever present: the start's robots, then the fault model's
+    additions in step order.  Returns ``(ids, poses, present, slot_of_add)``: IDs and start poses
+    (headings wrapped) by slot, who is present at step 0, and ``step -> [(slot, pose), ...]``."""
+    n0 = initial.n
+    add_rows = []
+    for step_k in sorted(faults.additions):
+        for rid, pose in faults.additions[step_k]:
+            p = np.asarray(pose, dtype=float)
+            if p.shape != (3,) or not np.isfinite(p).all():
+                raise UsageError(f"faults.additions[{step_k}] pose={pose!r} must be finite [x, y, theta]")
+            add_rows.append((int(step_k), int(rid), p))
+    n_total = n0 + len(add_rows)
+    ids = np.array(initial.ids.tolist() + [r[1] for r in add_rows], dtype=np.int64)
+    poses = np.zeros((n_total, 3))
+    poses[:n0] = initial.poses
+    poses[:, 2] = wrap_angle(poses[:, 2])
+    present = np.zeros(n_total, dtype=bool)
+    present[:n0] = True
+    slot_of_add = {}
+    for k, (step_k, rid, p) in enumerate(add_rows):
+        slot_of_add.setdefault(step_k, []).append((n0 + k, p))
+    return ids, poses, present, slot_of_add
+
+
+def _new_run(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
+             faults: FaultModel | None, **options) -> RunState:
+    """A run before its start (:class:`~.phases.RunState`): the checks (:func:`preflight`), the
+    slots (:func:`_slots`), the motion and clock models and the fault model's generator.
+    ``options``: :func:`simulate`'s ``max_steps``, ``record_every``, ``observers``, ``progress``,
+    ``stop_when`` and ``record_clamps``, checked when the run starts (:func:`_start`)."""
+    seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
+    model = algorithm.model
+    ids, poses, present, slot_of_add = _slots(initial, faults)
+    n0, n_total, ids_list = initial.n, len(ids), ids.tolist()
+    mover = motion_model(model, params, n_total, seed)
+    mover.start(poses, n0, ids_list)
+    clocks = clock_model(model, params, n_total, seed)
+    anonymous = model.sensing == "anonymous"
+    run = RunState(algorithm, lattice, params, seed, faults, events, broken, ids, ids_list, n0, poses, present,
+                   slot_of_add, any_presence_change=n_total > n0 or any(faults.crashes.values()),
+                   mover=mover, clocks=clocks,
+                   fault_rng=np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,))), **options)
+    run.n_total = n_total
+    run.anonymous = anonymous
+    run.hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
+    run.grid = mover.grid
+    run.async_clocks = not clocks.synchronous
+    if run.async_clocks:
+        run.outbox, run.last_outbox = [None] * n_total, [None] * n_total
+    return run
+
+
+def _new_controllers(run: RunState, initial: InitialConfiguration) -> None:
+    """A controller per robot of the start, with its seeded generator; an algorithm that
+    ``knows_start`` then gets the robot set and the start positions (read-only)."""
+    algorithm, ids_list, n0 = run.algorithm, run.ids_list, run.n0
+    run.controllers = [None] * run.n_total
+    for k in range(n0):
+        run.calling = k
+        run.controllers[k] = algorithm.controller(None if run.hide_ids else ids_list[k], run.params, run.lattice,
+                                                  _robot_rng(run.seed, k))
+    run.calling = None
+    if getattr(algorithm, "knows_start", False):
+        # The paper's input: every robot knows the robot set and all initial positions in the
+        # common frame (002 Sec. III-A, Alg. 1 "Input"); given once, read-only, before step 0.
+        if getattr(algorithm.model, "sensing", None) != "global":
+            raise UsageError(f"algorithm {getattr(algorithm, 'name', '?')!r} sets knows_start but its "
+                             f"model.sensing={algorithm.model.sensing!r}",
+                             fix="knows_start needs sensing='global' (positions in the common frame)")
+        known_ids = tuple(int(x) for x in ids_list[:n0])
+        known_xy = np.array(initial.poses[:, :2], dtype=float)
+        known_xy.setflags(write=False)
+        for k in range(n0):
+            run.calling = k
+            run.controllers[k].know_start(known_ids, known_xy)
+        run.calling = None
+
+
+def _first_states(run: RunState) -> tuple:
+    """Every controller's ``state()`` before step 0 (a crash there is the algorithm's, not a
+    robot's), each checked hashable."""
+    run.calling = -1
+    states = tuple(None if c is None or not run.present[k] else c.state() for k, c in enumerate(run.controllers))
+    run.calling = None
+    for k, st in enumerate(states):
+        try:
+            hash(st)
+        except TypeError:
+            raise ProtocolError(f"controller of robot {run.ids_list[k]!r}: state() returned an unhashable "
+                                f"{type(st).__name__} ({st!r:.80}); return tuples of (key, value) "
+                                "pairs, a namedtuple or a frozen dataclass") from None
+    return states
+
+
+def _plan_shortcuts(run: RunState) -> None:
+    """Whether ``repeat_step`` may stand in for ``step`` (engine module docstring): only in the
+    plain model (every robot acts, hears its neighbors, senses exactly; no robot joins or
+    crashes) and when every controller offers it."""
+    model, faults, n_total = run.algorithm.model, run.faults, run.n_total
+    run.repeaters = [getattr(c, "repeat_step", None) for c in run.controllers]
+    run.repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
+                     and not faults.drops_messages and not faults.noisy and faults.schedule is None
+                     and not faults.late_messages and not run.grid and not run.async_clocks
+                     and not run.any_presence_change and all(callable(f) for f in run.repeaters))
+    run.horizons = [getattr(c, "repeat_horizon", None) for c in run.controllers]
+    run.hold = [0] * n_total
+    run.last_cmds = [None] * n_total
+    run.turns = [0.0] * run.n0
+    run.fwds = [0.0] * run.n0
+    run.heard_msgs = [None] * n_total
+
+
+def _start(run: RunState, initial: InitialConfiguration, stop_when_static, record_messages: bool) -> None:
+    """Step 0: the controllers, the caps and options checked, the first recorded frame and
+    states, the models of the loop, the observers' start, and whether the run is over before
+    its first step (``finished`` already, or stopped by ``stop_when``)."""
+    _new_controllers(run, initial)
+    algorithm, model, faults = run.algorithm, run.algorithm.model, run.faults
+    run.max_steps, run.window = run_caps(algorithm, run.params, run.n0, run.max_steps, stop_when_static)
+    check_type("record_every", run.record_every, (int, np.integer))
+    run.record_every = int(run.record_every)
+    if run.record_every < 1:
+        raise UsageError(f"record_every={run.record_every!r} must be an integer >= 1", fix="1 records every step")
+    run.observers = tuple(run.observers or ())
+    for ob in run.observers:
+        if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
+            raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
+                             fix="use a streaming monitor such as ConnectivityMonitor")
+    run.rec = Recording(run.record_every, run.poses, run.present if run.any_presence_change else None,
+                        record_messages)
+    run.states = _first_states(run)
+    run.rec.states.append(run.states)
+    run.last_msgs = [None] * run.n_total
+    _plan_shortcuts(run)
+    run.phi = float(run.params.range)
+    run.global_sensing = model.sensing == "global"
+    std_xy, std_th = (float(s) for s in faults.noise_std)   # (a noise_std that is not a pair fails here)
+    run.noisy = faults.noisy
+    run.inclusive = model.neighbor_rule == "inclusive"
+    run.delivery = Delivery(model, faults, run.phi, run.ids_list, run.fault_rng)
+    run.calling = -1
+    finished = bool(algorithm.finished(tuple(s for s, p in zip(run.states, run.present) if p)))
+    run.calling = None
+    if finished:
+        run.status = "finished"
+    for ob in run.observers:
+        ob.start(run.ids.copy())
+        ob.observe(0, _ro(run.poses), run.states, _ro(run.present))
+    if run.stop_when is not None and not finished and run.stop_when(0, run.poses, run.states, run.present):
+        run.status = "stopped"
+
+
+def _end(run: RunState) -> None:
+    """The loop ran out of steps (status ``"step_cap"``) unless a stop test ended it; the last
+    progress call."""
+    if run.status is None:
+        run.status = "step_cap"
+    if run.progress is not None:
+        run.progress(run.t, run.max_steps)
+
+
+def _crashed(run: RunState, exc: BaseException) -> None:
+    """Status ``"crashed"``: what the algorithm under test raised (``run.calling`` says whose code
+    ran) becomes the result's ``crash`` and an ``algorithm_crash`` event; the trace ends at the
+    start of that step (a crash before the first states leaves one frame of no states)."""
+    crash = run.crash = _crash_record(exc, run.calling, run.t, run.ids_list, run.anonymous)
+    run.status = "crashed"
+    run.events.append(Event(run.t, "algorithm_crash", () if crash["robot"] is None else (crash["robot"],),
+                            (("error", crash["error"]), ("message", crash["message"]))))
+    if run.rec is None:
+        run.rec = Recording(1, run.poses, None, False)
+        run.states = tuple([None] * len(run.ids_list))
+        run.rec.states.append(run.states)
+    if run.window is None:
+        run.window = 0
+    if run.max_steps is None:
+        run.max_steps = 0
+
+
+def _result(run: RunState) -> SimulationResult:
+    """The :class:`SimulationResult` of a run that ended: its trace (a sparse one ends with the
+    last step) with ``trace.meta`` (:func:`run_meta`)."""
+    run.rec.finish(run.t, run.poses, run.present, run.states)
+    mover = run.mover
+    meta = run_meta(run.algorithm, run.lattice, run.params, run.seed, run.status, run.t, run.max_steps, run.window,
+                    run.broken, run.faults, run.clocks,
+                    {"grid_spacing": mover.spacing, **mover.describe()} if run.grid else None, run.record_every,
+                    run.crash)
+    trace = run.rec.trace(run.ids, run.events, meta)
+    return SimulationResult(status=run.status, steps=run.t, trace=trace, broken_assumptions=tuple(run.broken),
+                            seed=run.seed, static_window=run.window, max_steps=run.max_steps,
+                            observers=run.observers, crash=run.crash)
 
 
 def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, *, seed: int,
@@ -499,371 +687,23 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     ProtocolError
         A controller returned something that is not a valid Command.
     """
-    seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
-    n0 = initial.n
-    ids0 = initial.ids.tolist()
-    model = algorithm.model
-    anonymous = model.sensing == "anonymous"
-    hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
-
-    # -- slots -----------------------------------------------------------
-    add_rows = []
-    for step_k in sorted(faults.additions):
-        for rid, pose in faults.additions[step_k]:
-            p = np.asarray(pose, dtype=float)
-            if p.shape != (3,) or not np.isfinite(p).all():
-                raise UsageError(f"faults.additions[{step_k}] pose={pose!r} must be finite [x, y, theta]")
-            add_rows.append((int(step_k), int(rid), p))
-    n_total = n0 + len(add_rows)
-    ids = np.array(ids0 + [r[1] for r in add_rows], dtype=np.int64)
-    ids_list = ids.tolist()
-    poses = np.zeros((n_total, 3))
-    poses[:n0] = initial.poses
-    poses[:, 2] = wrap_angle(poses[:, 2])
-    present = np.zeros(n_total, dtype=bool)
-    present[:n0] = True
-    slot_of_add = {}
-    for k, (step_k, rid, p) in enumerate(add_rows):
-        slot_of_add.setdefault(step_k, []).append((n0 + k, p))
-    any_presence_change = bool(add_rows) or any(faults.crashes.values())
-
-    mover = motion_model(model, params, n_total, seed)
-    mover.start(poses, n0, ids_list)
-    grid = mover.grid
-    clocks = clock_model(model, params, n_total, seed)
-    async_clocks = not clocks.synchronous
-    if async_clocks:
-        outbox: list = [None] * n_total
-        last_outbox: list = [None] * n_total
-    fault_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
-    calling = None   # the robot slot (-1: the algorithm) whose code runs now; None: the engine's
-    rec = window = None
-    states = None
-    crash = None
-    t = 0
+    run = _new_run(algorithm, lattice, initial, params, seed, allow_violations, faults, max_steps=max_steps,
+                   record_every=record_every, observers=observers, progress=progress, stop_when=stop_when,
+                   record_clamps=record_clamps)
     try:
-        controllers: list = [None] * n_total
-        for k in range(n0):
-            calling = k
-            controllers[k] = algorithm.controller(None if hide_ids else ids_list[k], params, lattice,
-                                                  _robot_rng(seed, k))
-        calling = None
-        if getattr(algorithm, "knows_start", False):
-            # The paper's input: every robot knows the robot set and all initial positions in the
-            # common frame (002 Sec. III-A, Alg. 1 "Input"); given once, read-only, before step 0.
-            if getattr(algorithm.model, "sensing", None) != "global":
-                raise UsageError(f"algorithm {getattr(algorithm, 'name', '?')!r} sets knows_start but its "
-                                 f"model.sensing={algorithm.model.sensing!r}",
-                                 fix="knows_start needs sensing='global' (positions in the common frame)")
-            known_ids = tuple(int(x) for x in ids0)
-            known_xy = np.array(initial.poses[:, :2], dtype=float)
-            known_xy.setflags(write=False)
-            for k in range(n0):
-                calling = k
-                controllers[k].know_start(known_ids, known_xy)
-            calling = None
-
-        max_steps, window = run_caps(algorithm, params, n0, max_steps, stop_when_static)
-
-        def _states() -> tuple:
-            return tuple(None if c is None or not present[k] else c.state()
-                         for k, c in enumerate(controllers))
-
-        check_type("record_every", record_every, (int, np.integer))
-        record_every = int(record_every)
-        if record_every < 1:
-            raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
-        observers = tuple(observers or ())
-        for ob in observers:
-            if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
-                raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
-                                 fix="use a streaming monitor such as ConnectivityMonitor")
-        rec = Recording(record_every, poses, present if any_presence_change else None, record_messages)
-        calling = -1
-        states = _states()
-        calling = None
-        for k, st in enumerate(states):
-            try:
-                hash(st)
-            except TypeError:
-                raise ProtocolError(f"controller of robot {ids_list[k]!r}: state() returned an unhashable "
-                                    f"{type(st).__name__} ({st!r:.80}); return tuples of (key, value) "
-                                    "pairs, a namedtuple or a frozen dataclass") from None
-        rec.states.append(states)
-        last_msgs: list = [None] * n_total
-        sensed = None  # (idx, position bytes, per-robot neighbor IDs, slots, poses)
-        # Repeating the last command (Controller.repeat_step) when a robot's observation is
-        # last step's except the step number: only in the plain model (every robot acts,
-        # hears its neighbors, senses exactly; no robot joins or crashes).
-        repeaters = [getattr(c, "repeat_step", None) for c in controllers]
-        repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
-                     and not faults.drops_messages and not faults.noisy and faults.schedule is None
-                     and not faults.late_messages and not grid and not async_clocks
-                     and not any_presence_change and all(callable(f) for f in repeaters))
-        last_keys = resensed = None
-        horizons = [getattr(c, "repeat_horizon", None) for c in controllers]
-        hold = [0] * n_total
-        last_cmds: list = [None] * n_total
-        turns_l = [0.0] * n0
-        fwds_l = [0.0] * n0
-        heard_msgs: list = [None] * n_total
-        idx_l_prev: list = []
-
-        phi = float(params.range)
-        global_sensing = model.sensing == "global"
-        comm = model.communication
-        std_xy, std_th = (float(s) for s in faults.noise_std)
-        noisy = faults.noisy
-        inclusive = model.neighbor_rule == "inclusive"
-        delivery = Delivery(model, faults, phi, ids_list, fault_rng)
-        status = "step_cap"
-        quiet = 0
-        calling = -1
-        finished = bool(algorithm.finished(tuple(s for s, p in zip(states, present) if p)))
-        calling = None
-        if finished:
-            status = "finished"
-        t = 0
-        for ob in observers:
-            ob.start(ids.copy())
-            ob.observe(0, _ro(poses), states, _ro(present))
-        if stop_when is not None and not finished and stop_when(0, poses, states, present):
-            status, finished = "stopped", True
-        while not finished and t < max_steps:
-            n_events = len(events)
-            # 1. faults at the start of the step
-            for rid in faults.crashes.get(t, ()):
-                for k in range(n_total):
-                    if present[k] and ids_list[k] == int(rid):
-                        present[k] = False
-                        controllers[k] = None
-                        last_msgs[k] = None
-                        delivery.forget(k)
-                        events.append(Event(t, "crash", (int(rid),)))
-            for slot, p in slot_of_add.get(t, ()):
-                poses[slot] = p
-                poses[slot, 2] = wrap_angle(p[2])
-                mover.add(slot, poses, ids_list[slot], t)
-                present[slot] = True
-                calling = slot
-                controllers[slot] = algorithm.controller(None if hide_ids else ids_list[slot], params,
-                                                         lattice, _robot_rng(seed, slot))
-                calling = None
-                events.append(Event(t, "add", (ids_list[slot],)))
-            idx = np.flatnonzero(present)
-            m = len(idx)
-            pres_ids = ids[idx]
-            if faults.schedule is not None:
-                act = np.asarray(faults.schedule(t, pres_ids.copy(), fault_rng), dtype=bool)
-                if act.shape != (m,):
-                    raise UsageError(f"faults.schedule returned shape={act.shape!r}, expected ({m},)")
-            else:
-                act = np.ones(m, dtype=bool)
-            if async_clocks:
-                # a robot decides in step t when its local clock passes an integer during the step,
-                # and broadcasts its last decided message when the clock passes a broadcast instant
-                decide, bcast, tau0 = clocks.ticks(t, idx)
-                act &= decide
-                ticked_l = decide.tolist()
-
-            # 2. sensing (vectorized).  Sensing is a pure function of the present robots'
-            #    poses, so when none of them changed since the last sensing (bit for bit) the
-            #    last result is reused; noise is drawn afresh every step, so never with noise.
-            pp = poses[idx]
-            pp_bytes = pp.tobytes()
-            if (sensed is not None and not noisy and sensed[1] == pp_bytes
-                    and np.array_equal(sensed[0], idx)):
-                nb_ids, nb_slots, nb_rel = sensed[2]
-            else:
-                nb_ids, nb_slots, nb_rel = sense(pp, idx, ids, pres_ids, phi, inclusive=inclusive, anonymous=anonymous,
-                                                 noise=faults if noisy else None, t=t, rng=fault_rng)
-                sensed = None if noisy else (idx, pp_bytes, (nb_ids, nb_slots, nb_rel))
-                if repeat_ok:
-                    # which robots sense something else than last step (IDs or pose bits)
-                    keys = [(nb_ids[a], nb_slots[a], nb_rel[a].tobytes()) for a in range(m)]
-                    if last_keys is not None and len(last_keys) == m:
-                        resensed = [x != y for x, y in zip(keys, last_keys)]
-                    else:
-                        resensed = None
-                    last_keys = keys
-            # Robots whose whole observation (neighbor IDs, pose bits, message objects)
-            # is last step's may repeat their last command (Controller.repeat_step).
-            same_obs = None
-            if repeat_ok and t > 0 and resensed is not None:
-                new_senders = {s for s in idx_l_prev if last_msgs[s] is not heard_msgs[s]}
-                if new_senders:
-                    same_obs = [not r and new_senders.isdisjoint(sl) for r, sl in zip(resensed, nb_slots)]
-                else:
-                    same_obs = [not r for r in resensed]
-            resensed = [False] * m if repeat_ok else None
-
-            # 3.-4. messages and decisions (per robot)
-            act_l = act.tolist()
-            idx_l = idx.tolist()
-            pres_ids_l = pres_ids.tolist()
-            # every present robot broadcast last step (the usual case): no None to filter
-            silent = comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
-            get_msg = last_msgs.__getitem__
-            if repeat_ok:
-                # The plain model with repeat_step: a robot whose observation is last step's
-                # and whose hold (repeat_horizon) has not run out keeps its last command
-                # (turns_l, fwds_l and its message stand); one whose observation is the same
-                # is asked repeat_step; every other robot (and one that declines) steps.
-                new_msgs = last_msgs.copy()
-                stepped = []
-                if same_obs is None:
-                    todo = range(m)
-                else:
-                    todo = [a for a in range(m) if not same_obs[a] or t >= hold[a]]
-                for a in todo:
-                    k = idx_l[a]
-                    calling = k
-                    cmd = repeaters[k](t) if same_obs is not None and same_obs[a] else None
-                    if cmd is None:
-                        msgs = (dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))) if not silent else
-                                {sid: last_msgs[s] for sid, s in zip(nb_ids[a], nb_slots[a])
-                                 if last_msgs[s] is not None})
-                        calling = k
-                        cmd = controllers[k].step(_new_observation(t, pres_ids_l[a], nb_ids[a], nb_rel[a],
-                                                                   msgs, None))
-                        stepped.append(k)
-                    calling = None
-                    if cmd is not last_cmds[k]:
-                        turns_l[a], fwds_l[a] = _command_values(cmd, pres_ids_l[a], t)
-                        new_msgs[k] = cmd.message
-                        last_cmds[k] = cmd
-                    calling = k
-                    hold[a] = t + 1 if horizons[k] is None else horizons[k](t)
-                    calling = None
-            else:
-                turns_l = [0.0] * m
-                fwds_l = [0.0] * m
-                moves_l = [None] * m
-                new_msgs = [None] * n_total
-                stepped = None
-            # the general path: any model, fault hooks (empty when repeat_ok)
-            if not repeat_ok:
-                delivery.begin(last_msgs, idx_l, silent)
-                direct = delivery.direct
-            for a in (range(0) if repeat_ok else range(m)):
-                if not act_l[a]:
-                    if async_clocks and not ticked_l[a]:
-                        # its clock did not tick: what it receives now waits for its next tick
-                        delivery.hold(t, idx_l[a], pres_ids_l[a], nb_ids[a], nb_slots[a], nb_rel[a])
-                    continue
-                k = idx_l[a]
-                my_id = pres_ids_l[a]
-                if direct and not (async_clocks and k in delivery.backlog):
-                    # the plain model: every neighbor broadcast, no message faults
-                    msgs, delivered = dict(zip(nb_ids[a], map(get_msg, nb_slots[a]))), None
-                else:
-                    msgs, delivered = delivery.receive(t, k, my_id, nb_ids[a], nb_slots[a], nb_rel[a])
-                own = None
-                if global_sensing:
-                    own = poses[k].copy()
-                    own.setflags(write=False)
-                obs = _new_observation(t, None if anonymous else my_id,
-                                       None if anonymous else nb_ids[a],
-                                       nb_rel[a][:, :2] if anonymous else nb_rel[a], msgs, own)
-                if delivered is not None:
-                    obs.__dict__["delivered"] = delivered
-                if async_clocks:
-                    obs.__dict__["clock"] = float(tau0[a])
-                calling = k
-                cmd = controllers[k].step(obs)
-                calling = None
-                if grid:
-                    moves_l[a] = mover.command(cmd, my_id, t)
-                else:
-                    tu, fw = _command_values(cmd, my_id, t)
-                    turns_l[a] = tu
-                    fwds_l[a] = fw
-                if async_clocks:
-                    outbox[k] = cmd.message
-                else:
-                    new_msgs[k] = cmd.message
-            if not repeat_ok:
-                delivery.end(t, events)
-            if async_clocks:
-                for a, k in enumerate(idx_l):
-                    if bcast[a]:
-                        new_msgs[k] = outbox[k]
-
-            # 5. motion
-            same_poses = mover.apply(poses, idx, moves_l if grid else (turns_l, fwds_l), pres_ids, t, events,
-                                     record_clamps)
-            t += 1
-            record = rec.keeps(t, events, n_events)
-            if record:
-                rec.frame(t, poses, present)
-            # Unchanged states are stored as the previous object (a trace of a long
-            # run keeps one copy per change, not one per step); equal values, same trace.
-            # (With repeat_step only the robots that stepped are asked: repeating leaves
-            # a state as it was.)
-            changed = False
-            merged = list(states)
-            for k in range(n_total) if stepped is None else stepped:
-                c = controllers[k]
-                calling = k
-                st = None if c is None or not present[k] else c.state()
-                calling = None
-                if st is not states[k] and not st == states[k]:
-                    merged[k] = st
-                    changed = True
-            new_states = tuple(merged) if changed else states
-            rec.after_step(record, new_states, new_msgs, idx_l, ids_list)
-            for ob in observers:
-                ob.observe(t, _ro(poses), new_states, _ro(present))
-            if async_clocks:
-                # broadcasts come and go with the clocks; what a robot would say is its outbox
-                quiet_step = not changed and same_poses and outbox == last_outbox
-                last_outbox = list(outbox)
-            else:
-                quiet_step = not changed and same_poses and new_msgs == last_msgs
-            heard_msgs = last_msgs
-            idx_l_prev = idx_l
-            last_msgs = new_msgs
-            states = new_states
-            quiet = quiet + 1 if quiet_step else 0
-            if progress is not None and t % PROGRESS_EVERY == 0:
-                progress(t, max_steps)
-            # (finished depends on the states alone: unchanged states, same answer)
-            calling = -1
-            done = (changed or not repeat_ok) and algorithm.finished(tuple(s for s, p in zip(states, present) if p))
-            calling = None
-            if done:
-                status = "finished"
-                break
-            if window and quiet >= window:
-                status = "static"
-                break
-            if stop_when is not None and stop_when(t, poses, states, present):
-                status = "stopped"
-                break
-        if progress is not None:
-            progress(t, max_steps)
-    except SwarmproofError:
-        raise
+        _start(run, initial, stop_when_static, record_messages)
+        while run.status is None and run.t < run.max_steps:
+            step = StepView(run.t, len(run.events))
+            apply_faults(run, step)     # 1. robots crash or join
+            activate(run, step)         # 1. who acts: the schedule, the clocks
+            sense(run, step)            # 2.
+            decide(run, step)           # 3.-4. message delivery and decisions
+            move(run, step)             # 5.
+            record(run, step)           # 6. the trace and the monitors
+            stop_test(run, step)
+        _end(run)
     except Exception as exc:  # noqa: BLE001 - only what the algorithm under test raised
-        if calling is None:
-            raise                      # the engine's own bug: not the algorithm's
-        crash = _crash_record(exc, calling, t, ids_list, anonymous)
-        status = "crashed"
-        events.append(Event(t, "algorithm_crash", () if crash["robot"] is None else (crash["robot"],),
-                            (("error", crash["error"]), ("message", crash["message"]))))
-        if rec is None:
-            rec = Recording(1, poses, None, False)
-            states = tuple([None] * len(ids_list))
-            rec.states.append(states)
-        if window is None:
-            window = 0
-        if max_steps is None:
-            max_steps = 0
-    rec.finish(t, poses, present, states)
-
-    meta = run_meta(algorithm, lattice, params, seed, status, t, max_steps, window, broken, faults, clocks,
-                    {"grid_spacing": mover.spacing, **mover.describe()} if grid else None, record_every, crash)
-    trace = rec.trace(ids, events, meta)
-    return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
-                            seed=seed, static_window=window, max_steps=max_steps, observers=observers,
-                            crash=crash)
+        if isinstance(exc, SwarmproofError) or run.calling is None:
+            raise      # a usage or protocol error, or the engine's own bug: not the algorithm's
+        _crashed(run, exc)
+    return _result(run)
