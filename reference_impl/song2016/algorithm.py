@@ -62,7 +62,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from operator import attrgetter
 from typing import Any, Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -193,18 +192,6 @@ class Song2016Message:
             "path_from_root": list(self.path_from_root),
             "path_from_relocate": list(self.path_from_relocate),
         }
-
-
-def _gt(a: int | None, b: int | None) -> bool:
-    """``a > b`` with ``None`` as -inf (Algorithm 1 lines 6-7, 14)."""
-    if a is None:
-        return False
-    return b is None or a > b
-
-
-def _max(a: int | None, b: int | None) -> int | None:
-    """``max(a, b)`` with ``None`` as -inf (Algorithm 1 line 18)."""
-    return a if not _gt(b, a) else b
 
 
 # ---------------------------------------------------------------------------
@@ -366,26 +353,116 @@ def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
     return best
 
 
-def _shortest(msgs: Sequence[Song2016Message], attr: str) -> tuple[int, ...]:
-    """Shortest path among ``msgs`` (ties: the highest sender ID); () if none.
+def _read_inbox(my_id: int, root: int | None, relocate: int | None,
+                in_messages: Sequence[Song2016Message], per_message: bool) -> tuple:
+    """001 Alg. 1 lines 8-22: what this robot takes from inMessages.
 
-    ``attr`` is ``"path_from_root"`` or ``"path_from_relocate"``.  The first
-    message is the first best; a later one replaces it only when its path is
-    shorter, or as long with a higher sender ID.
+    The two readings of line 12 (:data:`RUMOR_FILTERS`) differ only there: as
+    printed (``per_message``), a message whose pathFromRoot *or*
+    pathFromRelocate holds myID is not eligible; read per field (Sec. V-B's
+    prose), root information (lines 14-16) needs myID not in pathFromRoot and
+    relocate information (line 18) myID not in pathFromRelocate.  Lines 13 and
+    21-22 are folded into the one pass: rootID and relocateID only grow, and no
+    message accepted before the one that raises an ID carries the larger ID, so
+    the candidates and the shortest path restart there and are then kept (ties:
+    the highest sender, the first one on equal IDs), exactly as the shortest
+    path over the eligible messages that carry the final ID.
+
+    Returns
+    -------
+    tuple
+        ``(highestID, rootID, relocateID, vacancyFromMsgs, root_cands,
+        minRootPath, minRelocatePath)``; ``root_cands`` are the accepted
+        messages that carry rootID, in order (getParentMsg's candidates, line 27).
     """
-    get = _PATH_OF[attr]
-    best: tuple[int, ...] | None = None
-    best_len = best_sender = 0
-    for m in msgs:
-        p = get(m)
-        lp = len(p)
-        if best is None or lp < best_len or (lp == best_len and m.sender_id > best_sender):
-            best, best_len, best_sender = p, lp, m.sender_id
-    return () if best is None else best
+    # 3 myMsg.highestID <- myID;  8 eligibleMsgs <- {} (kept as the messages that carry the
+    #   current rootID, root_cands, and the shortest paths so far);  9 vacancyFromMsgs <- null
+    highest = my_id
+    root_cands: list[Song2016Message] = []
+    root_path = reloc_path = None
+    root_len = root_sender = reloc_len = reloc_sender = 0
+    vacancy_from_msgs: Vacancy | None = None
+    # 10 foreach inMsg in inMessages do
+    for m in in_messages:
+        # 11 myMsg.highestID <- max(myMsg.highestID, inMsg.highestID)
+        h = m.highest_id
+        if h > highest:
+            highest = h
+        # 12 if not inMsg.pathFromRoot.contains(myID) and not
+        #       inMsg.pathFromRelocate.contains(myID) then
+        in_root_path = my_id in m.path_from_root
+        in_reloc_path = my_id in m.path_from_relocate
+        if per_message:
+            in_root_path = in_reloc_path = in_root_path or in_reloc_path
+        # 13-17 (with 21): rootID and vacancyFromMsgs, the eligible messages that carry
+        #    rootID and the shortest pathFromRoot among them (None is -inf, lines 6-7)
+        if not in_root_path:
+            r = m.root_id
+            if r is not None:
+                if root is None or r > root:
+                    root = r
+                    vacancy_from_msgs = m.vacancy
+                    root_cands = [m]
+                    root_path = m.path_from_root
+                    root_len, root_sender = len(root_path), m.sender_id
+                elif r == root:
+                    root_cands.append(m)
+                    p = m.path_from_root
+                    lp = len(p)
+                    if (root_path is None or lp < root_len
+                            or (lp == root_len and m.sender_id > root_sender)):
+                        root_path, root_len, root_sender = p, lp, m.sender_id
+        # 18 (with 22): relocateID <- max(relocateID, inMsg.relocateID), and the
+        #    shortest pathFromRelocate among the eligible messages that carry it
+        if not in_reloc_path:
+            r = m.relocate_id
+            if r is not None:
+                if relocate is None or r > relocate:
+                    relocate = r
+                    reloc_path = m.path_from_relocate
+                    reloc_len, reloc_sender = len(reloc_path), m.sender_id
+                elif r == relocate:
+                    p = m.path_from_relocate
+                    lp = len(p)
+                    if (reloc_path is None or lp < reloc_len
+                            or (lp == reloc_len and m.sender_id > reloc_sender)):
+                        reloc_path, reloc_len, reloc_sender = p, lp, m.sender_id
+        # 19 end
+    # 20 end;  21 minRootPath, 22 minRelocatePath (none: the empty list)
+    min_root_path = () if root_path is None else root_path
+    min_reloc_path = () if reloc_path is None else reloc_path
+    return highest, root, relocate, vacancy_from_msgs, root_cands, min_root_path, min_reloc_path
 
 
-_PATH_OF = {"path_from_root": attrgetter("path_from_root"),
-            "path_from_relocate": attrgetter("path_from_relocate")}
+def _parent_and_subtree(my_id: int, stable: bool, root: int | None, relocate: int | None,
+                        root_cands: list[Song2016Message], parent_rule: str
+                        ) -> tuple[Song2016Message | None, int | None, bool]:
+    """001 Alg. 1 lines 26-30: the spanning-tree parent and the subtree marker.
+
+    Returns
+    -------
+    (parentMsg or None, parentID or None, subtree)
+        ``(None, None, False)`` for the root (line 26).
+    """
+    # 26 if myID != myMsg.rootID then
+    if my_id == root:
+        return None, None, False
+    # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
+    #    (root_cands: the eligible messages that carry this rootID, the only
+    #    candidates getParentMsg considers)
+    #    (parent_rule "relocate_route": the relocate robot -- myID = relocateID
+    #    and unstable, as line 29 reads it -- follows its path to the root,
+    #    Lemma 12's rule; everyone else Sec. V-B's stable-first rule)
+    stable_first = (parent_rule == "stable_first"
+                    or (parent_rule == "relocate_route"
+                        and (stable or my_id != relocate)))
+    parent_msg = get_parent_msg(root_cands, root, relocate, stable_first)
+    # 28 myMsg.parentID <- parentMsg.senderID
+    parent_id = None if parent_msg is None else parent_msg.sender_id
+    # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
+    subtree = (my_id == relocate) or (parent_msg is not None and parent_msg.subtree)
+    # 30 end
+    return parent_msg, parent_id, subtree
 
 
 def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
@@ -393,6 +470,10 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
                     parent_rule: str = "relocate_route"
                     ) -> tuple[Song2016Message, Song2016Message | None]:
     """Algorithm 1 of 001 ("Compute message"), line by line.
+
+    Lines 1-7 (this robot's own values), 23-25 (vacancy and paths) and 31 are
+    here; lines 8-22 (what the inbox says) are :func:`_read_inbox`, lines 26-30
+    (parent and subtree) :func:`_parent_and_subtree`.
 
     Parameters
     ----------
@@ -439,123 +520,25 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
     if rumor_filter not in RUMOR_FILTERS:
         raise UsageError(f"rumor_filter={rumor_filter!r} is not one of {RUMOR_FILTERS!r}")
     # 1 myMsg <- empty message;  2 myMsg.senderID <- myID
-    # 3 myMsg.highestID <- myID
-    highest = my_id
+    # 3 myMsg.highestID <- myID  (in _read_inbox, with line 11)
     # 4 myMsg.stable <- I am stable ? true : false  (argument `stable`)
     # 5 myVacancy <- getVacancy()  (argument `my_vacancy`)
     # 6 myMsg.rootID <- (myMsg.stable and myVacancy != null) ? myID : -inf
     root = my_id if (stable and my_vacancy is not None) else None
     # 7 myMsg.relocateID <- (not myMsg.stable) ? myID : -inf
     relocate = my_id if not stable else None
-    # 8 eligibleMsgs <- {}   (the "field" reading keeps, instead, the accepted messages
-    #   that carry the current rootID: root_cands, and the shortest paths so far)
-    eligible: list[Song2016Message] = []
-    root_cands: list[Song2016Message] = []
-    root_path = reloc_path = None
-    root_len = root_sender = reloc_len = reloc_sender = 0
-    # 9 vacancyFromMsgs <- null
-    vacancy_from_msgs: Vacancy | None = None
-    per_message = rumor_filter == "message"
-    # 10 foreach inMsg in inMessages do
-    for m in in_messages:
-        # 11 myMsg.highestID <- max(myMsg.highestID, inMsg.highestID)
-        h = m.highest_id
-        if h > highest:
-            highest = h
-        in_root_path = my_id in m.path_from_root
-        in_reloc_path = my_id in m.path_from_relocate
-        if per_message:
-            # 12 if not inMsg.pathFromRoot.contains(myID) and not
-            #       inMsg.pathFromRelocate.contains(myID) then
-            if not in_root_path and not in_reloc_path:
-                # 13 insert inMsg into eligibleMsgs
-                eligible.append(m)
-                # 14 if inMsg.rootID > myMsg.rootID then
-                if _gt(m.root_id, root):
-                    # 15 myMsg.rootID <- inMsg.rootID;  16 vacancyFromMsgs <- inMsg.vacancy
-                    root = m.root_id
-                    vacancy_from_msgs = m.vacancy
-                # 17 end
-                # 18 myMsg.relocateID <- max(myMsg.relocateID, inMsg.relocateID)
-                relocate = _max(relocate, m.relocate_id)
-            # 19 end
-        else:
-            # line 12 read per field (Sec. V-B prose): root information (lines 14-16)
-            # needs myID not in pathFromRoot, relocate information (line 18) needs
-            # myID not in pathFromRelocate.
-            # (_gt and _max written out: None is -inf, as in lines 6-7.)  Lines 21-22
-            # are folded into this pass: the IDs only grow, and no message accepted
-            # before the one that raises an ID can carry the larger ID, so the shortest
-            # path restarts there and is then kept (ties: the highest sender, the first
-            # one on equal IDs), exactly as _shortest over the final candidates.
-            if not in_root_path:
-                r = m.root_id
-                if r is not None:
-                    if root is None or r > root:
-                        root = r
-                        vacancy_from_msgs = m.vacancy
-                        root_cands = [m]
-                        root_path = m.path_from_root
-                        root_len, root_sender = len(root_path), m.sender_id
-                    elif r == root:
-                        root_cands.append(m)
-                        p = m.path_from_root
-                        lp = len(p)
-                        if (root_path is None or lp < root_len
-                                or (lp == root_len and m.sender_id > root_sender)):
-                            root_path, root_len, root_sender = p, lp, m.sender_id
-            if not in_reloc_path:
-                r = m.relocate_id
-                if r is not None:
-                    if relocate is None or r > relocate:
-                        relocate = r
-                        reloc_path = m.path_from_relocate
-                        reloc_len, reloc_sender = len(reloc_path), m.sender_id
-                    elif r == relocate:
-                        p = m.path_from_relocate
-                        lp = len(p)
-                        if (reloc_path is None or lp < reloc_len
-                                or (lp == reloc_len and m.sender_id > reloc_sender)):
-                            reloc_path, reloc_len, reloc_sender = p, lp, m.sender_id
-    # 20 end
-    if per_message:
-        root_cands = [m for m in eligible if m.root_id == root] if root is not None else []
-        # 21 minRootPath <- getShortestPathFromRoot(eligibleMsgs): the shortest path from
-        #    *this* root among eligible messages that carry it; none -> empty list.
-        min_root_path = _shortest(root_cands, "path_from_root")
-        # 22 minRelocatePath <- getShortestPathFromRelocate(eligibleMsgs)
-        min_reloc_path = (_shortest([m for m in eligible if m.relocate_id == relocate],
-                                    "path_from_relocate") if relocate is not None else ())
-    else:
-        # 21-22 (the "field" reading): computed in the loop above
-        min_root_path = () if root_path is None else root_path
-        min_reloc_path = () if reloc_path is None else reloc_path
+    # 8-22 the inbox: highestID, rootID, relocateID, vacancyFromMsgs, the shortest paths
+    highest, root, relocate, vacancy_from_msgs, root_cands, min_root_path, min_reloc_path = _read_inbox(
+        my_id, root, relocate, in_messages, rumor_filter == "message")
     # 23 myMsg.vacancy <- (myID = myMsg.rootID) ? myVacancy : vacancyFromMsgs
     vacancy = my_vacancy if my_id == root else vacancy_from_msgs
     # 24 myMsg.pathFromRoot <- minRootPath.append(myID)
-    path_from_root = min_root_path + (my_id,)
     # 25 myMsg.pathFromRelocate <- minRelocatePath.append(myID)
+    path_from_root = min_root_path + (my_id,)
     path_from_relocate = min_reloc_path + (my_id,)
-    parent_msg = None
-    parent_id = None
-    subtree = False
-    # 26 if myID != myMsg.rootID then
-    if my_id != root:
-        # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
-        #    (root_cands: the eligible messages that carry this rootID, the only
-        #    candidates getParentMsg considers)
-        #    (parent_rule "relocate_route": the relocate robot -- myID = relocateID
-        #    and unstable, as line 29 reads it -- follows its path to the root,
-        #    Lemma 12's rule; everyone else Sec. V-B's stable-first rule)
-        stable_first = (parent_rule == "stable_first"
-                        or (parent_rule == "relocate_route"
-                            and (stable or my_id != relocate)))
-        parent_msg = get_parent_msg(root_cands, root, relocate, stable_first)
-        # 28 myMsg.parentID <- parentMsg.senderID
-        parent_id = None if parent_msg is None else parent_msg.sender_id
-        # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
-        subtree = (my_id == relocate) or (parent_msg is not None and parent_msg.subtree)
-    # 30 end
+    # 26-30 parentMsg, myMsg.parentID, myMsg.subtree
+    parent_msg, parent_id, subtree = _parent_and_subtree(my_id, stable, root, relocate, root_cands,
+                                                         parent_rule)
     # 31 return myMsg
     msg = Song2016Message(my_id, highest, root, relocate, parent_id, vacancy, subtree, stable,
                           path_from_root, path_from_relocate)
