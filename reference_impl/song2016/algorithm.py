@@ -672,6 +672,13 @@ def sequential_fill(lattice, n: int, tolerance: float | None = None
 # The controller
 # ---------------------------------------------------------------------------
 
+def _refuse_foreign_messages(me: int, keys: list, inbox: list) -> None:
+    """Raise :class:`ProtocolError` for the first message of ``inbox`` (from senders
+    ``keys``) that is not a :class:`Song2016Message` (001 Table I)."""
+    for sid, m in zip(keys, inbox):
+        if not isinstance(m, Song2016Message):
+            raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
+                                "not a Song2016Message")
 
 
 class Song2016Controller:
@@ -786,10 +793,20 @@ class Song2016Controller:
         return self._state
 
     def step(self, obs: Observation) -> Command:
-        """One synchronous step: Algorithm 1, the state changes, NCLB motion."""
+        """One synchronous step: Algorithm 1, the state changes, NCLB motion.
+
+        In the order of 001 Sec. V: the inbox in increasing sender ID (an
+        observation equal to the last one, with no timeout due, repeats the last
+        command); Algorithm 1 on the state at the start of the step
+        (:meth:`_message`); the timeouts and the roles they give (Def. 10, Sec. V-B:
+        :meth:`_take_roles`); the goal of Sec. V-C, where the relocate robot may
+        instead arrive and turn stable (:meth:`_goal`); Algorithm 1 again after
+        turning stable (:meth:`_rebroadcast`); NCLB motion within the children's
+        bounded ranges (:meth:`_nclb_motion`); the state snapshot
+        (:meth:`_record_state`) and the command (:meth:`_command`).
+        """
         t = obs.step
         me = self.robot_id
-        cfg = self.cfg
         ids = obs.neighbor_ids or ()
         obs_msgs = obs.messages
         keys = sorted(obs_msgs)
@@ -798,10 +815,7 @@ class Song2016Controller:
         same_inbox = inbox == self._last_inbox
         if not same_inbox:
             if not all([type(m) is Song2016Message for m in inbox]):
-                for sid, m in zip(keys, inbox):
-                    if not isinstance(m, Song2016Message):
-                        raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
-                                            "not a Song2016Message")
+                _refuse_foreign_messages(me, keys, inbox)
             self._last_inbox = inbox
         pose_bytes = obs.neighbor_poses.tobytes()
         if self.memoize:
@@ -815,12 +829,58 @@ class Song2016Controller:
         # ID -> body-frame pose of the sensed neighbors, built only when a pose is read
         # (a vacancy, a goal, the safe region); membership alone is read from `ids`.
         pose_of = dict(zip(ids, obs.neighbor_poses.tolist())) if self.stable else None
-        messages = obs_msgs
 
         # Algorithm 1 (lines 1-31) with this robot's state at the start of the step.
         my_vac = self._my_vacancy(pose_of, zip(keys, inbox)) if self.stable else None
         msg = self._message(my_vac, inbox, same_inbox)
+        # Def. 10, Sec. V-A to V-C: the timeouts; stable, relocate robot, moving subtree.
+        relocate, mover, may_move, changed = self._take_roles(msg, t)
+        parent = msg.parent_id
+        goal = heading = None
+        if may_move and parent is not None and parent in ids:
+            if pose_of is None:
+                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
+            goal, heading, arrived = self._goal(mover, parent, msg, pose_of, obs_msgs)
+            changed = changed or arrived
+        if changed:
+            # The broadcast reflects the state after this step's change.
+            relocate = False
+            goal = None
+            if pose_of is None:
+                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
+            msg, my_vac = self._rebroadcast(t, pose_of, keys, inbox, same_inbox)
+            parent = msg.parent_id
 
+        # NCLB (Sec. V-C): the children are the robots whose last message named me
+        # as parent; the safe region is the intersection of their bounded ranges.
+        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])
+        turn = forward = 0.0
+        target = None
+        if goal is not None:
+            turn, forward, target = self._nclb_motion(goal, heading, mover, children, pose_of,
+                                                      obs_msgs)
+        self._record_state(msg, parent, children, relocate, forward > 0.0, goal, target, my_vac)
+        self._last_relocate = relocate
+        self._last_may_move = may_move and not changed
+        return self._command(msg, goal, turn, forward)
+
+    # -- the steps of step() ------------------------------------------------------
+    def _take_roles(self, msg: Song2016Message, t: int) -> tuple[bool, str | None, bool, bool]:
+        """The timeouts and the roles they give, from this step's message.
+
+        001 Def. 10 and Sec. V-B (the communication timeout on highestID and on
+        relocateID), Sec. V-A (the highest-ID robot turns stable, role v0),
+        Sec. V-C and Sec. VI (the moving subtree and its movement timeout).
+
+        Returns
+        -------
+        (relocate, mover, may_move, changed)
+            Whether this robot is the confirmed relocate robot; ``"relocate"``,
+            ``"subtree"`` or None; whether its movement timeout has passed; whether
+            it turned stable this step.
+        """
+        me = self.robot_id
+        cfg = self.cfg
         # Def. 10 / Sec. V-B: the timeouts count from the last change of the
         # principal information.
         if msg.highest_id != self.highest_id:
@@ -855,103 +915,135 @@ class Song2016Controller:
             self.mover = mover
             self.mover_since = t
         may_move = mover is not None and t - self.mover_since >= cfg.movement_timeout
+        return relocate, mover, may_move, changed
 
-        parent = msg.parent_id
-        goal: tuple[float, float] | None = None
-        heading: float | None = None
-        if may_move and parent is not None and parent in ids:
-            if pose_of is None:
-                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
-            px, py, _ = pose_of[parent]
-            if mover == "relocate":
-                # Sec. V-C case 2: toward the parent, or toward the vacancy when the
-                # parent is the root.
-                if parent == msg.root_id:
-                    root_msg = messages.get(parent)
-                    vac = None if root_msg is None else root_msg.vacancy
-                    if vac is not None:
-                        vx, vy, vth = vacancy_in_observer_frame(pose_of[parent], vac)
-                        if (math.hypot(vx, vy) <= cfg.arrival_epsilon
-                                and abs(wrap_angle(vth)) <= cfg.heading_epsilon):
-                            # Sec. V-A: "Robot ri will change its state from unstable to
-                            # stable after it reaches this pose" (footnote 2: within eps).
-                            self.stable = True
-                            self.role = vac.role
-                            changed = True
-                        else:
-                            goal = (vx, vy)
-                            heading = vth
-                else:
-                    goal = (px, py)
-            else:
-                # Sec. V-C case 3: toward the parent only when farther than d_s.
-                if math.hypot(px, py) > cfg.d_s:
-                    goal = (px, py)
-        if changed:
-            # The broadcast reflects the state after this step's change.
-            relocate = False
-            self.mover = None
-            self.mover_since = t
-            goal = None
-            if pose_of is None:
-                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
-            my_vac = self._my_vacancy(pose_of, zip(keys, inbox))
-            msg = self._message(my_vac, inbox, same_inbox)
-            self.root_id = msg.root_id
-            if msg.relocate_id != self.relocate_id:
-                self.relocate_id = msg.relocate_id
-                self.relocate_since = t
-            parent = msg.parent_id
+    def _goal(self, mover: str, parent: int, msg: Song2016Message,
+              pose_of: Mapping[int, Sequence[float]], messages: Mapping[int, Any]
+              ) -> tuple[tuple[float, float] | None, float | None, bool]:
+        """Where a robot that may move heads this step (001 Sec. V-C cases 2 and 3).
 
-        # NCLB (Sec. V-C): the children are the robots whose last message named me
-        # as parent; the safe region is the intersection of their bounded ranges.
-        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])
-        turn = forward = 0.0
-        target = None
-        if goal is not None:
-            centers = [(pose_of[c][0], pose_of[c][1]) for c in children]
-            if math.hypot(goal[0], goal[1]) <= cfg.arrival_epsilon:
-                # At the vacancy: turn to its orientation (Sec. V-A), no translation.
-                if heading is not None:
-                    turn = float(heading)
-                target = (0.0, 0.0)
-            elif mover == "relocate" and any(
-                    not obs_msgs[c].stable and math.hypot(pose_of[c][0], pose_of[c][1]) > cfg.d_s
-                    for c in children):
-                # Fig. 11 [left] and Sec. V-C: "the relocate robot first waits for its
-                # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).  Only for
-                # children that will come closer: a stable child never moves (Sec. V-C
-                # case 1), so it is not waited for (it still bounds the safe region).
-                pass
-            else:
-                if mover == "subtree":
-                    # Sec. V-C case 3: "moves directly toward its parent while staying
-                    # within its own NCLB safe region" -- along the line to the parent.
-                    way = farthest_point_toward(goal, centers, self._safe_radius)
-                else:
-                    # the relocate robot: the intermediate goal of Figs. 9 and 11
-                    way = closest_point_in_discs(goal, centers, self._safe_radius)
-                if way is not None and (way[0] != 0.0 or way[1] != 0.0):
-                    tr, fw, ex, ey = reachable_point(way, self.params.v, self.params.omega,
-                                                     self.params.dt)
-                    if fw > 0.0 and not in_discs(ex, ey, centers, self._safe_radius):
-                        # The end of the step would leave the safe region (possible only
-                        # when the robot starts outside it): do not move.
-                        tr = fw = 0.0
-                    if fw > 0.0 or tr != 0.0:
-                        turn, forward = tr, fw
-                        target = (ex, ey) if fw > 0.0 else (0.0, 0.0)
-                # way is None: empty safe region -> "the robot does not move".
+        The relocate robot at the vacancy turns stable instead (Sec. V-A,
+        footnote 2).
+
+        Returns
+        -------
+        (goal, heading, arrived)
+            The body-frame goal ``(x, y)`` or None; the vacancy's heading when the
+            goal is the vacancy, else None; whether this robot turned stable.
+        """
+        cfg = self.cfg
+        px, py, _ = pose_of[parent]
+        if mover == "relocate":
+            # Sec. V-C case 2: toward the parent, or toward the vacancy when the
+            # parent is the root.
+            if parent == msg.root_id:
+                root_msg = messages.get(parent)
+                vac = None if root_msg is None else root_msg.vacancy
+                if vac is None:
+                    return None, None, False
+                vx, vy, vth = vacancy_in_observer_frame(pose_of[parent], vac)
+                if (math.hypot(vx, vy) <= cfg.arrival_epsilon
+                        and abs(wrap_angle(vth)) <= cfg.heading_epsilon):
+                    # Sec. V-A: "Robot ri will change its state from unstable to
+                    # stable after it reaches this pose" (footnote 2: within eps).
+                    self.stable = True
+                    self.role = vac.role
+                    return None, None, True
+                return (vx, vy), vth, False
+            return (px, py), None, False
+        # Sec. V-C case 3: toward the parent only when farther than d_s.
+        if math.hypot(px, py) > cfg.d_s:
+            return (px, py), None, False
+        return None, None, False
+
+    def _rebroadcast(self, t: int, pose_of: Mapping[int, Sequence[float]], keys: list,
+                     inbox: list, same_inbox: bool) -> tuple[Song2016Message, Vacancy | None]:
+        """Algorithm 1 again for a robot that turned stable this step (001 Sec. V-A).
+
+        It stops moving; its message carries its vacancy (Def. 9) and the rootID
+        and relocateID a stable robot computes.  Returns ``(myMsg, its vacancy)``.
+        """
+        self.mover = None
+        self.mover_since = t
+        my_vac = self._my_vacancy(pose_of, zip(keys, inbox))
+        msg = self._message(my_vac, inbox, same_inbox)
+        self.root_id = msg.root_id
+        if msg.relocate_id != self.relocate_id:
+            self.relocate_id = msg.relocate_id
+            self.relocate_since = t
+        return msg, my_vac
+
+    def _nclb_motion(self, goal: tuple[float, float], heading: float | None, mover: str,
+                     children: tuple, pose_of: Mapping[int, Sequence[float]],
+                     messages: Mapping[int, Any]) -> tuple[float, float, tuple | None]:
+        """The motion toward ``goal`` that No Child Left Behind allows (001 Sec. V-C).
+
+        Returns
+        -------
+        (turn, forward, target)
+            ``target``: where the step ends, in the body frame; None when the
+            robot neither turns nor moves.
+        """
+        cfg = self.cfg
+        centers = [(pose_of[c][0], pose_of[c][1]) for c in children]
+        if math.hypot(goal[0], goal[1]) <= cfg.arrival_epsilon:
+            # At the vacancy: turn to its orientation (Sec. V-A), no translation.
+            turn = 0.0 if heading is None else float(heading)
+            return turn, 0.0, (0.0, 0.0)
+        if mover == "relocate" and any(
+                not messages[c].stable and math.hypot(pose_of[c][0], pose_of[c][1]) > cfg.d_s
+                for c in children):
+            # Fig. 11 [left] and Sec. V-C: "the relocate robot first waits for its
+            # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).  Only for
+            # children that will come closer: a stable child never moves (Sec. V-C
+            # case 1), so it is not waited for (it still bounds the safe region).
+            return 0.0, 0.0, None
+        return self._safe_step(goal, mover, centers)
+
+    def _safe_step(self, goal: tuple[float, float], mover: str,
+                   centers: list) -> tuple[float, float, tuple | None]:
+        """One step toward ``goal`` that ends in the safe region (001 Def. 8, Sec. V-C).
+
+        The safe region is the intersection of the children's bounded ranges
+        (``centers``); an empty one, or a step that would end outside it, means
+        "the robot does not move".  Returns ``(turn, forward, target)`` as
+        :meth:`_nclb_motion`.
+        """
+        if mover == "subtree":
+            # Sec. V-C case 3: "moves directly toward its parent while staying
+            # within its own NCLB safe region" -- along the line to the parent.
+            way = farthest_point_toward(goal, centers, self._safe_radius)
+        else:
+            # the relocate robot: the intermediate goal of Figs. 9 and 11
+            way = closest_point_in_discs(goal, centers, self._safe_radius)
+        if way is not None and (way[0] != 0.0 or way[1] != 0.0):
+            tr, fw, ex, ey = reachable_point(way, self.params.v, self.params.omega,
+                                             self.params.dt)
+            if fw > 0.0 and not in_discs(ex, ey, centers, self._safe_radius):
+                # The end of the step would leave the safe region (possible only
+                # when the robot starts outside it): do not move.
+                tr = fw = 0.0
+            if fw > 0.0 or tr != 0.0:
+                return tr, fw, ((ex, ey) if fw > 0.0 else (0.0, 0.0))
+        # way is None: empty safe region -> "the robot does not move".
+        return 0.0, 0.0, None
+
+    def _record_state(self, msg: Song2016Message, parent, children: tuple, relocate: bool,
+                      moving: bool, goal, target, my_vac: Vacancy | None) -> None:
+        """Keep this step's message and state snapshot (module docstring); the
+        snapshot object stays when no value changed (performance only)."""
         self._last_msg = msg
-        values = (self.stable, self.role, parent, children, relocate, msg.subtree, forward > 0.0,
+        values = (self.stable, self.role, parent, children, relocate, msg.subtree, moving,
                   goal, target, self.highest_id, self.highest_since, self.root_id,
                   self.relocate_id, self.relocate_since, self.mover, self.mover_since, my_vac)
         if not (self.memoize and values == self._values):
             self._values = values
-            self._state = self._snapshot(parent, relocate, children, msg.subtree, forward > 0.0,
+            self._state = self._snapshot(parent, relocate, children, msg.subtree, moving,
                                          goal, target, my_vac)
-        self._last_relocate = relocate
-        self._last_may_move = may_move and not changed
+
+    def _command(self, msg: Song2016Message, goal, turn: float, forward: float) -> Command:
+        """The command: broadcast ``msg``, turn, then drive.  With no goal and the
+        same message object as the last idle step, the last command object."""
         last = self._last_cmd
         if goal is None:
             if self._last_idle and last.message is msg and self.memoize:
