@@ -62,7 +62,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from operator import attrgetter
 from typing import Any, Hashable, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -193,18 +192,6 @@ class Song2016Message:
             "path_from_root": list(self.path_from_root),
             "path_from_relocate": list(self.path_from_relocate),
         }
-
-
-def _gt(a: int | None, b: int | None) -> bool:
-    """``a > b`` with ``None`` as -inf (Algorithm 1 lines 6-7, 14)."""
-    if a is None:
-        return False
-    return b is None or a > b
-
-
-def _max(a: int | None, b: int | None) -> int | None:
-    """``max(a, b)`` with ``None`` as -inf (Algorithm 1 line 18)."""
-    return a if not _gt(b, a) else b
 
 
 # ---------------------------------------------------------------------------
@@ -366,26 +353,116 @@ def get_parent_msg(eligible: Sequence[Song2016Message], root_id: int | None,
     return best
 
 
-def _shortest(msgs: Sequence[Song2016Message], attr: str) -> tuple[int, ...]:
-    """Shortest path among ``msgs`` (ties: the highest sender ID); () if none.
+def _read_inbox(my_id: int, root: int | None, relocate: int | None,
+                in_messages: Sequence[Song2016Message], per_message: bool) -> tuple:
+    """001 Alg. 1 lines 8-22: what this robot takes from inMessages.
 
-    ``attr`` is ``"path_from_root"`` or ``"path_from_relocate"``.  The first
-    message is the first best; a later one replaces it only when its path is
-    shorter, or as long with a higher sender ID.
+    The two readings of line 12 (:data:`RUMOR_FILTERS`) differ only there: as
+    printed (``per_message``), a message whose pathFromRoot *or*
+    pathFromRelocate holds myID is not eligible; read per field (Sec. V-B's
+    prose), root information (lines 14-16) needs myID not in pathFromRoot and
+    relocate information (line 18) myID not in pathFromRelocate.  Lines 13 and
+    21-22 are folded into the one pass: rootID and relocateID only grow, and no
+    message accepted before the one that raises an ID carries the larger ID, so
+    the candidates and the shortest path restart there and are then kept (ties:
+    the highest sender, the first one on equal IDs), exactly as the shortest
+    path over the eligible messages that carry the final ID.
+
+    Returns
+    -------
+    tuple
+        ``(highestID, rootID, relocateID, vacancyFromMsgs, root_cands,
+        minRootPath, minRelocatePath)``; ``root_cands`` are the accepted
+        messages that carry rootID, in order (getParentMsg's candidates, line 27).
     """
-    get = _PATH_OF[attr]
-    best: tuple[int, ...] | None = None
-    best_len = best_sender = 0
-    for m in msgs:
-        p = get(m)
-        lp = len(p)
-        if best is None or lp < best_len or (lp == best_len and m.sender_id > best_sender):
-            best, best_len, best_sender = p, lp, m.sender_id
-    return () if best is None else best
+    # 3 myMsg.highestID <- myID;  8 eligibleMsgs <- {} (kept as the messages that carry the
+    #   current rootID, root_cands, and the shortest paths so far);  9 vacancyFromMsgs <- null
+    highest = my_id
+    root_cands: list[Song2016Message] = []
+    root_path = reloc_path = None
+    root_len = root_sender = reloc_len = reloc_sender = 0
+    vacancy_from_msgs: Vacancy | None = None
+    # 10 foreach inMsg in inMessages do
+    for m in in_messages:
+        # 11 myMsg.highestID <- max(myMsg.highestID, inMsg.highestID)
+        h = m.highest_id
+        if h > highest:
+            highest = h
+        # 12 if not inMsg.pathFromRoot.contains(myID) and not
+        #       inMsg.pathFromRelocate.contains(myID) then
+        in_root_path = my_id in m.path_from_root
+        in_reloc_path = my_id in m.path_from_relocate
+        if per_message:
+            in_root_path = in_reloc_path = in_root_path or in_reloc_path
+        # 13-17 (with 21): rootID and vacancyFromMsgs, the eligible messages that carry
+        #    rootID and the shortest pathFromRoot among them (None is -inf, lines 6-7)
+        if not in_root_path:
+            r = m.root_id
+            if r is not None:
+                if root is None or r > root:
+                    root = r
+                    vacancy_from_msgs = m.vacancy
+                    root_cands = [m]
+                    root_path = m.path_from_root
+                    root_len, root_sender = len(root_path), m.sender_id
+                elif r == root:
+                    root_cands.append(m)
+                    p = m.path_from_root
+                    lp = len(p)
+                    if (root_path is None or lp < root_len
+                            or (lp == root_len and m.sender_id > root_sender)):
+                        root_path, root_len, root_sender = p, lp, m.sender_id
+        # 18 (with 22): relocateID <- max(relocateID, inMsg.relocateID), and the
+        #    shortest pathFromRelocate among the eligible messages that carry it
+        if not in_reloc_path:
+            r = m.relocate_id
+            if r is not None:
+                if relocate is None or r > relocate:
+                    relocate = r
+                    reloc_path = m.path_from_relocate
+                    reloc_len, reloc_sender = len(reloc_path), m.sender_id
+                elif r == relocate:
+                    p = m.path_from_relocate
+                    lp = len(p)
+                    if (reloc_path is None or lp < reloc_len
+                            or (lp == reloc_len and m.sender_id > reloc_sender)):
+                        reloc_path, reloc_len, reloc_sender = p, lp, m.sender_id
+        # 19 end
+    # 20 end;  21 minRootPath, 22 minRelocatePath (none: the empty list)
+    min_root_path = () if root_path is None else root_path
+    min_reloc_path = () if reloc_path is None else reloc_path
+    return highest, root, relocate, vacancy_from_msgs, root_cands, min_root_path, min_reloc_path
 
 
-_PATH_OF = {"path_from_root": attrgetter("path_from_root"),
-            "path_from_relocate": attrgetter("path_from_relocate")}
+def _parent_and_subtree(my_id: int, stable: bool, root: int | None, relocate: int | None,
+                        root_cands: list[Song2016Message], parent_rule: str
+                        ) -> tuple[Song2016Message | None, int | None, bool]:
+    """001 Alg. 1 lines 26-30: the spanning-tree parent and the subtree marker.
+
+    Returns
+    -------
+    (parentMsg or None, parentID or None, subtree)
+        ``(None, None, False)`` for the root (line 26).
+    """
+    # 26 if myID != myMsg.rootID then
+    if my_id == root:
+        return None, None, False
+    # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
+    #    (root_cands: the eligible messages that carry this rootID, the only
+    #    candidates getParentMsg considers)
+    #    (parent_rule "relocate_route": the relocate robot -- myID = relocateID
+    #    and unstable, as line 29 reads it -- follows its path to the root,
+    #    Lemma 12's rule; everyone else Sec. V-B's stable-first rule)
+    stable_first = (parent_rule == "stable_first"
+                    or (parent_rule == "relocate_route"
+                        and (stable or my_id != relocate)))
+    parent_msg = get_parent_msg(root_cands, root, relocate, stable_first)
+    # 28 myMsg.parentID <- parentMsg.senderID
+    parent_id = None if parent_msg is None else parent_msg.sender_id
+    # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
+    subtree = (my_id == relocate) or (parent_msg is not None and parent_msg.subtree)
+    # 30 end
+    return parent_msg, parent_id, subtree
 
 
 def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
@@ -393,6 +470,10 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
                     parent_rule: str = "relocate_route"
                     ) -> tuple[Song2016Message, Song2016Message | None]:
     """Algorithm 1 of 001 ("Compute message"), line by line.
+
+    Lines 1-7 (this robot's own values), 23-25 (vacancy and paths) and 31 are
+    here; lines 8-22 (what the inbox says) are :func:`_read_inbox`, lines 26-30
+    (parent and subtree) :func:`_parent_and_subtree`.
 
     Parameters
     ----------
@@ -439,123 +520,25 @@ def compute_message(my_id: int, stable: bool, my_vacancy: Vacancy | None,
     if rumor_filter not in RUMOR_FILTERS:
         raise UsageError(f"rumor_filter={rumor_filter!r} is not one of {RUMOR_FILTERS!r}")
     # 1 myMsg <- empty message;  2 myMsg.senderID <- myID
-    # 3 myMsg.highestID <- myID
-    highest = my_id
+    # 3 myMsg.highestID <- myID  (in _read_inbox, with line 11)
     # 4 myMsg.stable <- I am stable ? true : false  (argument `stable`)
     # 5 myVacancy <- getVacancy()  (argument `my_vacancy`)
     # 6 myMsg.rootID <- (myMsg.stable and myVacancy != null) ? myID : -inf
     root = my_id if (stable and my_vacancy is not None) else None
     # 7 myMsg.relocateID <- (not myMsg.stable) ? myID : -inf
     relocate = my_id if not stable else None
-    # 8 eligibleMsgs <- {}   (the "field" reading keeps, instead, the accepted messages
-    #   that carry the current rootID: root_cands, and the shortest paths so far)
-    eligible: list[Song2016Message] = []
-    root_cands: list[Song2016Message] = []
-    root_path = reloc_path = None
-    root_len = root_sender = reloc_len = reloc_sender = 0
-    # 9 vacancyFromMsgs <- null
-    vacancy_from_msgs: Vacancy | None = None
-    per_message = rumor_filter == "message"
-    # 10 foreach inMsg in inMessages do
-    for m in in_messages:
-        # 11 myMsg.highestID <- max(myMsg.highestID, inMsg.highestID)
-        h = m.highest_id
-        if h > highest:
-            highest = h
-        in_root_path = my_id in m.path_from_root
-        in_reloc_path = my_id in m.path_from_relocate
-        if per_message:
-            # 12 if not inMsg.pathFromRoot.contains(myID) and not
-            #       inMsg.pathFromRelocate.contains(myID) then
-            if not in_root_path and not in_reloc_path:
-                # 13 insert inMsg into eligibleMsgs
-                eligible.append(m)
-                # 14 if inMsg.rootID > myMsg.rootID then
-                if _gt(m.root_id, root):
-                    # 15 myMsg.rootID <- inMsg.rootID;  16 vacancyFromMsgs <- inMsg.vacancy
-                    root = m.root_id
-                    vacancy_from_msgs = m.vacancy
-                # 17 end
-                # 18 myMsg.relocateID <- max(myMsg.relocateID, inMsg.relocateID)
-                relocate = _max(relocate, m.relocate_id)
-            # 19 end
-        else:
-            # line 12 read per field (Sec. V-B prose): root information (lines 14-16)
-            # needs myID not in pathFromRoot, relocate information (line 18) needs
-            # myID not in pathFromRelocate.
-            # (_gt and _max written out: None is -inf, as in lines 6-7.)  Lines 21-22
-            # are folded into this pass: the IDs only grow, and no message accepted
-            # before the one that raises an ID can carry the larger ID, so the shortest
-            # path restarts there and is then kept (ties: the highest sender, the first
-            # one on equal IDs), exactly as _shortest over the final candidates.
-            if not in_root_path:
-                r = m.root_id
-                if r is not None:
-                    if root is None or r > root:
-                        root = r
-                        vacancy_from_msgs = m.vacancy
-                        root_cands = [m]
-                        root_path = m.path_from_root
-                        root_len, root_sender = len(root_path), m.sender_id
-                    elif r == root:
-                        root_cands.append(m)
-                        p = m.path_from_root
-                        lp = len(p)
-                        if (root_path is None or lp < root_len
-                                or (lp == root_len and m.sender_id > root_sender)):
-                            root_path, root_len, root_sender = p, lp, m.sender_id
-            if not in_reloc_path:
-                r = m.relocate_id
-                if r is not None:
-                    if relocate is None or r > relocate:
-                        relocate = r
-                        reloc_path = m.path_from_relocate
-                        reloc_len, reloc_sender = len(reloc_path), m.sender_id
-                    elif r == relocate:
-                        p = m.path_from_relocate
-                        lp = len(p)
-                        if (reloc_path is None or lp < reloc_len
-                                or (lp == reloc_len and m.sender_id > reloc_sender)):
-                            reloc_path, reloc_len, reloc_sender = p, lp, m.sender_id
-    # 20 end
-    if per_message:
-        root_cands = [m for m in eligible if m.root_id == root] if root is not None else []
-        # 21 minRootPath <- getShortestPathFromRoot(eligibleMsgs): the shortest path from
-        #    *this* root among eligible messages that carry it; none -> empty list.
-        min_root_path = _shortest(root_cands, "path_from_root")
-        # 22 minRelocatePath <- getShortestPathFromRelocate(eligibleMsgs)
-        min_reloc_path = (_shortest([m for m in eligible if m.relocate_id == relocate],
-                                    "path_from_relocate") if relocate is not None else ())
-    else:
-        # 21-22 (the "field" reading): computed in the loop above
-        min_root_path = () if root_path is None else root_path
-        min_reloc_path = () if reloc_path is None else reloc_path
+    # 8-22 the inbox: highestID, rootID, relocateID, vacancyFromMsgs, the shortest paths
+    highest, root, relocate, vacancy_from_msgs, root_cands, min_root_path, min_reloc_path = _read_inbox(
+        my_id, root, relocate, in_messages, rumor_filter == "message")
     # 23 myMsg.vacancy <- (myID = myMsg.rootID) ? myVacancy : vacancyFromMsgs
     vacancy = my_vacancy if my_id == root else vacancy_from_msgs
     # 24 myMsg.pathFromRoot <- minRootPath.append(myID)
-    path_from_root = min_root_path + (my_id,)
     # 25 myMsg.pathFromRelocate <- minRelocatePath.append(myID)
+    path_from_root = min_root_path + (my_id,)
     path_from_relocate = min_reloc_path + (my_id,)
-    parent_msg = None
-    parent_id = None
-    subtree = False
-    # 26 if myID != myMsg.rootID then
-    if my_id != root:
-        # 27 parentMsg <- getParentMsg(eligibleMsgs, myMsg.pathFromRoot)
-        #    (root_cands: the eligible messages that carry this rootID, the only
-        #    candidates getParentMsg considers)
-        #    (parent_rule "relocate_route": the relocate robot -- myID = relocateID
-        #    and unstable, as line 29 reads it -- follows its path to the root,
-        #    Lemma 12's rule; everyone else Sec. V-B's stable-first rule)
-        stable_first = (parent_rule == "stable_first"
-                        or (parent_rule == "relocate_route"
-                            and (stable or my_id != relocate)))
-        parent_msg = get_parent_msg(root_cands, root, relocate, stable_first)
-        # 28 myMsg.parentID <- parentMsg.senderID
-        parent_id = None if parent_msg is None else parent_msg.sender_id
-        # 29 myMsg.subtree <- myID = myMsg.relocateID or parentMsg.subtree
-        subtree = (my_id == relocate) or (parent_msg is not None and parent_msg.subtree)
-    # 30 end
+    # 26-30 parentMsg, myMsg.parentID, myMsg.subtree
+    parent_msg, parent_id, subtree = _parent_and_subtree(my_id, stable, root, relocate, root_cands,
+                                                         parent_rule)
     # 31 return myMsg
     msg = Song2016Message(my_id, highest, root, relocate, parent_id, vacancy, subtree, stable,
                           path_from_root, path_from_relocate)
@@ -689,6 +672,13 @@ def sequential_fill(lattice, n: int, tolerance: float | None = None
 # The controller
 # ---------------------------------------------------------------------------
 
+def _refuse_foreign_messages(me: int, keys: list, inbox: list) -> None:
+    """Raise :class:`ProtocolError` for the first message of ``inbox`` (from senders
+    ``keys``) that is not a :class:`Song2016Message` (001 Table I)."""
+    for sid, m in zip(keys, inbox):
+        if not isinstance(m, Song2016Message):
+            raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
+                                "not a Song2016Message")
 
 
 class Song2016Controller:
@@ -803,10 +793,20 @@ class Song2016Controller:
         return self._state
 
     def step(self, obs: Observation) -> Command:
-        """One synchronous step: Algorithm 1, the state changes, NCLB motion."""
+        """One synchronous step: Algorithm 1, the state changes, NCLB motion.
+
+        In the order of 001 Sec. V: the inbox in increasing sender ID (an
+        observation equal to the last one, with no timeout due, repeats the last
+        command); Algorithm 1 on the state at the start of the step
+        (:meth:`_message`); the timeouts and the roles they give (Def. 10, Sec. V-B:
+        :meth:`_take_roles`); the goal of Sec. V-C, where the relocate robot may
+        instead arrive and turn stable (:meth:`_goal`); Algorithm 1 again after
+        turning stable (:meth:`_rebroadcast`); NCLB motion within the children's
+        bounded ranges (:meth:`_nclb_motion`); the state snapshot
+        (:meth:`_record_state`) and the command (:meth:`_command`).
+        """
         t = obs.step
         me = self.robot_id
-        cfg = self.cfg
         ids = obs.neighbor_ids or ()
         obs_msgs = obs.messages
         keys = sorted(obs_msgs)
@@ -815,10 +815,7 @@ class Song2016Controller:
         same_inbox = inbox == self._last_inbox
         if not same_inbox:
             if not all([type(m) is Song2016Message for m in inbox]):
-                for sid, m in zip(keys, inbox):
-                    if not isinstance(m, Song2016Message):
-                        raise ProtocolError(f"robot {me} received message={m!r} from robot {sid}, "
-                                            "not a Song2016Message")
+                _refuse_foreign_messages(me, keys, inbox)
             self._last_inbox = inbox
         pose_bytes = obs.neighbor_poses.tobytes()
         if self.memoize:
@@ -832,12 +829,58 @@ class Song2016Controller:
         # ID -> body-frame pose of the sensed neighbors, built only when a pose is read
         # (a vacancy, a goal, the safe region); membership alone is read from `ids`.
         pose_of = dict(zip(ids, obs.neighbor_poses.tolist())) if self.stable else None
-        messages = obs_msgs
 
         # Algorithm 1 (lines 1-31) with this robot's state at the start of the step.
         my_vac = self._my_vacancy(pose_of, zip(keys, inbox)) if self.stable else None
         msg = self._message(my_vac, inbox, same_inbox)
+        # Def. 10, Sec. V-A to V-C: the timeouts; stable, relocate robot, moving subtree.
+        relocate, mover, may_move, changed = self._take_roles(msg, t)
+        parent = msg.parent_id
+        goal = heading = None
+        if may_move and parent is not None and parent in ids:
+            if pose_of is None:
+                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
+            goal, heading, arrived = self._goal(mover, parent, msg, pose_of, obs_msgs)
+            changed = changed or arrived
+        if changed:
+            # The broadcast reflects the state after this step's change.
+            relocate = False
+            goal = None
+            if pose_of is None:
+                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
+            msg, my_vac = self._rebroadcast(t, pose_of, keys, inbox, same_inbox)
+            parent = msg.parent_id
 
+        # NCLB (Sec. V-C): the children are the robots whose last message named me
+        # as parent; the safe region is the intersection of their bounded ranges.
+        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])
+        turn = forward = 0.0
+        target = None
+        if goal is not None:
+            turn, forward, target = self._nclb_motion(goal, heading, mover, children, pose_of,
+                                                      obs_msgs)
+        self._record_state(msg, parent, children, relocate, forward > 0.0, goal, target, my_vac)
+        self._last_relocate = relocate
+        self._last_may_move = may_move and not changed
+        return self._command(msg, goal, turn, forward)
+
+    # -- the steps of step() ------------------------------------------------------
+    def _take_roles(self, msg: Song2016Message, t: int) -> tuple[bool, str | None, bool, bool]:
+        """The timeouts and the roles they give, from this step's message.
+
+        001 Def. 10 and Sec. V-B (the communication timeout on highestID and on
+        relocateID), Sec. V-A (the highest-ID robot turns stable, role v0),
+        Sec. V-C and Sec. VI (the moving subtree and its movement timeout).
+
+        Returns
+        -------
+        (relocate, mover, may_move, changed)
+            Whether this robot is the confirmed relocate robot; ``"relocate"``,
+            ``"subtree"`` or None; whether its movement timeout has passed; whether
+            it turned stable this step.
+        """
+        me = self.robot_id
+        cfg = self.cfg
         # Def. 10 / Sec. V-B: the timeouts count from the last change of the
         # principal information.
         if msg.highest_id != self.highest_id:
@@ -872,103 +915,135 @@ class Song2016Controller:
             self.mover = mover
             self.mover_since = t
         may_move = mover is not None and t - self.mover_since >= cfg.movement_timeout
+        return relocate, mover, may_move, changed
 
-        parent = msg.parent_id
-        goal: tuple[float, float] | None = None
-        heading: float | None = None
-        if may_move and parent is not None and parent in ids:
-            if pose_of is None:
-                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
-            px, py, _ = pose_of[parent]
-            if mover == "relocate":
-                # Sec. V-C case 2: toward the parent, or toward the vacancy when the
-                # parent is the root.
-                if parent == msg.root_id:
-                    root_msg = messages.get(parent)
-                    vac = None if root_msg is None else root_msg.vacancy
-                    if vac is not None:
-                        vx, vy, vth = vacancy_in_observer_frame(pose_of[parent], vac)
-                        if (math.hypot(vx, vy) <= cfg.arrival_epsilon
-                                and abs(wrap_angle(vth)) <= cfg.heading_epsilon):
-                            # Sec. V-A: "Robot ri will change its state from unstable to
-                            # stable after it reaches this pose" (footnote 2: within eps).
-                            self.stable = True
-                            self.role = vac.role
-                            changed = True
-                        else:
-                            goal = (vx, vy)
-                            heading = vth
-                else:
-                    goal = (px, py)
-            else:
-                # Sec. V-C case 3: toward the parent only when farther than d_s.
-                if math.hypot(px, py) > cfg.d_s:
-                    goal = (px, py)
-        if changed:
-            # The broadcast reflects the state after this step's change.
-            relocate = False
-            self.mover = None
-            self.mover_since = t
-            goal = None
-            if pose_of is None:
-                pose_of = dict(zip(ids, obs.neighbor_poses.tolist()))
-            my_vac = self._my_vacancy(pose_of, zip(keys, inbox))
-            msg = self._message(my_vac, inbox, same_inbox)
-            self.root_id = msg.root_id
-            if msg.relocate_id != self.relocate_id:
-                self.relocate_id = msg.relocate_id
-                self.relocate_since = t
-            parent = msg.parent_id
+    def _goal(self, mover: str, parent: int, msg: Song2016Message,
+              pose_of: Mapping[int, Sequence[float]], messages: Mapping[int, Any]
+              ) -> tuple[tuple[float, float] | None, float | None, bool]:
+        """Where a robot that may move heads this step (001 Sec. V-C cases 2 and 3).
 
-        # NCLB (Sec. V-C): the children are the robots whose last message named me
-        # as parent; the safe region is the intersection of their bounded ranges.
-        children = tuple([sid for sid, m in zip(keys, inbox) if m.parent_id == me and sid in ids])
-        turn = forward = 0.0
-        target = None
-        if goal is not None:
-            centers = [(pose_of[c][0], pose_of[c][1]) for c in children]
-            if math.hypot(goal[0], goal[1]) <= cfg.arrival_epsilon:
-                # At the vacancy: turn to its orientation (Sec. V-A), no translation.
-                if heading is not None:
-                    turn = float(heading)
-                target = (0.0, 0.0)
-            elif mover == "relocate" and any(
-                    not obs_msgs[c].stable and math.hypot(pose_of[c][0], pose_of[c][1]) > cfg.d_s
-                    for c in children):
-                # Fig. 11 [left] and Sec. V-C: "the relocate robot first waits for its
-                # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).  Only for
-                # children that will come closer: a stable child never moves (Sec. V-C
-                # case 1), so it is not waited for (it still bounds the safe region).
-                pass
-            else:
-                if mover == "subtree":
-                    # Sec. V-C case 3: "moves directly toward its parent while staying
-                    # within its own NCLB safe region" -- along the line to the parent.
-                    way = farthest_point_toward(goal, centers, self._safe_radius)
-                else:
-                    # the relocate robot: the intermediate goal of Figs. 9 and 11
-                    way = closest_point_in_discs(goal, centers, self._safe_radius)
-                if way is not None and (way[0] != 0.0 or way[1] != 0.0):
-                    tr, fw, ex, ey = reachable_point(way, self.params.v, self.params.omega,
-                                                     self.params.dt)
-                    if fw > 0.0 and not in_discs(ex, ey, centers, self._safe_radius):
-                        # The end of the step would leave the safe region (possible only
-                        # when the robot starts outside it): do not move.
-                        tr = fw = 0.0
-                    if fw > 0.0 or tr != 0.0:
-                        turn, forward = tr, fw
-                        target = (ex, ey) if fw > 0.0 else (0.0, 0.0)
-                # way is None: empty safe region -> "the robot does not move".
+        The relocate robot at the vacancy turns stable instead (Sec. V-A,
+        footnote 2).
+
+        Returns
+        -------
+        (goal, heading, arrived)
+            The body-frame goal ``(x, y)`` or None; the vacancy's heading when the
+            goal is the vacancy, else None; whether this robot turned stable.
+        """
+        cfg = self.cfg
+        px, py, _ = pose_of[parent]
+        if mover == "relocate":
+            # Sec. V-C case 2: toward the parent, or toward the vacancy when the
+            # parent is the root.
+            if parent == msg.root_id:
+                root_msg = messages.get(parent)
+                vac = None if root_msg is None else root_msg.vacancy
+                if vac is None:
+                    return None, None, False
+                vx, vy, vth = vacancy_in_observer_frame(pose_of[parent], vac)
+                if (math.hypot(vx, vy) <= cfg.arrival_epsilon
+                        and abs(wrap_angle(vth)) <= cfg.heading_epsilon):
+                    # Sec. V-A: "Robot ri will change its state from unstable to
+                    # stable after it reaches this pose" (footnote 2: within eps).
+                    self.stable = True
+                    self.role = vac.role
+                    return None, None, True
+                return (vx, vy), vth, False
+            return (px, py), None, False
+        # Sec. V-C case 3: toward the parent only when farther than d_s.
+        if math.hypot(px, py) > cfg.d_s:
+            return (px, py), None, False
+        return None, None, False
+
+    def _rebroadcast(self, t: int, pose_of: Mapping[int, Sequence[float]], keys: list,
+                     inbox: list, same_inbox: bool) -> tuple[Song2016Message, Vacancy | None]:
+        """Algorithm 1 again for a robot that turned stable this step (001 Sec. V-A).
+
+        It stops moving; its message carries its vacancy (Def. 9) and the rootID
+        and relocateID a stable robot computes.  Returns ``(myMsg, its vacancy)``.
+        """
+        self.mover = None
+        self.mover_since = t
+        my_vac = self._my_vacancy(pose_of, zip(keys, inbox))
+        msg = self._message(my_vac, inbox, same_inbox)
+        self.root_id = msg.root_id
+        if msg.relocate_id != self.relocate_id:
+            self.relocate_id = msg.relocate_id
+            self.relocate_since = t
+        return msg, my_vac
+
+    def _nclb_motion(self, goal: tuple[float, float], heading: float | None, mover: str,
+                     children: tuple, pose_of: Mapping[int, Sequence[float]],
+                     messages: Mapping[int, Any]) -> tuple[float, float, tuple | None]:
+        """The motion toward ``goal`` that No Child Left Behind allows (001 Sec. V-C).
+
+        Returns
+        -------
+        (turn, forward, target)
+            ``target``: where the step ends, in the body frame; None when the
+            robot neither turns nor moves.
+        """
+        cfg = self.cfg
+        centers = [(pose_of[c][0], pose_of[c][1]) for c in children]
+        if math.hypot(goal[0], goal[1]) <= cfg.arrival_epsilon:
+            # At the vacancy: turn to its orientation (Sec. V-A), no translation.
+            turn = 0.0 if heading is None else float(heading)
+            return turn, 0.0, (0.0, 0.0)
+        if mover == "relocate" and any(
+                not messages[c].stable and math.hypot(pose_of[c][0], pose_of[c][1]) > cfg.d_s
+                for c in children):
+            # Fig. 11 [left] and Sec. V-C: "the relocate robot first waits for its
+            # child to come closer" (dist(r_p, r_c) > d_s: r_p waits).  Only for
+            # children that will come closer: a stable child never moves (Sec. V-C
+            # case 1), so it is not waited for (it still bounds the safe region).
+            return 0.0, 0.0, None
+        return self._safe_step(goal, mover, centers)
+
+    def _safe_step(self, goal: tuple[float, float], mover: str,
+                   centers: list) -> tuple[float, float, tuple | None]:
+        """One step toward ``goal`` that ends in the safe region (001 Def. 8, Sec. V-C).
+
+        The safe region is the intersection of the children's bounded ranges
+        (``centers``); an empty one, or a step that would end outside it, means
+        "the robot does not move".  Returns ``(turn, forward, target)`` as
+        :meth:`_nclb_motion`.
+        """
+        if mover == "subtree":
+            # Sec. V-C case 3: "moves directly toward its parent while staying
+            # within its own NCLB safe region" -- along the line to the parent.
+            way = farthest_point_toward(goal, centers, self._safe_radius)
+        else:
+            # the relocate robot: the intermediate goal of Figs. 9 and 11
+            way = closest_point_in_discs(goal, centers, self._safe_radius)
+        if way is not None and (way[0] != 0.0 or way[1] != 0.0):
+            tr, fw, ex, ey = reachable_point(way, self.params.v, self.params.omega,
+                                             self.params.dt)
+            if fw > 0.0 and not in_discs(ex, ey, centers, self._safe_radius):
+                # The end of the step would leave the safe region (possible only
+                # when the robot starts outside it): do not move.
+                tr = fw = 0.0
+            if fw > 0.0 or tr != 0.0:
+                return tr, fw, ((ex, ey) if fw > 0.0 else (0.0, 0.0))
+        # way is None: empty safe region -> "the robot does not move".
+        return 0.0, 0.0, None
+
+    def _record_state(self, msg: Song2016Message, parent, children: tuple, relocate: bool,
+                      moving: bool, goal, target, my_vac: Vacancy | None) -> None:
+        """Keep this step's message and state snapshot (module docstring); the
+        snapshot object stays when no value changed (performance only)."""
         self._last_msg = msg
-        values = (self.stable, self.role, parent, children, relocate, msg.subtree, forward > 0.0,
+        values = (self.stable, self.role, parent, children, relocate, msg.subtree, moving,
                   goal, target, self.highest_id, self.highest_since, self.root_id,
                   self.relocate_id, self.relocate_since, self.mover, self.mover_since, my_vac)
         if not (self.memoize and values == self._values):
             self._values = values
-            self._state = self._snapshot(parent, relocate, children, msg.subtree, forward > 0.0,
+            self._state = self._snapshot(parent, relocate, children, msg.subtree, moving,
                                          goal, target, my_vac)
-        self._last_relocate = relocate
-        self._last_may_move = may_move and not changed
+
+    def _command(self, msg: Song2016Message, goal, turn: float, forward: float) -> Command:
+        """The command: broadcast ``msg``, turn, then drive.  With no goal and the
+        same message object as the last idle step, the last command object."""
         last = self._last_cmd
         if goal is None:
             if self._last_idle and last.message is msg and self.memoize:

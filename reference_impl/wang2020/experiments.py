@@ -134,6 +134,10 @@ def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: in
     """Schedule the distance-optimal assignment along shortest paths by vertex ordering (004 Sec. V,
     [12]); see the module docstring for what is implemented.
 
+    In [12]'s order: the assignment (:func:`_assignment`), one shortest path per agent
+    (:func:`shortest_path`), the vertex order they induce (:func:`_topological_rank`), then the
+    synchronous schedule along it (:func:`_schedule`).
+
     Parameters
     ----------
     start_cells, goal_cells : sequences of (i, j)
@@ -164,6 +168,24 @@ def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: in
     >>> s.steps, s.total_cells, s.reached
     (2, 4, [0, 1, 2])
     """
+    starts, goals, goal_of, opt = _assignment(start_cells, goal_cells, goal_of)
+    n = len(starts)
+    paths = [shortest_path(starts[k], goals[goal_of[k]]) for k in range(n)]
+    rank = _topological_rank(paths, starts)
+    d_max = max((len(p) for p in paths), default=0)
+    bound = n + d_max - 1 if d_max > 0 else 0
+    cap = int(max_steps) if max_steps is not None else 4 * (n + d_max) + 10
+    steps, pos, reached, travelled, handoffs, positions = _schedule(starts, paths, rank, set(goals), cap,
+                                                                    keep_positions)
+    return CentralizedSchedule(steps=steps, bound_steps=bound, total_cells=travelled[-1], optimal_cells=opt.cells,
+                               reached=reached, travelled=travelled, final=pos, handoffs=handoffs,
+                               positions=positions)
+
+
+def _assignment(start_cells, goal_cells, goal_of) -> tuple:
+    """The cells as tuples of ints, checked, and agent k's goal index (004 Sec. V: "every agent is
+    initially assigned a unique goal [...] this assignment minimizes the total traveling distance";
+    default the optimal assignment).  Returns ``(starts, goals, goal_of, optimum)``."""
     s = _check_cells("start_cells", start_cells)
     g = _check_cells("goal_cells", goal_cells)
     n = _check_sizes(s, g)
@@ -178,12 +200,17 @@ def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: in
     if sorted(goal_of) != list(range(n)):
         raise UsageError(f"goal_of={goal_of!r} is not a permutation of 0..{n - 1}",
                          fix="give each agent its own goal index")
-    paths = [shortest_path(starts[k], goals[goal_of[k]]) for k in range(n)]
-    rank = _topological_rank(paths, starts)
-    d_max = max((len(p) for p in paths), default=0)
-    bound = n + d_max - 1 if d_max > 0 else 0
-    cap = int(max_steps) if max_steps is not None else 4 * (n + d_max) + 10
-    goal_set = set(goals)
+    return starts, goals, goal_of, opt
+
+
+def _schedule(starts, paths, rank, goal_set, cap: int, keep_positions: bool) -> tuple:
+    """The synchronous schedule of the paths (004 Sec. V: "each agent's motion can be then
+    scheduled via vertex ordering", [12]): in each unit step the hand-offs (:func:`_hand_off`),
+    then one edge for every agent that may move (:func:`_movers`), until every path is done.
+
+    Returns ``(steps, final cells, reached, travelled, handoffs, positions or None)`` as
+    :class:`CentralizedSchedule` names them; raises RuntimeError at ``cap`` steps or when no agent
+    can move (bugs, never results)."""
     pos = list(starts)
     todo = [list(reversed(p)) for p in paths]          # remaining path, next vertex last
     at = {c: k for k, c in enumerate(pos)}
@@ -195,50 +222,8 @@ def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: in
     while any(todo):
         if steps >= cap:
             raise RuntimeError(f"centralized schedule did not finish in {cap} steps (a bug)")
-        # hand-offs: the next vertex holds an agent at rest (at its goal): it takes the rest of the path
-        for k0 in range(n):
-            k = k0
-            while todo[k]:
-                j = at.get(todo[k][-1])
-                if j is None or todo[j]:
-                    break
-                rest = todo[k]
-                v = rest.pop()
-                todo[j], todo[k] = rest, [v]
-                handoffs += 1
-                k = j
-        # who moves: next vertex free, or vacated by a mover (trains); the longest remaining path first
-        want: dict = {}
-        for k in range(n):
-            if todo[k]:
-                want.setdefault(todo[k][-1], []).append(k)
-        winner = {v: min(ks, key=lambda k: (-len(todo[k]), rank[pos[k]], k)) for v, ks in want.items()}
-        moves: dict = {}
-        for k in range(n):
-            if not todo[k] or k in moves:
-                continue
-            chain, on, cur = [], set(), k
-            while True:            # k waits on the agent in its next vertex, that one on the next ...
-                if cur in moves:
-                    ok = moves[cur]
-                    break
-                if cur in on:      # a rotation (impossible with an acyclic order): nobody on it moves
-                    ok = False
-                    break
-                chain.append(cur)
-                on.add(cur)
-                v = todo[cur][-1]
-                j = at.get(v)
-                if winner[v] != cur or (j is not None and not todo[j]):
-                    ok = False
-                    break
-                if j is None:
-                    ok = True
-                    break
-                cur = j
-            for c in chain:
-                moves[c] = ok
-        moved = [k for k, ok in moves.items() if ok]
+        handoffs += _hand_off(todo, at)
+        moved = _movers(todo, pos, at, rank)
         if not moved:
             raise RuntimeError("centralized schedule is stuck (a bug: the vertex order is acyclic)")
         for k in moved:
@@ -251,9 +236,66 @@ def centralized_schedule(start_cells, goal_cells, *, goal_of=None, max_steps: in
         travelled.append(travelled[-1] + len(moved))
         if positions is not None:
             positions.append(list(pos))
-    return CentralizedSchedule(steps=steps, bound_steps=bound, total_cells=travelled[-1], optimal_cells=opt.cells,
-                               reached=reached, travelled=travelled, final=pos, handoffs=handoffs,
-                               positions=positions)
+    return steps, pos, reached, travelled, handoffs, positions
+
+
+def _hand_off(todo, at) -> int:
+    """The hand-offs of one step (004 Sec. V, [12]'s unlabeled agents): when an agent's next vertex
+    holds an agent at rest (at its goal), that one takes the rest of the path beyond the vertex and
+    the agent goes no farther than the vertex, so the total distance stays the optimum; the one that
+    took over may hand off in turn.  Changes ``todo``; returns how many hand-offs."""
+    handoffs = 0
+    for k0 in range(len(todo)):
+        k = k0
+        while todo[k]:
+            j = at.get(todo[k][-1])
+            if j is None or todo[j]:
+                break
+            rest = todo[k]
+            v = rest.pop()
+            todo[j], todo[k] = rest, [v]
+            handoffs += 1
+            k = j
+    return handoffs
+
+
+def _movers(todo, pos, at, rank) -> list:
+    """The agents that cross an edge in this step (004 Sec. V, [12]): an agent moves when its next
+    vertex is free or is being vacated by an agent that moves on (a "train"); of the agents that
+    want one vertex the one with the longest remaining path goes, then the one whose cell comes
+    first in the vertex order, then the smaller index.  Returns their indices."""
+    n = len(todo)
+    want: dict = {}
+    for k in range(n):
+        if todo[k]:
+            want.setdefault(todo[k][-1], []).append(k)
+    winner = {v: min(ks, key=lambda k: (-len(todo[k]), rank[pos[k]], k)) for v, ks in want.items()}
+    moves: dict = {}
+    for k in range(n):
+        if not todo[k] or k in moves:
+            continue
+        chain, on, cur = [], set(), k
+        while True:            # k waits on the agent in its next vertex, that one on the next ...
+            if cur in moves:
+                ok = moves[cur]
+                break
+            if cur in on:      # a rotation (impossible with an acyclic order): nobody on it moves
+                ok = False
+                break
+            chain.append(cur)
+            on.add(cur)
+            v = todo[cur][-1]
+            j = at.get(v)
+            if winner[v] != cur or (j is not None and not todo[j]):
+                ok = False
+                break
+            if j is None:
+                ok = True
+                break
+            cur = j
+        for c in chain:
+            moves[c] = ok
+    return [k for k, ok in moves.items() if ok]
 
 
 # -- the decentralized runs (004 Sec. V-A) ---------------------------------------------------------

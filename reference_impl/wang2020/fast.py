@@ -657,6 +657,10 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
     """:func:`~swarmproof.reference_impl.engine.simulate` for ``wang2020``, vectorised (module
     docstring): the same arguments and the same result, bit for bit.
 
+    The run as the engine's: its checks (:func:`unsupported`, then the engine's ``preflight``), the
+    engine's grid motion and clocks and every agent's arrays (:func:`_start`), the steps with the
+    engine's phases (:func:`_ticks`), then the trace and the result.
+
     Raises
     ------
     UsageError
@@ -669,116 +673,14 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
                          fix="run the per-robot reference: drop --vectorised (swarmproof simulate), or call swarmproof.reference_impl.engine.simulate")
     seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
     n = initial.n
-    model = algorithm.model
     broken = list(broken)
-    ids = np.asarray(initial.ids, dtype=np.int64)
-    ids_list = ids.tolist()
-    poses = np.zeros((n, 3))
-    poses[:] = initial.poses
-    from swarmproof.models.se2 import wrap_angle
-
-    poses[:, 2] = wrap_angle(poses[:, 2])
-    present = np.ones(n, dtype=bool)
-    mover = GridMotion(params, n, seed)
-    mover.start(poses, n, ids_list)
-    clocks = AsyncClocks(params, n, seed)
-    ctrl = algorithm.controller(ids_list[0], params, lattice, _robot_rng(seed, 0))
-    run = _Run(ctrl, ids, poses, params, seed, clocks)
+    run, mover, clocks = _start(algorithm, lattice, initial, params, seed)
+    ids, poses = run.ids, run.grid_poses
     max_steps, window = run_caps(algorithm, params, n, max_steps, stop_when_static)
-    if not isinstance(record_every, (int, np.integer)) or int(record_every) < 1:
-        raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
-    record_every = int(record_every)
-    observers = tuple(observers or ())
-    for ob in observers:
-        if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
-            raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
-                             fix="use a streaming monitor such as ConnectivityMonitor")
+    record_every, observers = _check_outputs(record_every, observers)
     rec = Recording(record_every, poses, None, False)
-    states = tuple(run.state(k) for k in range(n))
-    rec.states.append(states)
-    phi = float(params.range)
-    status = "step_cap"
-    quiet = 0
-    t = 0
-    idx = np.arange(n)
-    lazy = _States(run, 0)
-    for ob in observers:
-        ob.start(ids.copy())
-        ob.observe(0, _ro(poses), lazy, _ro(present))
-    finished = False
-    if stop_when is not None and stop_when(0, poses, lazy, present):
-        status, finished = "stopped", True
-    last_msgs = run.outbox()
-    last_valid = np.zeros(n, dtype=bool)
-    outbox = None
-    sig = run.signature()
-    cells, edge, frac, gstep, spacing = mover.cells, mover.edge, mover.frac, mover.step, mover.spacing
-    while not finished and t < max_steps:
-        if sys.getrefcount(lazy) > 2:        # kept by an observer (2: the name and the call's argument)
-            lazy.freeze()
-        lazy = None
-        n_events = len(events)
-        decide, bcast, tau0 = clocks.ticks(t, idx)
-        if not decide.all():
-            raise AssertionError("a rate-1 clock skipped a tick")   # unsupported() rules this out
-        movers, dx, dy = run.tick(poses, tau0, last_msgs, last_valid, phi)
-        new_outbox = run.outbox()
-        # 5. grid motion (engine/motion.py _grid_motion, vectorised)
-        if len(movers):
-            free = ~(edge[movers].any(axis=1))
-            st = movers[free]
-            edge[st, 0], edge[st, 1] = dx[free], dy[free]
-            frac[st] = 0.0
-            if len(st):
-                events.append(Event(t, "edge", tuple(ids[st].tolist())))
-        on = np.flatnonzero(edge.any(axis=1))
-        same_poses = len(on) == 0
-        if len(on):
-            f = frac[on] + gstep
-            arr = f >= 1.0
-            a, b = on[arr], on[~arr]
-            cells[a] += edge[a]
-            edge[a] = 0
-            frac[a] = 0.0
-            poses[a, 0], poses[a, 1] = cells[a, 0] * spacing, cells[a, 1] * spacing
-            fb = f[~arr]
-            frac[b] = fb
-            poses[b, 0] = (cells[b, 0] + fb * edge[b, 0]) * spacing
-            poses[b, 1] = (cells[b, 1] + fb * edge[b, 1]) * spacing
-        t += 1
-        run.t = t
-        record = rec.keeps(t, events, n_events)
-        if record:
-            rec.frame(t, poses, present)
-        new_sig = run.signature()
-        changed = not (np.array_equal(new_sig[0], sig[0]) and np.array_equal(new_sig[1], sig[1])
-                       and np.array_equal(run.heard_keys(), run.heard_keys(previous=True)))
-        sig = new_sig
-        if changed:
-            states = None
-        if record:
-            if states is None:
-                states = tuple(run.state(k) for k in range(n))
-            rec.states.append(states)
-        lazy = _States(run, t)
-        for ob in observers:
-            ob.observe(t, _ro(poses), lazy, _ro(present))
-        quiet_step = (not changed and same_poses and outbox is not None
-                      and np.array_equal(new_outbox[0], outbox[0]) and np.array_equal(new_outbox[1], outbox[1]))
-        outbox = new_outbox
-        last_msgs, last_valid = new_outbox, bcast
-        quiet = quiet + 1 if quiet_step else 0
-        if progress is not None and t % PROGRESS_EVERY == 0:
-            progress(t, max_steps)
-        if bool((run.completed >= run.nshapes).all()):
-            status = "finished"
-            break
-        if window and quiet >= window:
-            status = "static"
-            break
-        if stop_when is not None and stop_when(t, poses, lazy, present):
-            status = "stopped"
-            break
+    status, t, states = _ticks(run, mover, clocks, rec, events, float(params.range), max_steps, window,
+                               observers, progress, stop_when)
     if progress is not None:
         progress(t, max_steps)
     if states is None:
@@ -790,3 +692,156 @@ def simulate_fast(algorithm, lattice, initial, params, *, seed: int, max_steps: 
     return SimulationResult(status=status, steps=t, trace=trace, broken_assumptions=tuple(broken),
                             seed=seed, static_window=window, max_steps=max_steps, observers=observers,
                             crash=None)
+
+
+def _start(algorithm, lattice, initial, params, seed: int):
+    """What the engine builds before step 0, for the vectorised path: the start poses (headings
+    wrapped), the engine's grid motion (:class:`~swarmproof.reference_impl.engine.motion.GridMotion`)
+    and clocks (:class:`~swarmproof.reference_impl.engine.clocks.AsyncClocks`), and every agent's
+    fields (:class:`_Run`, from one controller's constants).  Returns ``(run, mover, clocks)``;
+    ``run.ids`` and ``run.grid_poses`` are the run's ID and pose arrays."""
+    from swarmproof.models.se2 import wrap_angle
+
+    n = initial.n
+    ids = np.asarray(initial.ids, dtype=np.int64)
+    ids_list = ids.tolist()
+    poses = np.zeros((n, 3))
+    poses[:] = initial.poses
+    poses[:, 2] = wrap_angle(poses[:, 2])
+    mover = GridMotion(params, n, seed)
+    mover.start(poses, n, ids_list)
+    clocks = AsyncClocks(params, n, seed)
+    ctrl = algorithm.controller(ids_list[0], params, lattice, _robot_rng(seed, 0))
+    return _Run(ctrl, ids, poses, params, seed, clocks), mover, clocks
+
+
+def _check_outputs(record_every, observers) -> tuple:
+    """``(record_every, observers)`` checked as the engine checks them: a whole number >= 1, and a
+    tuple of streaming monitors (``start(ids)`` and ``observe(t, poses, states, present)``)."""
+    if not isinstance(record_every, (int, np.integer)) or int(record_every) < 1:
+        raise UsageError(f"record_every={record_every!r} must be an integer >= 1", fix="1 records every step")
+    record_every = int(record_every)
+    observers = tuple(observers or ())
+    for ob in observers:
+        if not (callable(getattr(ob, "start", None)) and callable(getattr(ob, "observe", None))):
+            raise UsageError(f"observer={ob!r} has no start(ids) and observe(t, poses, states, present)",
+                             fix="use a streaming monitor such as ConnectivityMonitor")
+    return record_every, observers
+
+
+def _ticks(run, mover, clocks, rec, events, phi, max_steps, window, observers, progress, stop_when) -> tuple:
+    """Step 0's record and observation, then the steps until a stop rule holds, with the engine's
+    phases (engine/run.py): activation (every clock ticks, rate 1), sensing, delivery and every
+    agent's Algorithms 2-4 (:meth:`_Run.tick`), grid motion (:func:`_grid_motion`), recording
+    (:func:`_record_step`) and observers, then the stop rules (:func:`_stop_status`).
+
+    Returns ``(status, steps, states)``: ``states`` the last step's states when built, else None.
+    """
+    n, ids, poses = run.n, run.ids, run.grid_poses
+    present = np.ones(n, dtype=bool)
+    idx = np.arange(n)
+    states = tuple(run.state(k) for k in range(n))
+    rec.states.append(states)
+    status = "step_cap"
+    quiet = t = 0
+    lazy = _States(run, 0)
+    for ob in observers:
+        ob.start(ids.copy())
+        ob.observe(0, _ro(poses), lazy, _ro(present))
+    finished = False
+    if stop_when is not None and stop_when(0, poses, lazy, present):
+        status, finished = "stopped", True
+    last_msgs, last_valid = run.outbox(), np.zeros(n, dtype=bool)
+    outbox = None
+    sig = run.signature()
+    while not finished and t < max_steps:
+        if sys.getrefcount(lazy) > 2:        # kept by an observer (2: the name and the call's argument)
+            lazy.freeze()
+        lazy = None
+        n_events = len(events)
+        decide, bcast, tau0 = clocks.ticks(t, idx)                 # 1. activation
+        if not decide.all():
+            raise AssertionError("a rate-1 clock skipped a tick")   # unsupported() rules this out
+        movers, dx, dy = run.tick(poses, tau0, last_msgs, last_valid, phi)   # 2.-4.
+        new_outbox = run.outbox()
+        same_poses = _grid_motion(mover, poses, movers, dx, dy, events, ids, t)   # 5. motion
+        t += 1
+        run.t = t
+        changed, sig, states = _record_step(run, rec, t, poses, present, events, n_events, sig, states)  # 6.
+        lazy = _States(run, t)
+        for ob in observers:
+            ob.observe(t, _ro(poses), lazy, _ro(present))
+        quiet_step = (not changed and same_poses and outbox is not None
+                      and np.array_equal(new_outbox[0], outbox[0]) and np.array_equal(new_outbox[1], outbox[1]))
+        outbox = new_outbox
+        last_msgs, last_valid = new_outbox, bcast
+        quiet = quiet + 1 if quiet_step else 0
+        if progress is not None and t % PROGRESS_EVERY == 0:
+            progress(t, max_steps)
+        stop = _stop_status(run, t, quiet, window, stop_when, poses, lazy, present)
+        if stop is not None:
+            status = stop
+            break
+    return status, t, states
+
+
+def _grid_motion(mover, poses, movers, dx, dy, events, ids, t) -> bool:
+    """The engine's grid motion (engine/motion.py ``_grid_motion``), vectorised: ``movers`` at a cell
+    start crossing the edge ``(dx, dy)`` (one ``"edge"`` event names them), every agent on an edge
+    advances ``v dt / l`` of it and stops at the far cell.  Returns whether no pose changed."""
+    cells, edge, frac, gstep, spacing = mover.cells, mover.edge, mover.frac, mover.step, mover.spacing
+    if len(movers):
+        free = ~(edge[movers].any(axis=1))
+        st = movers[free]
+        edge[st, 0], edge[st, 1] = dx[free], dy[free]
+        frac[st] = 0.0
+        if len(st):
+            events.append(Event(t, "edge", tuple(ids[st].tolist())))
+    on = np.flatnonzero(edge.any(axis=1))
+    if len(on):
+        f = frac[on] + gstep
+        arr = f >= 1.0
+        a, b = on[arr], on[~arr]
+        cells[a] += edge[a]
+        edge[a] = 0
+        frac[a] = 0.0
+        poses[a, 0], poses[a, 1] = cells[a, 0] * spacing, cells[a, 1] * spacing
+        fb = f[~arr]
+        frac[b] = fb
+        poses[b, 0] = (cells[b, 0] + fb * edge[b, 0]) * spacing
+        poses[b, 1] = (cells[b, 1] + fb * edge[b, 1]) * spacing
+    return len(on) == 0
+
+
+def _record_step(run, rec, t, poses, present, events, n_events, sig, states) -> tuple:
+    """The engine's recording of step ``t``: the frame when ``rec`` keeps the step, and whether any
+    agent's state changed (:meth:`_Run.signature` and :meth:`_Run.heard_keys` against the last
+    step); the states are rebuilt only for a kept step after a change.
+
+    Returns ``(changed, signature, states)``; ``states`` None when changed and not yet built."""
+    record = rec.keeps(t, events, n_events)
+    if record:
+        rec.frame(t, poses, present)
+    new_sig = run.signature()
+    changed = not (np.array_equal(new_sig[0], sig[0]) and np.array_equal(new_sig[1], sig[1])
+                   and np.array_equal(run.heard_keys(), run.heard_keys(previous=True)))
+    if changed:
+        states = None
+    if record:
+        if states is None:
+            states = tuple(run.state(k) for k in range(run.n))
+        rec.states.append(states)
+    return changed, new_sig, states
+
+
+def _stop_status(run, t, quiet, window, stop_when, poses, lazy, present) -> str | None:
+    """The engine's stop rules after step ``t``, in its order: every agent detected its last shape
+    complete (004 Sec. III-B: ``"finished"``), ``window`` quiet steps (``"static"``), ``stop_when``
+    (``"stopped"``); None: go on."""
+    if bool((run.completed >= run.nshapes).all()):
+        return "finished"
+    if window and quiet >= window:
+        return "static"
+    if stop_when is not None and stop_when(t, poses, lazy, present):
+        return "stopped"
+    return None
