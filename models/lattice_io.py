@@ -347,7 +347,22 @@ def _number(ctx: _Ctx, path: Path, v: Any, what: str, bound: float = MAX_MAGNITU
 
 
 def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
-    """Validate a parsed document and build the :class:`LatticeGraph`."""
+    """Validate a parsed document and build the :class:`LatticeGraph`: its keys and format,
+    then the header fields, the roles and the edge rows, each refused with file, line and field."""
+    _check_keys_and_format(data, ctx)
+    name, rng, unit = _header_fields(data, ctx, default_name)
+    roles, seen = _role_names(data, ctx)
+    rows = _edge_rows(data, ctx, roles, seen, unit)
+    try:
+        graph = LatticeGraph(name, roles, rows, range=rng, source=ctx.source)
+        graph.angle_unit = unit   # fix rows are printed in the file's own unit
+        return graph
+    except UsageError as exc:  # pragma: no cover - everything was checked above
+        raise ctx.error((), str(exc), "see docs/file-format.md") from None
+
+
+def _check_keys_and_format(data: Any, ctx: _Ctx) -> None:
+    """The document is a mapping of known keys with ``format: lattice-graph/1`` and the required keys."""
     if data is None:
         raise ctx.error((), "the file is empty",
                         f"write a {FORMAT} document (see docs/file-format.md)")
@@ -375,6 +390,10 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
             raise ctx.error((), f"key {key!r} is missing",
                             {"roles": "add `roles: [A, ...]` listing the role names; the first is v0",
                              "edges": "add `edges:` with rows [from, to, x, y, theta]"}[key])
+
+
+def _header_fields(data: dict, ctx: _Ctx, default_name: str) -> tuple:
+    """``(name, range or None, angle unit)``, each checked."""
     name = data.get("name", default_name)
     if not isinstance(name, str) or not name.strip():
         raise ctx.error(("name",), f"name={_r(name)} must be a non-empty string",
@@ -391,6 +410,11 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
     if unit not in _ANGLE_UNITS or not isinstance(unit, str):
         raise ctx.error(("angle_unit",), f"angle_unit={_r(unit)} is not a known unit",
                         "use 'deg' (the default) or 'rad'")
+    return name, rng, unit
+
+
+def _role_names(data: dict, ctx: _Ctx) -> tuple:
+    """``(roles, {role: index})``: a non-empty list of distinct non-empty names within the limit."""
     roles = data["roles"]
     if not isinstance(roles, list):
         raise ctx.error(("roles",), f"roles={_r(roles)} must be a list of role names",
@@ -411,6 +435,11 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
             raise ctx.error(("roles", i), f"roles[{i}]={r!r} is listed twice (also roles[{seen[r]}])",
                             "give each role once")
         seen[r] = i
+    return roles, seen
+
+
+def _edge_rows(data: dict, ctx: _Ctx, roles: list, seen: dict, unit: str) -> list:
+    """The rows ``(from, to, SE2)``: each a list of two declared roles and three bounded numbers."""
     edges = data["edges"]
     if edges is None:
         raise ctx.error(("edges",), "edges=None has no rows",
@@ -452,12 +481,7 @@ def _document_to_graph(data: Any, ctx: _Ctx, default_name: str) -> LatticeGraph:
         if not math.isfinite(t):  # pragma: no cover - scale <= 1 keeps it finite
             raise ctx.error(("edges", i, 4), f"edges[{i}][4]={row[4]!r} is too large", "use a smaller angle")
         rows.append((row[0], row[1], SE2(x, y, t)))
-    try:
-        graph = LatticeGraph(name, roles, rows, range=rng, source=ctx.source)
-        graph.angle_unit = unit   # fix rows are printed in the file's own unit
-        return graph
-    except UsageError as exc:  # pragma: no cover - everything was checked above
-        raise ctx.error((), str(exc), "see docs/file-format.md") from None
+    return rows
 
 
 # ---------------------------------------------------------------------------
