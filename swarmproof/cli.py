@@ -181,8 +181,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _run_until_interrupted(args) -> int:
     """Run the command with the Ctrl-C handler installed; a Ctrl-C that a library swallowed, or
     turned into another error, still ends the command as ``KeyboardInterrupt`` (exit 130)."""
+    from swarmproof.commands.outputs import check_outputs
     from swarmproof.models.interrupt import installed, interrupted, raise_if_interrupted
 
+    check_outputs(args)   # every output option of every command, before any work
     with installed():
         try:
             code = int(args._run(args))

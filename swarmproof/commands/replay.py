@@ -23,12 +23,8 @@ def add_arguments(p) -> None:
 
 def run(args) -> int:
     from swarmproof.checkers.replay import replay_file
-    from swarmproof.models.fileio import check_output_path
 
-    if args.plot is not None:
-        check_output_path(args.plot, "--plot")
-    if args.gif is not None:
-        check_output_path(args.gif, "--gif", new_folder=True)     # the GIF writer creates its folder
+    # --plot and --gif were checked before any work (swarmproof.commands.outputs)
     rr = replay_file(args.file)
     doc = rr.as_dict()
     doc["file"] = args.file

@@ -78,6 +78,7 @@ def test_gif_is_an_animated_gif_with_the_violation_held(capsys, tmp_path):
                         seed=0, property="premises", violation={"step": 1, "message": "..."}, max_steps=8)
     path = cx.save(tmp_path / "cx.json")
     gif = tmp_path / "out" / "run.gif"
+    gif.parent.mkdir()     # a missing folder is refused like every output's, never created (issue 29 item 7)
     code = main(["replay", path, "--json", "--gif", str(gif)])
     doc = json.loads(capsys.readouterr().out)
     assert code == 1 and doc["reproduced"] is True and doc["step"] == 1 and doc["gif"] == str(gif)
@@ -88,3 +89,4 @@ def test_gif_is_an_animated_gif_with_the_violation_held(capsys, tmp_path):
     assert gif_frames(8, mark=1, max_frames=40) == [0] + [1] * 6 + [2, 3, 4, 5, 6, 7, 8]
     # drawn deterministically: the same run gives the same bytes
     assert open(gif_replay(replay(cx), tmp_path / "again.gif"), "rb").read() == data
+
