@@ -114,16 +114,20 @@ def _parse_extra(items) -> dict:
     return out
 
 
-def _progress_printer():
-    if not sys.stderr.isatty():
+def _progress_printer(stream=None):
+    """The step counter on a terminal (a :class:`~swarmproof.commands.StatusLine`, erased with
+    ``.clear()`` before the report is printed), or None when ``stream`` (stderr) is not one."""
+    from swarmproof.commands import StatusLine
+
+    stream = sys.stderr if stream is None else stream
+    if not stream.isatty():
         return None
+    line = StatusLine(stream, "simulate")
 
     def show(step: int, cap: int) -> None:
-        sys.stderr.write(f"\rsimulate: step {step}/{cap}")
-        sys.stderr.flush()
-        if step >= cap:
-            sys.stderr.write("\n")
+        line(f"step {step}/{cap}")
 
+    show.clear = line.clear
     return show
 
 
@@ -249,13 +253,18 @@ def run(args) -> int:
     lattice = _target(args, spec)
     _check_arguments(args)
     init = _initial(args)
-    checked = run_and_check(
-        args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
-        max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
-        extra=_extra_with_options(args, spec), min_separation=args.min_separation,
-        allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
-        tree_link_mode=args.tree_link_mode,
-        strict=args.strict, vectorised=args.vectorised)
+    progress = _progress_printer()
+    try:
+        checked = run_and_check(
+            args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
+            max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
+            extra=_extra_with_options(args, spec), min_separation=args.min_separation,
+            allow_violations=args.allow_violations, progress=progress, record_every=args.record_every,
+            tree_link_mode=args.tree_link_mode,
+            strict=args.strict, vectorised=args.vectorised)
+    finally:
+        if progress is not None:
+            progress.clear()     # erase the step counter: the report starts on a clean line
     for w in checked.doc.get("warnings", ()):
         sys.stderr.write(f"swarmproof simulate: warning: {w}\n")
     _write_files(args, checked)
