@@ -246,6 +246,8 @@ def _report_lines(args, checked) -> list:
     lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
                   "result: a checked property failed",
                   3: "result: inconclusive (step cap reached)"}[checked.exit_code])
+    if checked.exit_code == 0 and doc.get("warnings"):   # never a bare "ok" toward a lattice with defects
+        lines[-1] += " for the checks above, but the lattice has defects (see the warning on stderr)"
     return lines
 
 
