@@ -1009,7 +1009,7 @@ def _scenario_test(ex: _Exploration, search: _Search):
         except Overstayed as exc:
             search.hit = True
             if search.overstayed is None:
-                search.overstayed = f"a run of {scn.n} robots on {scn.lattice} (seed {scn.seed}) {exc}"
+                search.overstayed = f"{scn.n} robots on {scn.lattice} (seed {scn.seed}) {exc}"
             raise _BudgetSpent() from None
         score = closeness(prop, r)
         if score is not None:
@@ -1104,13 +1104,15 @@ def _search_verdicts(ex: _Exploration, search: _Search) -> tuple[PropertyVerdict
         v.status = "inconclusive"
         v.message = ("no scenario gave a judgment" +
                      (" (budget spent)" if search.hit else f" ({search.capped} runs hit the step cap)") +
-                     (f"; last: {search.why}" if search.why else "") + _overstayed_note(search))
+                     (f"; last: {search.why}" if search.why else "") + _overstayed_note(search) +
+                     ("; no run returned: a step of the algorithm may never return (it is judged, not trusted)"
+                      if search.overstayed is not None and search.runs == 0 else ""))
     elif search.hit:
         # the clock, not max_examples, ended the search: what was not explored is not a pass
         v.status = "inconclusive"
         v.message = (f"stopped by the budget after {search.runs} of {ex.max_examples} scenarios: held on "
-                     f"those ({search.steps} steps), inconclusive for the rest (raise --budget, or "
-                     f"bound the search by --max-examples alone with --budget none)" + _overstayed_note(search))
+                     f"those ({search.steps} steps){_overstayed_note(search)}, inconclusive for the rest (raise "
+                     f"--budget, or bound the search by --max-examples alone with --budget none)")
     else:
         v.message = (f"held over {search.conclusive} judged scenarios and {search.steps} steps "
                      f"(explored, not proved)")
@@ -1121,8 +1123,7 @@ def _overstayed_note(search: _Search) -> str:
     """What the budget stopped mid-run, when it did (a step that may never return), else ''."""
     if search.overstayed is None:
         return ""
-    return (f"; the budget stopped {search.overstayed}: a step of the algorithm may never return "
-            "(its controller is judged, not trusted)")
+    return f"; the budget stopped a run under way: {search.overstayed}"
 
 
 def _explore_property(ex: _Exploration, strategy, prop: str, share: float, report: ExploreReport) -> None:
