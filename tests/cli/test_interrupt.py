@@ -25,13 +25,13 @@ CHILD = ("import sys, z3, hypothesis, swarmproof.checkers.explore, swarmproof.ch
 SETTLE_S = 2.0
 
 
-def _interrupt(argv, cwd):
+def _interrupt(argv, cwd, settle=SETTLE_S):
     env = {**os.environ, "MPLBACKEND": "Agg"}
     proc = subprocess.Popen([sys.executable, "-c", CHILD, *argv], cwd=cwd, env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     try:
         assert proc.stderr.readline().strip() == "READY"
-        time.sleep(SETTLE_S)
+        time.sleep(settle)
         assert proc.poll() is None, "the command finished before the SIGINT: give it more work"
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=120)
@@ -70,6 +70,32 @@ def test_one_ctrl_c_stops_the_command_with_130_and_no_report(tmp_path, argv, out
     for name in outputs:
         assert not (tmp_path / name).exists(), name
     assert not any(p.name.startswith(".tmp-") for p in tmp_path.iterdir())   # no half-written file
+
+
+CAMPAIGN = """\
+format: swarmproof-campaign/1
+name: long
+explore:
+  - algorithm: song2016
+    properties: [termination, formation]
+    robots: [3, 6]
+    seeds: [0, 1, 2, 3, 4, 5, 6, 7]
+    max_examples: 200
+"""
+
+
+def test_ctrl_c_stops_a_campaign_with_130_without_report_md(tmp_path):
+    """The campaign's client caught KeyboardInterrupt and exited 3 with a report.md; now 130, no
+    report.md, what finished kept for --resume."""
+    (tmp_path / "long.yaml").write_text(CAMPAIGN)
+    # long enough for the local cluster to start and run tasks (the client then catches the interrupt)
+    code, out, err = _interrupt(["campaign", "long.yaml", "--workers", "1", "--out", "c", "--json"], tmp_path,
+                                settle=15)
+    assert code == 130, (code, err[-2000:])
+    assert "Traceback" not in err and "interrupted (Ctrl-C)" in err, err[-2000:]
+    assert "tasks finished, kept in c/results.sqlite; --resume continues the campaign" in err, err[-2000:]
+    _json_error_only(out)
+    assert not (tmp_path / "c" / "report.md").exists()
 
 
 def test_a_swallowed_ctrl_c_still_exits_130_and_prints_no_report(cli, monkeypatch):
