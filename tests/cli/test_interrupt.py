@@ -54,7 +54,7 @@ def _json_error_only(out: str) -> None:
                   "--markdown", "{tmp}/v.md"], ["v.xml", "v.html", "v.md"], id="verify-lemmas"),
     pytest.param(["verify", "--section", "exploration", "--algorithm", "song2016", "--max-examples", "100000",
                   "--json", "--junit", "{tmp}/v.xml", "--html", "{tmp}/v.html", "--markdown", "{tmp}/v.md"],
-                 ["v.xml", "v.html", "v.md"], id="verify-exploration"),
+                 ["v.xml", "v.html", "v.md"], id="verify-exploration", marks=pytest.mark.slow),
     pytest.param(["explore", "song2016", "--property", "connectivity", "--budget", "none", "--max-examples",
                   "100000", "--json", "--out", "{tmp}/cx"], [], id="explore"),
     pytest.param(["simulate", "song2016", "--lattice", "square", "--robots", "80", "--seed", "0", "--max-steps",
@@ -84,6 +84,7 @@ explore:
 """
 
 
+@pytest.mark.slow   # a local Dask cluster must start and run tasks first (about 25 s here)
 def test_ctrl_c_stops_a_campaign_with_130_without_report_md(tmp_path):
     """The campaign's client caught KeyboardInterrupt and exited 3 with a report.md; now 130, no
     report.md, what finished kept for --resume."""
