@@ -74,7 +74,9 @@ def z3_optimal_assignment(start_cells, goal_cells, *, spacing: float = 1.0, time
         opt.add(z3.PbEq([(x[i][j], 1) for i in range(n)], 1))
     cost = z3.Sum([z3.If(x[i][j], int(d[i, j]), 0) for i in range(n) for j in range(n)])
     opt.minimize(cost)
-    answer = opt.check()
+    from swarmproof.checkers.proofs import check_interruptibly
+
+    answer = check_interruptibly(opt)
     if answer != z3.sat:
         raise Z3Inconclusive(f"z3 answered {answer} ({opt.reason_unknown() if answer == z3.unknown else ''})")
     m = opt.model()

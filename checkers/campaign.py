@@ -397,6 +397,27 @@ def _client(scheduler: str | None, workers: int | None):
     return Client(cluster), cluster
 
 
+def _not_yet_there(out_dir: str) -> list[str]:
+    """The paths a new results store in ``out_dir`` would create (the store, its SQLite side files,
+    the folders up to the first that exists), innermost first; nothing that exists already."""
+    made = [os.path.join(out_dir, "results.sqlite" + x) for x in ("", "-wal", "-shm", "-journal")]
+    made = [p for p in made if not os.path.exists(p)]
+    folder = os.path.abspath(out_dir)
+    while folder and not os.path.exists(folder):
+        made.append(folder)
+        folder = os.path.dirname(folder)
+    return made
+
+
+def _remove_new(paths: list[str]) -> None:
+    """Remove what :func:`_not_yet_there` listed (files, then the folders it created, if empty)."""
+    for p in paths:
+        try:
+            (os.rmdir if os.path.isdir(p) else os.unlink)(p)
+        except OSError:
+            pass
+
+
 def run_campaign(spec, *, out_dir: str, scheduler: str | None = None, workers: int | None = None,
                  resume: bool = False, progress: Callable[[int, int, int], None] | None = None) -> CampaignResult:
     """Run every unfinished task of ``spec`` on Dask; results stream into ``out_dir``.
@@ -416,6 +437,7 @@ def run_campaign(spec, *, out_dir: str, scheduler: str | None = None, workers: i
     if scheduler is not None and workers is not None:
         raise UsageError("--workers applies to the embedded cluster only", fix="drop --workers with --scheduler")
     tasks = plan_tasks(spec)
+    made = _not_yet_there(out_dir)
     store = ResultsStore(out_dir, spec, resume=resume)
     cut = False
     ran = lost = 0
@@ -426,7 +448,12 @@ def run_campaign(spec, *, out_dir: str, scheduler: str | None = None, workers: i
         if progress:
             progress(len(done), len(tasks), violated)
         if pending:
-            client, cluster = _client(scheduler, workers)
+            try:
+                client, cluster = _client(scheduler, workers)
+            except BaseException:
+                store.close()
+                _remove_new(made)   # e.g. an unreachable --scheduler: leave nothing behind
+                raise
             try:
                 from distributed import as_completed
 

@@ -46,6 +46,7 @@ from swarmproof.invariants.registry import (DEFAULT_POS_TOL, DEFAULT_PROGRESS_WI
                                             progress_values)
 from swarmproof.checkers.algorithm_spec import AlgorithmSpec, resolve_algorithm
 from swarmproof.checkers.runs import build_params, cx_params
+from swarmproof.checkers.watchdog import Overstayed, time_limit
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
@@ -924,6 +925,8 @@ class _Search:
     steps: int = 0
     capped: int = 0
     hit: bool = False              # the deadline ended the search
+    #: a run the deadline stopped before it returned (the watchdog): what it was and where it hung
+    overstayed: str | None = None
     why: str | None = None         # the last inconclusive judgment's message
     #: (wall s, cpu s, robots, runs) at the first failing scenario, None while none failed
     first: tuple | None = None
@@ -995,9 +998,19 @@ def _scenario_test(ex: _Exploration, search: _Search):
             raise _BudgetSpent()
         lattice, p = _scenario_params(ex, scn)
         fm = scn.faults if scn.faults is not None else ex.fault_model
-        algo_run, result, r = run_and_judge(
-            ex.spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=ex.max_steps,
-            allow_violations=ex.allow_violations, faults=fm, options=ex.options)
+        left = None if math.isinf(search.deadline) else max(search.deadline - time.monotonic(), 1e-3)
+        try:
+            # the budget holds against the algorithm under test: a step that never returns is
+            # stopped at the deadline (checkers/watchdog.py), and the search ends there
+            with time_limit(left):
+                algo_run, result, r = run_and_judge(
+                    ex.spec, prop, lattice, scn.ids, scn.poses, p, seed=scn.seed, max_steps=ex.max_steps,
+                    allow_violations=ex.allow_violations, faults=fm, options=ex.options)
+        except Overstayed as exc:
+            search.hit = True
+            if search.overstayed is None:
+                search.overstayed = f"{scn.n} robots on {scn.lattice} (seed {scn.seed}) {exc}"
+            raise _BudgetSpent() from None
         score = closeness(prop, r)
         if score is not None:
             target(score, label=prop)
@@ -1091,17 +1104,26 @@ def _search_verdicts(ex: _Exploration, search: _Search) -> tuple[PropertyVerdict
         v.status = "inconclusive"
         v.message = ("no scenario gave a judgment" +
                      (" (budget spent)" if search.hit else f" ({search.capped} runs hit the step cap)") +
-                     (f"; last: {search.why}" if search.why else ""))
+                     (f"; last: {search.why}" if search.why else "") + _overstayed_note(search) +
+                     ("; no run returned: a step of the algorithm may never return (it is judged, not trusted)"
+                      if search.overstayed is not None and search.runs == 0 else ""))
     elif search.hit:
         # the clock, not max_examples, ended the search: what was not explored is not a pass
         v.status = "inconclusive"
         v.message = (f"stopped by the budget after {search.runs} of {ex.max_examples} scenarios: held on "
-                     f"those ({search.steps} steps), inconclusive for the rest (raise --budget, or "
-                     f"bound the search by --max-examples alone with --budget none)")
+                     f"those ({search.steps} steps){_overstayed_note(search)}, inconclusive for the rest (raise "
+                     f"--budget, or bound the search by --max-examples alone with --budget none)")
     else:
         v.message = (f"held over {search.conclusive} judged scenarios and {search.steps} steps "
                      f"(explored, not proved)")
     return v, None
+
+
+def _overstayed_note(search: _Search) -> str:
+    """What the budget stopped mid-run, when it did (a step that may never return), else ''."""
+    if search.overstayed is None:
+        return ""
+    return f"; the budget stopped a run under way: {search.overstayed}"
 
 
 def _explore_property(ex: _Exploration, strategy, prop: str, share: float, report: ExploreReport) -> None:

@@ -1580,6 +1580,23 @@ def matplotlib_circle(r: float):
     return Circle((0, 0), r, fill=False, ls=":", color="0.4", label="range")
 
 
+def defect_kinds_text(kinds) -> str:
+    """Every defect kind of a report, each once with its count, in the order found.
+
+    >>> defect_kinds_text(["self_consistency", "missing_inverse", "self_consistency"])
+    '3 defects: self_consistency (2), missing_inverse (1)'
+    >>> defect_kinds_text(["missing_inverse"])
+    '1 defect: missing_inverse'
+    """
+    kinds = list(kinds)
+    counts: dict[str, int] = {}
+    for k in kinds:
+        counts[k] = counts.get(k, 0) + 1
+    if len(kinds) == 1:
+        return f"1 defect: {kinds[0]}"
+    return f"{len(kinds)} defects: " + ", ".join(f"{k} ({n})" for k, n in counts.items())
+
+
 def user_lattice_warning(target, range: float | None = None) -> str | None:
     """A warning when a user's lattice (not a bundled one) is not a valid, self-consistent
     lattice graph at the range in use (``check-lattice``); None when it is, or when the target
@@ -1593,7 +1610,7 @@ def user_lattice_warning(target, range: float | None = None) -> str | None:
         return f"lattice {target.name!r} could not be checked at range {phi!r} ({type(exc).__name__}: {exc})"
     if rep.verdict.value == "held":
         return None
-    what = rep.defects[0].kind if rep.defects else rep.verdict.value
+    what = defect_kinds_text([d.kind for d in rep.defects]) if rep.defects else rep.verdict.value
     src = getattr(target, "source", None) or "FILE"
     return (f"lattice {target.name!r} ({src}) is {rep.verdict.value} by check-lattice at range {phi:g}: "
             f"{what}; run `swarmproof check-lattice {src} --range {phi:g}` to see why (runs toward it "

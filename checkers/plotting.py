@@ -55,9 +55,8 @@ def save_gif(fig, update, frames, path, *, fps: int = 8) -> str:
 
     from swarmproof.models.fileio import atomic_write_bytes
 
+    check_output_path(path)     # a missing folder is refused, as for every output (never created)
     folder = os.path.dirname(os.path.abspath(os.fspath(path)))
-    os.makedirs(folder, exist_ok=True)
-    check_output_path(path)
     fd, tmp = tempfile.mkstemp(suffix=".gif", dir=folder)
     os.close(fd)
     try:

@@ -206,6 +206,49 @@ def _solver(timeout_ms: int, params: Sequence = ()) -> z3.Solver:
     return s
 
 
+def check_interruptibly(solver) -> "z3.CheckSatResult":
+    """``solver.check()`` that Ctrl-C stops at once.
+
+    z3 left alone puts its own SIGINT handler in place while it works: it cancels the solver,
+    answers ``unknown`` and the suite runs on (the press is lost).  Here z3's handler is off
+    (``ctrl_c=False``), the check runs on a helper thread, and the main thread waits for it: a
+    Ctrl-C raises ``KeyboardInterrupt`` there at once, interrupts z3 (``Context.interrupt``),
+    waits for the solver to return and passes the interrupt on (exit 130,
+    swarmproof.models.interrupt).
+    """
+    import threading
+
+    from swarmproof.models.interrupt import note
+
+    try:
+        solver.set("ctrl_c", False)
+    except z3.Z3Exception:  # pragma: no cover - a z3 without the parameter
+        pass
+    if threading.current_thread() is not threading.main_thread():
+        return solver.check()          # no Ctrl-C reaches this thread
+    out: list = []
+
+    def work() -> None:
+        try:
+            out.append(solver.check())
+        except BaseException as exc:  # noqa: BLE001 - handed to the main thread
+            out.append(exc)
+
+    worker = threading.Thread(target=work, name="swarmproof-z3", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(0.05)
+    except KeyboardInterrupt:
+        note()
+        solver.ctx.interrupt()
+        worker.join()
+        raise
+    if isinstance(out[0], BaseException):
+        raise out[0]
+    return out[0]
+
+
 def _number(val) -> float:
     if z3.is_rational_value(val):
         return float(Fraction(val.numerator_as_long(), val.denominator_as_long()))
@@ -245,7 +288,7 @@ def _check(premises: list, negate: z3.BoolRef | None, deadline: float, params) -
         s.assert_and_track(term, f"{k}:{name}")
     if negate is not None:
         s.add(z3.Not(negate))
-    res = s.check()
+    res = check_interruptibly(s)
     if res == z3.sat:
         return res, s.model(), ""
     if res == z3.unknown:
@@ -546,7 +589,7 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
             return "inconclusive", "kernel returned None and a radius is below the tolerance"
         s = _solver(ms)
         s.add(dist2(x, C1) <= (R1 - tol) * (R1 - tol), dist2(x, C2) <= (R2 - tol) * (R2 - tol))
-        res = s.check()
+        res = check_interruptibly(s)
         if res == z3.unsat:
             return "confirmed", "empty intersection confirmed"
         if res == z3.sat:
@@ -562,7 +605,7 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     s = _solver(ms)
     s.add(dist2(x, C1) <= R1 * R1, dist2(x, C2) <= R2 * R2,
           dist2(x, T) < _q((dq - tol) ** 2))
-    res = s.check()
+    res = check_interruptibly(s)
     if res == z3.unsat:
         return "confirmed", "no point of the region nearer the target"
     if res == z3.sat:

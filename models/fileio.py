@@ -22,6 +22,7 @@ import tempfile
 from typing import Any
 
 from .errors import UsageError
+from .interrupt import raise_if_interrupted
 
 __all__ = ["check_output_path", "check_output_dir", "atomic_write_bytes", "atomic_write_text", "atomic_write_json", "dumps_json"]
 
@@ -105,6 +106,7 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> str:
         If the path is empty or a folder, the folder does not exist or is
         not writable, or the disk is full (names the path and the cause).
     """
+    raise_if_interrupted()    # nothing is written once Ctrl-C was pressed (models/interrupt.py)
     path = check_output_path(path)
     folder = os.path.dirname(os.path.abspath(path))
     try:

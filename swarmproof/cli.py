@@ -6,8 +6,9 @@ Each subcommand lives in its own module of :mod:`swarmproof.commands` with
 Exit codes, for every subcommand: 0 all requested checks hold, 1 a defect,
 violation or counterexample was found, 2 usage error or unreadable input,
 3 inconclusive, 4 internal error (a bug in swarmproof: one line on stderr
-naming the file with the traceback).  ``--json`` prints one JSON document on stdout and nothing
-else there; human text and progress go to stderr in that mode.
+naming the file with the traceback), 130 stopped by Ctrl-C (no report
+written).  ``--json`` prints one JSON document on stdout and nothing else
+there; human text and progress go to stderr in that mode.
 
 User mistakes (any :class:`~swarmproof.models.errors.UsageError`, or an
 ``OSError`` on a file the user named) become a one-paragraph message on
@@ -24,6 +25,7 @@ from typing import Sequence
 
 from swarmproof.models.citations import readable
 from swarmproof.models.errors import ProtocolError, UsageError
+from swarmproof.models.interrupt import EXIT_INTERRUPTED
 from swarmproof.models.verdict import EXIT_INTERNAL, EXIT_USAGE
 
 #: Subcommand modules, in the order ``--help`` lists them.
@@ -53,7 +55,7 @@ class _Parser(argparse.ArgumentParser):
 
             command = self.prog.split(" ", 1)[1] if " " in self.prog else None
             emit_json(_error_document(command, "usage", f"{message}; fix: see `{self.prog} --help`",
-                                      EXIT_USAGE))
+                                      EXIT_USAGE), error=True)
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message}; fix: see `{self.prog} --help`\n")
 
     def format_help(self) -> str:
@@ -122,7 +124,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_USAGE
     as_json = bool(getattr(args, "json", False))
     try:
-        return int(args._run(args))
+        return _run_until_interrupted(args)
     except UsageError as exc:
         print(f"swarmproof {args.command}: error: {readable(str(exc))}", file=sys.stderr)
         if as_json:
@@ -138,8 +140,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             _emit_error(_error_document(args.command, "usage", msg, EXIT_USAGE))
         return EXIT_USAGE
     except KeyboardInterrupt:
-        print(f"swarmproof {args.command}: interrupted", file=sys.stderr)
-        return 130
+        # Ctrl-C: stop at once, exit 130, no report that looks complete (nothing is printed or
+        # written once it was pressed: swarmproof.models.interrupt)
+        msg = "interrupted (Ctrl-C); no report was written"
+        print(f"swarmproof {args.command}: {msg}", file=sys.stderr)
+        if as_json:
+            _emit_error(_error_document(args.command, "interrupted", msg, EXIT_INTERRUPTED))
+        return EXIT_INTERRUPTED
     except BrokenPipeError:  # e.g. `swarmproof ... | head`
         return 0
     except (MemoryError, RecursionError) as exc:
@@ -171,12 +178,32 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INTERNAL
 
 
+def _run_until_interrupted(args) -> int:
+    """Run the command with the Ctrl-C handler installed; a Ctrl-C that a library swallowed, or
+    turned into another error, still ends the command as ``KeyboardInterrupt`` (exit 130)."""
+    from swarmproof.commands.outputs import check_outputs
+    from swarmproof.models.interrupt import installed, interrupted, raise_if_interrupted
+
+    check_outputs(args)   # every output option of every command, before any work
+    with installed():
+        try:
+            code = int(args._run(args))
+        except KeyboardInterrupt:
+            raise
+        except BaseException:
+            if interrupted():
+                raise KeyboardInterrupt from None
+            raise
+        raise_if_interrupted()
+        return code
+
+
 def _emit_error(doc: dict) -> None:
     """Print the error document unless the command already printed its JSON."""
     from swarmproof.commands import emit_json, json_emitted
 
     if not json_emitted():
-        emit_json(doc)
+        emit_json(doc, error=True)
 
 
 def run_main() -> None:  # pragma: no cover

@@ -29,3 +29,6 @@ def test_the_readme_example_runs_as_written(tmp_path):
                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert cli.returncode in (0, 1, 3) and "Traceback" not in cli.stderr, cli.stderr[-2000:]
     assert "connectivity" in cli.stdout
+    # importing my_check must not run the script's own exploration too (issue 29 item 14): its
+    # lines ("collision ...", "exit code: ...") are not printed by the command line
+    assert "exit code:" not in cli.stdout and "collision" not in cli.stdout, cli.stdout

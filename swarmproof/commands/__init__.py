@@ -9,13 +9,19 @@ import sys
 from typing import Any
 
 from swarmproof.models.fileio import dumps_json
+from swarmproof.models.interrupt import raise_if_interrupted
 
 
 _EMITTED = [False]
 
 
-def emit_json(obj: Any) -> None:
-    """Print one deterministic JSON document on stdout (and nothing else there)."""
+def emit_json(obj: Any, *, error: bool = False) -> None:
+    """Print one deterministic JSON document on stdout (and nothing else there).
+
+    A report (not an ``error`` document) is refused once Ctrl-C was pressed: it could look
+    complete (:mod:`swarmproof.models.interrupt`)."""
+    if not error:
+        raise_if_interrupted()
     text = dumps_json(obj)
     _EMITTED[0] = True
     sys.stdout.write(text)
@@ -36,6 +42,7 @@ def human(args, *lines: str) -> None:
     """Print human-readable lines: stdout normally, stderr when ``--json`` is on."""
     from swarmproof.models.citations import readable
 
+    raise_if_interrupted()   # after Ctrl-C no report is printed (it could look complete)
     stream = sys.stderr if getattr(args, "json", False) else sys.stdout
     for line in lines:
         print(readable(line), file=stream)   # "Song & O'Kane 2016, Lemma 11", not the seed key

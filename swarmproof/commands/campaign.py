@@ -10,7 +10,8 @@ only the unfinished tasks of a campaign that was cut short.
 Exit codes: 0 every task held; 1 a task found a violation (with a
 counterexample); 2 a bad spec, an unreachable scheduler, an unusable --out
 folder or a full disk (with the cause and the fix; what finished is kept);
-3 inconclusive or cut short (Ctrl-C: --resume continues it).
+3 inconclusive or cut short; 130 stopped by Ctrl-C (no report.md is written; what
+finished is kept in results.sqlite and --resume continues it).
 """
 
 from __future__ import annotations
@@ -61,6 +62,12 @@ def run(args) -> int:
     finally:
         if bar is not None:
             bar.clear()
+    from swarmproof.models.interrupt import interrupted
+
+    if interrupted():    # Ctrl-C: exit 130 without a report.md (it could look complete); what finished is kept
+        sys.stderr.write(f"swarmproof campaign: {len(result.results)}/{len(result.tasks)} tasks finished, kept in "
+                         f"{os.path.join(out, 'results.sqlite')}; --resume continues the campaign\n")
+        raise KeyboardInterrupt
     report = write_report(result)
     if args.json:
         emit_json(result.to_json())

@@ -1,7 +1,9 @@
 """``swarmproof replay``: re-run a counterexample file and judge its property again.
 
 Exit codes: 1 while the counterexample still reproduces (the property is
-violated again), 0 once it no longer does, 2 unreadable or malformed file.
+violated again), 0 once it no longer does (the property held on the replayed
+run), 3 when the replay cannot tell (inconclusive: e.g. the run hit its step
+cap, or a pose overflowed), 2 unreadable or malformed file.
 """
 
 from __future__ import annotations
@@ -10,7 +12,8 @@ from swarmproof.checkers.replay import gif_replay, plot_replay
 from swarmproof.commands import emit_json, human
 
 NAME = "replay"
-HELP = "re-run a swarmproof-counterexample/1 file; exit 1 while it reproduces, 0 once it does not"
+HELP = ("re-run a swarmproof-counterexample/1 file; exit 1 while it reproduces, 0 once it does not, "
+        "3 when the replay is inconclusive")
 DESCRIPTION = __doc__.split("\n\n", 1)[1] if __doc__ else HELP
 
 
@@ -23,12 +26,8 @@ def add_arguments(p) -> None:
 
 def run(args) -> int:
     from swarmproof.checkers.replay import replay_file
-    from swarmproof.models.fileio import check_output_path
 
-    if args.plot is not None:
-        check_output_path(args.plot, "--plot")
-    if args.gif is not None:
-        check_output_path(args.gif, "--gif", new_folder=True)     # the GIF writer creates its folder
+    # --plot and --gif were checked before any work (swarmproof.commands.outputs)
     rr = replay_file(args.file)
     doc = rr.as_dict()
     doc["file"] = args.file
@@ -46,4 +45,18 @@ def run(args) -> int:
     if args.gif is not None:
         lines.append(f"gif: {doc['gif']}")
     human(args, *lines)
-    return 1 if rr.reproduced else 0
+    return replay_exit_code(rr.reproduced, rr.verdict.status)
+
+
+def replay_exit_code(reproduced: bool, status: str) -> int:
+    """1 while the counterexample reproduces, 3 when the replay could not judge it (inconclusive is
+    never a pass), else 0.
+
+    >>> replay_exit_code(True, "violated"), replay_exit_code(False, "inconclusive"), replay_exit_code(False, "held")
+    (1, 3, 0)
+    """
+    from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED
+
+    if reproduced:
+        return EXIT_VIOLATED
+    return EXIT_INCONCLUSIVE if status == "inconclusive" else EXIT_OK

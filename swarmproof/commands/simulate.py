@@ -73,6 +73,10 @@ def add_arguments(p) -> None:
     p.add_argument("--vectorised", action="store_true",
                    help="run the algorithm's vectorised path (wang2020: the same trace as the per-robot "
                         "reference, bit for bit, for the paper's plain model; anything else is refused)")
+    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+                   help="stop a run that has not returned after SECONDS of wall-clock time (a step of the "
+                        "algorithm that never returns, a run too long to wait for): inconclusive, exit 3 "
+                        "(default: no limit; the step cap bounds the run)")
     p.add_argument("--record-every", type=int, default=1, metavar="K",
                    help="keep every K-th step (and every event, and the last) in the trace; connectivity "
                         "and tree links are still judged on every step by streaming monitors (default 1)")
@@ -114,16 +118,20 @@ def _parse_extra(items) -> dict:
     return out
 
 
-def _progress_printer():
-    if not sys.stderr.isatty():
+def _progress_printer(stream=None):
+    """The step counter on a terminal (a :class:`~swarmproof.commands.StatusLine`, erased with
+    ``.clear()`` before the report is printed), or None when ``stream`` (stderr) is not one."""
+    from swarmproof.commands import StatusLine
+
+    stream = sys.stderr if stream is None else stream
+    if not stream.isatty():
         return None
+    line = StatusLine(stream, "simulate")
 
     def show(step: int, cap: int) -> None:
-        sys.stderr.write(f"\rsimulate: step {step}/{cap}")
-        sys.stderr.flush()
-        if step >= cap:
-            sys.stderr.write("\n")
+        line(f"step {step}/{cap}")
 
+    show.clear = line.clear
     return show
 
 
@@ -152,6 +160,9 @@ def _check_arguments(args) -> None:
         raise UsageError(f"--range {args.range_!r} must be a finite number > 0")
     if args.max_steps is not None and args.max_steps < 0:
         raise UsageError(f"--max-steps {args.max_steps!r} must be >= 0")
+    if args.timeout is not None and not (math.isfinite(args.timeout) and args.timeout > 0):
+        raise UsageError(f"--timeout={args.timeout!r} must be a number of seconds > 0",
+                         fix="e.g. --timeout 60, or leave it out for no limit")
     if args.record_every < 1:
         raise UsageError(f"--record-every {args.record_every!r} must be >= 1", fix="1 records every step")
     for option, value in (("--trace", args.trace), ("--plot", args.plot), ("--gif", args.gif)):
@@ -235,6 +246,8 @@ def _report_lines(args, checked) -> list:
     lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
                   "result: a checked property failed",
                   3: "result: inconclusive (step cap reached)"}[checked.exit_code])
+    if checked.exit_code == 0 and doc.get("warnings"):   # never a bare "ok" toward a lattice with defects
+        lines[-1] += " for the checks above, but the lattice has defects (see the warning on stderr)"
     return lines
 
 
@@ -249,13 +262,23 @@ def run(args) -> int:
     lattice = _target(args, spec)
     _check_arguments(args)
     init = _initial(args)
-    checked = run_and_check(
-        args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
-        max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
-        extra=_extra_with_options(args, spec), min_separation=args.min_separation,
-        allow_violations=args.allow_violations, progress=_progress_printer(), record_every=args.record_every,
-        tree_link_mode=args.tree_link_mode,
-        strict=args.strict, vectorised=args.vectorised)
+    from swarmproof.checkers.watchdog import Overstayed, time_limit
+
+    progress = _progress_printer()
+    try:
+        with time_limit(args.timeout):
+            checked = run_and_check(
+                args.algorithm, lattice, seed=args.seed, robots=args.robots, initial=init, phi=args.range_,
+                max_steps=args.max_steps, v=args.v, omega=args.omega, dt=args.dt,
+                extra=_extra_with_options(args, spec), min_separation=args.min_separation,
+                allow_violations=args.allow_violations, progress=progress, record_every=args.record_every,
+                tree_link_mode=args.tree_link_mode,
+                strict=args.strict, vectorised=args.vectorised)
+    except Overstayed as exc:
+        return _timed_out(args, exc)
+    finally:
+        if progress is not None:
+            progress.clear()     # erase the step counter: the report starts on a clean line
     for w in checked.doc.get("warnings", ()):
         sys.stderr.write(f"swarmproof simulate: warning: {w}\n")
     _write_files(args, checked)
@@ -264,6 +287,19 @@ def run(args) -> int:
     else:
         human(args, *_report_lines(args, checked))
     return checked.exit_code
+
+
+def _timed_out(args, exc) -> int:
+    """``--timeout`` stopped the run before it returned: inconclusive (exit 3), nothing written."""
+    from swarmproof.models.verdict import EXIT_INCONCLUSIVE
+
+    msg = f"the run {exc}; raise --timeout, or look at that code: it may never return"
+    if args.json:
+        emit_json({"algorithm": args.algorithm, "robots": args.robots, "seed": args.seed, "status": "timeout",
+                   "timeout": args.timeout, "where": exc.where, "message": msg, "exit_code": EXIT_INCONCLUSIVE})
+    else:
+        human(args, f"{args.algorithm}: {msg}", "result: inconclusive (timeout)")
+    return EXIT_INCONCLUSIVE
 
 
 def _fmt(val) -> str:

@@ -237,7 +237,12 @@ def test_unreachable_scheduler_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 2 and "cannot be reached" in err and "fix: start it with `dask scheduler`" in err
     assert "Traceback" not in err
-    assert results_table(tmp_path / "o") == []          # the store is there and readable, empty
+    assert not (tmp_path / "o").exists()                # nothing left behind (issue 29 item 15)
+    # a folder that was there stays, without a results store the campaign never used
+    (tmp_path / "kept").mkdir()
+    code = main(["campaign", str(spec), "--out", str(tmp_path / "kept"), "--scheduler", f"tcp://127.0.0.1:{port}"])
+    assert code == 2 and "cannot be reached" in capsys.readouterr().err
+    assert (tmp_path / "kept").is_dir() and list((tmp_path / "kept").iterdir()) == []
 
 
 def _finished(out_dir) -> int:

@@ -78,6 +78,7 @@ def test_gif_is_an_animated_gif_with_the_violation_held(capsys, tmp_path):
                         seed=0, property="premises", violation={"step": 1, "message": "..."}, max_steps=8)
     path = cx.save(tmp_path / "cx.json")
     gif = tmp_path / "out" / "run.gif"
+    gif.parent.mkdir()     # a missing folder is refused like every output's, never created (issue 29 item 7)
     code = main(["replay", path, "--json", "--gif", str(gif)])
     doc = json.loads(capsys.readouterr().out)
     assert code == 1 and doc["reproduced"] is True and doc["step"] == 1 and doc["gif"] == str(gif)
@@ -88,3 +89,18 @@ def test_gif_is_an_animated_gif_with_the_violation_held(capsys, tmp_path):
     assert gif_frames(8, mark=1, max_frames=40) == [0] + [1] * 6 + [2, 3, 4, 5, 6, 7, 8]
     # drawn deterministically: the same run gives the same bytes
     assert open(gif_replay(replay(cx), tmp_path / "again.gif"), "rb").read() == data
+
+
+def test_an_inconclusive_replay_exits_3(capsys, tmp_path):
+    """Issue 29 item 8: a replay that cannot judge its property (a pose of 1e308) is inconclusive,
+    exit 3 -- never 0, which says the counterexample no longer reproduces."""
+    cx = Counterexample(algorithm="song2014", params={"range": 1.2, "v": 0.05, "omega": 0.7853981633974483,
+                                                      "dt": 1.0},
+                        lattice="square", robots=[(0, (0.0, 0.0, 0.0)), (1, (1e308, 0.0, 0.0))],
+                        seed=0, property="connectivity", violation={"step": 3, "message": "split"},
+                        allow_violations=True)
+    path = cx.save(tmp_path / "huge.json")
+    code = main(["replay", path])
+    out, err = capsys.readouterr()
+    assert "not reproduced (inconclusive)" in out, out + err
+    assert code == 3

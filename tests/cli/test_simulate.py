@@ -130,3 +130,37 @@ def test_tree_link_mode_decided_by_default_and_persistent_on_request(capsys):
     doc = json.loads(out)
     assert code == 0 and doc["tree_links"]["status"] == "held"
     assert "persistent links" in doc["tree_links"]["message"]
+
+
+class _FakeTerminal:
+    """stdout and stderr of one terminal: both write into one screen buffer."""
+
+    def __init__(self) -> None:
+        self.text = ""
+
+    def write(self, s: str) -> int:
+        self.text += s
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return True
+
+    def lines(self) -> list:
+        """What the terminal shows: each line after its last carriage return, erase codes dropped."""
+        return [ln.rsplit("\r", 1)[-1].replace("\033[K", "") for ln in self.text.split("\n")]
+
+
+def test_the_progress_line_is_erased_before_the_report_on_a_terminal(monkeypatch):
+    """Issue 29 item 13: the report used to be glued to "simulate: step k/K"."""
+    term = _FakeTerminal()
+    monkeypatch.setattr("sys.stdout", term)
+    monkeypatch.setattr("sys.stderr", term)
+    code = main(["simulate", "song2016", "--lattice", "square", "--robots", "4", "--seed", "0"])
+    assert code in (0, 1, 3)
+    assert "simulate: step " in term.text                          # the counter was shown ...
+    shown = term.lines()
+    assert not any("simulate: step" in ln for ln in shown), shown   # ... and erased
+    assert shown[0] == "song2016 on square: 4 robots, seed 0, range 1.2"

@@ -58,3 +58,14 @@ def test_no_warning_for_bundled_or_passing_lattices(cli, tmp_path):
         code, out, err = cli("simulate", "example-gather", "--lattice", target, "--robots", "3", "--seed", "0",
                              "--json", "--strict")
         assert "warnings" not in json.loads(out) and "warning" not in err
+
+
+def test_simulate_warning_names_every_defect_kind_and_result_is_not_a_bare_ok(cli, lopsided):
+    """Issue 29 item 15: the warning named the first defect kind only, then "result: ok"."""
+    code, out, err = cli("simulate", "example-gather", "--lattice", lopsided, "--range", "1.5", "--robots", "1",
+                         "--seed", "0")
+    assert code == 0
+    assert (f"is violated by check-lattice at range 1.5: 5 defects: missing_inverse (1), self_consistency (4); "
+            f"run `swarmproof check-lattice {lopsided} --range 1.5`") in err
+    assert out.splitlines()[-1] == ("result: ok for the checks above, but the lattice has defects "
+                                    "(see the warning on stderr)")
