@@ -159,6 +159,13 @@ def apply_faults(run: RunState, step: StepView) -> None:
     A crashed robot vanishes with its controller, its broadcast and what waits for it; an added
     one takes its slot at its pose (heading wrapped) with a fresh controller and seeded
     generator.
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
     """
     t, events, ids_list, present, poses = step.t, run.events, run.ids_list, run.present, run.poses
     for rid in run.faults.crashes.get(t, ()):
@@ -187,6 +194,13 @@ def activate(run: RunState, step: StepView) -> None:
     Every present robot, or the ones the fault model's ``schedule`` picks; with asynchronous
     clocks only those whose local clock passes an integer during the step, and they broadcast
     their last decided message when it passes a broadcast instant (:mod:`.clocks`).
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
     """
     t = step.t
     idx = np.flatnonzero(run.present)
@@ -207,13 +221,20 @@ def activate(run: RunState, step: StepView) -> None:
 
 
 def sense(run: RunState, step: StepView) -> None:
-    """2. Sensing, vectorised (:func:`.sensing.sense`): per present robot, the IDs, slots and
-    read-only body-frame poses of what it senses.
+    """2. Sensing, vectorised: what every present robot senses (:func:`.sensing.sense`).
 
-    Sensing is a pure function of the present robots' poses, so when none of them changed
-    since the last sensing (bit for bit) the last result is reused; noise is drawn afresh every
-    step, so never with noise.  In the plain model it also notes which robots sense something
-    else than last time (``run.resensed``, for the ``repeat_step`` shortcut).
+    Per present robot, the IDs, slots and read-only body-frame poses of what it senses.
+    Sensing is a pure function of the present robots' poses, so when none of them changed since
+    the last sensing (bit for bit) the last result is reused; noise is drawn afresh every step,
+    so never with noise.  In the plain model it also notes which robots sense something else
+    than last time (``run.resensed``, for the ``repeat_step`` shortcut).
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
     """
     idx = step.idx
     pp = run.poses[idx]
@@ -239,14 +260,21 @@ def sense(run: RunState, step: StepView) -> None:
 
 
 def decide(run: RunState, step: StepView) -> None:
-    """3.-4. Message delivery and decision, robot by robot: every acting robot receives its
-    messages, gets its Observation and its controller returns a Command; the checked commands
-    go to ``run.turns``, ``run.fwds`` (or ``step.moves``), the new broadcasts to ``step.new_msgs``.
+    """3.-4. Message delivery and decision, robot by robot.
 
-    In the plain model with ``repeat_step`` the shortcut path runs (:func:`_decide_repeating`),
-    else :func:`_decide_general`.  Delivery stays interleaved with the decisions (each robot
-    receives just before it decides): a fault hook's draws and errors come in the same order
-    as the robots' own code.
+    Every acting robot receives its messages, gets its Observation and its controller returns a
+    Command; the checked commands go to ``run.turns``, ``run.fwds`` (or ``step.moves``), the new
+    broadcasts to ``step.new_msgs``.  In the plain model with ``repeat_step`` the shortcut path
+    runs (:func:`_decide_repeating`), else :func:`_decide_general`.  Delivery stays interleaved
+    with the decisions (each robot receives just before it decides): a fault hook's draws and
+    errors come in the same order as the robots' own code.
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
     """
     if run.repeat_ok:
         _decide_repeating(run, step)
@@ -255,11 +283,12 @@ def decide(run: RunState, step: StepView) -> None:
 
 
 def _decide_general(run: RunState, step: StepView) -> None:
-    """3.-4. Any model, with the fault model's hooks.  A robot whose asynchronous clock does not
-    tick keeps what it receives now for its next tick; the delivery's ``drop`` and
-    ``late_delivery`` events are recorded once every robot has decided (a crash while deciding
-    records none); with asynchronous clocks a robot broadcasts its last decided message when its
-    clock passes a broadcast instant."""
+    """3.-4. Delivery and decision in any model, with the fault model's hooks.
+
+    A robot whose asynchronous clock does not tick keeps what it receives now for its next tick;
+    the delivery's ``drop`` and ``late_delivery`` events are recorded once every robot has
+    decided (a crash while deciding records none); with asynchronous clocks a robot broadcasts
+    its last decided message when its clock passes a broadcast instant."""
     t, m, idx_l, pres_ids_l, act_l = step.t, step.m, step.idx_l, step.pres_ids_l, step.act_l
     nb_ids, nb_slots, nb_rel = step.nb_ids, step.nb_slots, step.nb_rel
     async_clocks, anonymous, global_sensing = run.async_clocks, run.anonymous, run.global_sensing
@@ -316,8 +345,11 @@ def _decide_general(run: RunState, step: StepView) -> None:
 
 
 def _same_observation(run: RunState, step: StepView) -> list | None:
-    """Per present robot, whether its whole observation (neighbor IDs, pose bits, message
-    objects) is last step's (None: not known, every robot steps)."""
+    """Per present robot, whether its whole observation is last step's.
+
+    The same neighbor IDs at the same pose bits, and the same message objects; None: not
+    known (every robot steps).
+    """
     same_obs = None
     if step.t > 0 and run.resensed is not None:
         last_msgs, heard_msgs = run.last_msgs, run.heard_msgs
@@ -331,10 +363,10 @@ def _same_observation(run: RunState, step: StepView) -> list | None:
 
 
 def _decide_repeating(run: RunState, step: StepView) -> None:
-    """3.-4. The plain model with ``repeat_step`` (every robot acts, hears its neighbors and
-    senses exactly; no robot joins or crashes).
+    """3.-4. Delivery and decision in the plain model with ``repeat_step``.
 
-    A robot whose observation is last step's and whose hold (``repeat_horizon``) has not run out
+    The plain model: every robot acts, hears its neighbors and senses exactly; no robot joins
+    or crashes.  A robot whose observation is last step's and whose hold (``repeat_horizon``) has not run out
     keeps its last command (``run.turns``, ``run.fwds`` and its message stand); one whose
     observation is the same is asked ``repeat_step``; every other robot (and one that declines)
     receives its neighbors' broadcasts and steps.
@@ -374,18 +406,30 @@ def _decide_repeating(run: RunState, step: StepView) -> None:
 
 
 def move(run: RunState, step: StepView) -> None:
-    """5. Motion of the present robots, vectorised (:mod:`.motion`: clamped turn and drive, or
-    grid edges); the step count advances."""
+    """5. Motion of the present robots, vectorised; the step count advances.
+
+    :mod:`.motion`: a clamped turn and drive, or grid edges (``step.same_poses``: nobody moved).
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
+    """
     step.same_poses = run.mover.apply(run.poses, step.idx, step.moves if run.grid else (run.turns, run.fwds),
                                       step.pres_ids, step.t, run.events, run.record_clamps)
     run.t = step.t + 1
 
 
 def _new_states(run: RunState, stepped) -> tuple:
-    """``(changed, states)`` after a step: every controller's ``state()`` (with ``repeat_step``,
-    only the robots that stepped: repeating leaves a state as it was).  An unchanged state is
-    kept as the previous object (a long run's trace keeps one copy per change, not one per step;
-    equal values, same trace), and so is the whole tuple when nothing changed."""
+    """``(changed, states)`` after a step: every controller's ``state()``.
+
+    With ``repeat_step`` only the robots that stepped are asked (repeating leaves a state as it
+    was).  An unchanged state is kept as the previous object (a long run's trace keeps one copy
+    per change, not one per step; equal values, same trace), and so is the whole tuple when
+    nothing changed.
+    """
     states, controllers, present = run.states, run.controllers, run.present
     changed = False
     merged = list(states)
@@ -401,9 +445,19 @@ def _new_states(run: RunState, stepped) -> tuple:
 
 
 def record(run: RunState, step: StepView) -> None:
-    """6. Recording and monitors: the trace keeps the step (:class:`.run.Recording`, dense or
-    sparse), every observer sees it, and the step counts as quiet when no pose, controller
-    state or broadcast (with asynchronous clocks: what each robot would say) changed."""
+    """6. Recording and monitors: the trace, the observers, the quiet count, the progress.
+
+    The trace keeps the step (:class:`.run.Recording`, dense or sparse), every observer sees it,
+    and the step counts as quiet when no pose, controller state or broadcast (with asynchronous
+    clocks: what each robot would say) changed.
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
+    """
     t, rec, poses, present = run.t, run.rec, run.poses, run.present
     keep = rec.keeps(t, run.events, step.n_events)
     if keep:
@@ -427,9 +481,19 @@ def record(run: RunState, step: StepView) -> None:
 
 
 def stop_test(run: RunState, step: StepView) -> None:
-    """Whether the run ends after this step: the algorithm's ``finished`` holds (it depends on the
-    states alone, so with ``repeat_step`` it is asked only when a state changed), the run was
-    quiet for the static window, or the ``stop_when`` monitor says so (``run.status``)."""
+    """Whether the run ends after this step (``run.status``).
+
+    It ends when the algorithm's ``finished`` holds (it depends on the states alone, so with
+    ``repeat_step`` it is asked only when a state changed), when the run was quiet for the
+    static window, or when the ``stop_when`` monitor says so.
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values; the phase adds its own.
+    """
     run.calling = -1
     done = (step.changed or not run.repeat_ok) and run.algorithm.finished(
         tuple(s for s, p in zip(run.states, run.present) if p))

@@ -425,9 +425,11 @@ def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params,
 
 
 def _slots(initial: InitialConfiguration, faults: FaultModel) -> tuple:
-    """One slot per robot that is ever present: the start's robots, then the fault model's
-    additions in step order.  Returns ``(ids, poses, present, slot_of_add)``: IDs and start poses
-    (headings wrapped) by slot, who is present at step 0, and ``step -> [(slot, pose), ...]``."""
+    """One slot per robot that is ever present: the start's, then the fault model's additions.
+
+    Returns ``(ids, poses, present, slot_of_add)``: IDs and start poses (headings wrapped) by
+    slot, who is present at step 0, and ``step -> [(slot, pose), ...]`` (additions in step order).
+    """
     n0 = initial.n
     add_rows = []
     for step_k in sorted(faults.additions):
@@ -451,10 +453,13 @@ def _slots(initial: InitialConfiguration, faults: FaultModel) -> tuple:
 
 def _new_run(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
              faults: FaultModel | None, **options) -> RunState:
-    """A run before its start (:class:`~.phases.RunState`): the checks (:func:`preflight`), the
-    slots (:func:`_slots`), the motion and clock models and the fault model's generator.
-    ``options``: :func:`simulate`'s ``max_steps``, ``record_every``, ``observers``, ``progress``,
-    ``stop_when`` and ``record_clamps``, checked when the run starts (:func:`_start`)."""
+    """A run before its start (:class:`~.phases.RunState`).
+
+    The checks (:func:`preflight`), the slots (:func:`_slots`), the motion and clock models and
+    the fault model's generator.  ``options``: :func:`simulate`'s ``max_steps``,
+    ``record_every``, ``observers``, ``progress``, ``stop_when`` and ``record_clamps``, checked
+    when the run starts (:func:`_start`).
+    """
     seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
     model = algorithm.model
     ids, poses, present, slot_of_add = _slots(initial, faults)
@@ -478,8 +483,10 @@ def _new_run(algorithm, lattice, initial: InitialConfiguration, params: Params, 
 
 
 def _new_controllers(run: RunState, initial: InitialConfiguration) -> None:
-    """A controller per robot of the start, with its seeded generator; an algorithm that
-    ``knows_start`` then gets the robot set and the start positions (read-only)."""
+    """A controller per robot of the start, with its seeded generator.
+
+    An algorithm that ``knows_start`` then gets the robot set and the start positions (read-only).
+    """
     algorithm, ids_list, n0 = run.algorithm, run.ids_list, run.n0
     run.controllers = [None] * run.n_total
     for k in range(n0):
@@ -504,8 +511,10 @@ def _new_controllers(run: RunState, initial: InitialConfiguration) -> None:
 
 
 def _first_states(run: RunState) -> tuple:
-    """Every controller's ``state()`` before step 0 (a crash there is the algorithm's, not a
-    robot's), each checked hashable."""
+    """Every controller's ``state()`` before step 0, each checked hashable.
+
+    A crash there is the algorithm's (``run.calling`` -1), not one robot's.
+    """
     run.calling = -1
     states = tuple(None if c is None or not run.present[k] else c.state() for k, c in enumerate(run.controllers))
     run.calling = None
@@ -520,9 +529,11 @@ def _first_states(run: RunState) -> tuple:
 
 
 def _plan_shortcuts(run: RunState) -> None:
-    """Whether ``repeat_step`` may stand in for ``step`` (engine module docstring): only in the
-    plain model (every robot acts, hears its neighbors, senses exactly; no robot joins or
-    crashes) and when every controller offers it."""
+    """Whether ``repeat_step`` may stand in for ``step`` (engine module docstring).
+
+    Only in the plain model (every robot acts, hears its neighbors, senses exactly; no robot
+    joins or crashes) and when every controller offers it.
+    """
     model, faults, n_total = run.algorithm.model, run.faults, run.n_total
     run.repeaters = [getattr(c, "repeat_step", None) for c in run.controllers]
     run.repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
@@ -538,9 +549,12 @@ def _plan_shortcuts(run: RunState) -> None:
 
 
 def _start(run: RunState, initial: InitialConfiguration, stop_when_static, record_messages: bool) -> None:
-    """Step 0: the controllers, the caps and options checked, the first recorded frame and
-    states, the models of the loop, the observers' start, and whether the run is over before
-    its first step (``finished`` already, or stopped by ``stop_when``)."""
+    """Step 0: everything the loop needs, and whether the run is over before its first step.
+
+    The controllers, the caps and options checked, the first recorded frame and states, the
+    models of the loop, the observers' start; the run is over when ``finished`` holds already
+    or ``stop_when`` stops it.
+    """
     _new_controllers(run, initial)
     algorithm, model, faults = run.algorithm, run.algorithm.model, run.faults
     run.max_steps, run.window = run_caps(algorithm, run.params, run.n0, run.max_steps, stop_when_static)
@@ -578,8 +592,7 @@ def _start(run: RunState, initial: InitialConfiguration, stop_when_static, recor
 
 
 def _end(run: RunState) -> None:
-    """The loop ran out of steps (status ``"step_cap"``) unless a stop test ended it; the last
-    progress call."""
+    """The loop ended: status ``"step_cap"`` unless a stop test ended it, and the last progress call."""
     if run.status is None:
         run.status = "step_cap"
     if run.progress is not None:
@@ -587,9 +600,12 @@ def _end(run: RunState) -> None:
 
 
 def _crashed(run: RunState, exc: BaseException) -> None:
-    """Status ``"crashed"``: what the algorithm under test raised (``run.calling`` says whose code
-    ran) becomes the result's ``crash`` and an ``algorithm_crash`` event; the trace ends at the
-    start of that step (a crash before the first states leaves one frame of no states)."""
+    """Status ``"crashed"``: what the algorithm under test raised, as the run's result.
+
+    The exception (``run.calling`` says whose code ran) becomes the result's ``crash`` and an
+    ``algorithm_crash`` event; the trace ends at the start of that step (a crash before the
+    recording exists leaves one frame whose states are all None).
+    """
     crash = run.crash = _crash_record(exc, run.calling, run.t, run.ids_list, run.anonymous)
     run.status = "crashed"
     run.events.append(Event(run.t, "algorithm_crash", () if crash["robot"] is None else (crash["robot"],),
@@ -605,8 +621,10 @@ def _crashed(run: RunState, exc: BaseException) -> None:
 
 
 def _result(run: RunState) -> SimulationResult:
-    """The :class:`SimulationResult` of a run that ended: its trace (a sparse one ends with the
-    last step) with ``trace.meta`` (:func:`run_meta`)."""
+    """The :class:`SimulationResult` of a run that ended.
+
+    Its trace (a sparse one ends with the last step) with ``trace.meta`` (:func:`run_meta`).
+    """
     run.rec.finish(run.t, run.poses, run.present, run.states)
     mover = run.mover
     meta = run_meta(run.algorithm, run.lattice, run.params, run.seed, run.status, run.t, run.max_steps, run.window,
