@@ -94,6 +94,7 @@ from .common import _ro
 from .communication import Delivery
 from .faults import DropSet, FaultModel, TableSchedule
 from .motion import _command_values, motion_model
+from .parameters import check_extra, check_motion, check_target_kind
 from .sensing import _new_observation, sense
 
 __all__ = [
@@ -365,6 +366,7 @@ def _check_params(params: Params) -> None:
             raise UsageError(f"params.{name}={v!r} must be a finite number > 0")
     if not (isinstance(params.v, (int, float)) and math.isfinite(params.v) and params.v >= 0):
         raise UsageError(f"params.v={params.v!r} must be a finite number >= 0")
+    check_motion(params)     # a run that could not move is meaningless (issue 29)
 
 
 def _robot_rng(seed: int, slot: int) -> np.random.Generator:
@@ -398,6 +400,8 @@ def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params,
     broken: list[str] = []
 
     check_team_size(algorithm, n0)     # memory and time bounded on any input
+    check_extra(algorithm, params.extra)   # declared keys, each in its range (engine/parameters.py)
+    check_target_kind(algorithm, lattice)
     own_check = getattr(algorithm, "check_params", None)
     if callable(own_check):
         own_check(params, n0, lattice)   # an algorithm's own options (usage errors, before any step)
