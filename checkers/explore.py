@@ -769,7 +769,7 @@ def check_explore_robots(robots, algorithm=None) -> tuple[int, int]:
         what = {"points": "connected starts", "cells": "connected grid starts", "free": "grid starts"}[start]
         raise UsageError(f"robots={hi} is more than the explorer draws (at most {cap} for {what}: Hypothesis "
                          "draws each scenario from a bounded buffer, which a larger start overruns)",
-                         fix=f"explore at most {cap} robots (e.g. --robots {min(lo, cap)}..{cap}); simulate runs "
+                         fix=f"explore at most {cap} robots (e.g. --robots {lo if lo <= cap else min(3, cap)}..{cap}); simulate runs "
                              f"teams of up to {MAX_ROBOTS}")
     if algorithm is not None:
         check_team_size(algorithm, hi)
