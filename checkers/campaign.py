@@ -94,12 +94,53 @@ def _check_names(spec) -> None:
                                  exc.fix or "use a bundled name") from None
 
 
+def _check_run_inputs(spec) -> None:
+    """What every task will run, checked before any task starts, with the same checks and messages as
+    ``explore`` and ``simulate`` (issue 29), each error located at its field: team sizes the explorer
+    can draw and the algorithm runs, targets of a kind the algorithm forms, ``params`` and ``speeds``
+    (declared parameters in their ranges, motion that moves a robot)."""
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+    from swarmproof.checkers.explore import _load_targets, check_explore_robots, check_run_params
+    from swarmproof.checkers.runs import check_robots
+    from swarmproof.models.targets import resolve_target
+    from swarmproof.reference_impl.engine.parameters import check_target_kind
+    from swarmproof.reference_impl.engine.run import check_team_size
+
+    def located(path, check, *args):
+        try:
+            return check(*args)
+        except UsageError as exc:
+            raise spec.error(path, exc.message, exc.fix or "see docs/campaigns.md") from None
+
+    for cell in spec.explore:
+        factory = resolve_algorithm(cell.algorithm).factory
+        located(cell.path + ("robots",), check_explore_robots, cell.robots, factory)
+        algo = located(cell.path + ("algorithm",), resolve_algorithm(cell.algorithm).build, cell.robots[1])
+        lats = cell.lattices if cell.lattices is not None else getattr(factory, "explore_targets", None)
+        _, loaded, _ = located(cell.path + ("lattices",), _load_targets, lats, False,
+                               getattr(factory, "default_range", None))
+        for k, target in enumerate(loaded.values()):
+            located(cell.path + (("lattices", k) if cell.lattices is not None else ("algorithm",)),
+                    check_target_kind, algo, target)
+        located(cell.path + ("speeds" if cell.speeds else "params",), check_run_params, algo, loaded,
+                dict(cell.params), cell.robots[1], cell.speeds)
+    for cell in spec.simulate:
+        factory = resolve_algorithm(cell.algorithm).factory
+        for k, n in enumerate(cell.robots):
+            located(cell.path + ("robots", k), check_robots, n, None)
+            algo = located(cell.path + ("algorithm",), resolve_algorithm(cell.algorithm).build, n)
+            located(cell.path + ("robots", k), check_team_size, algo, n)
+        for k, name in enumerate(cell.targets):
+            located(cell.path + ("targets", k), check_target_kind, factory, resolve_target(name, prefer="lattice"))
+
+
 def plan_tasks(spec) -> list[Task]:
     """Every task of ``spec``, in a fixed order (cells as written, then properties / targets,
     sizes and seeds).  Names are checked first (located errors)."""
     from swarmproof.checkers.explore import explore_properties
 
     _check_names(spec)
+    _check_run_inputs(spec)
     tasks: list[Task] = []
     for cell in spec.explore:
         for prop in (cell.properties or explore_properties()):

@@ -632,7 +632,8 @@ def _check_speeds(speeds, params) -> tuple | None:
     out = []
     for s in speeds:
         if isinstance(s, bool) or not isinstance(s, (int, float)) or not math.isfinite(s) or s <= 0:
-            raise UsageError(f"speeds contains {s!r}: every speed must be a finite number > 0",
+            raise UsageError(f"speeds contains {s!r}: every speed must be a finite number > 0 (robots that "
+                             "cannot move make a run meaningless)",
                              fix="e.g. speeds=[0.05, 0.4, 0.8]")
         out.append(float(s))
     if not out:
@@ -720,6 +721,62 @@ def _safe(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", text)
 
 
+#: The largest team the scenario strategy draws (:func:`scenario_strategy`), per kind of start:
+#: Hypothesis draws each scenario from a bounded buffer of choices and rejects a start whose robots
+#: collide (``assume``), so a larger team overruns the buffer or is rejected every time -- it then
+#: reports ``Unsatisfiable`` after spending the budget.  Measured with Hypothesis 6.170 (5 examples,
+#: seed 0, on a loaded 2-core machine): connected ``points`` 64 robots in 5 s, 80 in 28 s, 150 never;
+#: connected grid ``cells`` (range 1.2, spacing 0.2) 20 in 5 s, 25 in 20 s, 50 never; ``free`` grid
+#: starts (an algorithm with its own ``initial``, 004) 1000 in 9 s.  Larger teams are for
+#: ``simulate`` (at most :data:`~swarmproof.checkers.runs.MAX_ROBOTS`) and campaigns' simulate cells.
+EXPLORE_MAX_ROBOTS = {"points": 64, "cells": 20, "free": 1000}
+
+
+def explore_start_kind(factory) -> str:
+    """Which start :func:`scenario_strategy` draws for an algorithm class: ``"free"`` grid cells (grid
+    motion and its own ``initial``, 004), connected grid ``"cells"`` (grid motion), else connected
+    ``"points"`` (an algorithm's own ``explore_start`` falls back to them)."""
+    if getattr(getattr(factory, "model", None), "motion", None) == "grid":
+        return "free" if callable(getattr(factory, "initial", None)) else "cells"
+    return "points"
+
+
+def check_explore_robots(robots, algorithm=None) -> tuple[int, int]:
+    """``robots`` ``(MIN, MAX)`` as ints, refused (:class:`UsageError` naming the cap and why) when
+    the explorer cannot draw such teams: more than :data:`EXPLORE_MAX_ROBOTS` for the algorithm's kind
+    of start, or more than the algorithm runs (its ``max_robots``,
+    :func:`~swarmproof.reference_impl.engine.run.check_team_size`).  The one check of ``explore``,
+    ``verify``'s exploration rows and campaigns' explore cells.
+
+    >>> check_explore_robots((3, 8))
+    (3, 8)
+    >>> check_explore_robots((300, 300))
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: robots=300 is more than the explorer draws (at most 64 for connected starts: Hypothesis draws each scenario from a bounded buffer, which a larger start overruns); fix: explore at most 64 robots (e.g. --robots 3..64); simulate runs teams of up to 20000
+    """
+    from swarmproof.checkers.runs import MAX_ROBOTS
+    from swarmproof.reference_impl.engine.run import check_team_size
+
+    try:
+        lo, hi = (int(robots[0]), int(robots[1]))
+    except (TypeError, ValueError, IndexError):
+        raise UsageError(f"robots={robots!r} must be a pair (MIN, MAX)") from None
+    if not 1 <= lo <= hi:
+        raise UsageError(f"robots={robots!r} must satisfy 1 <= MIN <= MAX", fix="e.g. robots=(3, 8)")
+    start = explore_start_kind(algorithm)
+    cap = EXPLORE_MAX_ROBOTS[start]
+    if hi > cap:
+        what = {"points": "connected starts", "cells": "connected grid starts", "free": "grid starts"}[start]
+        raise UsageError(f"robots={hi} is more than the explorer draws (at most {cap} for {what}: Hypothesis "
+                         "draws each scenario from a bounded buffer, which a larger start overruns)",
+                         fix=f"explore at most {cap} robots (e.g. --robots {lo if lo <= cap else min(3, cap)}..{cap}); simulate runs "
+                             f"teams of up to {MAX_ROBOTS}")
+    if algorithm is not None:
+        check_team_size(algorithm, hi)
+    return lo, hi
+
+
 def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lattices, out_dir=None, strict=False):
     spec = resolve_algorithm(algorithm)
     from swarmproof.invariants.registry import get_property
@@ -737,12 +794,7 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         raise UsageError(f"budget={budget!r} must be a finite number of seconds > 0")
     if isinstance(max_examples, bool) or not isinstance(max_examples, int) or max_examples < 1:
         raise UsageError(f"max_examples={max_examples!r} must be an integer >= 1")
-    try:
-        lo, hi = (int(robots[0]), int(robots[1]))
-    except (TypeError, ValueError, IndexError):
-        raise UsageError(f"robots={robots!r} must be a pair (MIN, MAX)") from None
-    if not 1 <= lo <= hi:
-        raise UsageError(f"robots={robots!r} must satisfy 1 <= MIN <= MAX", fix="e.g. robots=(3, 8)")
+    lo, hi = check_explore_robots(robots, spec.factory)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise UsageError(f"seed={seed!r} must be an integer >= 0")
     if lattices is None:
@@ -818,6 +870,41 @@ class _Exploration:
     progress: Callable | None
     out_dir: Any
     database_dir: Any
+
+
+#: The keys of ``explore(params=...)`` (and of a campaign's explore cell ``params:``).
+RUN_PARAM_KEYS = ("v", "omega", "dt", "extra")
+
+
+def check_run_params(algo, loaded: Mapping[str, Any], params: Mapping[str, Any], n_max: int, speeds=None) -> None:
+    """Before any scenario: the run parameters as every scenario will build them (each target's range,
+    each drawn speed), checked by the engine's own checks (:func:`~swarmproof.checkers.runs.build_params`:
+    declared ``extra`` keys in their ranges, motion that moves a robot).  A key of ``params`` other than
+    :data:`RUN_PARAM_KEYS` is refused, naming the algorithm parameter it is closest to (a campaign's
+    ``params: {communication_timeout: 3}`` belongs under ``extra``)."""
+    from swarmproof.reference_impl.engine.parameters import check_extra
+
+    for key, value in params.items():
+        if key not in RUN_PARAM_KEYS:
+            check_extra(algo, {key: value})      # an unknown name: the closest one and the list
+            raise UsageError(f"params {key}={value!r} is not one of {list(RUN_PARAM_KEYS)!r}",
+                             fix=f"an algorithm parameter goes under extra: params: {{extra: {{{key}: {value!r}}}}} "
+                                 f"(--param {key}={value} on the command line)")
+    for name, target in loaded.items():
+        for v_try in (speeds or (params.get("v"),)):
+            build_params(algo, float(target.range), n_max, v=v_try, omega=params.get("omega"),
+                         dt=params.get("dt"), extra=params.get("extra"))
+
+
+def _check_run_inputs(ex: _Exploration, algo, lats, n_max: int, speeds) -> None:
+    """Before any scenario: every target of a kind the algorithm forms
+    (:func:`~swarmproof.reference_impl.engine.parameters.check_target_kind`), and
+    :func:`check_run_params`."""
+    from swarmproof.reference_impl.engine.parameters import check_target_kind
+
+    for name in lats:
+        check_target_kind(algo, ex.loaded[name])
+    check_run_params(algo, {name: ex.loaded[name] for name in lats}, ex.params, n_max, speeds)
 
 
 def _kept_and_broken_assumptions(ex: _Exploration, algo, lats, n_max: int, speeds) -> tuple[list, list]:
@@ -1231,6 +1318,7 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     ex = _Exploration(spec, seed, max_examples, loaded, {name: float(g.range) for name, g in loaded.items()},
                       params, dict(options or {}), fault_model, max_steps, allow_violations, _scale_target(algo),
                       progress, out_dir, database_dir)
+    _check_run_inputs(ex, algo, lats, rng_robots[1], speeds)
     kept, broken = _kept_and_broken_assumptions(ex, algo, lats, rng_robots[1], speeds)
     draw_faults = _check_draw_faults(draw_faults, fault_model)
     broken = _with_fault_assumptions(broken, algo, fault_model, draw_faults)

@@ -150,6 +150,13 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
     subjects = report_mod.verify_subjects(None if algorithms is None else tuple(algorithms))
     wanted = sections or (["algorithms", "exploration"] if algorithms else list(report_mod.SECTIONS))
     ordered = [s for s in report_mod.SECTIONS if s in wanted]
+    if "exploration" in ordered:      # team sizes the explorer cannot draw: refused before any row runs
+        from swarmproof.checkers.algorithm_spec import resolve_algorithm
+        from swarmproof.checkers.explore import check_explore_robots
+
+        for s in subjects:
+            if algorithms or s.plan.explore:
+                check_explore_robots(tuple(gate["robots"]), resolve_algorithm(s.ref).factory)
     rep = report_mod.run_report(ordered, progress=progress, options={
         "exploration": {"max_examples": gate["max_examples"], "robots": tuple(gate["robots"]),
                         "seed": gate["seed"], "out_dir": out_dir, "properties": explore_props,

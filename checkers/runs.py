@@ -23,7 +23,7 @@ from typing import Any, Callable, Mapping
 from swarmproof.models.errors import UsageError
 from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, Verdict
 
-__all__ = ["CheckedRun", "build_params", "run_and_check", "RUN_PROPERTIES", "run_property_verdicts",
+__all__ = ["CheckedRun", "build_params", "check_robots", "MAX_ROBOTS", "run_and_check", "RUN_PROPERTIES", "run_property_verdicts",
            "cx_params", "run_counterexample"]
 
 
@@ -72,7 +72,11 @@ MAX_ROBOTS = 20000
 
 def build_params(algorithm, phi: float, n: int, *, v: float | None = None, omega: float | None = None,
                  dt: float | None = None, extra: Mapping[str, Any] | None = None):
-    """Params from the algorithm's defaults (if it offers ``default_params(range, n)``) and overrides."""
+    """Params from the algorithm's defaults (if it offers ``default_params(range, n)``) and overrides,
+    checked before any run by the engine's own checks (one code path for simulate, explore, campaigns
+    and verify): motion that could move a robot (``v > 0``, a measurable ``v*dt``), and ``extra`` keys
+    the algorithm declares, each in its range (:mod:`swarmproof.reference_impl.engine.parameters`)."""
+    from swarmproof.reference_impl.engine.parameters import check_extra, check_motion
     from swarmproof.reference_impl.protocol import Params
 
     f = getattr(algorithm, "default_params", None)
@@ -84,8 +88,11 @@ def build_params(algorithm, phi: float, n: int, *, v: float | None = None, omega
                 raise UsageError(f"{name}={val!r} must be a finite positive number")
             changes[name] = val
     if extra:
+        check_extra(algorithm, extra)     # the user's keys first: the defaults' keys are the algorithm's own
         changes["extra"] = {**dict(params.extra), **dict(extra)}
-    return dataclasses.replace(params, **changes) if changes else params
+    params = dataclasses.replace(params, **changes) if changes else params
+    check_motion(params)
+    return params
 
 
 # ---------------------------------------------------------------------------
@@ -121,8 +128,9 @@ def _target_warnings(lattice, phi: float, strict: bool) -> list:
     return warnings
 
 
-def _check_robots(robots: int | None, initial) -> None:
-    """Without an ``initial`` configuration, ``robots`` is required and at most :data:`MAX_ROBOTS`."""
+def check_robots(robots: int | None, initial) -> None:
+    """Without an ``initial`` configuration, ``robots`` is required and at most :data:`MAX_ROBOTS`
+    (simulate, verify's algorithm rows and campaigns' simulate cells)."""
     if initial is not None:
         return
     if robots is None:
@@ -323,17 +331,19 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     """
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
     from swarmproof.invariants.connectivity import tree_link_mode_of
+    from swarmproof.reference_impl.engine.parameters import check_target_kind
     from swarmproof.reference_impl.engine.run import check_team_size
 
     spec = resolve_algorithm(algorithm_name)  # unknown names fail first, listing the valid ones
     if seed < 0:
         raise UsageError(f"seed={seed!r} must be >= 0")
+    check_target_kind(spec.factory, lattice)  # a target of a kind it does not form: refused before any run
     kind = getattr(lattice, "kind", "lattice")
     phi = _run_range(spec, lattice, kind, phi)
     warnings = _target_warnings(lattice, phi, strict)
     if max_steps is not None and max_steps < 0:
         raise UsageError(f"max_steps={max_steps!r} must be >= 0")
-    _check_robots(robots, initial)
+    check_robots(robots, initial)
     n = initial.n if initial is not None else robots
     algorithm = spec.build(n_robots=n)
     check_team_size(algorithm, n)          # before drawing a start: bounded on any input

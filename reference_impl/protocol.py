@@ -48,7 +48,7 @@ from typing import Any, Callable, Hashable, Mapping, Protocol, Sequence, runtime
 import numpy as np
 
 __all__ = [
-    "Assumption", "RobotModel", "Params", "VerifyPlan", "Observation", "Command", "Controller",
+    "Assumption", "RobotModel", "Params", "ParamSpec", "VerifyPlan", "Observation", "Command", "Controller",
     "Algorithm", "steer_toward", "connected_start",
 ]
 
@@ -151,6 +151,95 @@ class Params:
     def step_length(self) -> float:
         """``v * dt``: the farthest a robot moves in one step."""
         return self.v * self.dt
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """One key of ``Params.extra`` an algorithm (or the engine) reads: its name, type, range and
+    meaning (DESIGN.md section 1, "its parameters (name, type, range, meaning: unknown keys are
+    refused)").  An algorithm lists them in its class attribute ``parameters``; the engine's
+    preflight checks every run's ``Params.extra`` against them
+    (:func:`swarmproof.reference_impl.engine.parameters.check_extra`).
+
+    Attributes
+    ----------
+    name : str
+        The key, as the user types it (``--param NAME=VALUE``, a campaign's ``params:``).
+    type : type
+        ``float`` (an int is accepted too), ``int`` (a whole number), ``bool``, ``str``, or
+        ``object`` (anything: the algorithm checks the value itself, e.g. 003's ``fail`` list).
+    default : object
+        The value used when the key is absent (None: computed, see ``meaning``).
+    low, high : float, optional
+        The range of a number; None is unbounded.
+    low_open, high_open : bool
+        Whether ``low`` / ``high`` themselves are excluded (``(0, inf)``: ``low=0, low_open=True``).
+    meaning : str
+        What it sets, for errors, ``--help`` texts and the docs' parameter tables.
+    choices : tuple, optional
+        The values allowed (a ``str`` parameter such as song2016's ``parent_rule``).
+
+    Examples
+    --------
+    >>> s = ParamSpec("p_random", float, 0.1, low=0, high=1, meaning="probability of a random goal")
+    >>> s.range_text()
+    '[0, 1]'
+    >>> s.problem(0.5) is None, s.problem(-1)
+    (True, 'p_random=-1 is outside its range [0, 1] (probability of a random goal)')
+    >>> ParamSpec("broadcast_every", float, 1.0, low=0, low_open=True).problem(0)
+    'broadcast_every=0 is outside its range (0, inf)'
+    >>> ParamSpec("k", int, 3, low=1).problem(2.5)
+    'k=2.5 must be a whole number'
+    """
+
+    name: str
+    type: type = float
+    default: Any = None
+    low: float | None = None
+    high: float | None = None
+    meaning: str = ""
+    low_open: bool = False
+    high_open: bool = False
+    choices: tuple | None = None
+
+    def range_text(self) -> str:
+        """The allowed values in words: ``[0, 1]``, ``(0, inf)``, ``one of [...]``, ``any str``."""
+        if self.choices is not None:
+            return f"one of {list(self.choices)!r}"
+        if self.type in (int, float) and (self.low is not None or self.high is not None):
+            lo = "-inf" if self.low is None else f"{self.low:g}"
+            hi = "inf" if self.high is None else f"{self.high:g}"
+            return (("(" if self.low_open or self.low is None else "[") + f"{lo}, {hi}" +
+                    (")" if self.high_open or self.high is None else "]"))
+        return {int: "any whole number", float: "any finite number", bool: "true or false",
+                str: "any text"}.get(self.type, "any value")
+
+    def problem(self, value: Any) -> str | None:
+        """None when ``value`` is of this parameter's type and within its range, else what is
+        wrong, naming it as ``name=value``."""
+        what = f"{self.name}={value!r}"
+        about = f" ({self.meaning})" if self.meaning else ""
+        if self.type is object:
+            return None
+        if self.type is bool:
+            return None if isinstance(value, bool) else f"{what} must be true or false{about}"
+        if self.type is str:
+            if not isinstance(value, str):
+                return f"{what} must be text{about}"
+        elif isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+            return f"{what} must be a number{about}"
+        elif self.type is int and not float(value).is_integer():
+            return f"{what} must be a whole number{about}"
+        elif not math.isfinite(float(value)):
+            return f"{what} must be a finite number{about}"
+        if self.choices is not None:
+            return None if value in self.choices else f"{what} is not {self.range_text()}{about}"
+        if self.type is str:
+            return None
+        x = float(value)
+        low_bad = self.low is not None and (x < self.low or (self.low_open and x == self.low))
+        high_bad = self.high is not None and (x > self.high or (self.high_open and x == self.high))
+        return f"{what} is outside its range {self.range_text()}{about}" if low_bad or high_bad else None
 
 
 @dataclass(frozen=True)
@@ -285,6 +374,16 @@ class Algorithm(Protocol):
     #     proof rests on; the ``premises`` property checks exactly these.
     # verify : VerifyPlan
     #     What ``swarmproof verify`` runs of it; without one it has no rows.
+    # parameters : tuple of ParamSpec
+    #     Every ``Params.extra`` key it reads (name, type, range, meaning).  With it, the engine's
+    #     preflight refuses a key it does not declare (naming the closest one) and a value out of
+    #     its range, before any step; without it (a user's algorithm that declares nothing) no
+    #     key is checked.  The engine's own keys (``grid_spacing``, clock rates, ...) are
+    #     declared by the engine (``engine/parameters.py``) for the models that read them.
+    # target_kinds : tuple of str
+    #     The kinds of target it forms (:func:`swarmproof.models.targets.target_kinds`, e.g.
+    #     ``("lattice",)``); a target of another kind is a usage error before any run.
+    #     Without it, any kind is run.
     # knows_start : bool
     #     The paper gives every robot the robot set and all initial positions as input
     #     (002 Sec. III-A, Alg. 1 "Input"); needs ``sensing="global"``.  The engine then

@@ -49,7 +49,11 @@ class _Parser(argparse.ArgumentParser):
     json_errors = False
 
     def error(self, message: str):  # pragma: no cover - exercised via CLI tests
-        self.print_usage(sys.stderr)
+        unknown = _unknown_command(message)
+        if unknown is not None:        # `swarmproof simualte`: the closest command, not the usage
+            message = unknown
+        else:
+            self.print_usage(sys.stderr)
         if _Parser.json_errors:
             from swarmproof.commands import emit_json
 
@@ -60,6 +64,25 @@ class _Parser(argparse.ArgumentParser):
 
     def format_help(self) -> str:
         return readable(super().format_help())   # --help cites papers by name too
+
+
+def _unknown_command(message: str) -> str | None:
+    """argparse's "invalid choice" of the subcommand as ``unknown command 'X'; did you mean 'Y'?``
+    (None for any other message).
+
+    >>> _unknown_command("argument COMMAND: invalid choice: 'simualte' (choose from 'simulate', 'prove')")
+    "unknown command 'simualte'; did you mean 'simulate'?"
+    """
+    import difflib
+    import re
+
+    m = re.match(r"argument COMMAND: invalid choice: '(.*?)' \(choose from (.*)\)$", message)
+    if m is None:
+        return None
+    choices = re.findall(r"'([^']*)'", m.group(2)) or [c.strip() for c in m.group(2).split(",")]
+    close = difflib.get_close_matches(m.group(1), choices, n=1)
+    hint = f"; did you mean {close[0]!r}?" if close else f" (commands: {', '.join(choices)})"
+    return f"unknown command {m.group(1)!r}{hint}"
 
 
 def build_parser() -> argparse.ArgumentParser:

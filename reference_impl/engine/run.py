@@ -96,6 +96,7 @@ from .communication import Delivery
 from .faults import DropSet, FaultModel, TableSchedule
 from .motion import motion_model
 from .phases import RunState, StepView, activate, apply_faults, decide, move, record, sense, stop_test
+from .parameters import check_extra, check_motion, check_target_kind
 
 __all__ = [
     "simulate", "SimulationResult", "Trace", "FaultModel", "TableSchedule", "DropSet", "default_max_steps",
@@ -362,6 +363,7 @@ def _check_params(params: Params) -> None:
             raise UsageError(f"params.{name}={v!r} must be a finite number > 0")
     if not (isinstance(params.v, (int, float)) and math.isfinite(params.v) and params.v >= 0):
         raise UsageError(f"params.v={params.v!r} must be a finite number >= 0")
+    check_motion(params)     # a run that could not move is meaningless (issue 29)
 
 
 def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
@@ -391,6 +393,8 @@ def preflight(algorithm, lattice, initial: InitialConfiguration, params: Params,
     broken: list[str] = []
 
     check_team_size(algorithm, n0)     # memory and time bounded on any input
+    check_extra(algorithm, params.extra)   # declared keys, each in its range (engine/parameters.py)
+    check_target_kind(algorithm, lattice)
     own_check = getattr(algorithm, "check_params", None)
     if callable(own_check):
         own_check(params, n0, lattice)   # an algorithm's own options (usage errors, before any step)

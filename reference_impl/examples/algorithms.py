@@ -37,8 +37,8 @@ from __future__ import annotations
 
 import math
 
-from ..protocol import (Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start,
-                       steer_toward)
+from ..protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel, VerifyPlan,
+                        connected_start, steer_toward)
 
 __all__ = ["GatherToLowestId", "GatherController", "AnonymousLine", "AnonymousLineController", "GridGoals",
            "GridGoalsController"]
@@ -95,6 +95,10 @@ class GatherToLowestId:
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
         connected_start("example (cf. 001 Sec. III)"),
     )
+    #: The ``Params.extra`` keys it reads (``--param gap=0.4``); the engine refuses any other key and a
+    #: value out of range before the run.  No ``target_kinds``: it forms nothing, any target is run.
+    parameters = (ParamSpec("gap", float, None, low=0, low_open=True,
+                            meaning="how far short of the lowest-ID neighbor a robot stops; default range/2"),)
 
     def controller(self, robot_id, params, lattice, rng):
         return GatherController(robot_id, params)
@@ -196,6 +200,9 @@ class AnonymousLine:
     claims: dict = {}
     #: ``swarmproof verify`` shows it beside the papers' algorithms (its rows are findings).
     verify = VerifyPlan(targets=("lines:line",), robots=6, seeds=(0, 1, 2), explore=True, rank=50)
+    parameters = (ParamSpec("interval", float, None, low=0, low_open=True,
+                            meaning="the spacing along the line; default the target's interval"),)
+    target_kinds = ("lines",)
 
     def controller(self, robot_id, params: Params, target, rng) -> AnonymousLineController:
         interval = params.extra.get("interval", getattr(target, "interval", None) or 1.0)
@@ -311,6 +318,9 @@ class GridGoals:
     explore_targets = ("shape:letter-l", "shape:square-9")
     claims: dict = {}
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=60)
+    #: No keys of its own: only the engine's grid and clock keys (grid_spacing, clock rates, ...).
+    parameters = ()
+    target_kinds = ("shape",)
 
     @staticmethod
     def default_params(range: float, n: int) -> Params:

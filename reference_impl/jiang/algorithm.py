@@ -368,6 +368,10 @@ class Jiang:
     #: Runtime invariants of 002's bookkeeping (the ``invariants`` property, every step).
     invariants = INVARIANTS
     explore_targets = ("pattern:rhombus-triangles", "pattern:square-segments", "pattern:square-dots")
+    #: 002's algorithm reads no ``Params.extra`` key (the engine refuses every one but its own) and
+    #: forms a repeating pattern (002 Defs. 3, 7; ``--pattern lattice:NAME`` for a one-role lattice).
+    parameters = ()
+    target_kinds = ("pattern",)
     verify = VerifyPlan(targets=("pattern:rhombus-triangles", "pattern:square-segments",
                                  "pattern:triangle-segments", "pattern:trapezoid-hexagons"),
                         robots=12, seeds=(0, 1, 2), explore=True, rank=20)

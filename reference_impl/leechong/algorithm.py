@@ -66,7 +66,8 @@ import numpy as np
 
 from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.models.errors import UsageError
-from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
+from swarmproof.reference_impl.protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel,
+                                               VerifyPlan)
 
 from .numbering import neighbor_id
 
@@ -189,6 +190,21 @@ OPTION_KEYS = ("then", "fail", "flock_to", "position_errors", "error_size", "per
 PATTERN_PARAM_KEYS = ("alpha_star", "m", "k", "rotation", "radius", "center", "index", "noline")
 #: engine keys of ``Params.extra`` that any algorithm may see
 _ENGINE_KEYS = ("grid_spacing", "clock_rate_min", "clock_rate_max", "broadcast_every", "robot_radius")
+
+#: The declarations of :data:`OPTION_KEYS` and :data:`PATTERN_PARAM_KEYS` (type, range, meaning): the
+#: engine refuses any other key before a run (issue 29).  ``object``: :func:`options_of` and the line
+#: patterns check the value themselves (lists, ``ROBOT@STEP``, points).
+PARAMETERS = (
+    ParamSpec("then", object, (), meaning="patterns to switch to once the present one stands (Secs. 3.4, 3.6)"),
+    ParamSpec("fail", object, (), meaning="robots that fail, ROBOT@STEP, ROBOT an allocated ID or 'leader' (Sec. 3.5)"),
+    ParamSpec("flock_to", object, None, meaning="a point the formation flocks to (Sec. 3.3)"),
+    ParamSpec("position_errors", object, (), meaning="IDs of the followers with a position error (Sec. 5.2)"),
+    ParamSpec("error_size", float, 0.3, low=0, meaning="the size of a position error (Sec. 5.2)"),
+    ParamSpec("perturbation", float, 0.05, low=0, low_open=True, meaning="the noise of a perturbed start"),
+    ParamSpec("arrive_tol", float, 1e-6, low=0, low_open=True, meaning="a robot this close to its target has arrived"),
+    ParamSpec("id_order", str, "u-increasing", choices=ID_ORDERS, meaning="the order of Alg. 1's IDs"),
+) + tuple(ParamSpec(k, object, None, meaning="a line pattern's parameter (models/line_patterns.py checks it)")
+          for k in PATTERN_PARAM_KEYS)
 
 
 def _positive(name: str, value, example: str, *, zero: bool = False) -> float:
@@ -971,6 +987,9 @@ class LeeChongLeader:
     invariants = INVARIANTS
     explore_targets = ("lines:wedge", "lines:circle", "lines:two-row", "lines:diamond")
     pattern_kind = "lines"
+    #: Its ``Params.extra`` keys (:data:`PARAMETERS`) and the kind of target it forms (003's line patterns).
+    parameters = PARAMETERS
+    target_kinds = ("lines",)
     #: 003 is about "small-scale robot teams" (title; Sec. 3.7 and 4.6 use 12 robots, Fig. 7 up to
     #: 15): each robot re-identifies every other one by an optimal matching each step (O(n^3) per
     #: robot and step), so the engine refuses more than this many robots (exit 2).

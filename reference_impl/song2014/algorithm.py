@@ -60,7 +60,7 @@ from swarmproof.models.errors import AssumptionError, ProtocolError
 from swarmproof.models.geometry import nearest_xy
 from swarmproof.models.se2 import wrap_angle
 
-from ..protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
+from ..protocol import Assumption, Command, Observation, Params, ParamSpec, RobotModel, VerifyPlan
 
 __all__ = [
     "Song2014", "Song2014Controller", "Song2014Message", "authority_key", "is_higher",
@@ -698,6 +698,13 @@ class Song2014:
     premise_monitors = ("step_bounded", "parent_bounded_range")
     #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
     verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=1)
+    #: Its ``Params.extra`` keys (the engine refuses any other) and the kind of target it forms.
+    parameters = (
+        ParamSpec("arrive_tol", float, None, low=0,
+                  meaning="a robot this close to its destination has arrived; default 1e-9 * range"),
+        ParamSpec("heading_tol", float, 1e-9, low=0, meaning="arrival tolerance of the heading, radians"),
+    )
+    target_kinds = ("lattice",)
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi",
                    "000 Sec. IV-C, Lemma 7 (the disc of radius phi - v*dt)", _check_v_dt),

@@ -68,7 +68,8 @@ import numpy as np
 
 from swarmproof.models.errors import ProtocolError, UsageError, check_finite
 from swarmproof.models.se2 import wrap_angle
-from ..protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan, connected_start
+from ..protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel, VerifyPlan,
+                        connected_start)
 from .geometry import (SAFE_MARGIN, bounded_range_radius, closest_point_in_discs,
                                 farthest_point_toward, in_discs, reachable_point)
 
@@ -588,8 +589,30 @@ class Song2016Config:
 #: A step number no run reaches (repeat_horizon when no timeout is pending).
 _NEVER = 2 ** 62
 
-_EXTRA_KEYS = ("communication_timeout", "movement_timeout", "d_s", "arrival_epsilon",
-               "heading_epsilon", "vacancy_tolerance", "rumor_filter", "parent_rule")
+#: The ``Params.extra`` keys 001's algorithm reads (``--param KEY=VALUE``), with their types and ranges;
+#: the engine refuses any other key (issue 29).  None as a default: computed, as the meaning says.
+PARAMETERS = (
+    ParamSpec("communication_timeout", int, None, low=0,
+              meaning="Def. 10's timeout in steps; default the number of robots (001 Sec. VI)"),
+    ParamSpec("movement_timeout", int, None, low=0,
+              meaning="steps a robot waits before it moves; default the number of robots"),
+    ParamSpec("d_s", float, None, meaning="Sec. V-C's safe distance; default (phi - v*dt)/2 "
+              "(assumption safe_distance_in_range: 0 < d_s < phi - v*dt)"),
+    ParamSpec("arrival_epsilon", float, 1e-6, low=0, low_open=True,
+              meaning="footnote 2's arrival distance at the vacancy"),
+    ParamSpec("heading_epsilon", float, 1e-6, low=0, low_open=True,
+              meaning="arrival tolerance of the heading, radians"),
+    ParamSpec("vacancy_tolerance", float, None, low=0, low_open=True,
+              meaning="a stable robot this close to p_hat fills the vacancy (Def. 9); default half the "
+                      "shortest lattice edge"),
+    ParamSpec("rumor_filter", str, "field", choices=RUMOR_FILTERS,
+              meaning="how rumors of stale roots are dropped (docs/decisions.md)"),
+    ParamSpec("parent_rule", str, None, choices=PARENT_RULES,
+              meaning="which neighbor a robot takes as parent (Sec. V-B); default the reading's"),
+)
+_EXTRA_KEYS = tuple(s.name for s in PARAMETERS)
+#: keys every algorithm may be given (the checkers read them; engine/parameters.py)
+_COMMON_KEYS = ("robot_radius",)
 
 
 def _check_count(name: str, value: Any) -> int:
@@ -1187,6 +1210,9 @@ class Song2016:
     #: discovering that no unstable robots remain"); a run that goes static short of it is a
     #: deadlock, and termination is judged violated (:func:`~swarmproof.invariants.termination.judge_termination`).
     own_end = "no unstable robot remains, 001 Sec. V-C"
+    #: Its ``Params.extra`` keys (:data:`PARAMETERS`) and the kind of target it forms (a lattice graph).
+    parameters = PARAMETERS
+    target_kinds = ("lattice",)
     #: The statement of the parent rule this class follows by default (:data:`PARENT_RULES`).
     default_parent_rule = "relocate_route"
 
@@ -1237,7 +1263,7 @@ class Song2016:
             A value of the wrong type or range, naming it, or no way to set a
             timeout (neither ``n_robots`` nor an explicit timeout).
         """
-        unknown = sorted(set(params.extra or {}) - set(_EXTRA_KEYS))
+        unknown = sorted(set(params.extra or {}) - set(_EXTRA_KEYS) - set(_COMMON_KEYS))
         if unknown:
             raise UsageError(f"params.extra has unknown key(s) {unknown!r} for song2016",
                              fix=f"use only {list(_EXTRA_KEYS)!r}")

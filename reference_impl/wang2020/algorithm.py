@@ -56,7 +56,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from swarmproof.invariants.algorithm_invariants import Invariant
-from swarmproof.reference_impl.protocol import Assumption, Command, Observation, Params, RobotModel, VerifyPlan
+from swarmproof.reference_impl.protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel,
+                                               VerifyPlan)
 
 __all__ = ["Wang2020", "Wang2020Controller", "WangMsg", "manhattan", "lex_greater", "default_params",
            "J1", "J2", "INVARIANT_NAMES", "window_bound", "speed_range", "speed_buffer_bound"]
@@ -474,6 +475,30 @@ def delta_t_of(params: Params) -> float:
     return 2.0 * float(ex.get("broadcast_every", 1.0))
 
 
+_POS = dict(low=0, low_open=True)
+
+#: The ``Params.extra`` keys 004's algorithm reads (``--param KEY=VALUE``), with their types and hard
+#: ranges (a value outside is refused before any run); the paper's own bounds on them are assumptions
+#: (``ASSUMPTIONS``), which ``--allow-violations`` may break.  The engine's grid and clock keys
+#: (``speed_min``, ``speed_max``, ``clock_rate_max``) are declared by the engine (engine/parameters.py).
+PARAMETERS = (
+    ParamSpec("grid_spacing", float, 0.2, **_POS, meaning="l, the distance between waypoints, m (Sec. V-B3)"),
+    ParamSpec("robot_radius", float, 0.05, **_POS, meaning="r, the robots' radius, m (Sec. V-A)"),
+    ParamSpec("broadcast_every", float, 2.0, **_POS, meaning="1/f_comm, local time units between broadcasts"),
+    ParamSpec("clock_rate_min", float, 1.0, **_POS, meaning="the slowest local clock's rate (Sec. II-A a)"),
+    ParamSpec("clock_rate_max", float, 1.0, **_POS, meaning="the fastest local clock's rate"),
+    ParamSpec("beta", float, 0.5, low=0, high=1, meaning="the probability of swapping at equal cost "
+              "(Alg. 4 line 16; assumption beta_in_unit_interval: 0 < beta < 1)"),
+    ParamSpec("p_random", float, 0.1, low=0, high=1, meaning="the probability of choosing a goal at random"),
+    ParamSpec("delta_t", float, None, **_POS, meaning="Delta t, local time units; default 2/f_comm (Alg. 2 line 6)"),
+    ParamSpec("handshake_timeout", float, None, **_POS, meaning="a handshake's timeout; default 3 Delta t"),
+    ParamSpec("ack_hold", float, None, low=0, meaning="how long a server holds its acknowledgement; default Delta t"),
+    ParamSpec("loss_repeats", int, 1, low=1, meaning="m, times a message is sent so every neighbour hears it "
+              "(Sec. V-B3)"),
+    ParamSpec("arena", object, "32x32", meaning="the arena starts are drawn in: SIDE or WxH waypoints (Sec. V-A)"),
+)
+
+
 def default_params(range: float = 0.6, n: int = 0) -> Params:
     """004's values and our choices (docs/decisions.md, "Wang & Rubenstein 2020").
 
@@ -875,6 +900,9 @@ class Wang2020:
     }
     own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
     explore_targets = ("shape:letter-l", "shape:square-9")
+    #: Its ``Params.extra`` keys (:data:`PARAMETERS`) and the kind of target it forms (a goal set, Sec. II-C).
+    parameters = PARAMETERS
+    target_kinds = ("shape",)
     #: The premises of the z3 lemmas (reference_impl/wang2020/lemmas.py) monitored on every step (the
     #: ``premises`` property): claims distinct and no swap, distinct priorities within R, waited
     #: longer than the window, every neighbour within R heard (invariants/premises.py).

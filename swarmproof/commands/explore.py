@@ -64,15 +64,39 @@ def add_arguments(p) -> None:
                    help="explore even when the parameters break a paper assumption (reported)")
     p.add_argument("--max-steps", type=int, metavar="K", help="step cap per run (default: the algorithm's)")
     add_tree_link_mode(p)
+    # argparse takes "-1,0.05" for an option ("--speeds: expected one argument"); a value that reads as
+    # numbers (a negative one, a list of them) is a value here, so `--speeds -1,0.05` gets the explorer's
+    # message about -1 (argparse's own matcher knows only a lone "-1" or "-.5")
+    p._negative_number_matcher = _NUMBERS
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
 
 
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+#: A command-line word that is a negative number or a comma-separated list of numbers starting with one.
+_NUMBERS = re.compile(rf"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:,{_NUMBER})*$")
+
+
 def _budget(text: str):
-    """``--budget``: seconds, or ``none`` for no wall-clock limit."""
+    """``--budget``: seconds, or ``none`` for no wall-clock limit (argparse names the option and
+    what is expected when this raises: ``argument --budget: ...``).
+
+    >>> _budget("60"), _budget("none")
+    (60.0, None)
+    >>> _budget("soon")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: 'soon' is not a number of seconds nor 'none' (e.g. --budget 60)
+    """
+    import argparse
+
     if text.strip().lower() == "none":
         return None
-    return float(text)
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds nor 'none' "
+                                         "(e.g. --budget 60)") from None
 
 
 def parse_robots(text: str) -> tuple[int, int]:
@@ -131,7 +155,11 @@ def run(args) -> int:
         raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 100")
     from swarmproof.commands.simulate import _parse_extra
 
+    from swarmproof.reference_impl.engine.parameters import check_motion_value
+
     params = {k: getattr(args, k) for k in ("v", "omega", "dt") if getattr(args, k) is not None}
+    for name, val in params.items():
+        check_motion_value(name, val)          # > 0, with the reason (issue 29)
     if args.param:
         params["extra"] = _parse_extra(args.param)
     if args.max_steps is not None and args.max_steps < 1:

@@ -168,10 +168,12 @@ def _check_arguments(args) -> None:
     for option, value in (("--trace", args.trace), ("--plot", args.plot), ("--gif", args.gif)):
         if value is not None:            # checked before the run: a finished report is never lost
             check_output_path(value, option)
+    from swarmproof.reference_impl.engine.parameters import check_motion_value
+
     for name in ("v", "omega", "dt"):
         val = getattr(args, name, None)
-        if val is not None and not (math.isfinite(val) and (val > 0 or (name == "v" and val >= 0))):
-            raise UsageError(f"--{name} {val!r} must be a finite positive number")
+        if val is not None:
+            check_motion_value(name, val)     # > 0, with the reason (a robot that cannot move: no run)
 
 
 def _initial(args):

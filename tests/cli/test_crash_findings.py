@@ -108,11 +108,11 @@ def test_replay_refuses_params_extra_that_simulate_refuses(cli, tmp_path):
 
     code, _, err = cli("simulate", "song2016", "--lattice", "square", "--robots", "3", "--seed", "0",
                        "--param", "foo=1")
-    assert code == 2 and "params.extra has unknown key(s) ['foo'] for song2016" in err
+    assert code == 2 and "parameter foo=1 is not known to algorithm 'song2016'" in err
     cx = Counterexample(algorithm="song2016", params={"range": 1.2, "v": 0.05, "omega": 0.785, "dt": 1.0,
                                                       "extra": {"foo": 1}},
                         lattice="square", robots=[(0, (0.0, 0.0, 0.0)), (1, (1.0, 0.0, 0.0))], seed=0,
                         property="connectivity", violation={"step": 1, "message": "x"})
     path = cx.save(tmp_path / "cx.json")
     code, _, err = cli("replay", path)
-    assert code == 2 and "params.extra has unknown key(s) ['foo'] for song2016" in err and "field 'params'" in err
+    assert code == 2 and "parameter foo=1 is not known to algorithm 'song2016'" in err and "field 'params'" in err

@@ -48,7 +48,11 @@ def files(tmp_path_factory):
 WORDS = st.sampled_from(["square", "hexagon", "song2016", "example-gather", "nope", "lines:line", "shape:square-9",
                          "mymod:Nope", "a:b:c", "0", "-1", "1e308", "nan", "inf", "3..2", "2..3", "x=1", "=",
                          "", " ", "\u00e9\u00e8", "--", "-"])
-NUMBERS = st.sampled_from(["0", "1", "2", "-1", "1e308", "-1e308", "nan", "inf", "0.5", "3", "abc", "", "none"])
+NUMBERS = st.sampled_from(["0", "1", "2", "-1", "1e308", "-1e308", "nan", "inf", "0.5", "3", "abc", "", "none",
+                           "1e-300"])
+#: issue 29: unknown keys (misspelt ones too), values out of their declared range, every algorithm
+PARAMS = st.one_of(WORDS, st.sampled_from(["foo=1", "arnea=5", "comunication_timeout=3", "broadcast_every=0",
+                                           "p_random=-1", "d_s=nan", "gap=-1", "arrive_tol=0", "rumor_filter=x"]))
 
 
 def _argv(draw, files):
@@ -64,13 +68,17 @@ def _argv(draw, files):
         opts = {"--target": st.one_of(WORDS, fileval), "--lattice": st.one_of(WORDS, fileval),
                 "--robots": st.sampled_from(["1", "3", "0", "-2", "x"]), "--seed": NUMBERS,
                 "--range": NUMBERS, "--v": NUMBERS, "--dt": NUMBERS, "--initial": fileval,
-                "--trace": fileval, "--plot": fileval, "--param": WORDS, "--record-every": NUMBERS}
+                "--trace": fileval, "--plot": fileval, "--param": PARAMS, "--record-every": NUMBERS,
+                "--shape": WORDS, "--omega": NUMBERS}
         argv += ["--max-steps", "40"]
     elif cmd == "explore":
-        argv.append(draw(WORDS))
-        opts = {"--property": WORDS, "--robots": st.sampled_from(["2..3", "3", "0..1", "x"]),
+        argv.append(draw(st.one_of(WORDS, st.sampled_from(["wang2020", "song2014", "example-grid-goals"]))))
+        # issue 29: teams the explorer cannot draw (300, 3000, 1000000) are refused, never exit 4
+        opts = {"--property": WORDS, "--robots": st.sampled_from(["2..3", "3", "0..1", "x", "300..300", "3000",
+                                                                  "1000000", "65..65"]),
                 "--seed": NUMBERS, "--out": fileval, "--lattice": st.one_of(WORDS, fileval),
-                "--fault": WORDS, "--v": NUMBERS, "--speeds": WORDS, "--param": WORDS,
+                "--fault": WORDS, "--v": NUMBERS, "--dt": NUMBERS, "--param": PARAMS,
+                "--speeds": st.one_of(WORDS, st.sampled_from(["-1,0.05", "0.05,0", "1e-300"])),
                 "--budget": st.sampled_from(["5", "none", "0", "-1", "nan", "inf", "x"])}
         argv += ["--max-examples", "2", "--max-steps", "40"]
     elif cmd == "check-pattern":

@@ -226,9 +226,10 @@ def test_teams_larger_than_the_algorithm_runs_are_refused_before_any_work():
 
 @pytest.mark.parametrize("param, message", [
     ("position_errors=x", "position_errors='x'"), ("fail=3", "fail=3 must be ROBOT@STEP"),
-    ("flock_to=10", "flock_to=10 must be DISTANCE"), ("error_size=abc", "error_size='abc' is not a number"),
-    ("arrive_tol=-1", "arrive_tol=-1 must be"), ("alpha_star=95", "alpha_star=95"),
-    ("nosuch=1", "nosuch=1 is not an option"), ("perturbation=-1", "perturbation=-1 must be"),
+    ("flock_to=10", "flock_to=10 must be DISTANCE"), ("error_size=abc", "error_size='abc' must be a number"),
+    ("arrive_tol=-1", "arrive_tol=-1 is outside its range (0, inf)"), ("alpha_star=95", "alpha_star=95"),
+    ("nosuch=1", "parameter nosuch=1 is not known to algorithm 'leechong-leader'"),
+    ("perturbation=-1", "perturbation=-1 is outside its range (0, inf)"),
     ("fail=99@5", "no robot of 12 can hold ID 99"), ("fail=-1@5", "ROBOT=-1 is not an ID"),
 ])
 def test_bad_params_exit_2_naming_the_value(capsys, param, message):

@@ -93,4 +93,4 @@ def test_cli_exit_2_names_the_speed_buffer(capsys):
     code = main(["simulate", "wang2020", "--shape", "letter-l", "--robots", "5", "--seed", "0", "--json",
                  "--param", "speed_min=-1"])
     doc = json.loads(capsys.readouterr().out)
-    assert code == 2 and "params.extra['speed_min']=-1" in doc["error"]["message"] and "fix:" in doc["error"]["message"]
+    assert code == 2 and "parameter speed_min=-1 is outside its range (0, inf)" in doc["error"]["message"] and "fix:" in doc["error"]["message"]
