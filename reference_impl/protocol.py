@@ -285,6 +285,13 @@ class Algorithm(Protocol):
     #     proof rests on; the ``premises`` property checks exactly these.
     # verify : VerifyPlan
     #     What ``swarmproof verify`` runs of it; without one it has no rows.
+    # state_fields : tuple of str
+    #     The controller-state fields the shared checkers may read, e.g. ``("parent",)`` for a
+    #     spanning tree; a property that needs one it lacks is *not applicable* to it
+    #     (:mod:`swarmproof.invariants.capabilities`; undeclared: decided by running).
+    # paper : str
+    #     The seed key of its paper (``"001"``, docs/references.md); a user's class has none,
+    #     and its unclaimed properties are then "not claimed by the algorithm".
     # knows_start : bool
     #     The paper gives every robot the robot set and all initial positions as input
     #     (002 Sec. III-A, Alg. 1 "Input"); needs ``sensing="global"``.  The engine then
