@@ -34,7 +34,7 @@ def add_arguments(p) -> None:
 
 
 def _first_line(text: str | None) -> str:
-    """A docstring's first paragraph on one line, without reST quotes or "see the module docstring".
+    r"""A docstring's first paragraph on one line, without reST quotes or "see the module docstring".
 
     >>> _first_line("004's algorithm (registry name ``wang2020``); see the module docstring.\n\nMore.")
     "004's algorithm (registry name wang2020)."
