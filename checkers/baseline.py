@@ -34,10 +34,17 @@ inconclusive  inconclusive now: a claimed row (never a pass, whatever    3
               the baseline), or any row the baseline has another verdict
               for (an unclaimed row inconclusive in both is ``same``)
 weakened      proved in the baseline, only held now                       3
+n/a           not applicable now (the algorithm cannot give what the      0 (1 with ``--strict``
+              property needs: no verdict), any other verdict in the           when the baseline
+              baseline; inconclusive then n/a is no regression                held a verdict)
 improved      violated in the baseline, held or proved now                0 (1 with ``--strict``)
 resized       violated in both, same kind, another counterexample size    0 (1 with ``--strict``)
 gone          in the baseline, in this run's scope, but not produced      warning (2 with ``--strict``)
 ============  ==========================================================  =====
+
+A row not applicable in both is ``same``; a row n/a in the baseline that has a verdict now is
+judged as a ``new`` row (by its claim).  n/a rows are written to the baseline as such
+(``"verdict": "n/a"``).
 
 Unclaimed rows (findings, ``*``) are compared like the others once they are
 in the baseline: the baseline is what the user expects, claimed or not.
@@ -61,7 +68,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
 
 from swarmproof.models.errors import InputFileError
-from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, Verdict
+from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, NOT_APPLICABLE, Verdict
 
 __all__ = ["BASELINE_FORMAT", "Expected", "Baseline", "Change", "Comparison", "compare", "signature",
            "message_kind", "OUTCOMES"]
@@ -70,7 +77,7 @@ BASELINE_FORMAT = "swarmproof-baseline/1"
 
 #: Every outcome of :func:`compare`, in the order the report lists them.
 OUTCOMES = ("regressed", "changed", "new", "inconclusive", "weakened", "improved", "resized", "gone",
-            "known", "same")
+            "n/a", "known", "same")
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
 _RANK = {Verdict.VIOLATED: 0, Verdict.INCONCLUSIVE: 1, Verdict.HELD: 2, Verdict.PROVED: 3}
@@ -110,7 +117,7 @@ class Expected:
     section: str
     subject: str
     property: str
-    verdict: Verdict
+    verdict: Verdict          # or NOT_APPLICABLE
     claim: str | None = None
     algorithm: str | None = None
     signature: dict | None = field(default=None, compare=False)
@@ -240,10 +247,10 @@ class Baseline:
                 if not isinstance(r.get(k), str):
                     raise err(f"{where}.{k}", f"{where}.{k}={r.get(k)!r} is not a string")
             try:
-                verdict = Verdict(r["verdict"])
+                verdict = NOT_APPLICABLE if r["verdict"] == NOT_APPLICABLE.value else Verdict(r["verdict"])
             except ValueError:
                 raise err(f"{where}.verdict", f"{where}.verdict={r['verdict']!r} is not one of "
-                                              f"{[v.value for v in Verdict]}") from None
+                                              f"{[v.value for v in Verdict] + [NOT_APPLICABLE.value]}") from None
             for k in ("claim", "algorithm"):
                 if r.get(k) is not None and not isinstance(r[k], str):
                     raise err(f"{where}.{k}", f"{where}.{k}={r[k]!r} is not a string or null")
@@ -288,6 +295,18 @@ def _sig_text(sig: dict | None) -> str:
 
 def _compare_row(row, exp: Expected | None) -> Change:
     now = row.verdict
+    if exp is not None and now is NOT_APPLICABLE:
+        if exp.verdict is NOT_APPLICABLE:
+            return Change("same", exp.key, now, exp.verdict, row.claim, "", row)
+        return Change("n/a", exp.key, now, exp.verdict, row.claim,
+                      f"{exp.verdict.value} in the baseline, not applicable now ({row.detail})", row)
+    if exp is not None and exp.verdict is NOT_APPLICABLE:
+        change = _compare_row(row, None)
+        return Change(change.outcome, change.key, now, exp.verdict, row.claim,
+                      f"n/a in the baseline, {now.value} now: judged by its claim", row)
+    if exp is None and now is NOT_APPLICABLE:
+        return Change("new", (row.section, row.subject, row.property), now, None, row.claim,
+                      "not in the baseline; not applicable", row)
     if exp is None:
         if not row.claimed:
             note = "not in the baseline; not claimed (a finding)" if now is Verdict.VIOLATED else "not in the baseline"
@@ -355,6 +374,8 @@ class Comparison:
             return True
         if c.outcome == "new":
             return c.verdict is Verdict.VIOLATED and c.claim is not None
+        if c.outcome == "n/a":       # a verdict in the baseline that is no longer asked for
+            return self.strict and c.expected is not Verdict.INCONCLUSIVE
         return self.strict and c.outcome in ("improved", "resized")
 
     def undecided(self, c: Change) -> bool:
@@ -388,6 +409,7 @@ class Comparison:
         out = {o: len(self.of(o)) for o in OUTCOMES}
         out["new_violations"] = len(self.new_violations)
         out["held"] = sum(c.verdict is not None and c.verdict.passed for c in self.changes)
+        out["not_applicable"] = sum(c.verdict is NOT_APPLICABLE for c in self.changes)
         return out
 
     def summary_line(self) -> str:
@@ -405,6 +427,8 @@ class Comparison:
         tail = []
         if inconc:
             tail.append(f"{inconc} inconclusive")
+        if n["not_applicable"]:
+            tail.append(f"{n['not_applicable']} n/a (not applicable)")
         if n["gone"]:
             tail.append(f"{n['gone']} baseline row" + ("" if n["gone"] == 1 else "s") + " gone")
         where = self.baseline.path or "the baseline"
@@ -423,11 +447,13 @@ class Comparison:
                   ("improved", "IMPROVED (update the baseline on purpose: --update-baseline)"),
                   ("resized", "RESIZED (same failure, another counterexample size)"),
                   ("gone", "GONE (in the baseline, not produced by this run)"),
+                  ("n/a", "NOT APPLICABLE NOW (the baseline had a verdict; update it: --update-baseline)"),
                   ("known", "known findings (violated, as the baseline says)")]
         for outcome, title in titles:
             group = self.of(outcome)
             if outcome == "new":
-                group = [c for c in group if c.verdict is not Verdict.HELD and c.verdict is not Verdict.PROVED]
+                group = [c for c in group if c.verdict is not Verdict.HELD and c.verdict is not Verdict.PROVED
+                         and c.verdict is not NOT_APPLICABLE]
             if not group:
                 continue
             out.append(f"-- {title}")

@@ -7,8 +7,9 @@ Every row becomes one test case, judged the way the exit code judges it
   in a known-violated row, a new claimed violation (without a baseline: any
   claimed violation), and with ``--strict`` an improvement;
 * ``error`` -- inconclusive (never a pass): counted like exit 3;
-* ``skipped`` -- a known finding (violated, as the baseline says) or a row the
-  paper does not claim (a finding, not counted);
+* ``skipped`` -- a known finding (violated, as the baseline says), a row the
+  paper does not claim (a finding, not counted), or a row marked n/a (not applicable: no
+  verdict; the message names what the algorithm lacks);
 * passed -- held or proved (or better than the baseline).
 
 A failure's text carries the counterexample as steps a person can run and the
@@ -33,7 +34,10 @@ def row_status(report, row) -> tuple[str, str]:
     as the exit code judges it (with a baseline: :meth:`~swarmproof.checkers.baseline.Comparison.fails`
     and :meth:`~swarmproof.checkers.baseline.Comparison.undecided`)."""
     cmp_ = report.comparison
+    na = (row.data or {}).get("not_applicable") or row.detail
     if cmp_ is None:
+        if not row.applicable:
+            return ("skipped", f"not applicable: {na}" if not na.startswith("not applicable") else na)
         if row.verdict is Verdict.VIOLATED:
             return ("failure", f"violated [{row.claim}]") if row.claimed else ("skipped", "finding (not claimed)")
         if row.verdict is Verdict.INCONCLUSIVE:
@@ -45,6 +49,8 @@ def row_status(report, row) -> tuple[str, str]:
         return ("failure", f"new claimed violation [{row.claim}]" if outcome == "new" else f"{outcome}: {c.note}")
     if c is not None and cmp_.undecided(c):
         return ("error", f"{outcome}: {c.note or 'inconclusive'}")
+    if not row.applicable:
+        return ("skipped", f"not applicable: {na}" if not na.startswith("not applicable") else na)
     if row.verdict is Verdict.VIOLATED:
         return ("skipped", "known finding (baseline)" if outcome in ("known", "resized") else "finding (not claimed)")
     if row.verdict is Verdict.INCONCLUSIVE:

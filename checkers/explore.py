@@ -15,6 +15,11 @@ Verdicts per property (DESIGN.md section 1 "Verdicts"):
 * ``inconclusive`` -- no scenario gave a judgment (budget spent before a run
   finished, or every run hit its step cap / was inconclusive).
 
+A property the algorithm cannot give what it needs for (no range graph, no parent field: the
+property's ``needs`` against the algorithm's declarations, :mod:`swarmproof.invariants.capabilities`)
+is ``not_applicable``: no verdict, not explored, and no part of the exit code (which is 3 when
+every property asked for is not applicable: nothing was checked).
+
 Determinism: Hypothesis runs with ``@seed(seed)``, ``database=None``,
 ``derandomize=False`` and every setting given explicitly (so the "ci"
 profile Hypothesis loads when ``CI`` is set changes nothing).  The same
@@ -156,11 +161,11 @@ class ExploreReport:
     def exit_code(self) -> int:
         from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED
 
-        st = [v.status for v in self.properties.values()]
+        st = [v.status for v in self.properties.values() if v.status != "not_applicable"]
         if "violated" in st:
             return EXIT_VIOLATED
-        if "inconclusive" in st:
-            return EXIT_INCONCLUSIVE
+        if "inconclusive" in st or (self.properties and not st):
+            return EXIT_INCONCLUSIVE     # every property asked for is not applicable: nothing was checked
         return EXIT_OK
 
     def assert_held(self) -> "ExploreReport":
@@ -170,7 +175,7 @@ class ExploreReport:
         readable steps, or why a property is inconclusive.
         """
         __tracebackhide__ = True   # pytest shows the counterexample, not swarmproof's source
-        bad = [(k, v) for k, v in self.properties.items() if v.status != "held"]
+        bad = [(k, v) for k, v in self.properties.items() if v.status not in ("held", "not_applicable")]
         if bad:
             lines = [f"{self.algorithm}: {len(bad)} of {len(self.properties)} properties did not hold "
                      f"(seed {self.seed})"]
@@ -1326,7 +1331,15 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                            claims={p: spec.claims.get(p) for p in props}, algorithm_ref=spec.ref,
                            premise_lemmas=_premise_lemmas(algo), speeds=speeds, warnings=list(warnings))
     strategy = _explore_strategy(ex, algo, rng_robots, lats, draw_faults, speeds)
+    # not applicable (the algorithm's declarations against the property's needs): not explored
+    from swarmproof.invariants.registry import get_property
+
+    na = {p: get_property(p).not_applicable_to(algo) for p in props}
+    asked = [p for p in props if na[p] is None]
     for prop in props:
-        _explore_property(ex, strategy, prop, budget / len(props), report)
+        if na[prop] is not None:
+            report.properties[prop] = PropertyVerdict(prop, "not_applicable", message=f"not applicable: {na[prop]}")
+        else:
+            _explore_property(ex, strategy, prop, budget / len(asked), report)
     _tell_listeners(report)
     return report

@@ -34,7 +34,7 @@ table { border-collapse: collapse; font-size: .85em; width: 100%; }
 th, td { border: 1px solid #ccc; padding: .25em .45em; text-align: left; vertical-align: top; }
 th { background: #f4f4f4; }
 tr.failure td.status { background: #f8c9c9; } tr.error td.status { background: #f9eeb0; }
-tr.skipped td.status { background: #e6e6e6; } tr.passed td.status { background: #cfeccf; }
+tr.skipped td.status { background: #e6e6e6; } tr.na td { color: #777; } tr.passed td.status { background: #cfeccf; }
 pre { background: #f7f7f7; padding: .6em; overflow-x: auto; font-size: .85em; }
 .pictures img { max-width: 46%; margin-right: 2%; border: 1px solid #ddd; vertical-align: top; }
 .cx { border-top: 1px solid #ccc; margin-top: 1em; }
@@ -112,7 +112,11 @@ def render_html(report, *, pictures: bool = True) -> str:
             details.append((i, r))
         elif r.section == "lattices":
             details.append((i, r))
-        out.append(f'<tr class="row {kind}" data-verdict="{r.verdict.value}"><td>{_esc(r.section)}</td>'
+        if not r.applicable:
+            kind_class = f"{kind} na"
+        else:
+            kind_class = kind
+        out.append(f'<tr class="row {kind_class}" data-verdict="{r.verdict.value}"><td>{_esc(r.section)}</td>'
                    f"<td>{_esc(r.subject)}</td><td>{_esc(r.property)}</td><td>{r.verdict.value}</td>"
                    f'<td class="status">{kind}: {_txt(message)}</td><td>{_txt(r.claim or "not claimed")}</td>'
                    f"<td>{_txt(r.detail)}{link}</td></tr>")

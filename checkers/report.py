@@ -22,6 +22,11 @@ Sections (they grow with the project):
   what was explored, never proved), ``violated`` with the counterexample, or
   ``inconclusive``; a time budget that was hit is never a pass.
 
+A property the algorithm cannot give what it needs for (its ``needs`` against the
+algorithm's declarations, :mod:`swarmproof.invariants.capabilities`) gets a row marked
+``n/a`` (:data:`~swarmproof.models.verdict.NOT_APPLICABLE`) that names what is missing: no
+verdict, counted apart, never run (DESIGN.md section 5, "Not applicable").
+
 Rows of properties a paper does not claim (the algorithm class's ``claims``,
 :func:`~swarmproof.reference_impl.registry.claims_of`) are findings: shown, marked ``*``, not counted in the verdict.
 Wall-clock seconds stay out of the JSON, so the same inputs give a
@@ -47,7 +52,7 @@ from typing import Any, Callable
 
 from swarmproof.checkers.runs import RUN_PROPERTIES, run_counterexample, run_property_verdicts
 from swarmproof.models.errors import UsageError
-from swarmproof.models.verdict import Verdict
+from swarmproof.models.verdict import NOT_APPLICABLE, Verdict
 
 __all__ = ["Row", "Report", "SECTIONS", "run_report", "lemma_rows", "exploration_row",
            "section_lattices", "section_algorithms", "section_lemmas", "section_formulas", "section_exploration"]
@@ -73,10 +78,18 @@ class Row:
     #: :class:`~swarmproof.models.counterexample.Counterexample`), for the HTML
     #: report; not in JSON (the file it was saved to is, as ``counterexample``).
     artifact: Any = field(default=None, compare=False, repr=False)
+    #: The seed key of the algorithm's paper (its class's ``paper``), None for a class without
+    #: one (a user's): the legend says "not claimed by the paper" only of the former.
+    paper: str | None = field(default=None, compare=False, repr=False)
 
     @property
     def claimed(self) -> bool:
         return self.claim is not None
+
+    @property
+    def applicable(self) -> bool:
+        """False for a row marked n/a (:data:`~swarmproof.models.verdict.NOT_APPLICABLE`)."""
+        return self.verdict is not NOT_APPLICABLE
 
     def to_json(self) -> dict[str, Any]:
         return {"section": self.section, "subject": self.subject, "property": self.property,
@@ -96,8 +109,35 @@ class Report:
 
     @property
     def verdict(self) -> Verdict:
-        """Worst verdict over the rows that check a claim (unclaimed rows are findings)."""
-        return Verdict.combine(r.verdict for r in self.rows if r.claimed)
+        """Worst verdict over the rows that check a claim (unclaimed rows are findings; n/a rows
+        have no verdict)."""
+        return Verdict.combine(r.verdict for r in self.rows if r.claimed and r.applicable)
+
+    def counts(self) -> dict[str, int]:
+        """Rows per verdict, and the not-applicable rows apart (``"n/a"``)."""
+        out = {v.value: sum(r.verdict is v for r in self.rows) for v in Verdict}
+        out[NOT_APPLICABLE.value] = sum(not r.applicable for r in self.rows)
+        return out
+
+    def counts_text(self) -> str:
+        """``"3 proved, 5 held, 1 violated, 0 inconclusive"``, then ``"; 2 n/a (not applicable)"``
+        when there are such rows: n/a is counted apart, never with inconclusive."""
+        n = self.counts()
+        text = ", ".join(f"{n[v.value]} {v.value}" for v in Verdict)
+        if n[NOT_APPLICABLE.value]:
+            text += f"; {n[NOT_APPLICABLE.value]} n/a (not applicable)"
+        return text
+
+    def legend(self) -> str:
+        """The line under the table that explains ``*``, '' when no row is marked: "not claimed
+        by the paper" only when every unclaimed row's algorithm has a paper."""
+        rows = [r for r in self.rows if not r.claimed and r.applicable]
+        if not rows:
+            return ""
+        papers = {r.paper is not None for r in rows}
+        by = {frozenset({True}): "not claimed by the paper", frozenset({False}): "not claimed by the algorithm"}.get(
+            frozenset(papers), "not claimed (by the paper; by the algorithm for a class without one)")
+        return f"* {by}: a finding about the algorithm, not counted in the verdict"
 
     @property
     def exit_code(self) -> int:
@@ -139,7 +179,7 @@ class Report:
         doc: dict[str, Any] = {
             "verdict": self.verdict.value,
             "rows": [r.to_json() for r in self.rows],
-            "counts": {v.value: sum(r.verdict is v for r in self.rows) for v in Verdict},
+            "counts": self.counts(),
             "findings": sum(r.verdict is Verdict.VIOLATED and not r.claimed for r in self.rows),
             "exit_code": self.exit_code,
         }
@@ -165,16 +205,15 @@ class Report:
                 secs = self.seconds.get(current)
                 lines.append(f"== {current}" + (f" ({secs:.1f} s)" if secs is not None else ""))
                 lines.append(f"{'subject':<{w_subj}}  {'property':<{w_prop}}  {'verdict':<12}  detail")
-            mark = "" if r.claimed else "*"
+            mark = "" if r.claimed or not r.applicable else "*"
             outcome = self.outcome(r)
             shown = "" if outcome in (None, "same") else f"[{outcome}] "
             lines.append(f"{r.subject:<{w_subj}}  {r.property:<{w_prop}}  "
                          f"{r.verdict.value + mark:<12}  {shown}{r.detail}")
-        counts = ", ".join(f"{sum(r.verdict is v for r in self.rows)} {v.value}" for v in Verdict)
+        counts = self.counts_text()
         lines.append("")
-        if any(not r.claimed for r in self.rows):
-            lines.append("* not claimed by the paper: a finding about the algorithm, "
-                         "not counted in the verdict")
+        if self.legend():
+            lines.append(self.legend())
         if self.comparison is not None:
             block = self.comparison.lines()
             if block:
@@ -244,6 +283,40 @@ class Subject:
     ref: str
     plan: Any
     claims: dict = field(default_factory=dict)
+    #: What declares the algorithm's capabilities (its class, or an object a factory built):
+    #: :func:`not_applicable` reads its model and class attributes.
+    declared: Any = field(default=None, compare=False, repr=False)
+
+    @property
+    def paper(self) -> str | None:
+        paper = getattr(self.declared, "paper", None)
+        return paper if isinstance(paper, str) and paper else None
+
+    def not_applicable(self, prop: str, target=None) -> str | None:
+        """Why ``prop`` is not applicable to this algorithm (None: it is, or may be)."""
+        from swarmproof.invariants.registry import get_property
+
+        if self.declared is None:
+            return None
+        return get_property(prop).not_applicable_to(self.declared, target)
+
+
+def _declared(spec):
+    """The object whose declarations say what ``spec``'s algorithm can give: its class, or for a
+    factory function the object it builds."""
+    return spec.factory if isinstance(spec.factory, type) else spec.build()
+
+
+def not_applicable_row(section: str, subject: str, prop: str, reason: str, data: dict, claim: str | None,
+                       paper: str | None = None) -> Row:
+    """A row marked n/a: no verdict; the detail and ``not_applicable`` in JSON say what is missing.
+
+    >>> r = not_applicable_row("algorithms", "jiang pattern:x n=12", "connectivity", "no range graph", {}, None)
+    >>> r.verdict, r.detail, r.to_json()["verdict"], r.to_json()["not_applicable"]
+    (NOT_APPLICABLE, 'not applicable: no range graph', 'n/a', 'no range graph')
+    """
+    return Row(section, subject, prop, NOT_APPLICABLE, f"not applicable: {reason}",
+               {**data, "not_applicable": reason}, claim=claim, paper=paper)
 
 
 def verify_subjects(refs=None) -> list[Subject]:
@@ -265,7 +338,8 @@ def verify_subjects(refs=None) -> list[Subject]:
     from swarmproof.reference_impl.protocol import VerifyPlan
 
     if refs is None:
-        return [Subject(name, name, plan, registry.claims_of(name)) for name, plan in registry.verify_plans()]
+        return [Subject(name, name, plan, registry.claims_of(name), registry.algorithm_factory(name))
+                for name, plan in registry.verify_plans()]
     out: list[Subject] = []
     for ref in refs:
         spec = resolve_algorithm(ref)
@@ -275,7 +349,7 @@ def verify_subjects(refs=None) -> list[Subject]:
         if any(s.label == spec.label for s in out):
             raise UsageError(f"--algorithm {ref!r}: another --algorithm already has the name {spec.label!r}",
                              fix="give each algorithm once (rows are named by the class's `name`)")
-        out.append(Subject(spec.label, spec.ref, plan, dict(spec.claims)))
+        out.append(Subject(spec.label, spec.ref, plan, dict(spec.claims), _declared(spec)))
     return out
 
 
@@ -309,9 +383,13 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
         algo, claims = subj.label, subj.claims
         for lname, robots, seeds in subj.plan.runs():
             lattice = resolve_target(lname, prefer="lattice")   # plans name lattices by bare names
-            per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in wanted}
+            base = {"algorithm": algo, "lattice": lname, "robots": robots, "seeds": list(seeds)}
+            if subj.ref != algo:
+                base["ref"] = subj.ref
+            na = {p: subj.not_applicable(p, lattice) for p in wanted}
+            per_prop: dict[str, list[tuple[int, Verdict, str]]] = {p: [] for p in wanted if na[p] is None}
             first_bad: dict[str, Any] = {}
-            for seed in seeds:
+            for seed in (seeds if per_prop else ()):     # nothing applicable: nothing to run
                 if progress:
                     progress(f"{algo} {lname} n={robots} seed {seed}")
                 checked = run_and_check(subj.ref, lattice, seed=seed, robots=robots)
@@ -321,7 +399,11 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                     per_prop[prop].append((seed, verdict, msg))
                     if verdict is Verdict.VIOLATED and prop not in first_bad:
                         first_bad[prop] = (seed, checked, msg)
-            for prop in per_prop:
+            for prop in wanted:
+                if na[prop] is not None:
+                    rows.append(not_applicable_row("algorithms", f"{algo} {lname} n={robots}", prop, na[prop],
+                                                   dict(base), claims.get(prop), subj.paper))
+                    continue
                 results = per_prop[prop]
                 verdict = Verdict.combine(v for _, v, _ in results)
                 held = sum(v.passed for _, v, _ in results)
@@ -329,9 +411,7 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                 worst = next(((s, m) for s, v, m in results if v is verdict and not v.passed), None)
                 if worst is not None:
                     detail += f"; seed {worst[0]}: {worst[1]}"
-                data = {"algorithm": algo, "lattice": lname, "robots": robots, "seeds": list(seeds)}
-                if subj.ref != algo:
-                    data["ref"] = subj.ref
+                data = dict(base)
                 cx = None
                 if verdict is Verdict.VIOLATED and prop in first_bad:
                     seed, checked, msg = first_bad[prop]
@@ -346,7 +426,7 @@ def section_algorithms(*, progress: Progress | None = None, out_dir: str | None 
                     else:
                         detail += f"; repeat: {data['reproduce']}"
                 rows.append(Row("algorithms", f"{algo} {lname} n={robots}", prop, verdict,
-                                detail, data, claim=claims.get(prop), artifact=cx))
+                                detail, data, claim=claims.get(prop), artifact=cx, paper=subj.paper))
     return rows
 
 
@@ -464,7 +544,8 @@ def explore_command(algorithm: str, prop: str, *, max_examples: int, robots: tup
 def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | None, *,
                     max_examples: int, robots: tuple[int, int], seed: int, budget: float | None,
                     assumptions: dict | None = None, skipped: str = "",
-                    budget_used: float | None = None, ref: str | None = None, artifact: Any = None) -> Row:
+                    budget_used: float | None = None, ref: str | None = None, artifact: Any = None,
+                    paper: str | None = None) -> Row:
     """One ``exploration`` row from the explorer's JSON entry of one property.
 
     ``entry`` is ``ExploreReport.as_dict()["properties"][prop]`` (``status,
@@ -503,7 +584,7 @@ def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | 
     subject = f"{algorithm} n={robots[0]}..{robots[1]}"
     if entry is None:
         return Row("exploration", subject, prop, Verdict.INCONCLUSIVE, f"not explored: {skipped}", data,
-                   claim=claim)
+                   claim=claim, paper=paper)
     data.update({k: entry.get(k) for k in ("status", "scenarios", "conclusive", "steps", "capped",
                                           "budget_hit", "violation", "counterexample")})
     data["counterexample_robots"] = entry.get("robots")
@@ -527,8 +608,10 @@ def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | 
             detail += f"; {entry['capped']} runs hit the step cap"
     else:
         detail = entry.get("message") or f"explorer status {status!r}"
+    if status == "not_applicable":     # the explorer found it not applicable (a user's property list)
+        return not_applicable_row("exploration", subject, prop, entry.get("message") or "", data, claim, paper)
     return Row("exploration", subject, prop, verdict, detail, data, claim=claim,
-               artifact=artifact if verdict is Verdict.VIOLATED else None)
+               artifact=artifact if verdict is Verdict.VIOLATED else None, paper=paper)
 
 
 def _explore_one(ref: str, prop: str, n_examples: int, robots: tuple, seed: int, budget, out_dir, show=None):
@@ -620,21 +703,33 @@ def section_exploration(*, algorithms=None, properties=None,
         cap = getattr(subj.plan, "explore_max_examples", None)
         n_examples = max_examples if cap is None else min(int(max_examples), int(cap))
         plan.extend((subj, prop, n_examples) for prop in props)
+    # not applicable (the algorithm's declarations against the property's needs): no exploration
+    na = [subj.not_applicable(prop) for subj, prop, _ in plan]
     ran = None
-    if workers is not None and workers > 1 and section_budget is None and len(plan) > 1:
-        ran = _explore_parallel([(subj.ref, prop, n, tuple(robots), seed, budget, out_dir) for subj, prop, n in plan],
-                                workers, progress)
+    todo = [i for i, reason in enumerate(na) if reason is None]
+    if workers is not None and workers > 1 and section_budget is None and len(todo) > 1:
+        done = _explore_parallel([(plan[i][0].ref, plan[i][1], plan[i][2], tuple(robots), seed, budget, out_dir)
+                                  for i in todo], workers, progress)
+        ran = dict(zip(todo, done))
     rows = []
     for i, (subj, prop, n_examples) in enumerate(plan):
         algo, claims = subj.label, subj.claims
         kw = dict(max_examples=n_examples, robots=tuple(robots), seed=seed, budget=budget, ref=subj.ref)
+        if na[i] is not None:
+            data = {"algorithm": algo, "robots": list(robots), "seed": seed, "max_examples": n_examples,
+                    "budget": budget, "explored": False}
+            if subj.ref != algo:
+                data["ref"] = subj.ref
+            rows.append(not_applicable_row("exploration", f"{algo} n={robots[0]}..{robots[1]}", prop, na[i], data,
+                                           claims.get(prop), subj.paper))
+            continue
         if ran is not None:
             used = budget
             doc, artifact = ran[i]
         else:
             left = deadline - time.monotonic()
             if left <= 0:
-                rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw,
+                rows.append(exploration_row(algo, prop, None, claims.get(prop), **kw, paper=subj.paper,
                                             skipped=f"the section's time budget of {section_budget:g} s "
                                                     "was spent before it"))
                 continue
@@ -648,7 +743,8 @@ def section_exploration(*, algorithms=None, properties=None,
         assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
                        "broken_assumptions": doc.get("broken_assumptions", [])}
         rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
-                                    assumptions=assumptions, budget_used=used, artifact=artifact))
+                                    assumptions=assumptions, budget_used=used, artifact=artifact,
+                                    paper=subj.paper))
     return rows
 
 

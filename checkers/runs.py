@@ -7,10 +7,15 @@ against the target (a lattice: 001 Def. 2; any kind of
 the spanning-tree links, the algorithm's own termination bound when it offers
 one (001 Theorem 13), and the metrics of 001 Sec. III-C and 000 Eq. 3.
 
-Exit code (the run's verdict): 0 the run ended (finished or static), the
-final formation satisfies the target and connectivity held; 1 a checked
-property failed; 3 the step cap was reached first (inconclusive).  A broken
-link or connectivity loss outranks the step cap.
+Every property is judged and reported, but the exit code follows the properties the
+algorithm *claims* (its class's ``claims``: property -> citation, None or absent = not
+claimed; DESIGN.md section 2): 0 the run ended (finished or static) and every claimed property
+held; 1 a claimed property was violated, or the algorithm crashed (``no_crash``: a finding for
+any algorithm); 3 the step cap was reached first, or a claimed property is inconclusive.  A
+claimed violation outranks the step cap.  An unclaimed property's verdict (a gathering
+algorithm's "formation" of a lattice, 004's connectivity) is a finding in the report, not the
+exit code.  A property the algorithm cannot give what it needs for (connectivity when every
+robot hears every robot, tree links without a parent field) is ``not_applicable``: no verdict.
 """
 
 from __future__ import annotations
@@ -21,10 +26,10 @@ from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 from swarmproof.models.errors import UsageError
-from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, Verdict
+from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, NOT_APPLICABLE, Verdict
 
 __all__ = ["CheckedRun", "build_params", "check_robots", "MAX_ROBOTS", "run_and_check", "RUN_PROPERTIES", "run_property_verdicts",
-           "cx_params", "run_counterexample"]
+           "cx_params", "run_counterexample", "not_applicable_properties"]
 
 
 @dataclass
@@ -49,6 +54,11 @@ class CheckedRun:
         :class:`~swarmproof.models.targets.TargetCheck`.
     metrics : dict
         The target's figures and the algorithm's (``metrics(result)``, when it has one).
+    claims : dict
+        Property -> citation (None: not claimed) of :data:`RUN_PROPERTIES`: what decides the exit code.
+    not_applicable : dict
+        Property -> what the algorithm lacks, for the properties of :data:`RUN_PROPERTIES` that
+        are not applicable to it (no verdict).
     """
 
     doc: dict
@@ -63,6 +73,8 @@ class CheckedRun:
     tree_links: Any
     termination: Any
     metrics: dict = dataclasses.field(default_factory=dict)
+    claims: dict = dataclasses.field(default_factory=dict)
+    not_applicable: dict = dataclasses.field(default_factory=dict)
 
 
 #: The largest team a seeded start is drawn for (memory and time bounded on any input; 004's runs
@@ -286,16 +298,63 @@ def _simulate_document(algorithm, lattice, kind: str, initial, seed: int, phi: f
     }
 
 
-def _exit_code(result, sat, conn, links, term) -> int:
-    """The run's verdict (module docstring): a crash, a broken link, lost connectivity or a
-    violated termination bound first, then the step cap, then the formation."""
-    if result.crash is not None or conn.violated or links.violated or (term is not None and term.violated):
+def not_applicable_properties(algorithm, target=None) -> dict[str, str]:
+    """Property -> what ``algorithm`` lacks, for each of :data:`RUN_PROPERTIES` that is not
+    applicable to it (its declarations against the property's ``needs``).
+
+    >>> from swarmproof.reference_impl.registry import algorithm_factory
+    >>> sorted(not_applicable_properties(algorithm_factory("jiang")))
+    ['connectivity', 'tree_links']
+    >>> not_applicable_properties(algorithm_factory("song2016"))
+    {}
+    """
+    from swarmproof.invariants.registry import get_property
+
+    out = {}
+    for prop in RUN_PROPERTIES:
+        why = get_property(prop).not_applicable_to(algorithm, target)
+        if why is not None:
+            out[prop] = why
+    return out
+
+
+def _exit_code(result, sat, conn, links, term, claims=None, na=None) -> int:
+    """The run's verdict (module docstring): a crash, or a claimed property violated (a broken
+    link, lost connectivity, a violated termination bound, the formation), first; then the step
+    cap; then a claimed property inconclusive.  ``claims`` None judges every property (as before
+    claims decided); unclaimed and not-applicable properties never decide it."""
+    na = na or {}
+
+    def judged(prop: str) -> bool:
+        return prop not in na and (claims is None or claims.get(prop) is not None)
+
+    if result.crash is not None:
+        return EXIT_VIOLATED
+    verdicts = {"connectivity": conn, "tree_links": links, "termination": term, "formation": sat}
+    if any(judged(p) and r is not None and r.violated for p, r in verdicts.items()):
         return EXIT_VIOLATED
     if result.status == "step_cap":
         return EXIT_INCONCLUSIVE
-    if not sat.held:
-        return EXIT_VIOLATED if sat.violated else EXIT_INCONCLUSIVE
+    if any(judged(p) and r is not None and r.status == "inconclusive" for p, r in verdicts.items()
+           if p in ("formation", "termination")):
+        return EXIT_INCONCLUSIVE
     return EXIT_OK
+
+
+def _claims_document(claims: dict, na: dict, checked: dict) -> dict:
+    """``claims``: property -> citation or None; ``judged``: the claimed, applicable properties the
+    exit code follows; ``not_applicable``: property -> what the algorithm lacks."""
+    return {"claims": {p: claims.get(p) for p in RUN_PROPERTIES},
+            "judged": [p for p in RUN_PROPERTIES if claims.get(p) is not None and p not in na and checked.get(p)],
+            "not_applicable": dict(na)}
+
+
+def _na_document(prop: str, reason: str) -> dict:
+    """The JSON of a property that is not applicable to the algorithm: no verdict."""
+    from swarmproof.invariants.capabilities import NOT_APPLICABLE_STATUS
+
+    return {"name": prop, "status": NOT_APPLICABLE_STATUS, "cites": None, "witness": None,
+            "message": f"not applicable: {reason}", "applicable": False}
 
 
 def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None = None,
@@ -368,10 +427,19 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
         doc["termination"] = term.as_dict()
     if result.crash is not None:
         doc["crash"] = dict(result.crash)
-    code = _exit_code(result, formation.sat, conn, links, term)
+    claims = dict(spec.claims)
+    na = not_applicable_properties(algorithm, lattice)
+    for prop, res in (("connectivity", conn), ("tree_links", links)):
+        if prop in na:
+            doc[prop] = _na_document(prop, na[prop])
+    if "connectivity" in na:
+        doc["connected_throughout"] = None
+    doc.update(_claims_document(claims, na, {"termination": term is not None, "formation": True,
+                                             "connectivity": True, "tree_links": True}))
+    code = _exit_code(result, formation.sat, conn, links, term, claims, na)
     doc["exit_code"] = code
     return CheckedRun(doc, code, result, lattice, algorithm, params, initial, formation.sat, conn, links, term,
-                      formation.metrics)
+                      formation.metrics, {p: claims.get(p) for p in RUN_PROPERTIES}, na)
 
 
 # ---------------------------------------------------------------------------
@@ -392,7 +460,9 @@ def run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
     if status == "crashed":
         crash = doc["crash"]
         msg = f"the algorithm raised {crash['error']} in step {crash['step']}: {crash['message']}"
-        return {p: (Verdict.VIOLATED if p == "termination" else Verdict.INCONCLUSIVE, msg) for p in RUN_PROPERTIES}
+        na = getattr(checked, "not_applicable", None) or {}
+        return {p: (NOT_APPLICABLE, f"not applicable: {na[p]}") if p in na else
+                (Verdict.VIOLATED if p == "termination" else Verdict.INCONCLUSIVE, msg) for p in RUN_PROPERTIES}
     if status == "step_cap":
         out["termination"] = (Verdict.INCONCLUSIVE, f"step cap {doc['steps']} reached")
     elif checked.termination is not None and checked.termination.violated:
@@ -406,6 +476,8 @@ def run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
     out["connectivity"] = (Verdict(conn.status), conn.message)
     links = checked.tree_links
     out["tree_links"] = (Verdict(links.status), links.message)
+    for prop, why in (getattr(checked, "not_applicable", None) or {}).items():
+        out[prop] = (NOT_APPLICABLE, f"not applicable: {why}")     # no verdict (never inconclusive)
     return out
 
 

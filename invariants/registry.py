@@ -110,6 +110,12 @@ class Property:
     every_step : bool
         The check reads every step of the trace (a safety property over the
         run); on a sparse trace without a streaming monitor it is inconclusive.
+    needs : tuple of str
+        What it needs of an algorithm that not every algorithm has (names of
+        :data:`swarmproof.invariants.capabilities.NEEDS`: ``"range_graph"``, ``"parent"``,
+        ``"messages"``, ``"lattice_target"``, ``"premise_monitors"``, ``"invariants"``).  An
+        algorithm that declares it cannot give one gets no verdict for the property: *not
+        applicable* (:meth:`not_applicable_to`), decided before any run.
     """
 
     name: str
@@ -122,6 +128,21 @@ class Property:
     run_monitor: Callable[[Any, Mapping[str, Any]], Any] | None = None
     stream: Callable[[Any, Any, Mapping[str, Any]], Any] | None = None
     every_step: bool = False
+    needs: tuple = ()
+
+    def not_applicable_to(self, algorithm, target=None) -> str | None:
+        """Why this property is not applicable to ``algorithm`` (what it lacks), or None.
+
+        >>> from swarmproof.reference_impl.protocol import RobotModel
+        >>> A = type("A", (), {"model": RobotModel(communication="all")})
+        >>> get_property("connectivity").not_applicable_to(A)
+        "no range graph: every robot hears every robot (communication='all')"
+        >>> get_property("collision").not_applicable_to(A) is None
+        True
+        """
+        from .capabilities import not_applicable
+
+        return not_applicable(algorithm, self.needs, target)
 
     def judge(self, trace, ctx: "PropertyContext") -> InvariantResult:
         """``check`` on a dense trace; on a sparse one (``trace.times``), the result of the
@@ -151,11 +172,19 @@ class Property:
         if not callable(self.check):
             raise UsageError(f"property {self.name!r}: check={self.check!r} is not callable",
                              fix="give a function (trace, context) -> InvariantResult")
+        from .capabilities import NEEDS
+
+        needs = (self.needs,) if isinstance(self.needs, str) else tuple(self.needs or ())
+        bad = [n for n in needs if n not in NEEDS]
+        if bad:
+            raise UsageError(f"property {self.name!r}: needs={bad[0]!r} is not a need swarmproof knows",
+                             fix=f"use some of {sorted(NEEDS)!r}")
+        object.__setattr__(self, "needs", needs)
 
     def as_dict(self) -> dict:
         """The table row of ``swarmproof explore --list`` and docs."""
         return {"name": self.name, "kind": self.kind, "reads": list(self.reads),
-                "blind_spots": self.blind_spots, "cites": self.cites}
+                "blind_spots": self.blind_spots, "cites": self.cites, "needs": list(self.needs)}
 
 
 _REGISTRY: dict[str, Property] = {}
@@ -461,11 +490,12 @@ CITE_NO_CRASH = "swarmproof: the algorithm under test raises no exception (a cra
 for _p in (
     Property("connectivity", "safety", _connectivity, ("poses", "presence", "range"),
              "judged at the end of every step: between two step ends the graph is not sampled",
-             LEMMA_11, stream=_connectivity_stream, every_step=True),
+             LEMMA_11, stream=_connectivity_stream, every_step=True, needs=("range_graph",)),
     Property("tree_links", "safety", _tree_links, ("states' parent", "poses", "range"),
-             "only robots whose state names a 'parent'; an algorithm without a tree, or a run where no "
-             "link was ever checked, is inconclusive", LEMMA_11,
-             closeness=_tree_links_closeness, stream=_tree_links_stream, every_step=True),
+             "only robots whose state names a 'parent'; not applicable to an algorithm that declares no "
+             "parent (state_fields) or no range graph; a run where no link was ever checked is inconclusive",
+             LEMMA_11, closeness=_tree_links_closeness, stream=_tree_links_stream, every_step=True,
+             needs=("parent", "range_graph")),
     Property("termination", "liveness", _termination, ("run status", "poses", "algorithm's termination_bound"),
              "without a termination bound a run cut by the step cap is inconclusive, never held",
              THEOREM_13),
@@ -484,11 +514,11 @@ for _p in (
              run_monitor=_oscillation_monitor, stream=_oscillation_stream, every_step=True),
     Property("premises", "safety", _premises, ("poses", "states", "range, v, dt"),
              "only the lemma premises the algorithm declares (premise_monitors)",
-             CITE_PREMISES, stream=_premises_stream, every_step=True),
+             CITE_PREMISES, stream=_premises_stream, every_step=True, needs=("premise_monitors",)),
     Property("invariants", "safety", _invariants, ("poses", "states", "the algorithm's invariants"),
              "only the invariants the algorithm declares (its invariants attribute), on its own state keys",
              "the algorithm's own runtime invariants (its invariants attribute)",
-             stream=_invariants_stream, every_step=True),
+             stream=_invariants_stream, every_step=True, needs=("invariants",)),
     Property("no_crash", "safety", _no_crash, ("exceptions the algorithm's code raised",),
              "exceptions only: a controller that loops forever is stopped by the time budget, not found",
              CITE_NO_CRASH),

@@ -28,7 +28,7 @@ from __future__ import annotations
 import enum
 from typing import Iterable
 
-__all__ = ["Verdict", "ThreeValued", "STATUSES", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE", "EXIT_INTERNAL"]
+__all__ = ["Verdict", "NOT_APPLICABLE", "NotApplicable", "ThreeValued", "STATUSES", "EXIT_OK", "EXIT_VIOLATED", "EXIT_USAGE", "EXIT_INCONCLUSIVE", "EXIT_INTERNAL"]
 
 EXIT_OK = 0
 EXIT_VIOLATED = 1
@@ -59,8 +59,13 @@ class Verdict(str, enum.Enum):
     def combine(verdicts: Iterable["Verdict"]) -> "Verdict":
         """Worst of several: violated > inconclusive > held > proved.
 
-        An empty collection is INCONCLUSIVE (nothing was checked)."""
-        vs = list(verdicts)
+        An empty collection is INCONCLUSIVE (nothing was checked); :data:`NOT_APPLICABLE`
+        is no verdict and is left out (only not-applicable ones: nothing was checked).
+
+        >>> Verdict.combine([NOT_APPLICABLE, Verdict.HELD]), Verdict.combine([NOT_APPLICABLE])
+        (<Verdict.HELD: 'held'>, <Verdict.INCONCLUSIVE: 'inconclusive'>)
+        """
+        vs = [v for v in verdicts if v is not NOT_APPLICABLE]
         if not vs:
             return Verdict.INCONCLUSIVE
         if Verdict.VIOLATED in vs:
@@ -73,6 +78,44 @@ class Verdict(str, enum.Enum):
 
     def __str__(self) -> str:
         return self.value
+
+
+class NotApplicable:
+    """*Not applicable*: no verdict at all (DESIGN.md section 1, "Verdicts").
+
+    The algorithm cannot give what a property reads (no range graph, no parent field, ...), so
+    the question is not asked: not held, not violated, and not inconclusive either (inconclusive
+    is a question asked and not decided).  A row of the property matrix may carry it in place of
+    a :class:`Verdict`; it is counted apart and never decides an exit code.  It has the
+    attributes of a verdict that reports read (``value``, ``passed``), so it prints as ``n/a``.
+    There is one: :data:`NOT_APPLICABLE`.
+
+    >>> NOT_APPLICABLE.value, NOT_APPLICABLE.passed, str(NOT_APPLICABLE)
+    ('n/a', False, 'n/a')
+    """
+
+    __slots__ = ()
+    value = "n/a"
+    passed = False
+    _instance = None
+
+    def __new__(cls):
+        if cls._instance is None:
+            cls._instance = super().__new__(cls)
+        return cls._instance
+
+    def __repr__(self) -> str:
+        return "NOT_APPLICABLE"
+
+    def __str__(self) -> str:
+        return self.value
+
+    def __reduce__(self):
+        return (NotApplicable, ())
+
+
+#: The one :class:`NotApplicable`.
+NOT_APPLICABLE = NotApplicable()
 
 
 #: The three statuses a check's result carries (held / violated / inconclusive).

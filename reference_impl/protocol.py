@@ -384,6 +384,13 @@ class Algorithm(Protocol):
     #     The kinds of target it forms (:func:`swarmproof.models.targets.target_kinds`, e.g.
     #     ``("lattice",)``); a target of another kind is a usage error before any run.
     #     Without it, any kind is run.
+    # state_fields : tuple of str
+    #     The controller-state fields the shared checkers may read, e.g. ``("parent",)`` for a
+    #     spanning tree; a property that needs one it lacks is *not applicable* to it
+    #     (:mod:`swarmproof.invariants.capabilities`; undeclared: decided by running).
+    # paper : str
+    #     The seed key of its paper (``"001"``, docs/references.md); a user's class has none,
+    #     and its unclaimed properties are then "not claimed by the algorithm".
     # knows_start : bool
     #     The paper gives every robot the robot set and all initial positions as input
     #     (002 Sec. III-A, Alg. 1 "Input"); needs ``sensing="global"``.  The engine then

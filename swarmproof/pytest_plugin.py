@@ -155,12 +155,10 @@ def swarmproof_verify(request, tmp_path):
 def verify_lines(runs) -> list[str]:
     """The end-of-session lines of ``swarmproof_verify`` runs: counts and the baseline comparison."""
     from swarmproof.checkers.ci_outputs import summary_line
-    from swarmproof.models.verdict import Verdict
 
     lines = []
     for nodeid, rep in runs:
-        counts = ", ".join(f"{sum(r.verdict is v for r in rep.rows)} {v.value}" for v in Verdict)
-        lines.append(f"verify ({nodeid}): {counts}")
+        lines.append(f"verify ({nodeid}): {rep.counts_text()}")
         lines.append(f"  {summary_line(rep)}")
     return lines
 
@@ -186,7 +184,9 @@ def property_table(reports, lemmas=None, lemma_note: str = "") -> list[str]:
             lines.append(f"{rep.algorithm:<16} {name:<13} {v.status:<13} {claimed:<8} {v.scenarios:>9} "
                          f"{v.steps:>8}  {nodeid}")
     statuses = [v.status for _, rep in reports for v in rep.properties.values()]
-    lines.append("explored: " + ", ".join(f"{statuses.count(s)} {s}" for s in ("held", "violated", "inconclusive")))
+    na = statuses.count("not_applicable")
+    lines.append("explored: " + ", ".join(f"{statuses.count(s)} {s}" for s in ("held", "violated", "inconclusive"))
+                 + (f"; {na} n/a (not applicable)" if na else ""))
     if lemmas is None:
         lines.append(f"lemmas: {lemma_note}")
         return lines

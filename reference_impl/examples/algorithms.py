@@ -90,6 +90,9 @@ class GatherToLowestId:
     """The example algorithm (registry name ``"example-gather"``)."""
 
     name = "example-gather"
+    #: The controller-state fields the shared checkers may read: none (no spanning tree).  Not from a
+    #: paper, so no ``paper``: its unclaimed rows say "not claimed by the algorithm".
+    state_fields = ()
     model = RobotModel(sensing="local", communication="neighbors", motion="differential", clocks="sync")
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
@@ -189,6 +192,9 @@ class AnonymousLine:
     """
 
     name = "example-anonymous-line"
+    #: The controller-state fields the shared checkers may read: none (no spanning tree).  Not from a
+    #: paper, so no ``paper``: its unclaimed rows say "not claimed by the algorithm".
+    state_fields = ()
     model = RobotModel(sensing="anonymous", communication="none", motion="holonomic", clocks="sync")
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
@@ -309,6 +315,9 @@ class GridGoals:
     """
 
     name = "example-grid-goals"
+    #: The controller-state fields the shared checkers may read: none (no spanning tree).  Not from a
+    #: paper, so no ``paper``: its unclaimed rows say "not claimed by the algorithm".
+    state_fields = ()
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = (

@@ -350,6 +350,11 @@ class Jiang:
     positions (Sec. IV-B's prose).  See the module docstring."""
 
     name = "jiang"
+    #: The controller-state fields the shared checkers may read (swarmproof.invariants.capabilities):
+    #: none: it keeps no spanning tree (heads and groups, Sec. IV-A).
+    state_fields = ()
+    #: The seed paper (docs/references.md) whose claims ``claims`` cites.
+    paper = "002"
     reading = "queue"
     model = RobotModel(sensing="global", communication="all", motion="differential", clocks="sync",
                        message_timing="unbounded")

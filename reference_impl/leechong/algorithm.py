@@ -969,6 +969,11 @@ class LeeChongLeader:
     by Alg. 1's printed formula).  See the module docstring."""
 
     name = "leechong-leader"
+    #: The controller-state fields the shared checkers may read (swarmproof.invariants.capabilities):
+    #: ``id`` and ``failed`` (the allocated IDs, Sec. 2.1); no spanning tree.
+    state_fields = ("id", "failed")
+    #: The seed paper (docs/references.md) whose claims ``claims`` cites.
+    paper = "003"
     mode = "leader"
     numbering = "formula"
     team = "A"

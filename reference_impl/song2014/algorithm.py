@@ -684,6 +684,11 @@ class Song2014:
     """
 
     name = "song2014"
+    #: The controller-state fields the shared checkers may read (swarmproof.invariants.capabilities):
+    #: ``parent`` (its spanning tree, Sec. IV) and ``role``.
+    state_fields = ("role", "parent")
+    #: The seed paper (docs/references.md) whose claims ``claims`` cites.
+    paper = "000"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
     #: What 000 claims, property -> citation; ``None``: not claimed (001 Sec. I says so of

@@ -1189,6 +1189,11 @@ class Song2016:
     """
 
     name = "song2016"
+    #: The controller-state fields the shared checkers may read (swarmproof.invariants.capabilities):
+    #: ``parent`` (its spanning tree, Sec. V-A) and ``role``.
+    state_fields = ("role", "parent")
+    #: The seed paper (docs/references.md) whose claims ``claims`` cites.
+    paper = "001"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
     #: What 001 claims, property -> citation (every checked property is claimed).

@@ -883,6 +883,11 @@ class Wang2020:
     """
 
     name = "wang2020"
+    #: The controller-state fields the shared checkers may read (swarmproof.invariants.capabilities):
+    #: none of a spanning tree (its monitors read their own keys).
+    state_fields = ()
+    #: The seed paper (docs/references.md) whose claims ``claims`` cites.
+    paper = "004"
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = ASSUMPTIONS

@@ -188,6 +188,9 @@ def run(args) -> int:
              f"  assumptions kept: {', '.join(report.kept_assumptions) or '-'}; "
              f"broken: {', '.join(report.broken_assumptions) or '-'}"]
     for name, v in report.properties.items():
+        if v.status == "not_applicable":         # no verdict: nothing was run for it
+            lines.append(f"  {name:<13} {'n/a':<12} {v.message}")
+            continue
         lines.append(f"  {name:<13} {v.status:<12} {v.scenarios} scenarios, {v.steps} steps: {v.message}")
         if v.counterexample is not None:
             lines += ["    " + s for s in v.counterexample.format_steps()]

@@ -5,13 +5,16 @@ from a random connected start of ``--robots`` robots (seeded; or
 ``--initial FILE``) toward a target -- ``--target [KIND:]NAME|FILE`` of any
 kind (lattice, lines, shape, pattern; ``--lattice``, ``--shape`` and ``--pattern`` are
 aliases fixing the kind) -- then checks the final formation against the
-target (a lattice: 001 Def. 2), connectivity at every step (001 Lemma 11)
-and reports the target's metrics (a lattice: 001 Sec. III-C / 000 Eq. 3).
+target (a lattice: 001 Def. 2), connectivity at every step (001 Lemma 11), the
+spanning-tree links and termination, and reports the target's metrics (a lattice:
+001 Sec. III-C / 000 Eq. 3).
 
-Exit codes: 0 the run ended (finished or static), the final formation
-satisfies the target and connectivity held; 1 a checked property failed;
-2 usage error or unreadable input; 3 the step cap was reached first
-(inconclusive).
+Every property is reported; the exit code follows the ones the algorithm claims (its class's
+``claims``), and a property it does not claim is marked ``*``: a finding, not judged.  A
+property the algorithm cannot give what it needs for says "not applicable".
+Exit codes: 0 the run ended (finished or static) and every claimed property held; 1 a claimed
+property failed, or the algorithm crashed; 2 usage error or unreadable input; 3 the step cap
+was reached first, or a claimed property is inconclusive.
 """
 
 from __future__ import annotations
@@ -217,13 +220,22 @@ def _report_lines(args, checked) -> list:
     q = doc["fulfillment_ratio"]
     q_txt = "undefined (lattice not satisfied)" if q is None else f"{q:.4f}"
     kind = doc["target"]["kind"]
+    claims, na = checked.claims, checked.not_applicable
+
+    def judged(prop: str, res) -> str:
+        """``status - message``; ``not applicable - why`` (no verdict); ``*`` when not claimed."""
+        if prop in na:
+            return f"not applicable - {na[prop]}"
+        mark = "" if claims.get(prop) is not None else "*"
+        return f"{res.status}{mark} - {res.message}"
+
     lines = [
         f"{checked.algorithm.name} on {checked.lattice.name}: {checked.initial.n} robots, seed {args.seed}, "
         f"range {doc['range']:g}",
         f"  run: {result.status} after {result.steps} steps (static from step {doc['execution_steps']})",
-        f"  satisfies {kind}: {sat.status} - {sat.message}",
-        f"  connectivity: {conn.status} - {conn.message}",
-        f"  tree links: {links.status} - {links.message}",
+        f"  satisfies {kind}: {judged('formation', sat)}",
+        f"  connectivity: {judged('connectivity', conn)}",
+        f"  tree links: {judged('tree_links', links)}",
     ]
     if kind == "lattice":
         lines.append(f"  fulfillment ratio Q: {q_txt}")
@@ -232,7 +244,7 @@ def _report_lines(args, checked) -> list:
     lines.append(f"  total distance: {doc['total_distance']:.6g}, min separation: "
                  + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"))
     if term is not None:
-        lines.append(f"  termination: {term.status} - {term.message}")
+        lines.append(f"  termination: {judged('termination', term)}")
     if result.crash is not None:
         c = result.crash
         who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
@@ -245,9 +257,18 @@ def _report_lines(args, checked) -> list:
         lines.append(f"  plot: {doc['plot']}")
     if args.gif is not None:
         lines.append(f"  animation: {doc['gif']}")
+    shown = {"formation": sat, "connectivity": conn, "tree_links": links, "termination": term}
+    unclaimed = [p for p, r in shown.items() if r is not None and p not in na and claims.get(p) is None]
+    if unclaimed:
+        paper = getattr(checked.algorithm, "paper", None)
+        lines.append(f"  * not claimed by {'the paper' if paper else 'the algorithm'}: reported, "
+                     "not judged for the exit code")
+    findings = [p for p in unclaimed if shown[p].violated]
     lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
-                  "result: a checked property failed",
-                  3: "result: inconclusive (step cap reached)"}[checked.exit_code])
+                  "result: a claimed property failed",
+                  3: "result: inconclusive (step cap reached)" if result.status == "step_cap" else
+                  "result: inconclusive (a claimed property was not decided)"}[checked.exit_code]
+                 + (f" (findings, not claimed: {', '.join(findings)})" if findings else ""))
     if checked.exit_code == 0 and doc.get("warnings"):   # never a bare "ok" toward a lattice with defects
         lines[-1] += " for the checks above, but the lattice has defects (see the warning on stderr)"
     return lines

@@ -11,7 +11,8 @@ scenarios -- in the ``algorithms`` and ``exploration`` sections.
 Exit codes (DESIGN.md section 2): without a baseline, 0 every claimed row
 proved or held, 1 a claimed row violated, 3 a claimed row inconclusive (and
 none violated); rows of properties the paper does not claim are findings,
-marked ``*`` and not counted.  With ``--baseline FILE``
+marked ``*`` and not counted; rows marked ``n/a`` (the algorithm cannot give what the property
+needs: no range graph, no parent field, ...) have no verdict, are counted apart and never run.  With ``--baseline FILE``
 (:mod:`swarmproof.checkers.baseline`): 0 every row as the baseline says or
 better, 1 a regression (or a new claimed violation, or a new kind of failure
 in a known-violated row), 3 a row inconclusive; improvements fail only with
@@ -31,8 +32,8 @@ NAME = "verify"
 HELP = "run every check over the bundled library (or your algorithms) and print the property matrix"
 DESCRIPTION = (HELP + ": lattices, algorithm runs, the z3 lemmas and the explorer's rows. "
                "Exit 0 when every claimed row holds or is proved, 1 when a claimed row is violated, "
-               "3 when a claimed row is inconclusive; rows marked * (not claimed by the paper) are "
-               "findings and do not count. With --baseline FILE: 0 as the baseline says or better, "
+               "3 when a claimed row is inconclusive; rows marked * (not claimed) are "
+               "findings and do not count; rows marked n/a (not applicable) have no verdict. With --baseline FILE: 0 as the baseline says or better, "
                "1 a regression, 3 a row inconclusive (improvements fail only with --strict).")
 
 

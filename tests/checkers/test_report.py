@@ -200,10 +200,16 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
 
     monkeypatch.setattr(explore_mod, "explore", fake_explore)
     rows = section_exploration(max_examples=7)
+    # connectivity is not applicable where every robot hears every robot (jiang, leechong-*): those
+    # rows are not explored at all (DESIGN.md section 5, "Not applicable")
     assert calls == [(a, (p,), 7, (3, 8), 0, None)
                      for a in ("song2016", "song2014", "jiang", "wang2020", "leechong-leader", "leechong-neighbor",
                                "example-anonymous-line", "example-grid-goals")
-                     for p in ("connectivity", "termination")]
+                     for p in ("connectivity", "termination")
+                     if not (p == "connectivity" and a in ("jiang", "leechong-leader", "leechong-neighbor"))]
+    assert [(r.subject, r.property) for r in rows if not r.applicable] == [
+        ("jiang n=3..8", "connectivity"), ("leechong-leader n=3..8", "connectivity"),
+        ("leechong-neighbor n=3..8", "connectivity")]
     assert [(r.subject, r.property, r.claimed) for r in rows] == [
         ("song2016 n=3..8", "connectivity", True), ("song2016 n=3..8", "termination", True),
         ("song2014 n=3..8", "connectivity", False), ("song2014 n=3..8", "termination", False),
@@ -231,7 +237,7 @@ def test_report_json_is_bit_identical_has_no_seconds_and_writes_no_files(tmp_pat
     assert set(doc) == {"verdict", "rows", "counts", "findings", "exit_code"}
     # the only row is an unclaimed violation: a finding, and nothing claimed was checked
     assert (doc["verdict"], doc["findings"]) == ("inconclusive", 1)
-    assert doc["counts"] == {"proved": 0, "held": 0, "violated": 1, "inconclusive": 0}
+    assert doc["counts"] == {"proved": 0, "held": 0, "violated": 1, "inconclusive": 0, "n/a": 0}
 
 
 def test_run_report_passes_progress_and_sections_in_order():

@@ -113,6 +113,9 @@ def test_module_qualname_algorithm_and_premises_property(capsys, tmp_path):
     doc = json.loads(out)
     assert code == 3 and doc["algorithm"] == "example-gather"
     assert doc["algorithm_ref"] == "swarmproof.reference_impl.examples:GatherToLowestId"
-    assert doc["properties"]["premises"]["status"] == "inconclusive" and doc["premise_lemmas"] == []
+    # it declares no premise monitors: not applicable (no verdict), and nothing else was asked: exit 3
+    assert doc["properties"]["premises"]["status"] == "not_applicable" and doc["premise_lemmas"] == []
+    assert doc["properties"]["premises"]["message"] == \
+        "not applicable: it declares no lemma premise monitors (premise_monitors)"
     code, out, err = run(capsys, "no_such_pkg:Alg", "--property", "premises")
     assert code == 2 and "algorithm='no_such_pkg:Alg' cannot be imported" in err and "Traceback" not in err

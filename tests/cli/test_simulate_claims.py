@@ -1,0 +1,119 @@
+"""`swarmproof simulate` judges by the algorithm's claims (DESIGN.md section 2): the exit code
+follows the claimed properties; unclaimed ones are reported (JSON and text, marked *), not
+judged; a property the algorithm cannot give what it needs for says "not applicable"."""
+
+from __future__ import annotations
+
+import json
+import sys
+import textwrap
+
+import pytest
+
+from swarmproof.cli import main
+
+
+def run(capsys, *argv):
+    code = main(["simulate", *argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture
+def split_start(tmp_path):
+    """A connected start of 5 agents on the grid (seeded, 004's R = 0.6 m, l = 0.2 m) from which
+    wang2020's run toward letter-l splits the communication graph after step 12."""
+    from swarmproof.reference_impl.initial import random_grid_connected
+
+    init = random_grid_connected(5, 5, range=0.6, spacing=0.2)
+    path = tmp_path / "start.json"
+    path.write_text(json.dumps({"format": "swarmproof-initial/1", "angle_unit": "rad", "robots": [
+        {"id": int(i), "pose": [float(x) for x in pose]} for i, pose in zip(init.ids, init.poses)]}))
+    return str(path)
+
+
+def test_wang2020_connected_start_that_splits_is_reported_not_judged(capsys, split_start):
+    code, out, _ = run(capsys, "wang2020", "--shape", "letter-l", "--initial", split_start, "--seed", "5",
+                       "--json")
+    doc = json.loads(out)
+    # the finding is in the document ...
+    assert doc["connectivity"]["status"] == "violated" and doc["connected_throughout"] is False
+    assert doc["connectivity"]["message"].startswith("the communication graph splits after step 12 into 2")
+    # ... but 004 does not claim connectivity: the exit code follows what it claims, which held
+    assert doc["claims"]["connectivity"] is None and doc["claims"]["formation"] is not None
+    assert doc["judged"] == ["termination", "formation"] and doc["satisfied"] is True
+    assert code == 0 and doc["exit_code"] == 0
+    # no parent field: tree links are not applicable, not inconclusive
+    assert doc["tree_links"]["status"] == "not_applicable"
+    assert doc["not_applicable"] == {"tree_links": "no 'parent' field in its controller states (state_fields=())"}
+    code, out, _ = run(capsys, "wang2020", "--shape", "letter-l", "--initial", split_start, "--seed", "5")
+    lines = out.splitlines()
+    assert code == 0
+    assert any(line.startswith("  connectivity: violated* - the communication graph splits after step 12")
+               for line in lines)
+    assert "  tree links: not applicable - no 'parent' field in its controller states (state_fields=())" in lines
+    assert "  * not claimed by the paper: reported, not judged for the exit code" in lines
+    assert lines[-1] == "result: ok (findings, not claimed: connectivity)"
+
+
+def test_jiang_connectivity_is_not_applicable(capsys):
+    code, out, _ = run(capsys, "jiang", "--pattern", "square-segments", "--robots", "4", "--seed", "0")
+    assert ("  connectivity: not applicable - no range graph: every robot hears every robot "
+            "(communication='all')") in out.splitlines()
+    assert "inconclusive" not in [line.split(": ")[1].split(" ")[0] for line in out.splitlines()
+                                  if line.startswith("  connectivity:")]
+
+
+USER = textwrap.dedent('''
+    from swarmproof.reference_impl.examples.algorithms import GatherToLowestId
+
+
+    class MyGather(GatherToLowestId):
+        """A user's gathering algorithm: it claims to end, nothing about lattices."""
+
+        name = "my-gather"
+        claims = {"termination": "my notes, Thm. 1"}
+''')
+
+
+@pytest.fixture
+def user_module(tmp_path, monkeypatch):
+    (tmp_path / "usermod_claims.py").write_text(USER)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    yield
+    sys.modules.pop("usermod_claims", None)
+
+
+def test_a_users_class_is_judged_by_its_claims_and_its_legend_names_no_paper(capsys, user_module):
+    argv = ["usermod_claims:MyGather", "--lattice", "square", "--robots", "6", "--seed", "1"]
+    code, out, _ = run(capsys, *argv, "--json")
+    doc = json.loads(out)
+    # it misses the square lattice (a gathering algorithm): reported, not judged
+    assert doc["satisfies_lattice"] is False and doc["claims"]["formation"] is None
+    assert doc["judged"] == [] and code == 0          # it has no termination bound or end to judge
+    code, out, _ = run(capsys, *argv)
+    lines = out.splitlines()
+    assert any(line.startswith("  satisfies lattice: violated* - ") for line in lines)
+    assert "  * not claimed by the algorithm: reported, not judged for the exit code" in lines
+    assert "by the paper" not in out
+    assert lines[-1] == "result: ok (findings, not claimed: formation, connectivity)" and code == 0
+
+
+def test_a_users_claimed_property_that_fails_exits_1(capsys, user_module, monkeypatch):
+    import usermod_claims
+
+    monkeypatch.setattr(usermod_claims.MyGather, "claims", {"formation": "my notes, Thm. 2"})
+    code, out, _ = run(capsys, "usermod_claims:MyGather", "--lattice", "square", "--robots", "6", "--seed", "1")
+    assert code == 1 and out.splitlines()[-1] == "result: a claimed property failed (findings, not claimed: connectivity)"
+    assert any(line.startswith("  satisfies lattice: violated - ") for line in out.splitlines())
+
+
+def test_song2016_still_exits_1_when_its_claimed_tree_links_break(capsys):
+    """The issue 19 case (square n = 20 seed 1): 001 claims tree_links (Lemma 11), so the break
+    of a link chosen in the step is judged: exit 1."""
+    code, out, _ = run(capsys, "song2016", "--lattice", "square", "--robots", "20", "--seed", "1", "--json")
+    doc = json.loads(out)
+    assert doc["tree_links"]["status"] == "violated" and doc["claims"]["tree_links"].startswith("001 Lemma 11")
+    assert "tree_links" in doc["judged"] and doc["not_applicable"] == {}
+    assert code == 1 and doc["exit_code"] == 1
