@@ -90,6 +90,9 @@ class GatherToLowestId:
     """The example algorithm (registry name ``"example-gather"``)."""
 
     name = "example-gather"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential", clocks="sync")
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
@@ -185,6 +188,9 @@ class AnonymousLine:
     """
 
     name = "example-anonymous-line"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="anonymous", communication="none", motion="holonomic", clocks="sync")
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
@@ -302,6 +308,9 @@ class GridGoals:
     """
 
     name = "example-grid-goals"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = (

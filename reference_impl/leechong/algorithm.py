@@ -953,6 +953,9 @@ class LeeChongLeader:
     by Alg. 1's printed formula).  See the module docstring."""
 
     name = "leechong-leader"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md); the other leechong-* classes inherit it.
+    reading = "1"
     mode = "leader"
     numbering = "formula"
     team = "A"

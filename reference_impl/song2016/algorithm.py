@@ -1091,6 +1091,9 @@ class Song2016:
     """
 
     name = "song2016"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md); song2016-literal inherits it.
+    reading = "1"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
     #: What 001 claims, property -> citation (every checked property is claimed).

@@ -858,6 +858,9 @@ class Wang2020:
     """
 
     name = "wang2020"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = ASSUMPTIONS
