@@ -1,7 +1,9 @@
 """``swarmproof replay``: re-run a counterexample file and judge its property again.
 
 Exit codes: 1 while the counterexample still reproduces (the property is
-violated again), 0 once it no longer does, 2 unreadable or malformed file.
+violated again), 0 once it no longer does, 2 unreadable or malformed file, or a
+file made with another reading of the algorithm than it runs now (the message
+names the registered reading that reproduces it, or where to get it).
 """
 
 from __future__ import annotations

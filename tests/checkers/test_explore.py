@@ -18,6 +18,7 @@ def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
     assert v.status == "violated" and r.exit_code == 1
     assert len(v.counterexample.robots) <= 6
     assert v.counterexample_path and replay_file(v.counterexample_path).reproduced
+    assert json.loads(open(v.counterexample_path).read())["reading"] == "1"     # song2014's reading (issue 29)
     assert r.broken_assumptions == [] and "v_dt_below_range" in r.kept_assumptions
 
 
