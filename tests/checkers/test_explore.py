@@ -246,6 +246,10 @@ def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path):
     assert held.properties["connectivity"].first_failure_seconds is None
 
 
+# slow by nature (issue 29): two Hypothesis find() runs that shrink a drawn scenario to its minimum
+# (23 s CPU measured; shrinking costs far more than finding, DESIGN section 4); the explorer's
+# shrinking stays in the default suite (test_song2014_connectivity_loss_found_and_shrunk_fast).
+@pytest.mark.slow
 def test_smallest_scenario_is_valid_and_robots_are_list_elements():
     from hypothesis import find
 
