@@ -27,14 +27,21 @@ VERIFY_WORKERS ?= auto
 verify: setup
 	@$(BIN)/swarmproof verify --baseline $(BASELINE) --workers $(VERIFY_WORKERS) $(VERIFY_ARGS); rc=$$?; \
 	case $$rc in \
-	  1) echo "make verify: swarmproof verify exited 1: a regression against $(BASELINE) (rows under REGRESSED, CHANGED or NEW): a finding about the algorithm, not the tool breaking";; \
+	  1) echo "make verify: swarmproof verify exited 1: a regression against $(BASELINE) (rows under REGRESSED, CHANGED, READING CHANGED or NEW): a finding about the algorithm, not the tool breaking";; \
 	  2) echo "make verify: swarmproof verify exited 2: bad input (the line above says what and how to fix it)";; \
 	  3) echo "make verify: swarmproof verify exited 3: a row is inconclusive (budget or timeout): not a pass";; \
 	esac; exit $$rc
 
-## The default suite (slow tests excluded; see tests/README.md).
+## The default suite (slow tests excluded; see tests/README.md), on every core (pytest-xdist;
+## every test is independent of order and of the worker it runs on).  TEST_WORKERS=0 runs it in
+## one process.  pytest's exit 5 (no test collected) is a failure, said as such.
+TEST_WORKERS ?= auto
+TEST_ARGS ?=
 test: setup
-	MPLBACKEND=Agg $(BIN)/python -m pytest -q
+	@MPLBACKEND=Agg $(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadgroup $(TEST_ARGS); rc=$$?; \
+	case $$rc in \
+	  5) echo "make test: pytest collected no test (exit 5): the suite ran nothing, which is a failure (a broken collection or a -m/-k that deselects everything)";; \
+	esac; exit $$rc
 
 ## Long acceptance runs, on purpose.
 test-slow: setup

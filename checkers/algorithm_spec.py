@@ -42,6 +42,14 @@ class AlgorithmSpec:
     factory: Callable = field(compare=False)
     claims: Mapping = field(default_factory=dict, compare=False)
 
+    @property
+    def reading(self) -> str:
+        """The reading version of the algorithm (its class's ``reading``, ``"1"`` when it declares
+        none: :func:`swarmproof.reference_impl.protocol.reading_of`); counterexample files record it."""
+        from swarmproof.reference_impl.protocol import reading_of
+
+        return reading_of(self.factory)
+
     def build(self, n_robots: int | None = None):
         """A fresh algorithm object (``n_robots`` passed only to factories that take it)."""
         import inspect

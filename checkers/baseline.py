@@ -7,6 +7,7 @@ A baseline is the property matrix of one ``verify`` run, kept in a file
     {"format": "swarmproof-baseline/1",
      "gate": {"max_examples": 300, "robots": [3, 8], "seed": 0},
      "made_by": {"swarmproof": "0.1.0", "python": "3.11.7", "numpy": "2.3.5"},
+     "readings": {"song2014": "1", "song2016": "1", ...},
      "rows": [{"section": "exploration", "subject": "song2014 n=3..8", "property": "tree_links",
                "algorithm": "song2014", "claim": "000 Lemma 7", "verdict": "violated",
                "signature": {"property": "tree_links", "size": 3,
@@ -18,6 +19,13 @@ runner gives the same verdicts); ``verify --baseline`` uses them.  A violated
 row keeps a *signature* of its counterexample -- the property, the shrunk size
 (robots) and the kind of message (numbers replaced by ``#``) -- so that a new
 failure inside a row already known to be violated is reported.
+
+``readings`` records the reading version (``Algorithm.reading``, bumped whenever an
+algorithm's behaviour changes on purpose) of every algorithm the rows name, as the run used
+it.  A baseline without the table was made before readings were versioned: every algorithm
+in it is reading ``"1"``.  A row whose algorithm runs another reading now than the baseline
+records is not compared (its verdicts are of another algorithm): it is ``reading``, and fails
+the gate until the baseline is regenerated on purpose (``--update-baseline``).
 
 How a row compares (:func:`compare`; the exit code of ``verify --baseline``):
 
@@ -39,6 +47,8 @@ n/a           not applicable now (the algorithm cannot give what the      0 (1 w
               baseline; inconclusive then n/a is no regression                held a verdict)
 improved      violated in the baseline, held or proved now                0 (1 with ``--strict``)
 resized       violated in both, same kind, another counterexample size    0 (1 with ``--strict``)
+reading       the baseline was made with another reading of the row's     1
+              algorithm: not compared (update the baseline on purpose)
 gone          in the baseline, in this run's scope, but not produced      warning (2 with ``--strict``)
 ============  ==========================================================  =====
 
@@ -70,13 +80,13 @@ from typing import Any, Callable, Iterable
 from swarmproof.models.errors import InputFileError
 from swarmproof.models.verdict import EXIT_INCONCLUSIVE, EXIT_OK, EXIT_VIOLATED, NOT_APPLICABLE, Verdict
 
-__all__ = ["BASELINE_FORMAT", "Expected", "Baseline", "Change", "Comparison", "compare", "signature",
-           "message_kind", "OUTCOMES"]
+__all__ = ["BASELINE_FORMAT", "Expected", "Baseline", "Change", "Comparison", "compare", "current_reading",
+           "signature", "message_kind", "OUTCOMES"]
 
 BASELINE_FORMAT = "swarmproof-baseline/1"
 
 #: Every outcome of :func:`compare`, in the order the report lists them.
-OUTCOMES = ("regressed", "changed", "new", "inconclusive", "weakened", "improved", "resized", "gone",
+OUTCOMES = ("regressed", "changed", "reading", "new", "inconclusive", "weakened", "improved", "resized", "gone",
             "n/a", "known", "same")
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
@@ -154,22 +164,38 @@ class Baseline:
     gate: dict[str, Any] = field(default_factory=dict)
     made_by: dict[str, str] = field(default_factory=dict)
     path: str | None = None
+    #: algorithm -> the reading version its rows were made with; an algorithm the table does
+    #: not name (a baseline from before readings were versioned) is reading "1"
+    readings: dict[str, str] = field(default_factory=dict)
 
     @classmethod
     def from_rows(cls, rows: Iterable, gate: dict[str, Any]) -> "Baseline":
         from swarmproof.models.versions import tool_versions
 
         exp = [Expected.of_row(r) for r in rows]
-        return cls({e.key: e for e in exp}, dict(gate), tool_versions())
+        readings = {a: r for a in sorted({e.algorithm for e in exp if e.algorithm})
+                    if (r := current_reading(a)) is not None}
+        return cls({e.key: e for e in exp}, dict(gate), tool_versions(), readings=readings)
+
+    def reading_of(self, algorithm: str) -> str:
+        """The reading of ``algorithm`` the rows were made with (``"1"`` when not recorded)."""
+        from swarmproof.models.versions import DEFAULT_READING
+
+        return self.readings.get(algorithm, DEFAULT_READING)
 
     def merged(self, newer: "Baseline", in_scope: Callable[[Expected], bool]) -> "Baseline":
-        """``newer``'s rows, plus this baseline's rows outside the run's scope (kept as they were)."""
+        """``newer``'s rows, plus this baseline's rows outside the run's scope (kept as they were,
+        with the readings they were made with)."""
         rows = {k: e for k, e in self.rows.items() if not in_scope(e)}
+        kept = {e.algorithm for e in rows.values() if e.algorithm}
+        readings = {a: self.reading_of(a) for a in kept}
         rows.update(newer.rows)
-        return Baseline(rows, dict(newer.gate), dict(newer.made_by), self.path)
+        readings.update(newer.readings)
+        return Baseline(rows, dict(newer.gate), dict(newer.made_by), self.path, readings)
 
     def to_json(self) -> dict[str, Any]:
         return {"format": BASELINE_FORMAT, "gate": self.gate, "made_by": self.made_by,
+                "readings": {a: self.readings[a] for a in sorted(self.readings)},
                 "rows": [self.rows[k].to_json() for k in sorted(self.rows)]}
 
     def save(self, path: str | os.PathLike) -> str:
@@ -235,6 +261,12 @@ class Baseline:
         made_by = doc.get("made_by", {})
         if not isinstance(made_by, dict):
             raise err("made_by", f"made_by={made_by!r} is not an object")
+        readings = doc.get("readings", {})
+        if not isinstance(readings, dict):
+            raise err("readings", f"readings={readings!r} is not an object (algorithm -> reading)")
+        for a, r in readings.items():
+            if not isinstance(r, str) or not r.strip():
+                raise err(f"readings.{a}", f"readings.{a}={r!r} is not a reading (a non-empty string, e.g. \"1\")")
         rows_doc = doc.get("rows")
         if not isinstance(rows_doc, list):
             raise err("rows", f"rows={rows_doc!r} is not a list")
@@ -264,7 +296,7 @@ class Baseline:
                 raise err(where, f"{where} repeats the row {_key_text(e.key)!r}",
                           fix="keep one row per section, subject and property")
             rows[e.key] = e
-        return cls(rows, gate, {str(k): str(v) for k, v in made_by.items()}, file)
+        return cls(rows, gate, {str(k): str(v) for k, v in made_by.items()}, file, dict(readings))
 
 
 @dataclass(frozen=True)
@@ -291,6 +323,37 @@ def _sig_text(sig: dict | None) -> str:
         return "no signature"
     size = "" if sig.get("size") is None else f"{sig['size']} robots, "
     return f"{size}{sig.get('kind', '')!r}"
+
+
+def current_reading(algorithm: str) -> str | None:
+    """The reading ``algorithm`` (a registry name or ``module:qualname``) runs in this swarmproof;
+    None when it cannot be resolved here (its rows are then compared as before)."""
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+    from swarmproof.models.errors import UsageError
+
+    try:
+        return resolve_algorithm(algorithm).reading
+    except UsageError:
+        return None
+
+
+def _reading_change(row, exp: Expected, baseline: "Baseline", readings: dict) -> Change | None:
+    """A ``reading`` change when ``row``'s algorithm runs another reading than the baseline's rows
+    of it were made with; None otherwise."""
+    algo = (row.data or {}).get("algorithm") if row is not None else None
+    algo = algo if isinstance(algo, str) else exp.algorithm
+    if not algo:
+        return None
+    if algo not in readings:
+        readings[algo] = current_reading(algo)
+    now_reading, then_reading = readings[algo], baseline.reading_of(algo)
+    if now_reading is None or now_reading == then_reading:
+        return None
+    return Change("reading", exp.key, row.verdict, exp.verdict, row.claim,
+                  f"the baseline was made with reading {then_reading!r} of {algo}, this run uses reading "
+                  f"{now_reading!r} (baseline {exp.verdict.value}, now {row.verdict.value}): not compared; "
+                  "regenerate the baseline on purpose (--update-baseline) and give the reason for each "
+                  "changed row", row)
 
 
 def _compare_row(row, exp: Expected | None) -> Change:
@@ -370,7 +433,7 @@ class Comparison:
     def fails(self, c: Change) -> bool:
         """Whether ``c`` fails the gate (exit 1): a regression, a new kind of failure in a
         known-violated row, a new claimed violation; with ``strict`` an improvement or a resize."""
-        if c.outcome in ("regressed", "changed"):
+        if c.outcome in ("regressed", "changed", "reading"):
             return True
         if c.outcome == "new":
             return c.verdict is Verdict.VIOLATED and c.claim is not None
@@ -431,6 +494,9 @@ class Comparison:
             tail.append(f"{n['not_applicable']} n/a (not applicable)")
         if n["gone"]:
             tail.append(f"{n['gone']} baseline row" + ("" if n["gone"] == 1 else "s") + " gone")
+        if n["reading"]:
+            tail.append(f"{n['reading']} row" + ("" if n["reading"] == 1 else "s")
+                        + " made with another reading (not compared)")
         where = self.baseline.path or "the baseline"
         return (f"verify: {status}: " + ", ".join(parts) + (f"; {', '.join(tail)}" if tail else "")
                 + f" (against {where})")
@@ -441,6 +507,8 @@ class Comparison:
         out: list[str] = []
         titles = [("regressed", "REGRESSED (held or proved in the baseline, violated now)"),
                   ("changed", "CHANGED (a new failure in a known-violated row)"),
+                  ("reading", "READING CHANGED (the baseline was made with another reading of the algorithm: "
+                              "not compared; update the baseline on purpose: --update-baseline)"),
                   ("new", "NEW (not in the baseline)"),
                   ("inconclusive", "INCONCLUSIVE (never a pass)"),
                   ("weakened", "WEAKENED (proved in the baseline, only held now)"),
@@ -468,6 +536,7 @@ class Comparison:
 
     def to_json(self) -> dict[str, Any]:
         return {"file": self.baseline.path, "format": BASELINE_FORMAT, "made_by": self.baseline.made_by,
+                "readings": dict(self.baseline.readings),
                 "gate": self.baseline.gate, "strict": self.strict, "exit_code": self.exit_code,
                 "counts": self.counts(),
                 "changes": [c.to_json() for c in self.changes if c.outcome not in ("same",)]}
@@ -495,10 +564,13 @@ def compare(rows: Iterable, baseline: Baseline, *, in_scope: Callable[[Expected]
     """
     changes: list[Change] = []
     seen = set()
+    readings: dict = {}
     for row in rows:
         key = (row.section, row.subject, row.property)
         seen.add(key)
-        changes.append(_compare_row(row, baseline.rows.get(key)))
+        exp = baseline.rows.get(key)
+        reread = None if exp is None else _reading_change(row, exp, baseline, readings)
+        changes.append(reread if reread is not None else _compare_row(row, exp))
     for key, exp in baseline.rows.items():
         if key not in seen and in_scope(exp):
             changes.append(Change("gone", key, None, exp.verdict, exp.claim,

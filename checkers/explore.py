@@ -1060,7 +1060,7 @@ def _scenario_counterexample(ex: _Exploration, scn: Scenario, lattice, p, fm, re
     """The ``swarmproof-counterexample/1`` of a scenario whose property ``found`` was violated."""
     step = (r.witness or {}).get("step")
     return Counterexample(
-        algorithm=ex.spec.ref,
+        algorithm=ex.spec.ref, reading=ex.spec.reading,
         params=cx_params(p),
         lattice=_cx_lattice(scn.lattice, lattice), target=_cx_target(scn.lattice, lattice),
         robots=[(i, pose) for i, pose in zip(scn.ids, scn.poses)],

@@ -8,6 +8,13 @@ fault hooks (:meth:`FaultModel.from_dict`) and the property options; the
 property is judged with :func:`swarmproof.checkers.explore.judge`, the same
 judging the explorer used.  ``reproduced`` is True while the property is
 still violated.
+
+Readings: the file records the reading version of the algorithm that made it (``reading``; a
+file without one is reading ``"1"``).  When the algorithm now runs another reading, its run is
+not the file's, so :func:`replay` refuses it (:class:`InputFileError`, exit 2) and names the
+registered reading that reproduces it (``registry.READINGS``), or, when none is registered,
+where to get it (``registry.RETIRED_READINGS``, else the swarmproof version that wrote the
+file) -- never "no longer reproduces".
 """
 
 from __future__ import annotations
@@ -19,7 +26,7 @@ from typing import Any
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import InputFileError, UsageError
 
-__all__ = ["ReplayResult", "replay", "replay_file", "plot_replay", "gif_replay"]
+__all__ = ["ReplayResult", "replay", "replay_file", "plot_replay", "gif_replay", "check_reading"]
 
 
 @dataclass
@@ -39,8 +46,55 @@ class ReplayResult:
         return {"reproduced": self.reproduced, "property": self.counterexample.property,
                 "step": self.step, "message": self.verdict.message, "status": self.verdict.status,
                 "recorded_violation": dict(self.counterexample.violation),
-                "algorithm": self.counterexample.algorithm, "robots": len(self.counterexample.robots),
+                "algorithm": self.counterexample.algorithm, "reading": self.counterexample.recorded_reading,
+                "robots": len(self.counterexample.robots),
                 "steps_run": int(self.result.steps)}
+
+
+def check_reading(cx: Counterexample, spec, *, file: str | None = None) -> None:
+    """Refuse ``cx`` when it was made by another reading of its algorithm than ``spec`` runs now.
+
+    Raises
+    ------
+    InputFileError
+        Field ``reading``: the two readings, and what reproduces the file's -- the registry name
+        of that reading (``registry.READINGS``), or the swarmproof release and commit that had it
+        (``registry.RETIRED_READINGS``), or, when this swarmproof knows nothing of it, the
+        swarmproof version that wrote the file (its ``made_by``).
+    """
+    from swarmproof.models.versions import tool_versions
+    from swarmproof.reference_impl.registry import algorithm_names, find_reading
+
+    then, now = cx.recorded_reading, spec.reading
+    if then == now:
+        return
+    recorded = "" if cx.reading is not None else " (not recorded: a file from before readings were versioned)"
+    head = (f"reading={then!r}{recorded}: this file was made with reading {then!r} of algorithm={cx.algorithm!r}, "
+            f"which runs reading {now!r} now (its behaviour changed on purpose: CHANGELOG.md), so replaying "
+            "it here would not tell whether it still reproduces")
+    made_by = (cx.made_by or {}).get("swarmproof")
+    ours = tool_versions()["swarmproof"]
+    if cx.algorithm in algorithm_names():
+        other, where = find_reading(cx.algorithm, then)
+        if other is not None:
+            raise InputFileError(f"{head}; reading {then!r} of {cx.algorithm} is registered as {other!r}",
+                                 file=file, field="reading",
+                                 fix=f'replay it with that reading: set "algorithm": "{other}" in the file')
+        if where is not None:
+            raise InputFileError(f"{head}; reading {then!r} of {cx.algorithm} is not registered in this "
+                                 f"swarmproof ({ours}); it is in {where}", file=file, field="reading",
+                                 fix=f"replay it with {where}")
+        raise InputFileError(f"{head}; no reading {then!r} of {cx.algorithm} is registered in this swarmproof "
+                             f"({ours})", file=file, field="reading",
+                             fix=(f"replay it with the swarmproof that wrote it (made_by.swarmproof={made_by!r}: "
+                                  f"pip install 'swarmproof=={made_by}', or check out that release's commit; "
+                                  "CHANGELOG.md lists each release's readings)" if made_by and made_by != "unknown"
+                                  else "replay it with the swarmproof release that wrote it (CHANGELOG.md lists "
+                                       "each release's readings)"))
+    raise InputFileError(f"{head}; {cx.algorithm} is not registered, so no other reading of it is known",
+                         file=file, field="reading",
+                         fix=f"replay it with the version of {cx.algorithm} that declared reading {then!r}; if "
+                             f"its behaviour did not change, set its class's reading back to {then!r}")
 
 
 def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
@@ -50,7 +104,8 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     ------
     InputFileError
         The file names an unknown algorithm, lattice or property, or faults
-        that cannot be rebuilt.
+        that cannot be rebuilt, or was made with another reading of the
+        algorithm (:func:`check_reading`).
     """
     from swarmproof.checkers.explore import judge, resolve_algorithm, run_scenario
     from swarmproof.invariants.registry import get_property
@@ -71,6 +126,7 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         spec = resolve_algorithm(cx.algorithm)
     except UsageError as exc:
         raise bad("algorithm", exc, cx.algorithm) from None
+    check_reading(cx, spec, file=file)
     if cx.target is not None:
         # the algorithm's module is imported already (resolve_algorithm), so a kind it registers is known
         from swarmproof.models.targets import target_from_description

@@ -505,8 +505,11 @@ def run_counterexample(checked, prop: str, message: str, ref: str | None = None)
     is_lattice = getattr(target, "kind", "lattice") == "lattice"
     if step is not None:
         message = re.sub(rf"^step {int(step)}: ", "", message)
+    from swarmproof.reference_impl.protocol import reading_of
+
     return Counterexample(
-        algorithm=ref or checked.algorithm.name, params=cx_params(checked.params),
+        algorithm=ref or checked.algorithm.name, reading=reading_of(checked.algorithm),
+        params=cx_params(checked.params),
         lattice=target.name if is_lattice else None,
         robots=[(int(i), tuple(float(x) for x in pose)) for i, pose in zip(init.ids.tolist(), init.poses)],
         seed=int(checked.doc["seed"]), property=prop,

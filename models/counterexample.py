@@ -4,8 +4,12 @@ Fields (DESIGN.md section 2): ``algorithm, params, lattice,
 initial{robots[{id, pose[x, y, theta]}]}, schedule, faults, seed, property,
 violation{step, message}, version``, plus ``format`` and a few more fields
 the replay needs (``max_steps``, ``allow_violations``,
-``broken_assumptions``, ``options``), and ``made_by`` (the swarmproof, Python
-and numpy versions that wrote it; read by nothing).  Angles in ``initial`` are radians
+``broken_assumptions``, ``options``), ``reading`` (the reading version of the
+algorithm that made it: its class's ``reading``, bumped whenever its behaviour changes on
+purpose; a file without the field was written before readings were versioned and is reading
+``"1"``, :data:`~swarmproof.models.versions.DEFAULT_READING`; replay refuses a file of
+another reading than the algorithm's, exit 2) and ``made_by`` (the swarmproof, Python and
+numpy versions that wrote it; replay names it when no registered reading reproduces a file).  Angles in ``initial`` are radians
 (``angle_unit: "rad"``) so a replay is bit-exact.
 
 Examples
@@ -195,6 +199,13 @@ class Counterexample:
         ``phase`` and ``rate`` per robot slot, ``broadcast_every``), None for synchronous
         steps; written only when given.  A replay draws them again from the seed; they are
         here so :meth:`format_steps` can say what the run was.
+    reading : str or None
+        The reading version of the algorithm that made it (``Algorithm.reading``); None when
+        the file records none (written before readings were versioned:
+        :attr:`recorded_reading` is then ``"1"``).
+    made_by : dict or None
+        The file's ``made_by`` as read (the versions that wrote it); not compared, and
+        :meth:`as_dict` writes this process's versions.
     """
 
     algorithm: str
@@ -212,12 +223,22 @@ class Counterexample:
     options: dict = field(default_factory=dict)
     target: dict | None = None
     clocks: dict | None = None
+    reading: str | None = None
+    made_by: dict | None = field(default=None, compare=False)
+
+    @property
+    def recorded_reading(self) -> str:
+        """The reading the file was made with: ``reading``, or ``"1"`` when it records none."""
+        from .versions import DEFAULT_READING
+
+        return DEFAULT_READING if self.reading is None else self.reading
 
     def as_dict(self) -> dict:
         doc = {
             "format": COUNTEREXAMPLE_FORMAT,
             "version": COUNTEREXAMPLE_VERSION,
             "algorithm": self.algorithm,
+            **({} if self.reading is None else {"reading": str(self.reading)}),
             "params": dict(self.params),
             "lattice": self.lattice,
             "initial": {"angle_unit": "rad",
@@ -327,6 +348,12 @@ class Counterexample:
         clocks = d.get("clocks")
         if clocks is not None:
             _check_clocks(clocks, err)
+        reading = d.get("reading")
+        if reading is not None and not (isinstance(reading, str) and reading.strip()):
+            raise err("reading", f"reading={reading!r} must be a non-empty string (the algorithm's reading version)",
+                      fix="write the algorithm's reading as its class declares it (e.g. \"1\"), or drop the "
+                          "field: a file without one is reading \"1\"")
+        made_by = d.get("made_by")
         return cls(algorithm=d["algorithm"], params=params, lattice=d.get("lattice"), robots=robots,
                    seed=seed, property=d["property"],
                    violation={"step": step, "message": str(viol.get("message", ""))},
@@ -335,7 +362,8 @@ class Counterexample:
                    broken_assumptions=list(d.get("broken_assumptions") or []),
                    options=dict(d.get("options") or {}),
                    target=None if target is None else dict(target),
-                   clocks=None if clocks is None else dict(clocks))
+                   clocks=None if clocks is None else dict(clocks), reading=reading,
+                   made_by=dict(made_by) if isinstance(made_by, Mapping) else None)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "Counterexample":

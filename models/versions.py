@@ -12,7 +12,13 @@ from __future__ import annotations
 
 import platform
 
-__all__ = ["tool_versions"]
+__all__ = ["tool_versions", "DEFAULT_READING"]
+
+#: The reading version of an algorithm that declares none, and of a counterexample file or a
+#: baseline that records none: they were written before readings were versioned (swarmproof
+#: 0.1.0), when every bundled algorithm was at its first reading, ``"1"``.  (An algorithm's
+#: reading is bumped whenever its behaviour changes on purpose: reference_impl/protocol.py.)
+DEFAULT_READING = "1"
 
 
 def tool_versions() -> dict[str, str]:

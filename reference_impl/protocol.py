@@ -49,8 +49,13 @@ import numpy as np
 
 __all__ = [
     "Assumption", "RobotModel", "Params", "ParamSpec", "VerifyPlan", "Observation", "Command", "Controller",
-    "Algorithm", "steer_toward", "connected_start",
+    "Algorithm", "DEFAULT_READING", "reading_of", "steer_toward", "connected_start",
 ]
+
+#: The reading of an algorithm that declares none, and of a counterexample file or baseline that
+#: records none (they were written before readings were versioned, when every algorithm was at
+#: its first reading): ``"1"`` (defined in :mod:`swarmproof.models.versions`).
+from swarmproof.models.versions import DEFAULT_READING  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -350,6 +355,13 @@ class Algorithm(Protocol):
     model: RobotModel
     #: The paper's assumptions (checked before a run).
     assumptions: tuple[Assumption, ...]
+    #: The reading version: a short string (``"1"``, ``"2"``, ...), bumped whenever the
+    #: algorithm's behaviour changes on purpose (another reading of its paper, a fixed
+    #: misreading), never for a refactoring that keeps every trace identical.  Counterexample
+    #: files and verify baselines record it; a file made by another reading does not replay
+    #: (exit 2, naming the registered reading that does: ``registry.READINGS``).  Optional:
+    #: an algorithm without one is at reading :data:`DEFAULT_READING`.
+    reading: str
 
     def controller(self, robot_id: int | None, params: Params, lattice, rng: np.random.Generator) -> Controller:
         """A fresh controller for one robot.  ``rng`` is this robot's own
@@ -440,6 +452,18 @@ class VerifyPlan:
         """``(target, robots, seeds)`` of every ``algorithms`` row group, in report order."""
         return tuple((t, self.robots, tuple(self.seeds)) for t in self.targets) + tuple(
             (t, int(n), tuple(seeds)) for t, n, seeds in self.more)
+
+
+def reading_of(algorithm) -> str:
+    """The reading version of an algorithm class, factory or object (its ``reading`` attribute,
+    :data:`DEFAULT_READING` when it declares none).
+
+    >>> class A: reading = "2"
+    >>> reading_of(A), reading_of(A()), reading_of(object())
+    ('2', '2', '1')
+    """
+    value = getattr(algorithm, "reading", None)
+    return DEFAULT_READING if value is None else str(value)
 
 
 def steer_toward(target_xy, params: Params, heading: float | None = None,

@@ -29,8 +29,9 @@ import inspect
 
 from swarmproof.models.errors import UsageError
 
-__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "LEMMA_SETS", "get_algorithm", "algorithm_names",
-           "algorithm_factory", "claims_of", "verify_plans", "lemma_sets"]
+__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "LEMMA_SETS", "READINGS", "RETIRED_READINGS", "get_algorithm",
+           "algorithm_names", "algorithm_factory", "claims_of", "verify_plans", "lemma_sets", "reading_of_name",
+           "find_reading"]
 
 #: swarmproof's own algorithms: registry name -> ``"module:factory"``.  Another
 #: package adds its own under the entry-point group :data:`ENTRY_POINT_GROUP`
@@ -54,6 +55,18 @@ ALGORITHMS: dict[str, str] = {
 }
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
+
+#: Readings of an algorithm other than the one its registry name runs now, that this swarmproof
+#: still has: ``(name, reading) -> registry name`` of the class that runs it (its ``reading``
+#: attribute is that reading).  When a change bumps an algorithm's ``reading`` (its behaviour
+#: changes on purpose, CHANGELOG.md), keep the old class registered under a new name (e.g.
+#: ``"wang2020-r1"``) and list it here, so that a counterexample file made with the old reading
+#: names what replays it.  A name's current reading is its class's ``reading`` and needs no entry.
+READINGS: dict[tuple[str, str], str] = {}
+
+#: Readings this swarmproof can no longer run: ``(name, reading) -> where to get them`` (the last
+#: swarmproof release and commit that had them), for the message of a replay or a baseline.
+RETIRED_READINGS: dict[tuple[str, str], str] = {}
 
 #: The modules that declare z3 lemmas, in the order ``swarmproof prove`` lists them (after the
 #: normalisation lemmas of :mod:`swarmproof.invariants.lemmas`).  Each has ``LEMMAS`` (id ->
@@ -163,3 +176,34 @@ def get_algorithm(name: str, *, n_robots: int | None = None, **options):
         if accepts:
             options["n_robots"] = n_robots
     return factory(**options)
+
+
+def reading_of_name(name: str) -> str:
+    """The reading the registry name ``name`` runs now (its class's ``reading``).
+
+    >>> reading_of_name("song2016")
+    '1'
+    """
+    from .protocol import reading_of
+
+    return reading_of(algorithm_factory(name))
+
+
+def find_reading(name: str, reading: str) -> tuple[str | None, str | None]:
+    """Where reading ``reading`` of the registered algorithm ``name`` is:
+    ``(registry name that runs it, None)`` when this swarmproof has it (``name`` itself when it is
+    the current reading, else :data:`READINGS`), ``(None, where)`` when it is retired
+    (:data:`RETIRED_READINGS`), ``(None, None)`` when nothing here knows it.
+
+    >>> find_reading("song2016", "1")
+    ('song2016', None)
+    >>> find_reading("song2016", "0")
+    (None, None)
+    """
+    reading = str(reading)
+    if reading_of_name(name) == reading:
+        return name, None
+    other = READINGS.get((name, reading))
+    if other is not None:
+        return other, None
+    return None, RETIRED_READINGS.get((name, reading))

@@ -88,3 +88,16 @@ def load_benchmark(name: str):
     sys.modules[mod_name] = mod
     spec.loader.exec_module(mod)
     return mod
+
+
+# -- readings (issue 29) ----------------------------------------------------------------------
+
+def gather_reading(reading: str):
+    """A subclass of ``example-gather`` that declares another reading version (behaviour unchanged):
+    what a change that bumps an algorithm's reading leaves registered under a new name."""
+    from swarmproof.reference_impl.examples import GatherToLowestId
+
+    return type(f"GatherReading{reading}", (GatherToLowestId,), {"reading": reading, "__module__": __name__})
+
+
+GatherReading0 = gather_reading("0")

@@ -93,6 +93,9 @@ class GatherToLowestId:
     #: The controller-state fields the shared checkers may read: none (no spanning tree).  Not from a
     #: paper, so no ``paper``: its unclaimed rows say "not claimed by the algorithm".
     state_fields = ()
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential", clocks="sync")
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
@@ -195,6 +198,9 @@ class AnonymousLine:
     #: The controller-state fields the shared checkers may read: none (no spanning tree).  Not from a
     #: paper, so no ``paper``: its unclaimed rows say "not claimed by the algorithm".
     state_fields = ()
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="anonymous", communication="none", motion="holonomic", clocks="sync")
     assumptions = (
         Assumption("v_dt_below_range", "v*dt < phi", "example (cf. 001 Lemma 7)", _v_dt_below_range),
@@ -318,6 +324,9 @@ class GridGoals:
     #: The controller-state fields the shared checkers may read: none (no spanning tree).  Not from a
     #: paper, so no ``paper``: its unclaimed rows say "not claimed by the algorithm".
     state_fields = ()
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = (

@@ -355,7 +355,10 @@ class Jiang:
     state_fields = ()
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "002"
-    reading = "queue"
+    #: The reading version (protocol.Algorithm.reading); jiang-literal inherits it.
+    reading = "1"
+    #: Which rule of Algorithm 2 (docs/decisions.md): "queue" (Sec. IV-B's prose) or "literal".
+    rule = "queue"
     model = RobotModel(sensing="global", communication="all", motion="differential", clocks="sync",
                        message_timing="unbounded")
     knows_start = True
@@ -401,7 +404,7 @@ class Jiang:
                              f"{getattr(target, 'kind', type(target).__name__)} {getattr(target, 'name', '')!r}",
                              fix="e.g. --pattern rhombus-triangles (swarmproof check-pattern --list), or "
                                  "--pattern lattice:square for a one-role lattice")
-        return JiangController(robot_id, params, basic, assembling, self.reading, float(target.tol))
+        return JiangController(robot_id, params, basic, assembling, self.rule, float(target.tol))
 
     def finished(self, states) -> bool:
         live = [dict(s) for s in states if s is not None]
@@ -420,6 +423,6 @@ class JiangLiteral(Jiang):
     keeps the acting head first and ``O`` collects robots.  See the module docstring."""
 
     name = "jiang-literal"
-    reading = "literal"
+    rule = "literal"
     #: 30 robots: 10 heads, more than the root's 3 slots, so the printed Q shows (docs/jiang.md).
     verify = VerifyPlan(targets=("pattern:rhombus-triangles",), robots=30, seeds=(0, 1, 2), explore=False, rank=21)

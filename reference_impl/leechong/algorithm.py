@@ -974,6 +974,9 @@ class LeeChongLeader:
     state_fields = ("id", "failed")
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "003"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md); the other leechong-* classes inherit it.
+    reading = "1"
     mode = "leader"
     numbering = "formula"
     team = "A"

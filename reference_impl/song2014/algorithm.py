@@ -689,6 +689,9 @@ class Song2014:
     state_fields = ("role", "parent")
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "000"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
     #: What 000 claims, property -> citation; ``None``: not claimed (001 Sec. I says so of

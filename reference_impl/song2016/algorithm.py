@@ -1194,6 +1194,9 @@ class Song2016:
     state_fields = ("role", "parent")
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "001"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md); song2016-literal inherits it.
+    reading = "1"
     model = RobotModel(sensing="local", communication="neighbors", motion="differential",
                        clocks="sync")
     #: What 001 claims, property -> citation (every checked property is claimed).

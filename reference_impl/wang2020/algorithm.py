@@ -888,6 +888,9 @@ class Wang2020:
     state_fields = ()
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "004"
+    #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
+    #: purpose; CHANGELOG.md).
+    reading = "1"
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = ASSUMPTIONS

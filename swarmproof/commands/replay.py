@@ -3,7 +3,9 @@
 Exit codes: 1 while the counterexample still reproduces (the property is
 violated again), 0 once it no longer does (the property held on the replayed
 run), 3 when the replay cannot tell (inconclusive: e.g. the run hit its step
-cap, or a pose overflowed), 2 unreadable or malformed file.
+cap, or a pose overflowed), 2 unreadable or malformed file, or a file made with
+another reading of the algorithm than it runs now (the message names the
+registered reading that reproduces it, or where to get it).
 """
 
 from __future__ import annotations

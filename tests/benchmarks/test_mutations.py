@@ -168,7 +168,11 @@ def test_summary_and_table_lines_exact():
 
 def test_benchmark_runs_on_a_tiny_budget():
     fault = mutants.get_fault("song2014~no-eq8-turn")
-    doc = bench.run_benchmark([fault], 1.0, 0, (3, 4))
+    # The budget is wall seconds: 1 s failed whenever the machine was loaded (two pytest workers
+    # beside other jobs: the explorer's first example came late, within_budget said "late").
+    # "At once" is what m["runs"] == 1 checks; the budget is only a ceiling, so a roomy one costs
+    # nothing when the hunters find the fault.
+    doc = bench.run_benchmark([fault], 30.0, 0, (3, 4))
     (row,) = doc["rows"]
     e, m = row["explorer"], row["monte_carlo"]
     # the fault breaks every run: both hunters find it at once, with 3..4 robots

@@ -216,6 +216,10 @@ def _stop(procs) -> None:
             p.wait()
 
 
+# slow by nature (issue 29): a 2-process embedded cluster, then a real `dask scheduler` and two `dask worker`
+# subprocesses (39 s CPU measured with its children); the default suite keeps the --scheduler branch
+# (test_unreachable_scheduler_exit_2) and the embedded cluster (test_same_results_for_one_and_two_workers...).
+@pytest.mark.slow
 def test_real_scheduler_and_workers_give_the_embedded_results(tmp_path):
     spec = loads_campaign(SMALL)
     run_campaign(spec, out_dir=str(tmp_path / "embedded"), workers=2)
@@ -266,6 +270,10 @@ def _rows_when(out_dir, at_least: int, proc, timeout=240) -> int:
     raise AssertionError("no task finished in time")
 
 
+# slow by nature (issue 29): the longer campaign three times on 2-process clusters, one of them in a
+# `swarmproof campaign` subprocess killed midway (81 s CPU measured with its children); --resume itself is
+# in the default suite (test_same_results_for_one_and_two_workers_json_and_resume).
+@pytest.mark.slow
 def test_a_killed_client_loses_nothing_that_finished(tmp_path):
     spec = tmp_path / "longer.yaml"
     spec.write_text(LONGER)
@@ -285,6 +293,9 @@ def test_a_killed_client_loses_nothing_that_finished(tmp_path):
     assert set(before) <= set(results_table(out))     # what finished was kept, not redone differently
 
 
+# slow by nature (issue 29): the longer campaign on a 2-process cluster, then on a real scheduler with two
+# `dask worker` subprocesses, one killed midway (as costly as the two tests above).
+@pytest.mark.slow
 def test_a_killed_worker_loses_nothing(tmp_path):
     spec = loads_campaign(LONGER)
     run_campaign(spec, out_dir=str(tmp_path / "full"), workers=2)
@@ -410,6 +421,43 @@ def _namespace_prefix() -> list[str] | None:
     return None
 
 
+def test_a_full_disk_while_recording_is_exit_2_and_keeps_what_finished(tmp_path, capsys):
+    """The store's side of the full-disk test below (which is slow): SQLite failing to record a
+    task for want of space is a usage error that names the task and says to free space and
+    --resume; the rows recorded before stay readable."""
+    from swarmproof.checkers.campaign import ResultsStore
+    from swarmproof.models.errors import UsageError
+
+    spec = loads_campaign(SMALL)
+    tasks = plan_tasks(spec)
+    store = ResultsStore(str(tmp_path / "o"), spec, resume=False)
+    store.write(tasks[-1], {"verdict": "held", "figures": {"steps": 3}})
+    real = store.con
+
+    class FullDisk:
+        def __enter__(self):
+            return real.__enter__()
+
+        def __exit__(self, *exc):
+            return real.__exit__(*exc)
+
+        def execute(self, sql, *args):
+            if sql.startswith("INSERT OR REPLACE INTO results"):
+                raise sqlite3.OperationalError("database or disk is full")
+            return real.execute(sql, *args)
+
+    store.con = FullDisk()
+    with pytest.raises(UsageError, match=r"cannot record task explore\[0\]/connectivity/seed0 \(database or disk "
+                                         r"is full\); fix: free disk space, then run again with --resume"):
+        store.write(tasks[0], {"verdict": "held", "figures": {}})
+    store.con = real
+    assert [r[0] for r in results_table(tmp_path / "o")] == [tasks[-1].key]
+
+
+# slow by nature (issue 29): four campaigns on 2-process clusters, three in subprocesses inside a private
+# mount namespace (96 s CPU measured with its children); the store's handling of a full disk is in the
+# default suite (test_a_full_disk_while_recording_is_exit_2_and_keeps_what_finished).
+@pytest.mark.slow
 def test_a_full_disk_stops_with_exit_2_and_a_readable_store(tmp_path):
     """DESIGN §5: a full disk is exit 2 with the cause; issue 18: the results store stays readable."""
     prefix = _namespace_prefix()

@@ -18,6 +18,7 @@ def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
     assert v.status == "violated" and r.exit_code == 1
     assert len(v.counterexample.robots) <= 6
     assert v.counterexample_path and replay_file(v.counterexample_path).reproduced
+    assert json.loads(open(v.counterexample_path).read())["reading"] == "1"     # song2014's reading (issue 29)
     assert r.broken_assumptions == [] and "v_dt_below_range" in r.kept_assumptions
 
 
@@ -245,6 +246,10 @@ def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path):
     assert held.properties["connectivity"].first_failure_seconds is None
 
 
+# slow by nature (issue 29): two Hypothesis find() runs that shrink a drawn scenario to its minimum
+# (23 s CPU measured; shrinking costs far more than finding, DESIGN section 4); the explorer's
+# shrinking stays in the default suite (test_song2014_connectivity_loss_found_and_shrunk_fast).
+@pytest.mark.slow
 def test_smallest_scenario_is_valid_and_robots_are_list_elements():
     from hypothesis import find
 

@@ -162,13 +162,10 @@ def test_cli_simulate_wedge_with_plot_gif_then_and_fail(capsys, tmp_path):
     assert code == 2 and "STEP='soon'" in err
 
 
-def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path):
-    """003's own scenarios: symmetric starts make ties happen; a counterexample keeps the drawn
-    failure in its params and replays."""
+def test_explorer_draws_symmetric_starts_and_failures(tmp_path):
+    """003's own scenarios: symmetric starts make ties happen, and failures are drawn."""
     from hypothesis import given, settings, strategies as st
 
-    from swarmproof.checkers.explore import explore
-    from swarmproof.checkers.replay import replay_file
     from swarmproof.reference_impl.leechong.algorithm import LeeChongLeader
 
     kinds, fails = set(), set()
@@ -186,6 +183,17 @@ def test_explorer_draws_symmetric_starts_and_failures_and_replays_them(tmp_path)
 
     draws()
     assert kinds == {"tie", "no tie"} and {"leader", "none"} <= fails
+
+
+# slow by nature (issue 29): 25 explored scenarios of leechong-leader-prose and the shrink of the one that
+# breaks its invariants (51 s CPU measured); its scenario hooks stay in the default suite (the test above),
+# and make verify runs leechong's exploration rows on every landing.
+@pytest.mark.slow
+def test_explorer_finds_the_axis_robot_tie_and_the_file_replays(tmp_path):
+    """A counterexample of 003's drawn scenarios keeps the drawn failure in its params and replays."""
+    from swarmproof.checkers.explore import explore
+    from swarmproof.checkers.replay import replay_file
+
     rep = explore("leechong-leader-prose", ["invariants"], max_examples=25, robots=(3, 6), seed=0,
                   budget=None, out_dir=str(tmp_path))
     v = rep.properties["invariants"]

@@ -302,6 +302,9 @@ def test_same_seed_same_trace_other_seed_other_phases():
     assert a.trace.poses.tobytes() != c.trace.poses.tobytes()
 
 
+# slow by nature (issue 29): a 64-agent asynchronous run to the end (22 s CPU measured; its 60 s wall
+# check failed on the loaded machine at 88 s); the small runs of this file keep the code path.
+@pytest.mark.slow
 def test_sixty_four_agents_form_an_eight_by_eight_square():
     square = GoalSet.from_bitmap("square-64", ["#" * 8] * 8, spacing=0.2, range=0.6)
     alg = Wang2020()
