@@ -212,11 +212,12 @@ def test_premises_violated_by_song2014_lemma7_as_implemented(tmp_path):
     assert w["distance"] > w["bounded_range"] == pytest.approx(1.15)
 
 
-def test_premises_inconclusive_when_the_algorithm_declares_none():
+def test_premises_not_applicable_when_the_algorithm_declares_none():
+    """No premise monitors: the property does not apply (no verdict, never a pass) and no run is spent on it."""
     r = explore("example-gather", ["premises"], budget=10, max_examples=2, **SMALL)
     v = r.properties["premises"]
-    assert v.status == "inconclusive" and v.conclusive == 0
-    assert v.message.endswith("last: the algorithm declares no lemma premises to monitor")
+    assert v.status == "not_applicable" and v.conclusive == 0
+    assert v.message == "not applicable: it declares no lemma premise monitors (premise_monitors)"
 
 
 # -- no progress over a window (randomized algorithms) ------------------------------------

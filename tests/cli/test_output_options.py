@@ -33,6 +33,7 @@ BASE = {
     "campaign": ["spec.yaml"],
     "explore": ["song2016"],
     "replay": ["cx.json"],
+    "list": [],
 }
 
 #: command name -> its module in swarmproof.commands

@@ -39,7 +39,7 @@ def test_lemma_section_json_every_lemma_proved_exit_0(capsys):
         ("lemmas", "z3 proof", "proved", True)}
     assert all(r["negative_control"]["status"] == "counterexample" for r in doc["rows"])
     assert "seconds" not in doc and not any("seconds" in r for r in doc["rows"])
-    assert doc["counts"] == {"proved": len(proofs.LEMMAS), "held": 0, "violated": 0, "inconclusive": 0}
+    assert doc["counts"] == {"proved": len(proofs.LEMMAS), "held": 0, "violated": 0, "inconclusive": 0, "n/a": 0}
 
 
 def test_exploration_held_and_finding_exit_0_exact_lines(capsys, small):

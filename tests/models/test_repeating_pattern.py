@@ -137,10 +137,10 @@ def test_pattern_from_lattice_refuses_what_does_not_convert():
 
 def test_simulate_takes_a_converted_lattice_and_does_not_judge_a_range_graph(capsys):
     """Every jiang robot hears every robot: connectivity of the range graph is not applicable
-    (inconclusive, never a failure), so a run that forms the pattern exits 0."""
+    (no verdict, never a failure), so a run that forms the pattern exits 0."""
     assert main(["simulate", "jiang", "--pattern", "lattice:square", "--robots", "6", "--seed", "0", "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
-    assert doc["satisfied"] is True and doc["connectivity"]["status"] == "inconclusive"
+    assert doc["satisfied"] is True and doc["connectivity"]["status"] == "not_applicable"
     assert doc["connected_throughout"] is None
     assert main(["simulate", "jiang", "--lattice", "square", "--robots", "6", "--seed", "0"]) == 2
     err = capsys.readouterr().err    # a lattice target is of a kind jiang does not form (issue 29, item 4)
