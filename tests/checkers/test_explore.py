@@ -140,7 +140,7 @@ def test_counterexample_round_trip(tmp_path):
 
 
 def test_example_database_folder_keeps_the_failure(tmp_path):
-    kw = dict(budget=4, max_examples=15, robots=(4, 6), lattices=["square"], seed=0,
+    kw = dict(budget=60, max_examples=15, robots=(4, 6), lattices=["square"], seed=0,
               database_dir=tmp_path / "db")
     first = explore("song2014", ["connectivity"], **kw)
     assert first.properties["connectivity"].status == "violated"
