@@ -13,6 +13,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+#: the two tests share SEEN, so they run on one xdist worker (``--dist loadgroup``)
+pytestmark = pytest.mark.xdist_group("fuzz")
+
 DOCUMENTED = {0, 1, 2, 3}
 SEEN: list = []
 
@@ -57,7 +60,7 @@ PARAMS = st.one_of(WORDS, st.sampled_from(["foo=1", "arnea=5", "comunication_tim
 
 def _argv(draw, files):
     cmd = draw(st.sampled_from(["check-lattice", "simulate", "explore", "replay", "prove", "verify",
-                                "check-pattern", "campaign"]))
+                                "check-pattern", "campaign", "list"]))
     fileval = st.sampled_from(sorted(files.values()))
     argv = [cmd]
     if cmd == "check-lattice":
@@ -92,8 +95,15 @@ def _argv(draw, files):
         argv.append(draw(st.one_of(fileval, WORDS)))
         opts = {"--plot": fileval, "--gif": fileval}
     elif cmd == "prove":
-        argv += draw(st.lists(st.sampled_from(["bounded_range", "nclb_link_kept", "nope", ""]), max_size=1))
+        # always one name: the whole suite (18 lemmas, ~18 s of z3) is tests/cli/test_prove.py's
+        # test_whole_suite_json_exit_0; here it would be most of the fuzz test's time
+        argv += [draw(st.sampled_from(["bounded_range", "nclb_link_kept", "nope", ""]))]
         opts = {"--timeout": st.sampled_from(["0.5", "0", "-1", "1e308", "nan", "x"])}
+    elif cmd == "list":
+        # issue 29: swarmproof list [KIND] [--json]; unknown kinds are exit 2
+        argv += draw(st.lists(st.one_of(st.sampled_from(["algorithms", "properties", "lemmas", "targets",
+                                                         "patterns", "shapes"]), WORDS), max_size=2))
+        opts = {"--json": st.just("--json")}
     else:
         argv += ["--section", draw(st.sampled_from(["lattices", "nope", ""]))]
         opts = {"--out": fileval, "--seed": NUMBERS}
@@ -129,5 +139,5 @@ def test_the_fuzzing_reached_every_command_and_more_than_usage_errors():
     if not SEEN:
         pytest.skip("run with the fuzz test")
     assert {c for c, _ in SEEN} == {"check-lattice", "simulate", "explore", "replay", "prove", "verify",
-                                    "check-pattern", "campaign"}
+                                    "check-pattern", "campaign", "list"}
     assert {code for _, code in SEEN} - {2}, "every drawn command was a usage error"
