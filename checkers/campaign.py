@@ -42,6 +42,10 @@ __all__ = ["Task", "plan_tasks", "run_task", "ResultsStore", "run_campaign", "Ca
 
 STORE_FORMAT = "swarmproof-campaign-results/1"
 
+#: How long ``--scheduler ADDRESS`` is tried before it is reported as unreachable (seconds): Dask's
+#: client retries a refused connection until then.
+SCHEDULER_CONNECT_TIMEOUT = 10.0
+
 
 @dataclass(frozen=True)
 class Task:
@@ -423,7 +427,7 @@ def _client(scheduler: str | None, workers: int | None):
                          fix="pip install 'swarmproof[campaign]' (or: pip install 'dask[distributed]')") from None
     if scheduler is not None:
         try:
-            return Client(scheduler, timeout="10s"), None
+            return Client(scheduler, timeout=f"{SCHEDULER_CONNECT_TIMEOUT}s"), None
         except (OSError, TimeoutError) as exc:
             raise UsageError(f"--scheduler {scheduler!r} cannot be reached ({type(exc).__name__}: {exc})",
                              fix="start it with `dask scheduler` (and workers with `dask worker ADDRESS`), or "

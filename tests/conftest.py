@@ -51,3 +51,25 @@ def recorder():
     from testkit import Recorder
 
     return Recorder
+
+
+# Per-test CPU profile, opt-in: SWARMPROOF_TEST_CPU=FILE appends one line per test phase,
+# "cpu_seconds children_cpu_seconds nodeid", where cpu is this process's (every thread, so z3's
+# helper threads count) and children the subprocesses it waited for (Dask schedulers, CLI runs).
+# CPU, unlike --durations' wall time, does not grow when the machine is loaded, which is how the
+# suite's 4-minute budget is apportioned (docs/performance.md, "Test-suite speed").
+if os.environ.get("SWARMPROOF_TEST_CPU"):
+    import resource
+    import time
+
+    def _cpu():
+        kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return time.process_time(), kids.ru_utime + kids.ru_stime
+
+    @pytest.hookimpl(hookwrapper=True)
+    def pytest_runtest_protocol(item, nextitem):
+        own, kids = _cpu()
+        yield
+        own2, kids2 = _cpu()
+        with open(os.environ["SWARMPROOF_TEST_CPU"], "a") as fh:
+            fh.write(f"{own2 - own:.3f} {kids2 - kids:.3f} {item.nodeid}\n")
