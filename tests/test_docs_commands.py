@@ -281,3 +281,74 @@ def test_the_parser_reads_what_the_pages_hold():
     assert _shape_problem(["a", "c"], ["a", "b", "c"]) is not None
     assert _shape_problem(["10 lemmas"], ["18 lemmas"]) is not None
     assert any(b.files for b in blocks.values())
+
+
+def test_the_documented_entry_point_pyproject_registers_an_algorithm(tmp_path, monkeypatch):
+    """docs/explorer.md's whole pyproject.toml: its entry-point group is the one the registry reads,
+    and the names it declares resolve to the class (as an installed package's would; the
+    registry's own entry-point route is tests/test_one_algorithm_one_module.py's)."""
+    tomllib = pytest.importorskip("tomllib")
+    import importlib.metadata as md
+
+    from swarmproof.reference_impl import registry
+
+    shown = [b for b in ALL_BLOCKS if b.directives.get("file") == "pyproject.toml"]
+    assert [b.page for b in shown] == ["docs/explorer.md"], "one documented pyproject.toml"
+    doc = tomllib.loads("\n".join(shown[0].body))
+    assert doc["build-system"]["build-backend"] == "setuptools.build_meta"
+    assert {"name", "version"} <= set(doc["project"])
+    group = doc["project"]["entry-points"][registry.ENTRY_POINT_GROUP]
+    assert group == {"mine": "my_package.my_module:MyAlgorithm"}
+    packages = doc["tool"]["setuptools"]["packages"]
+    # the package the pyproject.toml describes, with a class of the documented name in it
+    for name, value in group.items():
+        module, _, qualname = value.partition(":")
+        assert module.split(".")[0] in packages and qualname.isidentifier()
+    pkg = tmp_path / "my_package"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "my_module.py").write_text(
+        "from swarmproof.reference_impl.examples import GatherToLowestId\n\n\n"
+        "class MyAlgorithm(GatherToLowestId):\n    name = 'mine'\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    eps = [md.EntryPoint(name=n, value=v, group=registry.ENTRY_POINT_GROUP) for n, v in group.items()]
+    monkeypatch.setattr(md, "entry_points", lambda group=None: eps if group == registry.ENTRY_POINT_GROUP else [])
+    monkeypatch.setattr(registry, "_PLUGINS_LOADED", False)
+    monkeypatch.setattr(registry, "ALGORITHMS", dict(registry.ALGORITHMS))
+    assert "mine" in registry.algorithm_names()
+    assert registry.algorithm_factory("mine").__name__ == "MyAlgorithm"
+    assert registry.get_algorithm("mine").name == "mine"
+
+
+def test_the_premises_table_names_what_the_code_declares():
+    """docs/explorer.md's table of premise monitors: each row's algorithm declares exactly the
+    monitors it lists, each monitor is registered for the lemma(s) the row names, and those are
+    the proof suite's lemmas."""
+    from swarmproof.checkers.proofs import LEMMAS
+    from swarmproof.invariants.premises import MONITOR_LEMMAS, MONITORS
+    from swarmproof.reference_impl import registry
+
+    text = (ROOT / "docs" / "explorer.md").read_text(encoding="utf-8")
+    table = text.split("| algorithm | monitors | lemmas (`swarmproof prove` ids) |", 1)[1].split("\n\n", 1)[0]
+    rows = [r for r in table.splitlines() if r.startswith("| ") and not r.startswith("|---")]
+    declared = {}
+    for row in rows:
+        algo, monitors, lemmas = (c.strip() for c in row.strip("|").split(" | "))
+        name = algo.split()[0]
+        if name == "anything":
+            continue
+        listed = re.findall(r"`(\w+)`", monitors)
+        declared[name] = listed
+        assert tuple(listed) == registry.algorithm_factory(name).premise_monitors, row
+        if "(`reference_impl/" in algo:
+            assert (ROOT / algo.split("`")[1]).is_file(), row
+        for m in listed:
+            assert m in MONITORS and f"`{MONITOR_LEMMAS[m]}`" in lemmas, (row, m)
+        cases = "".join(p.read_text(encoding="utf-8") for p in (ROOT / "reference_impl").glob("*/monitors.py"))
+        for lemma in re.findall(r"`(\w+)`", lemmas):   # a lemma, a monitor or a case a monitor names
+            assert lemma in LEMMAS or lemma in MONITORS or f"case {lemma}" in cases, (row, lemma)
+    assert set(declared) == {n for n in ("song2016", "song2014", "wang2020")}
+    others = {n for n in registry.algorithm_names()
+              if getattr(registry.algorithm_factory(n), "premise_monitors", None)
+              and n not in declared and not n.endswith("-literal")}
+    assert not others, f"algorithms with premise monitors the table does not list: {sorted(others)}"
