@@ -88,6 +88,9 @@ def check_output_dir(path: str | os.PathLike, option: str = "--out") -> str:
     parent = os.path.dirname(os.path.abspath(text))
     while parent and not os.path.exists(parent):
         parent = os.path.dirname(parent)
+    if parent and not os.path.isdir(parent):
+        raise UsageError(f"{option}={text!r}: {parent!r} is a file, so no folder can be made below it",
+                         fix="give a folder path whose existing part is a folder")
     target = text if os.path.isdir(text) else parent
     if target and not os.access(target, os.W_OK):
         raise UsageError(f"{option}={text!r}: {target!r} is not writable", fix="choose a writable folder")

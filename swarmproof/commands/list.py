@@ -132,9 +132,14 @@ def _pattern_entries() -> list[dict]:
 
 def _line_entries() -> list[dict]:
     from swarmproof.models import line_patterns as lp
+    from swarmproof.models.targets import target_names
 
     out = []
-    for name in lp.PATTERN_NAMES:
+    for _, name in target_names("lines"):       # every bundled one: 003's patterns and the plain "line"
+        if name not in lp.PATTERN_NAMES:
+            out.append(_entry(f"lines:{name}", "line pattern: robots evenly spaced on one straight line "
+                              "(the example algorithm example-anonymous-line's target)", None, kind="lines"))
+            continue
         info = lp.pattern_info(name)
         kind = "uni-line (Alg. 2)" if info["type"] == "uni" else "multi-line (Alg. 3)"
         k = "" if info["k"] is None else f", k = {info['k']}"

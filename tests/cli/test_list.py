@@ -42,6 +42,8 @@ def test_targets_patterns_shapes_lines(capsys):
     assert code == 0
     assert ("  lattice:square              Square lattice, unit edge length: 1 role, 4 edges, recommended "
             "range 1.2 [Song & O'Kane, ICRA 2014, Fig. 2]") in lines
+    # every bundled target, the plain line of example-anonymous-line too (it was left out)
+    assert any(line.startswith("  lines:line ") for line in lines)
     code, out, _ = run(capsys, "patterns")
     assert ("  pattern:square-dots         repeating pattern: a square formation of repeating dots "
             "[Jiang et al., Sec. V-B, Fig. 2]") in out.splitlines()

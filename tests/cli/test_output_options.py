@@ -90,13 +90,17 @@ def _case(command, option, dest, kind, tmp_path):
         f = tmp_path / "plain-file"
         f.write_text("x")
         return str(f), r"is a file, not a folder"
+    if kind == "below-a-file":        # no folder can be made under a regular file (it used to pass the check)
+        f = tmp_path / "plain-file"
+        f.write_text("x")
+        return str(f / "sub"), r"'[^']*plain-file' is a file, so no folder can be made below it"
     raise AssertionError(kind)
 
 
 BAD = [pytest.param(c, o, d, kind, id=f"{c}-{o}-{kind}")
        for c, o, d in OUTPUTS
        for kind in (("missing-folder", "a-folder", "wrong-suffix") if OUTPUT_OPTIONS[d].kind == "file"
-                    else ("a-file",))]
+                    else ("a-file", "below-a-file"))]
 
 
 @pytest.mark.parametrize("command, option, dest, kind", BAD)

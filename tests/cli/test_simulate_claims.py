@@ -117,3 +117,21 @@ def test_song2016_still_exits_1_when_its_claimed_tree_links_break(capsys):
     assert doc["tree_links"]["status"] == "violated" and doc["claims"]["tree_links"].startswith("001 Lemma 11")
     assert "tree_links" in doc["judged"] and doc["not_applicable"] == {}
     assert code == 1 and doc["exit_code"] == 1
+
+
+def test_a_claimed_property_left_vacuous_is_inconclusive_exit_3(capsys, tmp_path):
+    """song2016 claims connectivity (Lemma 11); from a disconnected start the claim is vacuous:
+    connectivity inconclusive, and the run exits 3 (never a pass), not 0 (it did: only formation
+    and termination could make it 3)."""
+    path = tmp_path / "apart.json"
+    path.write_text(json.dumps({"format": "swarmproof-initial/1", "angle_unit": "rad", "robots": [
+        {"id": 0, "pose": [0.0, 0.0, 0.0]}, {"id": 1, "pose": [0.5, 0.0, 0.0]},
+        {"id": 2, "pose": [40.0, 0.0, 0.0]}, {"id": 3, "pose": [40.5, 0.0, 0.0]}]}))
+    code, out, _ = run(capsys, "song2016", "--lattice", "square", "--initial", str(path), "--seed", "0",
+                       "--max-steps", "200", "--allow-violations", "--json")   # connected_start broken on purpose
+    doc = json.loads(out)
+    assert doc["claims"]["connectivity"] is not None and "connectivity" in doc["judged"]
+    assert doc["connectivity"]["status"] == "inconclusive"
+    assert doc["connectivity"]["message"].startswith("vacuous: the start is disconnected")
+    assert not any(doc[p]["status"] == "violated" for p in ("connectivity", "tree_links") if doc.get(p))
+    assert code == 3 and doc["exit_code"] == 3
