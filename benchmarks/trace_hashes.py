@@ -32,12 +32,31 @@ from swarmproof.reference_impl.protocol import Params
 from swarmproof.reference_impl.registry import get_algorithm
 
 
+def _states_jsonable(states) -> list:
+    """``to_jsonable([list(s) for s in states])``, computed once per state object: a robot's
+    state object is shared by every step it stays unchanged (87,150 states, 6,670 objects in
+    the n=30 run), and ``to_jsonable`` is a pure function of it (the same JSON, so the same
+    digest, as converting each step afresh; 5 of the n=30 case's 7 s were this conversion)."""
+    memo: dict[int, object] = {}
+    out = []
+    for step in states:
+        row = []
+        for x in step:
+            k = id(x)
+            v = memo.get(k)
+            if v is None:
+                v = memo[k] = to_jsonable(x)
+            row.append(v)
+        out.append(row)
+    return out
+
+
 def digest(result) -> str:
     tr = result.trace
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(tr.poses).tobytes())
     h.update(repr(tr.ids.tolist()).encode())
-    h.update(json.dumps(to_jsonable([list(s) for s in tr.states]), sort_keys=True).encode())
+    h.update(json.dumps(_states_jsonable(tr.states), sort_keys=True).encode())
     h.update(json.dumps([e.as_dict() for e in tr.events], sort_keys=True).encode())
     if tr.present is not None:
         h.update(np.ascontiguousarray(tr.present).tobytes())

@@ -19,29 +19,57 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
+_MODULE = None
+
+
 def _module():
-    spec = importlib.util.spec_from_file_location("trace_hashes", ROOT / "benchmarks" / "trace_hashes.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    """benchmarks/trace_hashes.py, loaded once per process (loading it runs no case)."""
+    global _MODULE
+    if _MODULE is None:
+        spec = importlib.util.spec_from_file_location("trace_hashes", ROOT / "benchmarks" / "trace_hashes.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        _MODULE = mod
+    return _MODULE
 
 
 EXPECTED = json.loads((ROOT / "tests" / "reference_impl" / "data" / "trace_hashes.json").read_text())
-FAST = [k for k in EXPECTED if " n=20 " not in k]
+#: The default suite's cases: each algorithm on each lattice once (seed 0, n = 10), every fault
+#: hook for both algorithms, the recorded messages and the n = 30 stable-first run.  The other
+#: seeds and the n = 20 runs take the same code paths on other starts (slow suite).
+FAST = [k for k in EXPECTED
+        if " n=20 " not in k and not (" n=10 " in k and not k.endswith(" seed=0"))]
+SLOW = [k for k in EXPECTED if k not in FAST]
 
 
-def _check(labels):
+def _digest(label):
+    """The digest of one case.  The thunk runs as soon as the generator yields it: some of
+    ``cases()``'s lambdas close over loop variables the generator rebinds later."""
     mod = _module()
-    got = {label: mod.digest(thunk()) for label, thunk in mod.cases() if label in labels}
-    assert set(got) == set(labels)
-    changed = sorted(k for k in labels if got[k] != EXPECTED[k])
-    assert not changed, f"traces changed: {changed}"
+    for name, thunk in mod.cases():
+        if name == label:
+            return mod.digest(thunk())
+    raise AssertionError(f"no case {label!r} in benchmarks/trace_hashes.py")
 
 
-def test_reference_traces_bit_identical_fast_subset():
-    _check(FAST)
+def test_the_pinned_cases_are_exactly_the_scripts_cases():
+    """Each case below is one test (xdist spreads them); together they are the whole pinned
+    set, and the script runs no case the file does not pin (labels only: nothing simulated)."""
+    assert sorted(label for label, _ in _module().cases()) == sorted(EXPECTED)
+    assert sorted(FAST + SLOW) == sorted(EXPECTED)
+    assert len(FAST) == 15 and len(SLOW) == 21
 
 
+@pytest.mark.parametrize("label", FAST)
+def test_reference_trace_bit_identical_fast_subset(label):
+    assert _digest(label) == EXPECTED[label], f"trace changed: {label}"
+
+
+# Slow suite (issue 29): the n = 20 runs (1.5-3 s of CPU each) and the n = 10 runs on seeds 1
+# and 2 (0.2-0.6 s each), 20 s together: more starts of the same algorithms on the same
+# lattices.  test_reference_trace_bit_identical_fast_subset keeps every algorithm, lattice and
+# fault hook pinned on seed 0.
 @pytest.mark.slow
-def test_reference_traces_bit_identical_all():
-    _check(list(EXPECTED))
+@pytest.mark.parametrize("label", SLOW)
+def test_reference_trace_bit_identical_other_starts(label):
+    assert _digest(label) == EXPECTED[label], f"trace changed: {label}"
