@@ -288,16 +288,28 @@ def test_early_stop_at_a_repeated_state_gives_the_same_oscillation_verdict(algor
 
 
 def test_report_does_not_depend_on_hypothesis_runs_before_it():
-    # a Hypothesis run outside the explorer (here find() on the same strategy) fills Hypothesis's
-    # constants cache with the local modules' literals; exploring must not see them
-    from hypothesis import find, settings
+    # a Hypothesis run outside the explorer (here a @given run of the same strategy) fills
+    # Hypothesis's constants cache with the local modules' literals; exploring must not see them.
+    # (This was a find() whose shrinking took 15 of the test's 16 s of CPU; drawing 50 scenarios
+    # fills the same cache, which the assert below checks, without a shrink phase.)
+    from hypothesis import given, settings
+    from hypothesis.internal.conjecture import providers
 
     from swarmproof.checkers.explore import scenario_strategy
 
     kw = dict(budget=60, max_examples=10, robots=(3, 4), seed=0)
     before = explore("song2016", ["connectivity"], **kw)
     strat = scenario_strategy((3, 4), ["square", "hexagon"], {"square": 1.2, "hexagon": 1.5})
-    find(strat, lambda s: s.n == 4 and s.seed > 500, settings=settings(max_examples=500, database=None))
+    drawn = []
+
+    @settings(max_examples=50, database=None)
+    @given(strat)
+    def outside(s):
+        drawn.append(s.n)
+
+    outside()
+    assert len(drawn) == 50 and set(drawn) == {3, 4}
+    assert len(providers.CONSTANTS_CACHE.cache) > 0, "the outside run left Hypothesis's cache empty"
     after = explore("song2016", ["connectivity"], **kw)
     assert json.dumps(before.as_dict(), sort_keys=True) == json.dumps(after.as_dict(), sort_keys=True)
     assert before.properties["connectivity"].steps == after.properties["connectivity"].steps
