@@ -24,6 +24,11 @@ def run(capsys, *argv):
     return code, out, err
 
 
+# slow by nature (issue 29): every suite lemma through z3 (11 s of CPU), as
+# tests/cli/test_verify.py::test_lemma_section_json_every_lemma_proved_exit_0 does through the
+# same run_suite in the default suite; prove's JSON fields and exit 0 stay there in
+# test_two_lemmas_json_fields_exit_0 below.
+@pytest.mark.slow
 def test_whole_suite_json_exit_0(capsys):
     code, out, err = run(capsys, "--json")
     doc = json.loads(out)
@@ -35,6 +40,19 @@ def test_whole_suite_json_exit_0(capsys):
         assert d["negative_control"]["status"] == "counterexample"
         assert d["negative_control"]["counterexample"]
     assert err == ""
+
+
+def test_two_lemmas_json_fields_exit_0(capsys):
+    code, out, err = run(capsys, "wang2020_lemma_iv_a_1", "wang2020_speed_buffer_v_b3_cases", "--json")
+    doc = json.loads(out)
+    assert code == 0 and err == ""
+    assert [d["id"] for d in doc["lemmas"]] == ["wang2020_lemma_iv_a_1", "wang2020_speed_buffer_v_b3_cases"]
+    for d in doc["lemmas"]:
+        assert FIELDS <= set(d)
+        assert d["status"] == "proved" and d["premises_satisfiable"] is True
+        assert d["negative_control"]["status"] == "counterexample"
+        assert d["negative_control"]["counterexample"]
+    assert doc["lemmas"][0]["kind"] == "paper lemma" and doc["lemmas"][1]["kind"] == "auxiliary"
 
 
 def test_human_table_exact_lines(capsys):
