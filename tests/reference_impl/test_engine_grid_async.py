@@ -130,11 +130,13 @@ def test_grid_example_explore_replay_and_verify(cli, tmp_path, monkeypatch):
     from swarmproof.checkers.report import section_algorithms
     from swarmproof.reference_impl import registry
 
-    rep = explore("example-grid-goals", ["formation", "collision"], max_examples=25, robots=(3, 9), seed=0,
+    # 3-6 robots (issue 29): with up to 9, shrinking the collision took 15 of the test's 16 s of
+    # CPU; both properties are still found, shrunk, written and replayed on 3-6.
+    rep = explore("example-grid-goals", ["formation", "collision"], max_examples=25, robots=(3, 6), seed=0,
                   budget=300, out_dir=tmp_path)
     assert rep.lattices == ("shape:letter-l", "shape:square-9")
     found = [v for v in rep.properties.values() if v.status == "violated"]
-    assert found, {k: v.status for k, v in rep.properties.items()}
+    assert len(found) == 2, {k: v.status for k, v in rep.properties.items()}
     for v in found:
         doc = json.loads(open(v.counterexample_path).read())
         assert doc["target"]["kind"] == "shape" and doc["params"]["extra"]["grid_spacing"] == 0.2
