@@ -57,6 +57,13 @@ def test_the_vectorised_path_gives_the_reference_trace_bit_for_bit(shape, n, see
     assert trace_json(fast) == trace_json(ref)
     # the runs are not trivial: agents moved along many edges
     assert ref.steps >= 120 and len(ref.trace.events) > 5
+    if (shape, n, seed) == ("shape:letter-n", 20, 1):
+        # the goal manager's rare paths (request, ACK, a new goal drawn) are exercised by the
+        # cases: asserted on this one's run (a test of its own ran the same pair again, 4 s)
+        shakes = {dict(s)["handshake"][0] for frame in fast.trace.states for s in frame
+                  if s is not None and dict(s).get("handshake")}
+        acks = sum(1 for frame in fast.trace.states for s in frame if s is not None and dict(s).get("ack"))
+        assert shakes == {"client", "server"} and acks > 0
 
 
 def test_above_fifty_agents_the_kd_tree_search_gives_the_same_trace():
@@ -67,14 +74,9 @@ def test_above_fifty_agents_the_kd_tree_search_gives_the_same_trace():
     assert trace_json(fast) == trace_json(ref)
 
 
-def test_handshakes_happen_in_the_compared_runs():
-    """The goal manager's rare paths (request, ACK, a new goal drawn) are exercised by the cases."""
-    ref, fast = _pair("shape:letter-n", 20, 1, then=True, record_every=50)
-    shakes = {dict(s)["handshake"][0] for frame in fast.trace.states for s in frame
-              if s is not None and dict(s).get("handshake")}
-    acks = sum(1 for frame in fast.trace.states for s in frame if s is not None and dict(s).get("ack"))
-    assert shakes == {"client", "server"} and acks > 0
-    assert trace_json(fast) == trace_json(ref)
+def test_the_handshake_case_is_in_the_compared_runs():
+    """The handshake assertions above run on the letter-n n = 20 seed 1 case; it stays listed."""
+    assert ("shape:letter-n", 20, 1, {"then": True, "record_every": 50}) in CASES
 
 
 def test_observers_and_stop_when_see_every_step_with_the_same_states():
