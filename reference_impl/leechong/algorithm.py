@@ -1180,7 +1180,7 @@ class LeeChongNeighbor(LeeChongLeader):
 
 
 #: The ``-printed`` variants' verify rows: the two patterns on which the printed formula's IDs
-#: break the default's formation at n = 12 (seed 0: 7 followers above u and 4 below), 3 seeds,
+#: break the default's formation at n = 12 (seed 0: 3 followers above u and 8 below), 3 seeds,
 #: no exploration (the default names explore; the formula's finding is also the exact
 #: ``formulas`` row "003 Alg. 1 printed ID formula").
 _PRINTED_PLAN = dict(targets=("lines:wedge", "lines:two-row"), robots=12, seeds=(0, 1, 2), explore=False)

@@ -31,7 +31,7 @@ def test_leader_referenced_forms_the_uni_line_patterns(pattern):
 
 
 def test_printed_id_formula_breaks_the_wedge_where_the_prose_forms_it():
-    """Seed 0 puts 7 followers above u and 4 below: Alg. 1's 2 x rank hands out IDs 12 and 14
+    """Seed 0 puts 3 followers above u and 8 below: Alg. 1's 2 x rank - 1 hands out IDs 13 and 15
     (``leechong-leader-printed``); the default, Sec. 2.1's prose, forms it."""
     lit = run("leechong-leader-printed", "wedge")
     assert lit.doc["metrics"]["ids_unique"] is False

@@ -51,7 +51,7 @@ def _formed(alg, pattern, robots, seed):
 @pytest.mark.parametrize("pattern", ["two-row", "wedge"])
 def test_the_defaults_form_what_the_issue_reported_broken(alg, pattern):
     """Issue 31's report, ``simulate leechong-leader --pattern two-row --robots 12 --seed 0``: the
-    default now forms it, IDs 0..11 (seed 0 puts 7 followers above u and 4 below)."""
+    default now forms it, IDs 0..11 (seed 0 puts 3 followers above u and 8 below)."""
     _formed(alg, pattern, 12, 0)
 
 
@@ -92,7 +92,7 @@ def test_docs_name_the_registered_patterns_of_fig6():
 
 @pytest.mark.parametrize("alg", ["leechong-leader-printed", "leechong-neighbor-printed"])
 def test_the_printed_variants_keep_the_formula_finding(alg):
-    """Alg. 1 lines 11-14 as printed: seed 0's 7 / 4 split hands out IDs 12 and 14 up to 2 (n - 1),
+    """Alg. 1 lines 11-14 as printed: seed 0's 3 / 8 split hands out odd IDs up to 15 (IDs 13, 15),
     so the two-row is not formed (the neighbor variant waits for an N_id nobody holds)."""
     d = run_and_check(alg, resolve_target("lines:two-row"), seed=0, robots=12).doc
     assert d["satisfied"] is False and d["metrics"]["ids_unique"] is False
