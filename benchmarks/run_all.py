@@ -48,11 +48,17 @@ SMALL_ARGS: dict[str, list[str]] = {
     "bench_song2014": ["perf", "--repeats", "1", "--sizes", "50"],
     "bench_song2016": ["--quick"],
     "bench_mutations": ["--budget", "10"],
+    "bench_jiang": ["perf", "--seeds", "1", "--sizes", "10,20"],
+    "bench_wang2020": ["perf", "--robots", "64", "--trial-robots", "16"],
+    "bench_wang2020_ratio": ["decompose", "--n", "16", "--seeds", "0"],
 }
 
 #: Arguments a benchmark needs even with ``--full`` (it has no default mode).
 REQUIRED_ARGS: dict[str, list[str]] = {
     "bench_song2014": ["perf"],
+    "bench_jiang": ["perf"],
+    "bench_wang2020": ["perf"],
+    "bench_wang2020_ratio": ["decompose", "--n", "144"],   # the ratio study's own instance (docs/wang2020.md)
 }
 
 #: Where each benchmark's figures are recorded (docs/performance.md sections).
@@ -65,6 +71,9 @@ FIGURES: dict[str, str] = {
     "bench_song2014": 'docs/performance.md "song2014" (experiments: docs/song2014.md)',
     "bench_song2016": 'docs/performance.md "Simulation engine and song2016" > "song2016"',
     "bench_mutations": 'docs/performance.md (mutation benchmark section) and docs/explorer.md',
+    "bench_jiang": 'docs/performance.md "Jiang et al. (issue 16)" (experiments: docs/jiang.md)',
+    "bench_wang2020": 'docs/performance.md "Wang & Rubenstein 2020 (issue 15)" (experiments: docs/wang2020.md)',
+    "bench_wang2020_ratio": 'docs/wang2020.md (the distance-ratio study)',
 }
 
 

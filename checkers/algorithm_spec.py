@@ -132,9 +132,10 @@ def resolve_algorithm(algorithm) -> AlgorithmSpec:
     >>> resolve_algorithm(s.ref).factory is GatherToLowestId
     True
     """
-    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names, claims_of
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names, claims_of, resolve_alias
 
     if isinstance(algorithm, str):
+        algorithm = resolve_alias(algorithm)      # an old name (registry.ALIASES): the new one, with a warning
         if algorithm in algorithm_names():
             return AlgorithmSpec(algorithm, algorithm, algorithm_factory(algorithm), claims_of(algorithm))
         if ":" not in algorithm:

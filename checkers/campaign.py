@@ -372,7 +372,9 @@ class CampaignResult:
             return EXIT_VIOLATED
         if self.cut_short or "inconclusive" in verdicts or len(self.results) < len(self.tasks):
             return EXIT_INCONCLUSIVE
-        return EXIT_OK
+        if self.tasks and all(v == "not_applicable" for v in verdicts):
+            return EXIT_INCONCLUSIVE     # nothing asked for applied: nothing was checked (never a pass)
+        return EXIT_OK                   # n/a tasks are no verdict: the others decide
 
     def cells(self) -> list[dict]:
         """Per cell: the verdict over its tasks, counts, first-failure figures and the smallest
@@ -380,14 +382,15 @@ class CampaignResult:
         out: dict[str, dict] = {}
         for t in self.tasks:
             c = out.setdefault(t.cell, {"cell": t.cell, "kind": t.kind, "tasks": 0, "finished": 0,
-                                        "counts": {"held": 0, "violated": 0, "inconclusive": 0},
+                                        "counts": {"held": 0, "violated": 0, "inconclusive": 0, "n/a": 0},
                                         "smallest_counterexample": None, "first_failure_scenarios": None})
             c["tasks"] += 1
             r = self.results.get(t.key)
             if r is None:
                 continue
             c["finished"] += 1
-            v = r["verdict"] if r["verdict"] in c["counts"] else "inconclusive"
+            v = ("n/a" if r["verdict"] == "not_applicable" else
+                 r["verdict"] if r["verdict"] in c["counts"] else "inconclusive")
             c["counts"][v] += 1
             fig = r.get("figures") or {}
             if r.get("counterexample_path"):
@@ -401,8 +404,10 @@ class CampaignResult:
                 c["first_failure_scenarios"] = ffs
         for c in out.values():
             n = c["counts"]
+            # n/a (not applicable) is no verdict: a cell of n/a tasks only is "n/a", never held
             c["verdict"] = ("violated" if n["violated"] else
-                            "inconclusive" if n["inconclusive"] or c["finished"] < c["tasks"] else "held")
+                            "inconclusive" if n["inconclusive"] or c["finished"] < c["tasks"] else
+                            "held" if n["held"] else "n/a")
         return list(out.values())
 
     def to_json(self) -> dict:

@@ -20,7 +20,9 @@ __all__ = ["format_summary", "markdown", "write_report", "plot_experiment", "mea
 
 def _counts(c: dict) -> str:
     n = c["counts"]
-    return f"{n['held']} held, {n['violated']} violated, {n['inconclusive']} inconclusive"
+    na = n.get("n/a", 0)
+    return (f"{n['held']} held, {n['violated']} violated, {n['inconclusive']} inconclusive"
+            + (f", {na} n/a (not applicable)" if na else ""))
 
 
 def format_summary(result) -> list[str]:
@@ -156,14 +158,14 @@ def markdown(result, plots: dict | None = None) -> str:
     lines = [f"# Campaign {result.spec.name}", "",
              f"{len(result.results)} of {len(result.tasks)} tasks finished; exit code {result.exit_code}"
              + (" (cut short: `--resume` continues it)" if result.cut_short else "") + ".", "",
-             "| cell | verdict | finished | held | violated | inconclusive | scenarios before the first failure | "
-             "smallest counterexample |", "|---|---|---:|---:|---:|---:|---:|---|"]
+             "| cell | verdict | finished | held | violated | inconclusive | n/a | scenarios before the first failure | "
+             "smallest counterexample |", "|---|---|---:|---:|---:|---:|---:|---:|---|"]
     for c in result.cells():
         n = c["counts"]
         small = c["smallest_counterexample"]
         cx = f"{small['robots']} robots: `{small['path']}`" if small else ""
         ffs = "" if c["first_failure_scenarios"] is None else str(c["first_failure_scenarios"])
-        lines.append(f"| {c['cell']} | {c['verdict']} | {c['finished']}/{c['tasks']} | {n['held']} | {n['violated']} | {n['inconclusive']} | "
+        lines.append(f"| {c['cell']} | {c['verdict']} | {c['finished']}/{c['tasks']} | {n['held']} | {n['violated']} | {n['inconclusive']} | {n.get('n/a', 0)} | "
                      f"{ffs} | {cx} |")
     for c in result.cells():
         if c["kind"] != "simulate":

@@ -619,6 +619,15 @@ def scenario_strategy(robots: tuple[int, int], lattices: Sequence[str], phi_of: 
 # explore
 # ----------------------------------------------------------------------------
 
+#: Scenario runs Hypothesis may spend shrinking a property's first failure before the search
+#: stops with the smallest counterexample found so far.  A count, so that the counterexample
+#: depends on the seed and the example counts only: Hypothesis's own stop, five minutes of wall
+#: clock (``hypothesis.internal.conjecture.engine.MAX_SHRINKING_SECONDS``), gave another
+#: counterexample on a loaded machine, so it is lifted while exploring
+#: (:func:`_count_bounded_shrinking`).  Hypothesis's count of successful shrinks (500) still holds.
+MAX_SHRINK_RUNS = 1000
+
+
 class _BudgetSpent(BaseException):
     """Raised inside the Hypothesis test once a property's share of the budget is spent.
 
@@ -687,6 +696,25 @@ def _without_local_constants():
     finally:
         providers._get_local_constants = original
         providers.CONSTANTS_CACHE = original_cache
+
+
+@contextlib.contextmanager
+def _count_bounded_shrinking():
+    """Lift Hypothesis's wall-clock stop of shrinking while exploring: :data:`MAX_SHRINK_RUNS`
+    bounds it by a count instead.  Hypothesis documents the constant as monkeypatchable ("for the
+    rare users who need to keep on shrinking"); if it moves, exploration still works, only with
+    Hypothesis's five-minute stop back."""
+    try:
+        from hypothesis.internal.conjecture import engine
+        original = engine.MAX_SHRINKING_SECONDS
+    except (ImportError, AttributeError):  # pragma: no cover - other Hypothesis versions
+        yield
+        return
+    engine.MAX_SHRINKING_SECONDS = 10 ** 9
+    try:
+        yield
+    finally:
+        engine.MAX_SHRINKING_SECONDS = original
 
 
 def _warn_user_lattice(target, strict: bool, warnings: list) -> None:
@@ -1024,6 +1052,8 @@ class _Search:
     first: tuple | None = None
     #: counterexamples in the order found; Hypothesis shrinks, so the last is the smallest
     failures: list = field(default_factory=list)
+    #: shrinking was stopped by MAX_SHRINK_RUNS (the counterexample may not be the smallest)
+    shrink_capped: bool = False
 
     def count(self, result, r) -> None:
         """Add one finished run and its judgment ``r``."""
@@ -1088,6 +1118,9 @@ def _scenario_test(ex: _Exploration, search: _Search):
         if time.monotonic() > search.deadline:
             search.hit = True
             raise _BudgetSpent()
+        if search.first is not None and search.runs - search.first[3] >= MAX_SHRINK_RUNS:
+            search.shrink_capped = True    # a count, never the clock: the same seed, the same file
+            raise _BudgetSpent()
         lattice, p = _scenario_params(ex, scn)
         fm = scn.faults if scn.faults is not None else ex.fault_model
         left = None if math.isinf(search.deadline) else max(search.deadline - time.monotonic(), 1e-3)
@@ -1143,7 +1176,7 @@ def _search_property(ex: _Exploration, strategy, prop: str, share: float) -> _Se
                    suppress_health_check=list(HealthCheck))(
         hseed(ex.seed)(given(strategy)(_scenario_test(ex, search))))
     try:
-        with _without_local_constants():
+        with _without_local_constants(), _count_bounded_shrinking():
             run()
     except _BudgetSpent:
         pass  # the share of the budget is spent: keep what was found (and shrunk) so far
@@ -1192,6 +1225,8 @@ def _search_verdicts(ex: _Exploration, search: _Search) -> tuple[PropertyVerdict
         return v, crash_v
     if failures:
         _mark_violated(ex, v, failures[-1])  # the last is the smallest
+        if search.shrink_capped:
+            v.message += f" (shrinking stopped after MAX_SHRINK_RUNS={MAX_SHRINK_RUNS} runs)"
     elif search.conclusive == 0:
         v.status = "inconclusive"
         v.message = ("no scenario gave a judgment" +

@@ -63,18 +63,21 @@ def check_reading(cx: Counterexample, spec, *, file: str | None = None) -> None:
         swarmproof version that wrote the file (its ``made_by``).
     """
     from swarmproof.models.versions import tool_versions
-    from swarmproof.reference_impl.registry import algorithm_names, find_reading
+    from swarmproof.reference_impl.registry import ALGORITHMS, ALIASES, algorithm_names, find_reading
 
     then, now = cx.recorded_reading, spec.reading
     if then == now:
         return
+    alias = ALIASES.get(cx.algorithm) if cx.algorithm not in ALGORITHMS else None
+    if alias is not None and alias.name == spec.label and alias.readings.get(then) == now:
+        return          # an old name's reading that its new name runs now (registry.ALIASES)
     recorded = "" if cx.reading is not None else " (not recorded: a file from before readings were versioned)"
     head = (f"reading={then!r}{recorded}: this file was made with reading {then!r} of algorithm={cx.algorithm!r}, "
             f"which runs reading {now!r} now (its behaviour changed on purpose: CHANGELOG.md), so replaying "
             "it here would not tell whether it still reproduces")
     made_by = (cx.made_by or {}).get("swarmproof")
     ours = tool_versions()["swarmproof"]
-    if cx.algorithm in algorithm_names():
+    if cx.algorithm in algorithm_names() or cx.algorithm in ALIASES:
         other, where = find_reading(cx.algorithm, then)
         if other is not None:
             raise InputFileError(f"{head}; reading {then!r} of {cx.algorithm} is registered as {other!r}",

@@ -19,17 +19,20 @@ True
 >>> get_algorithm("song2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-prose', 'leechong-neighbor', 'leechong-neighbor-fteam', 'song2014', 'song2016', 'song2016-literal', 'wang2020']
+swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'wang2020']
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
+import sys
+from typing import NamedTuple
 
 from swarmproof.models.errors import UsageError
 
-__all__ = ["ALGORITHMS", "ENTRY_POINT_GROUP", "LEMMA_SETS", "READINGS", "RETIRED_READINGS", "get_algorithm",
+__all__ = ["ALGORITHMS", "ALIASES", "Alias", "ENTRY_POINT_GROUP", "LEMMA_SETS", "READINGS", "RETIRED_READINGS",
+           "get_algorithm", "resolve_alias",
            "algorithm_names", "algorithm_factory", "claims_of", "verify_plans", "lemma_sets", "reading_of_name",
            "find_reading"]
 
@@ -44,9 +47,10 @@ ALGORITHMS: dict[str, str] = {
     "jiang": "swarmproof.reference_impl.jiang:Jiang",
     "jiang-literal": "swarmproof.reference_impl.jiang:JiangLiteral",
     "leechong-leader": "swarmproof.reference_impl.leechong:LeeChongLeader",
-    "leechong-leader-prose": "swarmproof.reference_impl.leechong:LeeChongLeaderProse",
+    "leechong-leader-printed": "swarmproof.reference_impl.leechong:LeeChongLeaderPrinted",
     "leechong-leader-fteam": "swarmproof.reference_impl.leechong:LeeChongLeaderFTeam",
     "leechong-neighbor": "swarmproof.reference_impl.leechong:LeeChongNeighbor",
+    "leechong-neighbor-printed": "swarmproof.reference_impl.leechong:LeeChongNeighborPrinted",
     "leechong-neighbor-fteam": "swarmproof.reference_impl.leechong:LeeChongNeighborFTeam",
     "example-gather": "swarmproof.reference_impl.examples:GatherToLowestId",
     "example-anonymous-line": "swarmproof.reference_impl.examples:AnonymousLine",
@@ -56,13 +60,67 @@ ALGORITHMS: dict[str, str] = {
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
 
+
+class Alias(NamedTuple):
+    """An old registry name kept working (:data:`ALIASES`)."""
+
+    #: the registry name it runs now
+    name: str
+    #: reading of the old name -> reading of ``name`` that behaves the same
+    readings: dict
+    #: why it is an alias (said in the warning and in the docs)
+    why: str
+
+
 #: Readings of an algorithm other than the one its registry name runs now, that this swarmproof
 #: still has: ``(name, reading) -> registry name`` of the class that runs it (its ``reading``
 #: attribute is that reading).  When a change bumps an algorithm's ``reading`` (its behaviour
 #: changes on purpose, CHANGELOG.md), keep the old class registered under a new name (e.g.
 #: ``"wang2020-r1"``) and list it here, so that a counterexample file made with the old reading
 #: names what replays it.  A name's current reading is its class's ``reading`` and needs no entry.
-READINGS: dict[tuple[str, str], str] = {}
+READINGS: dict[tuple[str, str], str] = {
+    # 0.2.0 (issue 31): Lee & Chong's default IDs became Sec. 2.1's prose numbering (reading "2");
+    # reading "1", Alg. 1's printed formula, is the -printed variant.
+    ("leechong-leader", "1"): "leechong-leader-printed",
+    ("leechong-neighbor", "1"): "leechong-neighbor-printed",
+}
+
+#: Old registry names that still work: ``old name -> Alias(new name, readings, why)``.  The old
+#: name runs the new name's class (:func:`resolve_alias`; ``get_algorithm``, ``simulate``,
+#: ``explore``, ``replay`` ... accept it) after a one-line warning on stderr naming the new name;
+#: it is not listed by :func:`algorithm_names` (so ``verify`` and ``list`` show the new name
+#: only).  ``readings`` maps a reading of the old name to the new name's reading that runs the
+#: same, so a counterexample file made under the old name replays.
+ALIASES: dict = {
+    # 0.2.0 (issue 31): the prose numbering it ran is leechong-leader's default now; its reading
+    # "1" is leechong-leader's reading "2" (traces bit-identical).
+    "leechong-leader-prose": Alias(
+        "leechong-leader", {"1": "2"},
+        "Sec. 2.1's prose numbering is leechong-leader's default since swarmproof 0.2.0 (issue 31)"),
+}
+
+_WARNED: set = set()
+
+
+def resolve_alias(name, *, warn: bool = True):
+    """The registry name ``name`` runs: itself, or for an old name of :data:`ALIASES` the new one,
+    after a one-line warning on stderr (once per process and name).  Anything else is returned
+    unchanged.
+
+    >>> resolve_alias("song2016")
+    'song2016'
+    >>> resolve_alias("leechong-leader-prose", warn=False)
+    'leechong-leader'
+    """
+    if not isinstance(name, str) or name in ALGORITHMS or name not in ALIASES:
+        return name
+    alias = ALIASES[name]
+    if warn and name not in _WARNED:
+        _WARNED.add(name)
+        print(f"swarmproof: warning: algorithm {name!r} is an alias of {alias.name!r} ({alias.why}); "
+              f"use {alias.name!r}", file=sys.stderr)
+    return alias.name
+
 
 #: Readings this swarmproof can no longer run: ``(name, reading) -> where to get them`` (the last
 #: swarmproof release and commit that had them), for the message of a replay or a baseline.
@@ -123,7 +181,7 @@ def verify_plans() -> list[tuple[str, object]]:
     ``verify`` plan, in the plans' ``rank`` order (ties by name).
 
     >>> [name for name, _ in verify_plans()]
-    ['song2016', 'song2016-literal', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-prose', 'example-anonymous-line', 'example-grid-goals']
+    ['song2016', 'song2016-literal', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-printed', 'leechong-neighbor-printed', 'example-anonymous-line', 'example-grid-goals']
     """
     plans = []
     for name in algorithm_names():
@@ -140,8 +198,10 @@ def algorithm_names() -> list[str]:
 
 
 def algorithm_factory(name: str):
-    """The factory (usually the class) registered under ``name``."""
+    """The factory (usually the class) registered under ``name`` (an old name of :data:`ALIASES`:
+    the new name's, with a warning)."""
     _load_entry_points()
+    name = resolve_alias(name)
     if not isinstance(name, str) or name not in ALGORITHMS:
         raise UsageError(f"algorithm={name!r} is not known", fix=f"use one of {algorithm_names()!r}")
     modname, _, attr = ALGORITHMS[name].partition(":")
@@ -199,8 +259,17 @@ def find_reading(name: str, reading: str) -> tuple[str | None, str | None]:
     ('song2016', None)
     >>> find_reading("song2016", "0")
     (None, None)
+    >>> find_reading("leechong-leader", "1")
+    ('leechong-leader-printed', None)
+    >>> find_reading("leechong-leader-prose", "1")
+    ('leechong-leader', None)
     """
     reading = str(reading)
+    alias = ALIASES.get(name) if name not in ALGORITHMS else None
+    if alias is not None:
+        if alias.readings.get(reading) == reading_of_name(alias.name):
+            return alias.name, None
+        name, reading = alias.name, alias.readings.get(reading, reading)
     if reading_of_name(name) == reading:
         return name, None
     other = READINGS.get((name, reading))

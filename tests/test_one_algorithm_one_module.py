@@ -61,7 +61,7 @@ def test_every_algorithm_declares_what_the_checkers_read(name):
 def test_verify_plans_order_and_content():
     plans = verify_plans()
     assert [n for n, _ in plans] == ["song2016", "song2016-literal", "song2014", "jiang", "jiang-literal",
-                                     "wang2020", "leechong-leader", "leechong-neighbor", "leechong-leader-prose",
+                                     "wang2020", "leechong-leader", "leechong-neighbor", "leechong-leader-printed", "leechong-neighbor-printed",
                                      "example-anonymous-line", "example-grid-goals"]
     for _, plan in (plans[0], plans[2]):
         assert plan.targets == ("square", "hexagon", "octagon-square") and plan.robots == 10

@@ -18,9 +18,10 @@ What it does (003 Secs. 3.7 and 4.6, Tables 2-5, Figs. 16 and 25):
   4.6); :func:`paper_mean_exceptions` does the same for the per-pattern means.
 * :func:`rerun` runs 12 robots on the 8 patterns of the tables, on 5 testbeds
   (seeded random starts, :func:`testbed`; the same start for every team and both
-  approaches), with the columns of :data:`COLUMNS`: the A-team with Alg. 1's
-  printed formula (the default reading), with the prose numbering, with
-  ``id_order=leader-first``, with both, and the F-team (fixed labels, Sec. 3.7).  Distance
+  approaches), with the columns of :data:`COLUMNS`: the A-team by default (Sec. 2.1's
+  prose numbering, reading "2" since issue 31), with Alg. 1's printed formula (the
+  ``-printed`` variants, the default up to 0.1.0), with ``id_order=leader-first``, with
+  both, and the F-team (fixed labels, Sec. 3.7).  Distance
   is ``total_distance`` (the sum over robots, Sec. 3.7 "summing distance moved by
   all team members"); time is ``steps x dt`` of the run, which ends when the leader
   sees the pattern stand (it then stops and every follower is at its target);
@@ -47,9 +48,8 @@ import sys
 import time
 
 from swarmproof.models.errors import UsageError
-from swarmproof.reference_impl.leechong.algorithm import LeeChongNeighbor
 
-__all__ = ["PAPER", "PATTERNS", "PAPER_PATTERNS", "COLUMNS", "TESTBEDS", "LeeChongNeighborProse",
+__all__ = ["PAPER", "PATTERNS", "PAPER_PATTERNS", "COLUMNS", "TESTBEDS",
            "paper_exceptions", "paper_mean_exceptions", "paper_repeated_cells", "testbed", "run_cell", "rerun", "summarize",
            "our_exceptions", "markdown_paper", "markdown_ours", "plot_approach"]
 
@@ -195,23 +195,16 @@ def paper_mean_exceptions() -> list:
 # ---------------------------------------------------------------------------------------------
 
 
-class LeeChongNeighborProse(LeeChongNeighbor):
-    """``leechong-neighbor`` with Sec. 2.1's prose numbering (not registered; the neighbor twin of
-    ``leechong-leader-prose``), for the tables' extra column only."""
-
-    name = "leechong-neighbor-prose"
-    numbering = "prose"
-    verify = None
-
-
-#: The columns of the re-run: (label, team, {approach: (algorithm, extra params)}).
+#: The columns of the re-run: (label, team, {approach: (algorithm, extra params)}).  A: the
+#: defaults (Sec. 2.1's prose IDs); A-printed: Alg. 1's printed formula (the registered
+#: ``-printed`` variants, issue 31); ``-leader-first``: Sec. 3.2's order (``id_order``).
 COLUMNS = (
     ("A", "A", {"leader": ("leechong-leader", {}), "neighbor": ("leechong-neighbor", {})}),
-    ("A-prose", "A", {"leader": ("leechong-leader-prose", {}), "neighbor": (LeeChongNeighborProse, {})}),
+    ("A-printed", "A", {"leader": ("leechong-leader-printed", {}), "neighbor": ("leechong-neighbor-printed", {})}),
     ("A-leader-first", "A", {"leader": ("leechong-leader", {"id_order": "leader-first"}),
                              "neighbor": ("leechong-neighbor", {"id_order": "leader-first"})}),
-    ("A-prose-leader-first", "A", {"leader": ("leechong-leader-prose", {"id_order": "leader-first"}),
-                                   "neighbor": (LeeChongNeighborProse, {"id_order": "leader-first"})}),
+    ("A-printed-leader-first", "A", {"leader": ("leechong-leader-printed", {"id_order": "leader-first"}),
+                                     "neighbor": ("leechong-neighbor-printed", {"id_order": "leader-first"})}),
     ("F", "F", {"leader": ("leechong-leader-fteam", {}), "neighbor": ("leechong-neighbor-fteam", {})}),
 )
 COLUMN_NAMES = tuple(c[0] for c in COLUMNS)
@@ -363,7 +356,8 @@ def markdown_ours(runs) -> str:
 
 def plot_approach(runs, approach: str, path) -> str:
     """Figs. 16 / 25 style: (a) distance and (b) time per pattern; bars = mean over the testbeds
-    (grey A-team, dotted A-team prose, cross-hatched prose + leader-first, hatched F-team), lines = testbed-2 (solid red A, dashed
+    (grey A-team default, dotted A-team printed formula, cross-hatched default + leader-first, hatched
+    F-team), lines = testbed-2 (solid red A, dashed
     blue F); top row the paper's table, bottom row ours.  A bar whose runs did not all end in the
     pattern is labelled with the count that did."""
     import numpy as np
@@ -386,7 +380,7 @@ def plot_approach(runs, approach: str, path) -> str:
         ax.plot(x, [tab[p][1][1] for p in PATTERNS], "--s", color="blue", ms=3, label="F, testbed-2")
         ax.set_title(f"003 {TABLE_OF[(approach, meas)]}: {meas} ({approach} reference)", fontsize=10)
         ax = axes[1, j]
-        cols = [("A", "0.6", None, -0.3), ("A-prose", "0.85", "..", -0.1), ("A-prose-leader-first", "0.95", "xx", 0.1),
+        cols = [("A", "0.6", None, -0.3), ("A-printed", "0.85", "..", -0.1), ("A-leader-first", "0.95", "xx", 0.1),
                 ("F", "white", "///", 0.3)]
         for col, color, hatch, dx in cols:
             vals = [s.get((approach, p, col), {}).get(meas, np.nan) for p in PATTERNS]
@@ -461,7 +455,7 @@ def main(argv=None) -> int:
         print(f"Our cells with {col} >= F: {len(exc)} of {2 * sum(r['column'] == col for r in runs)} "
               f"({len(formed)} of them with both runs formed)")
     ex = our_exceptions(runs)
-    print(f"Our cells with A >= F (default A-team, {len(ex)} of {2 * sum(r['column'] == 'A' for r in runs)}):")
+    print(f"Our cells with A >= F (default A-team, prose IDs, {len(ex)} of {2 * sum(r['column'] == 'A' for r in runs)}):")
     for e in ex:
         print(f"- {e['approach']} {e['measure']}: {e['pattern']}, testbed-{e['testbed']}: A {e['A']:.2f} "
               f"(formed {e['A_satisfied']}) vs F {e['F']:.2f} (formed {e['F_satisfied']})")

@@ -36,23 +36,29 @@ The algorithms of 003 Secs. 2-4 for the engine:
   failure: the survivors repeat Algorithm 1 from where they stand.  ``d_u =
   span / (n - 1)`` with the survivors' n keeps the span.
 
-Readings (docs/decisions.md, "Lee & Chong (issue 17)"): IDs follow Algorithm
-1's printed formula ``2 x rank`` (v >= 0) / ``2 x rank - 1`` (v < 0), the rank
-counted within the robot's own half plane by increasing u, as printed
-(``leechong-leader``, ``leechong-neighbor``); the prose's "by turns, then
-consecutively" numbering is the variant ``leechong-leader-prose``; Sec. 3.2's
-"robots closer to r_l get IDs 1-4" is the option ``id_order="leader-first"``.
-F-team (Sec. 3.7, robots with fixed IDs) is ``team="F"``: the robots know a
-fixed label (RobotModel ``own_id``), the robot labelled 0 leads.
+Readings (docs/decisions.md, "Lee & Chong (issue 17)" and "Lee & Chong: the ID numbering
+(issue 31)"): IDs follow Sec. 2.1's prose -- odd IDs below u, even above, "by turns, until the
+numbering is completed in either half plane. Remaining members in the other half plane are
+assigned their IDs consecutively" (Lee & Chong, Sec. 2.1) -- which is a bijection onto 1..n-1
+for every split of the followers and forms every pattern the paper shows formed (Figs. 2, 6, 7)
+(``leechong-leader``, ``leechong-neighbor``, reading "2").  Alg. 1's printed formula ``2 x rank``
+(v >= 0) / ``2 x rank - 1`` (v < 0), the rank counted within the robot's own half plane by
+increasing u (Lee & Chong, Alg. 1 lines 11-14), gives the same IDs when the half planes hold
+a = b or b = a + 1 followers and IDs up to 2 (n - 1) otherwise; it is the variant
+``leechong-leader-printed`` / ``leechong-neighbor-printed`` (reading "1" of the default names,
+their default up to swarmproof 0.1.0).  Sec. 3.2's "robots closer to r_l get IDs 1-4" is the
+option ``id_order="leader-first"``.  F-team (Sec. 3.7, robots with fixed IDs) is ``team="F"``:
+the robots know a fixed label (RobotModel ``own_id``), the robot labelled 0 leads, and the IDs
+are the labels' ranks, so no numbering of Alg. 1 applies to it.
 
 Examples
 --------
 >>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, -0.4), (-0.1, 0.2), (-0.6, -0.1)], 0)
 [0, 4, 3, 2, 1]
 >>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, 0.4), (-0.1, 0.2)], 0)
-[0, 6, 4, 2]
->>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, 0.4), (-0.1, 0.2)], 0, numbering="prose")
 [0, 3, 2, 1]
+>>> allocate_ids([(1.0, 0.0), (0.5, 0.3), (0.2, 0.4), (-0.1, 0.2)], 0, numbering="formula")
+[0, 6, 4, 2]
 >>> neighbor_id(7, "uni"), neighbor_id(2, "uni"), neighbor_id(3, "multi", 4), neighbor_id(8, "multi", 4)
 (5, 0, 1, 4)
 """
@@ -71,11 +77,14 @@ from swarmproof.reference_impl.protocol import (Assumption, Command, Observation
 
 from .numbering import neighbor_id
 
-__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderProse", "LeeChongLeaderFTeam", "LeeChongNeighborFTeam",
+__all__ = ["LeeChongLeader", "LeeChongNeighbor", "LeeChongLeaderPrinted", "LeeChongNeighborPrinted",
+           "LeeChongLeaderFTeam", "LeeChongNeighborFTeam",
            "LeeChongController", "Agreement",
            "agree", "allocate_ids", "neighbor_id", "NUMBERINGS", "ID_ORDERS", "TEAMS"]
 
-NUMBERINGS = ("formula", "prose")
+#: Alg. 1's ID numberings: ``"prose"`` (Sec. 2.1's text: the default since reading "2") and
+#: ``"formula"`` (Alg. 1 lines 11-14 as printed: the ``-printed`` variants).
+NUMBERINGS = ("prose", "formula")
 ID_ORDERS = ("u-increasing", "leader-first")
 TEAMS = ("A", "F")
 #: Two robots whose distances to p_o differ by at most this (relative to the largest) tie.
@@ -87,16 +96,21 @@ ARRIVE = 1e-9
 # Algorithm 1
 # ---------------------------------------------------------------------------------------------
 
-def allocate_ids(common, leader: int, *, numbering: str = "formula", order: str = "u-increasing") -> list:
+def allocate_ids(common, leader: int, *, numbering: str = "prose", order: str = "u-increasing") -> list:
     """IDs of the robots at common coordinates ``common`` (rows), the leader at row ``leader`` (003 Alg. 1).
 
-    ``numbering="formula"`` (Alg. 1 lines 11-14): a robot with ``v >= 0`` gets ``2 x rank``,
-    one with ``v < 0`` gets ``2 x rank - 1``, rank = its place (from 1) among the robots of
-    its own half plane by increasing u (ties by increasing v).  Not a bijection onto
-    1..n-1 when the half planes hold numbers of robots that differ by more than the
-    formula allows (docs/leechong.md).  ``numbering="prose"`` (Sec. 2.1): odd IDs to the
-    lower half plane, even to the upper, by turns (1, 2, 3, ...) until one half plane is
-    used up, then the rest consecutively.  ``order="leader-first"`` ranks by decreasing u
+    ``numbering="prose"`` (the default; Lee & Chong, Sec. 2.1: "they are assigned an odd ID if
+    they have a negative-coordinate of v-axis, or an even ID if they have a positive coordinate
+    of v-axis, by turns, until the numbering is completed in either half plane. Remaining
+    members in the other half plane are assigned their IDs consecutively, beginning with the
+    number after the last number assigned"): odd IDs to the lower half plane, even to the
+    upper, by turns (1, 2, 3, ...) until one half plane is used up, then the rest
+    consecutively; always a bijection onto 1..n-1.  ``numbering="formula"`` (Lee & Chong,
+    Alg. 1 lines 11-14, as printed): a robot with ``v >= 0`` gets ``2 x rank``, one with
+    ``v < 0`` gets ``2 x rank - 1``, rank = its place (from 1) among the robots of its own
+    half plane by increasing u (ties by increasing v); the same IDs as the prose when the
+    half planes hold a = b or b = a + 1 followers, else not a bijection onto 1..n-1 (IDs up to
+    2 (n - 1); docs/leechong.md).  ``order="leader-first"`` ranks by decreasing u
     (Sec. 3.2: "robots positioned closer to r_l are assigned ... ID_1 to ID_4").
     """
     if numbering not in NUMBERINGS:
@@ -141,7 +155,7 @@ class Agreement:
     tie: tuple = ()
 
 
-def agree(points, *, numbering: str = "formula", order: str = "u-increasing", leader: int | None = None) -> Agreement:
+def agree(points, *, numbering: str = "prose", order: str = "u-increasing", leader: int | None = None) -> Agreement:
     """003 Alg. 1 on ``points`` (an ``(n, 2)`` array in any frame: the result is the same up to
     that frame).  ``leader`` fixes the leader row (F-team, Sec. 3.7) instead of the farthest robot.
 
@@ -218,10 +232,11 @@ def _positive(name: str, value, example: str, *, zero: bool = False) -> float:
     return x
 
 
-def options_of(extra, *, target_shape: str | None = None, n: int | None = None) -> dict:
+def options_of(extra, *, target_shape: str | None = None, n: int | None = None, numbering: str = "prose") -> dict:
     """003's options from ``Params.extra``, checked: a usage error names the key, the value and the
-    fix.  With ``n``, a ``fail`` naming an ID no robot of ``n`` can hold (above 2 (n - 1), the
-    printed formula's largest) is refused too.
+    fix.  With ``n``, a ``fail`` naming an ID no robot of ``n`` can hold under ``numbering`` (above
+    n - 1 for the prose numbering and the F-team's ranks, above 2 (n - 1) for the printed formula,
+    Alg. 1 lines 11-14) is refused too.
 
     >>> options_of({"fail": "leader@5,3@9", "then": "circle"})["fail"]
     {'leader': {5}, 3: {9}}
@@ -263,10 +278,12 @@ def options_of(extra, *, target_shape: str | None = None, n: int | None = None) 
                              fix="IDs 1, 2, ... (the leader, 0, computes no target)")
     fail = _failures(ex.get("fail", ()))
     if n is not None:
+        top, how = ((2 * max(n - 1, 1), "Alg. 1's printed formula hands out at most 2 (n - 1)") if numbering == "formula"
+                    else (max(n - 1, 1), "the IDs are 0..n-1, Sec. 2.1"))
         for who in fail:
-            if who != "leader" and who > 2 * max(n - 1, 1):
-                raise UsageError(f"fail={who}@...: no robot of {n} can hold ID {who} (Alg. 1 hands out at most "
-                                 f"2 (n - 1) = {2 * max(n - 1, 1)})", fix="name an ID the team allocates, or 'leader'")
+            if who != "leader" and who > top:
+                raise UsageError(f"fail={who}@...: no robot of {n} can hold ID {who} ({how} = {top})",
+                                 fix="name an ID the team allocates, or 'leader'")
     flock = ex.get("flock_to")
     return {"id_order": order, "then": then, "pattern_params": pattern_params,
             "arrive_tol": _positive("arrive_tol", ex.get("arrive_tol", 1e-6), "1e-6"),
@@ -965,8 +982,9 @@ def _citation_of(name: str, default: str) -> str:
 
 
 class LeeChongLeader:
-    """003's leader-referenced formation control (registry name ``leechong-leader``); A-team (IDs
-    by Alg. 1's printed formula).  See the module docstring."""
+    """003's leader-referenced formation control (registry name ``leechong-leader``); A-team, IDs
+    by Sec. 2.1's prose numbering (reading "2"; the printed formula is
+    ``leechong-leader-printed``).  See the module docstring."""
 
     name = "leechong-leader"
     #: The controller-state fields the shared checkers may read (swarmproof.invariants.capabilities):
@@ -975,10 +993,13 @@ class LeeChongLeader:
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "003"
     #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
-    #: purpose; CHANGELOG.md); the other leechong-* classes inherit it.
-    reading = "1"
+    #: purpose; CHANGELOG.md).  "2" (swarmproof 0.2.0, issue 31): Sec. 2.1's prose numbering,
+    #: which reproduces the paper's formed patterns (Figs. 2, 6, 7); "1" was Alg. 1's printed
+    #: formula, registered now as ``leechong-leader-printed`` (registry.READINGS).
+    reading = "2"
     mode = "leader"
-    numbering = "formula"
+    #: Alg. 1's ID numbering (:data:`NUMBERINGS`): Lee & Chong, Sec. 2.1's prose.
+    numbering = "prose"
     team = "A"
     model = RobotModel(sensing="anonymous", communication="all", motion="holonomic", clocks="sync")
     assumptions = (
@@ -1134,11 +1155,12 @@ class LeeChongLeader:
                                    params=pattern_params_for(last, target, extra),
                                    cites=_citation_of(last, target.cites))
 
-    @staticmethod
-    def check_params(params: Params, n: int, target) -> None:
+    @classmethod
+    def check_params(cls, params: Params, n: int, target) -> None:
         """Before a run (the engine calls it): 003's options checked against the team size (a
-        ``--fail`` ID no robot can hold, an unknown key, a bad value: exit 2)."""
-        options_of(params.extra, target_shape=getattr(target, "shape", None), n=n)
+        ``--fail`` ID no robot can hold under this class's numbering, an unknown key, a bad value:
+        exit 2)."""
+        options_of(params.extra, target_shape=getattr(target, "shape", None), n=n, numbering=cls.numbering)
 
     @staticmethod
     def out_of_formation(state) -> bool:
@@ -1147,7 +1169,8 @@ class LeeChongLeader:
 
 
 class LeeChongNeighbor(LeeChongLeader):
-    """003's neighbor-referenced formation control (registry name ``leechong-neighbor``, Sec. 4, Alg. 4)."""
+    """003's neighbor-referenced formation control (registry name ``leechong-neighbor``, Sec. 4, Alg. 4);
+    IDs by Sec. 2.1's prose numbering (reading "2"; the printed formula is ``leechong-neighbor-printed``)."""
 
     name = "leechong-neighbor"
     mode = "neighbor"
@@ -1156,18 +1179,45 @@ class LeeChongNeighbor(LeeChongLeader):
                         robots=12, seeds=(0, 1, 2), explore=True, rank=41, explore_max_examples=15)
 
 
-class LeeChongLeaderProse(LeeChongLeader):
-    """``leechong-leader`` with the IDs of Sec. 2.1's prose ("by turns ... then consecutively")."""
+#: The ``-printed`` variants' verify rows: the two patterns on which the printed formula's IDs
+#: break the default's formation at n = 12 (seed 0: 3 followers above u and 8 below), 3 seeds,
+#: no exploration (the default names explore; the formula's finding is also the exact
+#: ``formulas`` row "003 Alg. 1 printed ID formula").
+_PRINTED_PLAN = dict(targets=("lines:wedge", "lines:two-row"), robots=12, seeds=(0, 1, 2), explore=False)
 
-    name = "leechong-leader-prose"
-    numbering = "prose"
-    verify = VerifyPlan(targets=("lines:wedge", "lines:circle"), robots=12, seeds=(0, 1, 2), explore=False, rank=42)
+
+class LeeChongLeaderPrinted(LeeChongLeader):
+    """``leechong-leader`` with the IDs of Alg. 1's printed formula (Lee & Chong, Alg. 1 lines 11-14:
+    ``2 x rank`` for v >= 0, ``2 x rank - 1`` for v < 0): reading "1" of ``leechong-leader``, its
+    default up to swarmproof 0.1.0, kept as a registered variant (issue 31).  Not a bijection onto
+    1..n-1 unless the half planes hold a = b or b = a + 1 followers (smallest failure: n = 3, both
+    followers on one side of u)."""
+
+    name = "leechong-leader-printed"
+    reading = "1"
+    numbering = "formula"
+    verify = VerifyPlan(**_PRINTED_PLAN, rank=42)
+
+
+class LeeChongNeighborPrinted(LeeChongNeighbor):
+    """``leechong-neighbor`` with Alg. 1's printed ID formula: reading "1" of ``leechong-neighbor``
+    (its default up to swarmproof 0.1.0).  Besides the IDs, Alg. 4's N_id may name an ID nobody
+    holds (multi-line patterns), and the robot waits for it forever."""
+
+    name = "leechong-neighbor-printed"
+    reading = "1"
+    numbering = "formula"
+    verify = VerifyPlan(**_PRINTED_PLAN, rank=43)
 
 
 class LeeChongLeaderFTeam(LeeChongLeader):
-    """Sec. 3.7's F-team: robots with fixed IDs (labels 0..n-1; label 0 leads), same control."""
+    """Sec. 3.7's F-team: robots with fixed IDs (labels 0..n-1; label 0 leads), same control.  The
+    IDs are the labels' ranks, so Alg. 1's numbering (prose or printed) never applies: its runs
+    did not change with issue 31 and it keeps reading "1"; no ``-printed`` F-team variant."""
 
     name = "leechong-leader-fteam"
+    #: Unchanged by issue 31 (no numbering applies; traces bit-identical): reading "1".
+    reading = "1"
     team = "F"
     model = RobotModel(sensing="anonymous", communication="all", motion="holonomic", clocks="sync", own_id=True)
     assumptions = LeeChongLeader.assumptions + (

@@ -127,13 +127,21 @@ def verify_rows(max_n: int = MAX_N) -> list:
     res = check_all(max_n)
     rows = []
     span = f"n=2..{max_n}"
-    for numbering, label in (("formula", "Alg. 1 ID formula"), ("prose", "Alg. 1 ID prose numbering")):
+    # Lee & Chong, Sec. 2.1 (the prose: the default, leechong-leader / leechong-neighbor since reading "2")
+    # and Alg. 1 lines 11-14 (the printed formula: the -printed variants, issue 31)
+    for numbering, label in (("formula", "Alg. 1 printed ID formula, leechong-leader-printed and -neighbor-printed"),
+                             ("prose", "Alg. 1 ID prose numbering (Sec. 2.1), leechong-leader and -neighbor")):
         r = res["id_formula"][numbering]
         first = r["first_failures"][0] if r["first_failures"] else None
-        detail = (f"a bijection onto 1..n-1 for every split of the followers between the half planes, {span}"
-                  if first is None else
-                  f"not a bijection for some splits [upper, lower] of the followers, e.g. n={first['n']}: "
-                  f"{first['non_bijective_splits'][:4]}; a bijection only when upper = lower or lower = upper + 1")
+        if first is None:
+            detail = f"a bijection onto 1..n-1 for every split of the followers between the half planes, {span}"
+        else:
+            a, b = first["non_bijective_splits"][0]
+            ids = sorted(allocated_ids(a, b, numbering))
+            k = first["n"] - 1
+            detail = (f"not a bijection onto 1..n-1: smallest team n={first['n']} (the leader and {k} "
+                      f"follower{'s' if k != 1 else ''}), split [upper, lower] = [{a}, {b}]: IDs {ids}; a bijection "
+                      f"only when upper = lower or lower = upper + 1")
         rows.append({"subject": f"003 {label} ({span})", "property": "ids_bijective",
                      "status": "proved" if first is None else "violated", "detail": detail,
                      "cites": "003 Sec. 2.1, Alg. 1 lines 8-16", "data": {"numbering": numbering}})

@@ -77,11 +77,12 @@ def test_one_cell_of_the_rerun_same_start_for_both_teams():
     assert {e["measure"] for e in ex} == {"distance", "time"}
 
 
-def test_the_prose_neighbor_column_is_a_real_variant():
-    r = T.run_cell("neighbor", "A-prose", "wedge", 1)
+def test_the_printed_neighbor_column_is_the_registered_variant():
+    """Issue 31: column A is the default (Sec. 2.1's prose IDs), A-printed the ``-printed`` variant."""
+    r = T.run_cell("neighbor", "A-printed", "wedge", 1)
     d = T.run_cell("neighbor", "A", "wedge", 1)
-    assert r["algorithm"] == "leechong-neighbor-prose" and r["satisfied"] is True
-    assert d["satisfied"] is False                  # testbed 1: the printed formula's IDs
+    assert r["algorithm"] == "leechong-neighbor-printed" and r["satisfied"] is False   # testbed 1: the formula's IDs
+    assert d["algorithm"] == "leechong-neighbor" and d["satisfied"] is True
 
 
 @pytest.mark.parametrize("args, match", [

@@ -137,7 +137,7 @@ def test_two_workers_json_report_and_resume(tmp_path, capsys):
     assert "seconds" not in json.dumps(da)
     cells = {c["cell"]: c for c in da["cells"]}
     assert cells["explore[0] song2014 n=3..6"]["verdict"] == "violated"
-    assert cells["simulate[0] song2016"]["counts"] == {"held": 2, "violated": 0, "inconclusive": 0}
+    assert cells["simulate[0] song2016"]["counts"] == {"held": 2, "violated": 0, "inconclusive": 0, "n/a": 0}
     # a second run into the same folder needs --resume, which then runs nothing
     spec = str(tmp_path / "small.yaml")
     assert main(["campaign", spec, "--out", a]) == 2
@@ -531,3 +531,28 @@ def test_uniform_starts_in_experiment_cells(tmp_path):
 
     md = markdown(res)
     assert "formation quality epsilon (mean ± sd)" in md and "fulfillment ratio Q" not in md
+
+
+def test_not_applicable_tasks_are_no_verdict_counted_apart():
+    """Issue 29: a property the algorithm cannot give what it needs for (jiang's premises: it
+    declares no premise monitors) is n/a in a campaign too: counted apart, never inconclusive,
+    never held; the other tasks decide the exit code, and a campaign of n/a tasks only exits 3."""
+    from swarmproof.checkers.campaign import CampaignResult, Task
+    from swarmproof.checkers.campaign_report import format_summary, markdown
+
+    spec = loads_campaign(SMALL)
+    tasks = [Task("explore[0]/premises/seed0", "cell-a", "explore", {}),
+             Task("explore[0]/connectivity/seed0", "cell-b", "explore", {})]
+    res = CampaignResult(spec, tasks, {"explore[0]/premises/seed0": {"verdict": "not_applicable", "figures": {}},
+                                       "explore[0]/connectivity/seed0": {"verdict": "held", "figures": {}}},
+                         out_dir="o")
+    cells = {c["cell"]: c for c in res.cells()}
+    assert cells["cell-a"]["verdict"] == "n/a" and cells["cell-a"]["counts"] == {
+        "held": 0, "violated": 0, "inconclusive": 0, "n/a": 1}
+    assert cells["cell-b"]["verdict"] == "held"
+    assert res.exit_code == 0
+    assert any("0 inconclusive, 1 n/a (not applicable)" in line for line in format_summary(res))
+    assert "| cell-a | n/a | 1/1 | 0 | 0 | 0 | 1 |" in markdown(res)
+    only_na = CampaignResult(spec, tasks[:1], {"explore[0]/premises/seed0": {"verdict": "not_applicable",
+                                                                              "figures": {}}}, out_dir="o")
+    assert only_na.exit_code == 3

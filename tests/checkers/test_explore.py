@@ -12,14 +12,37 @@ from swarmproof.models.errors import UsageError
 
 
 def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
-    r = explore("song2014", ["connectivity"], budget=4, max_examples=15, robots=(4, 6), lattices=["square"],
-                seed=0, out_dir=tmp_path)
+    r = explore("song2014", ["connectivity"], budget=60, max_examples=15, robots=(4, 6), lattices=["square"],
+                seed=0, out_dir=tmp_path)     # the budget is a ceiling: max_examples bounds the search
     v = r.properties["connectivity"]
     assert v.status == "violated" and r.exit_code == 1
     assert len(v.counterexample.robots) <= 6
     assert v.counterexample_path and replay_file(v.counterexample_path).reproduced
     assert json.loads(open(v.counterexample_path).read())["reading"] == "1"     # song2014's reading (issue 29)
     assert r.broken_assumptions == [] and "v_dt_below_range" in r.kept_assumptions
+
+
+def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch):
+    """Issue 29 (determinism): Hypothesis stops shrinking after five minutes of wall clock, so a
+    loaded machine gave another counterexample; the explorer lifts that stop and bounds shrinking by
+    MAX_SHRINK_RUNS scenario runs instead: the same seed gives the same (larger) counterexample."""
+    from hypothesis.internal.conjecture import engine
+
+    from swarmproof.checkers import explore as ex
+
+    kw = dict(budget=None, max_examples=15, robots=(4, 6), lattices=["square"], seed=0)
+    full = explore("song2014", ["connectivity"], **kw).properties["connectivity"]
+    assert full.status == "violated" and "shrinking stopped" not in full.message
+    shrink_runs = full.scenarios - full.first_failure_scenarios
+    assert shrink_runs > 3                       # this search does shrink (else the cap below tests nothing)
+    monkeypatch.setattr(ex, "MAX_SHRINK_RUNS", 3)
+    a = explore("song2014", ["connectivity"], **kw).properties["connectivity"]
+    b = explore("song2014", ["connectivity"], **kw).properties["connectivity"]
+    assert a.status == "violated" and a.message.endswith("(shrinking stopped after MAX_SHRINK_RUNS=3 runs)")
+    assert a.scenarios == a.first_failure_scenarios + 3 == b.scenarios
+    assert a.counterexample.as_dict() == b.counterexample.as_dict()
+    assert len(a.counterexample.robots) >= len(full.counterexample.robots)
+    assert engine.MAX_SHRINKING_SECONDS == 300   # Hypothesis's own constant is restored after exploring
 
 
 @pytest.mark.slow

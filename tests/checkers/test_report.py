@@ -255,8 +255,10 @@ def test_formulas_section_reports_the_exact_checks_of_003():
 
     rows = section_formulas()
     by = {(r.subject, r.property): r for r in rows}
-    assert by[("003 Alg. 1 ID formula (n=2..64)", "ids_bijective")].verdict.value == "violated"
-    assert by[("003 Alg. 1 ID prose numbering (n=2..64)", "ids_bijective")].verdict.value == "proved"
+    assert by[("003 Alg. 1 printed ID formula, leechong-leader-printed and -neighbor-printed (n=2..64)",
+               "ids_bijective")].verdict.value == "violated"
+    assert by[("003 Alg. 1 ID prose numbering (Sec. 2.1), leechong-leader and -neighbor (n=2..64)",
+               "ids_bijective")].verdict.value == "proved"
     assert by[("003 Alg. 4 N_id, two-row, formula IDs (n=2..64)", "neighbor_tree")].verdict.value == "violated"
     assert by[("003 Alg. 4 N_id, two-row, prose IDs (n=2..64)", "neighbor_tree")].verdict.value == "proved"
     assert by[("003 targets of wedge (n=2..64)", "targets_distinct")].verdict.value == "proved"

@@ -19,10 +19,11 @@ def test_algorithms_exact_lines(capsys):
     code, out, _ = run(capsys, "algorithms")
     lines = out.splitlines()
     assert code == 0 and lines[0].startswith("algorithms (") and lines[0].endswith("):")
-    assert ("  song2016                 The Song & O'Kane 2016 algorithm (Song & O'Kane 2016, Sec. V), for the "
+    width = max(len(line.split()[0]) for line in lines[1:] if line.strip()) + 2   # the longest name's column
+    assert ("  " + "song2016".ljust(width) + "The Song & O'Kane 2016 algorithm (Song & O'Kane 2016, Sec. V), for the "
             "engine. [Song & O'Kane 2016]") in lines
     # a class without a paper has no citation
-    assert '  example-gather           The example algorithm (registry name "example-gather").' in lines
+    assert "  " + "example-gather".ljust(width) + 'The example algorithm (registry name "example-gather").' in lines
 
 
 def test_properties_exact_line_with_citation(capsys):

@@ -41,16 +41,19 @@ def test_alg1_is_the_same_in_every_robots_frame():
 def test_alg1_formula_ranks_within_each_half_plane_by_increasing_u():
     # leader at row 0; upper half plane rows 1, 3 (u = 0.5, -0.1), lower rows 2, 4 (u = 0.2, -0.6)
     common = [(1.0, 0.0), (0.5, 0.3), (0.2, -0.4), (-0.1, 0.2), (-0.6, -0.1)]
-    assert allocate_ids(common, 0) == [0, 4, 3, 2, 1]            # 2 x rank / 2 x rank - 1
-    assert allocate_ids(common, 0, order="leader-first") == [0, 2, 1, 4, 3]
+    assert allocate_ids(common, 0, numbering="formula") == [0, 4, 3, 2, 1]      # 2 x rank / 2 x rank - 1
+    assert allocate_ids(common, 0, numbering="formula", order="leader-first") == [0, 2, 1, 4, 3]
     # v = 0 counts as the upper half plane (Alg. 1 line 11: v_i >= 0)
-    assert allocate_ids([(1.0, 0.0), (0.3, 0.0), (0.1, -1.0)], 0) == [0, 2, 1]
+    assert allocate_ids([(1.0, 0.0), (0.3, 0.0), (0.1, -1.0)], 0, numbering="formula") == [0, 2, 1]
+    # balanced half planes: the default (Sec. 2.1's prose) gives the same IDs
+    assert allocate_ids(common, 0) == [0, 4, 3, 2, 1]
 
 
 def test_alg1_formula_is_not_a_bijection_when_the_half_planes_are_unbalanced_but_the_prose_is():
     common = [(1.0, 0.0), (0.5, 0.3), (0.2, 0.4), (-0.1, 0.2)]   # three robots above u, none below
-    assert sorted(allocate_ids(common, 0)) == [0, 2, 4, 6]
+    assert sorted(allocate_ids(common, 0, numbering="formula")) == [0, 2, 4, 6]
     assert sorted(allocate_ids(common, 0, numbering="prose")) == [0, 1, 2, 3]
+    assert allocate_ids(common, 0) == allocate_ids(common, 0, numbering="prose")     # the default (issue 31)
 
 
 def test_alg1_tie_of_leader_candidates_is_reported():

@@ -2,8 +2,8 @@
 failures (Figs. 12, 13, 22) and positioning errors (Figs. 27, 28).
 
 The scenarios and the measures are those of ``benchmarks/leechong/leechong_figures.py`` (which also
-draws them); every run starts from testbed 5 (12 robots, Alg. 1's printed formula gives IDs
-0..11 there).  Each test asserts the paper's statement, or, where the run differs from it,
+draws them); every run starts from testbed 5 (12 robots; the default prose numbering and Alg. 1's
+printed formula both give IDs 0..11 there).  Each test asserts the paper's statement, or, where the run differs from it,
 exactly what happens (a finding; docs/leechong.md "Experiments").  Each run is 12 robots or
 fewer and takes about a second or two; the 12-robot switching runs are marked slow.
 """
@@ -142,9 +142,11 @@ def _flying_at_failure(run):
 
 
 def test_fig12_leader_failure_with_the_printed_formula_does_not_reform_the_wedge():
-    """Finding: Alg. 1 over the 11 survivors hands out IDs 12 and 14 (the formula's half planes
-    are unbalanced), so the wedge is not formed again."""
-    run = F.run_scenario("fig12")
+    """Finding of ``leechong-leader-printed`` (the default up to 0.1.0): Alg. 1 over the 11
+    survivors hands out IDs 12 and 14 (the formula's half planes are unbalanced), so the wedge is
+    not formed again."""
+    run = F.run_scenario("fig12-printed")
+    assert run.doc["algorithm"] == "leechong-leader-printed"
     _flying_at_failure(run)
     m = run.doc["metrics"]
     assert m["failed"] and m["agreements_redone"] == 1
@@ -154,11 +156,13 @@ def test_fig12_leader_failure_with_the_printed_formula_does_not_reform_the_wedge
     assert run.doc["satisfied"] is False
 
 
-def test_fig12_leader_failure_with_prose_ids_reforms_the_wedge_then_flies_on():
-    """Sec. 3.5 / Fig. 12: a new leader, the wedge again with the same span (11 robots at
-    interval 1.1), and the new leader reaches the goal.  Finding: Fig. 12e's "converge ...
-    while r_l' navigates" does not happen: the new leader waits until the wedge stands."""
-    run = F.run_scenario("fig12-prose")
+def test_fig12_leader_failure_with_the_default_prose_ids_reforms_the_wedge_then_flies_on():
+    """Sec. 3.5 / Fig. 12 with the default (Sec. 2.1's prose IDs, reading "2"): a new leader, the
+    wedge again with the same span (11 robots at interval 1.1), and the new leader reaches the
+    goal.  Finding: Fig. 12e's "converge ... while r_l' navigates" does not happen: the new
+    leader waits until the wedge stands."""
+    run = F.run_scenario("fig12")
+    assert run.doc["algorithm"] == "leechong-leader"
     old = _flying_at_failure(run)
     assert run.doc["satisfied"] is True and run.doc["metrics"]["ids_unique"] is True
     assert "interval 1.1" in run.doc["satisfaction"]["message"]
@@ -198,11 +202,19 @@ def test_fig13_follower_failure_by_leader_reference():
 def test_fig22_follower_failure_by_neighbor_reference_stops_no_other_robot():
     """Sec. 4.4 / Fig. 22: the wedge re-forms with re-issued IDs.  Finding: Sec. 5.1's "the robots
     with lower odd ID related to the failed robot all stopped" does not happen here: the IDs are
-    re-issued one step after the failure, so no robot waits for the failed one."""
+    re-issued one step after the failure, so no robot waits for the failed one.
+
+    What the default change (issue 31) did to Fig. 22: nothing.  Testbed 5's 11 survivors split
+    between the half planes so that Alg. 1's printed formula and Sec. 2.1's prose give the same
+    IDs (a = b or b = a + 1): the ``-printed`` run is the same, step by step."""
     run = F.run_scenario("fig22")
     _flying_at_failure(run)
     assert _stopped_followers(run) == []
     assert run.doc["satisfied"] is True and "interval 1.1" in run.doc["satisfaction"]["message"]
+    printed = F.run_scenario("fig22-printed")
+    assert (run.doc["algorithm"], printed.doc["algorithm"]) == ("leechong-neighbor", "leechong-neighbor-printed")
+    assert np.array_equal(run.result.trace.poses, printed.result.trace.poses)
+    assert F.allocated_ids(run.result.trace, -1) == F.allocated_ids(printed.result.trace, -1)
 
 
 # ---------------------------------------------------------------------------------------------
