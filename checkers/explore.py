@@ -51,7 +51,7 @@ from swarmproof.invariants.registry import (DEFAULT_POS_TOL, DEFAULT_PROGRESS_WI
                                             progress_values)
 from swarmproof.checkers.algorithm_spec import AlgorithmSpec, resolve_algorithm
 from swarmproof.checkers.runs import build_params, cx_params
-from swarmproof.checkers.watchdog import Overstayed, time_limit
+from swarmproof.checkers.watchdog import MAX_LIMIT_S, Overstayed, time_limit
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
@@ -825,6 +825,10 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
         budget = math.inf   # no wall-clock limit: max_examples alone bounds the search (machine-independent)
     elif isinstance(budget, bool) or not (isinstance(budget, (int, float)) and math.isfinite(budget) and budget > 0):
         raise UsageError(f"budget={budget!r} must be a finite number of seconds > 0")
+    elif budget > MAX_LIMIT_S:
+        raise UsageError(f"budget={budget!r} is more than {MAX_LIMIT_S:g} s (about 115 days), the longest "
+                         "limit the watchdog can arm", fix="give fewer seconds, or budget=None (--budget none) "
+                         "to bound the search by max_examples alone")
     if isinstance(max_examples, bool) or not isinstance(max_examples, int) or max_examples < 1:
         raise UsageError(f"max_examples={max_examples!r} must be an integer >= 1")
     lo, hi = check_explore_robots(robots, spec.factory)

@@ -39,10 +39,15 @@ import threading
 import time
 from contextlib import contextmanager
 
-__all__ = ["Overstayed", "REPEAT_S", "supported", "time_limit"]
+__all__ = ["MAX_LIMIT_S", "Overstayed", "REPEAT_S", "supported", "time_limit"]
 
 #: Once the limit has passed, the timer fires again this often until the run gives up.
 REPEAT_S = 0.25
+
+#: The longest wall-clock limit the watchdog arms (seconds, about 115 days): the system timer
+#: overflows far above it (1e10 s: "timestamp out of range for platform time_t").  A longer
+#: ``--budget`` or ``--timeout`` is refused by the commands; "no limit" is ``none``/leaving it out.
+MAX_LIMIT_S = 1e7
 
 
 class Overstayed(BaseException):

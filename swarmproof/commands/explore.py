@@ -151,6 +151,10 @@ def run(args) -> int:
     if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
         raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0, or none",
                          fix="e.g. --budget 60, or --budget none to bound the search by --max-examples alone")
+    from swarmproof.checkers.watchdog import MAX_LIMIT_S
+    if args.budget is not None and args.budget > MAX_LIMIT_S:
+        raise UsageError(f"--budget {args.budget:g} is more than {MAX_LIMIT_S:g} seconds (about 115 days)",
+                         fix="give fewer seconds, or --budget none to bound the search by --max-examples alone")
     if args.max_examples < 1:
         raise UsageError(f"--max-examples {args.max_examples!r} must be >= 1", fix="e.g. --max-examples 100")
     from swarmproof.commands.simulate import _parse_extra

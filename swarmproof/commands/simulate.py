@@ -166,6 +166,10 @@ def _check_arguments(args) -> None:
     if args.timeout is not None and not (math.isfinite(args.timeout) and args.timeout > 0):
         raise UsageError(f"--timeout={args.timeout!r} must be a number of seconds > 0",
                          fix="e.g. --timeout 60, or leave it out for no limit")
+    from swarmproof.checkers.watchdog import MAX_LIMIT_S
+    if args.timeout is not None and args.timeout > MAX_LIMIT_S:
+        raise UsageError(f"--timeout={args.timeout:g} is more than {MAX_LIMIT_S:g} seconds (about 115 days)",
+                         fix="give fewer seconds, or leave it out for no limit")
     if args.record_every < 1:
         raise UsageError(f"--record-every {args.record_every!r} must be >= 1", fix="1 records every step")
     for option, value in (("--trace", args.trace), ("--plot", args.plot), ("--gif", args.gif)):

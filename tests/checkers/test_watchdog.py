@@ -106,3 +106,27 @@ def test_simulate_timeout_must_be_positive(cli, value):
                        "--timeout", value)
     assert code == 2
     assert f"--timeout={float(value)!r} must be a number of seconds > 0; fix: e.g. --timeout 60" in err
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["explore", "song2014", "--budget", "1e10", "--max-examples", "2", "--robots", "3..4"], "--budget 1e+10"),
+    (["explore", "song2014", "--budget", "1e308", "--max-examples", "2", "--robots", "3..4"], "--budget 1e+308"),
+    (["simulate", "song2016", "--target", "square", "--robots", "5", "--seed", "0", "--timeout", "1e10"],
+     "--timeout=1e+10"),
+], ids=["explore-1e10", "explore-1e308", "simulate-1e10"])
+def test_a_limit_past_the_system_timer_is_refused_exit_2(capsys, argv, name):
+    """The system timer overflows at 1e10 s (it was exit 4, "timestamp out of range for platform
+    time_t"): a limit above MAX_LIMIT_S is a usage error naming the value and the way to no limit."""
+    from swarmproof.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"{name} is more than 1e+07 seconds" in err and "fix:" in err and "Traceback" not in err
+
+
+def test_the_library_refuses_a_budget_past_the_system_timer():
+    from swarmproof.checkers.explore import explore
+    from swarmproof.models.errors import UsageError
+
+    with pytest.raises(UsageError, match=r"budget=10000000000.0 is more than 1e\+07 s"):
+        explore("song2014", ["connectivity"], budget=1e10, max_examples=2, robots=(3, 4))

@@ -72,7 +72,8 @@ def _argv(draw, files):
                 "--robots": st.sampled_from(["1", "3", "0", "-2", "x"]), "--seed": NUMBERS,
                 "--range": NUMBERS, "--v": NUMBERS, "--dt": NUMBERS, "--initial": fileval,
                 "--trace": fileval, "--plot": fileval, "--param": PARAMS, "--record-every": NUMBERS,
-                "--shape": WORDS, "--omega": NUMBERS}
+                "--shape": WORDS, "--omega": NUMBERS,
+                "--timeout": st.sampled_from(["5", "0", "-1", "nan", "1e10", "1e308", "x"])}
         argv += ["--max-steps", "40"]
     elif cmd == "explore":
         argv.append(draw(st.one_of(WORDS, st.sampled_from(["wang2020", "song2014", "example-grid-goals"]))))
@@ -82,7 +83,7 @@ def _argv(draw, files):
                 "--seed": NUMBERS, "--out": fileval, "--lattice": st.one_of(WORDS, fileval),
                 "--fault": WORDS, "--v": NUMBERS, "--dt": NUMBERS, "--param": PARAMS,
                 "--speeds": st.one_of(WORDS, st.sampled_from(["-1,0.05", "0.05,0", "1e-300"])),
-                "--budget": st.sampled_from(["5", "none", "0", "-1", "nan", "inf", "x"])}
+                "--budget": st.sampled_from(["5", "none", "0", "-1", "nan", "inf", "x", "1e10", "1e308"])}
         argv += ["--max-examples", "2", "--max-steps", "40"]
     elif cmd == "check-pattern":
         argv.append(draw(st.one_of(fileval, WORDS)))
