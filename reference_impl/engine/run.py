@@ -724,7 +724,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             record(run, step)           # 6. the trace and the monitors
             stop_test(run, step)
         _end(run)
-    except Exception as exc:  # noqa: BLE001 - only what the algorithm under test raised
+    except (Exception, SystemExit, GeneratorExit) as exc:  # noqa: BLE001 - only what the algorithm raised
+        # SystemExit and GeneratorExit from the algorithm's code are crashes too (a SystemExit once
+        # ended swarmproof with exit 0 and no report); KeyboardInterrupt stays Ctrl-C (exit 130)
         if isinstance(exc, SwarmproofError) or run.calling is None:
             raise      # a usage or protocol error, or the engine's own bug: not the algorithm's
         _crashed(run, exc)

@@ -147,3 +147,45 @@ def test_a_crash_keeps_the_trace_up_to_the_start_of_its_step():
     assert r.status == "crashed" and clean.status == "step_cap"
     assert np.array_equal(r.trace.poses, clean.trace.poses)
     assert r.trace.states == clean.trace.states
+
+
+class _Exits:
+    """Robots whose ``step`` raises ``exc`` at step 2 (robot 1)."""
+
+    name = "exits"
+    assumptions = ()
+    model = RobotModel()
+
+    def __init__(self, exc):
+        self.exc = exc
+
+    def controller(self, robot_id, params, lattice, rng):
+        exc = self.exc
+
+        class C:
+            def step(self, obs):
+                if robot_id == 1 and obs.step == 2:
+                    raise exc
+                return Command()
+
+            def state(self):
+                return ()
+        return C()
+
+    def finished(self, states):
+        return False
+
+
+@pytest.mark.parametrize("exc, name", [(SystemExit(0), "SystemExit"), (SystemExit(1), "SystemExit"),
+                                       (GeneratorExit(), "GeneratorExit")], ids=["exit0", "exit1", "generator"])
+def test_system_exit_and_generator_exit_of_the_algorithm_are_crashes(exc, name):
+    """A ``SystemExit`` in the algorithm's code once ended swarmproof with exit 0 and no report, a
+    ``GeneratorExit`` with a traceback: both are crashes of the robot that raised them."""
+    r = simulate(_Exits(exc), None, START, P, seed=0, max_steps=20, stop_when_static=False, allow_violations=True)
+    assert r.status == "crashed" and (r.crash["step"], r.crash["robot"], r.crash["error"]) == (2, 1, name)
+
+
+def test_a_keyboard_interrupt_of_the_algorithm_stays_ctrl_c():
+    with pytest.raises(KeyboardInterrupt):
+        simulate(_Exits(KeyboardInterrupt()), None, START, P, seed=0, max_steps=20, stop_when_static=False,
+                 allow_violations=True)
