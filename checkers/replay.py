@@ -73,7 +73,7 @@ def check_reading(cx: Counterexample, spec, *, file: str | None = None) -> None:
         return          # an old name's reading that its new name runs now (registry.ALIASES)
     recorded = "" if cx.reading is not None else " (not recorded: a file from before readings were versioned)"
     head = (f"reading={then!r}{recorded}: this file was made with reading {then!r} of algorithm={cx.algorithm!r}, "
-            f"which runs reading {now!r} now (its behaviour changed on purpose: CHANGELOG.md), so replaying "
+            f"which runs reading {now!r} here (readings differ on purpose: CHANGELOG.md), so replaying "
             "it here would not tell whether it still reproduces")
     made_by = (cx.made_by or {}).get("swarmproof")
     ours = tool_versions()["swarmproof"]
@@ -90,7 +90,8 @@ def check_reading(cx: Counterexample, spec, *, file: str | None = None) -> None:
         raise InputFileError(f"{head}; no reading {then!r} of {cx.algorithm} is registered in this swarmproof "
                              f"({ours})", file=file, field="reading",
                              fix=(f"replay it with the swarmproof that wrote it (made_by.swarmproof={made_by!r}: "
-                                  f"pip install 'swarmproof=={made_by}', or check out that release's commit; "
+                                  f"check out release {made_by}'s commit of the swarmproof repository and "
+                                  "`pip install -e .` there -- swarmproof is not on the package index; "
                                   "CHANGELOG.md lists each release's readings)" if made_by and made_by != "unknown"
                                   else "replay it with the swarmproof release that wrote it (CHANGELOG.md lists "
                                        "each release's readings)"))
