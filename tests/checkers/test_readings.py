@@ -88,7 +88,7 @@ def test_replay_of_another_reading_exits_2_and_names_the_registered_reading(caps
     out, err = capsys.readouterr()
     assert code == 2 and out == ""
     assert (f"{path}: field 'reading': reading='0': this file was made with reading '0' of "
-            "algorithm='example-gather', which runs reading '2' now") in err
+            "algorithm='example-gather', which runs reading '2' here") in err
     assert "reading '0' of example-gather is registered as 'example-gather-r0'" in err
     assert 'fix: replay it with that reading: set "algorithm": "example-gather-r0" in the file' in err
     assert "no longer reproduces" not in err and "Traceback" not in err
