@@ -35,10 +35,13 @@ verify: setup
 ## The default suite (slow tests excluded; see tests/README.md), on every core (pytest-xdist;
 ## every test is independent of order and of the worker it runs on).  TEST_WORKERS=0 runs it in
 ## one process.  pytest's exit 5 (no test collected) is a failure, said as such.
+## Bytecode is cached for the suite even where PYTHONDONTWRITEBYTECODE is set (it is on the
+## project's machine): without the cache every xdist worker and every CLI subprocess a test starts
+## compiles swarmproof again (collection 13.5 s a worker, 4 s cached; docs/performance.md).
 TEST_WORKERS ?= auto
 TEST_ARGS ?=
 test: setup
-	@MPLBACKEND=Agg $(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadgroup $(TEST_ARGS); rc=$$?; \
+	@PYTHONDONTWRITEBYTECODE= MPLBACKEND=Agg $(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadgroup $(TEST_ARGS); rc=$$?; \
 	case $$rc in \
 	  5) echo "make test: pytest collected no test (exit 5): the suite ran nothing, which is a failure (a broken collection or a -m/-k that deselects everything)";; \
 	esac; exit $$rc
