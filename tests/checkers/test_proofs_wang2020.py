@@ -38,15 +38,12 @@ def test_registered_in_the_suite_in_order_with_unique_ids():
     assert all(LEMMAS[i] is w.LEMMAS[i] for i in IDS)
 
 
+# Proved, control refuted, vacuity "ok": tests/checkers/test_proofs.py's one z3 run per suite lemma
+# asserts it for these lemmas too (they are in the suite, checked above; issue 29: this file proved
+# each of them a second time, 26 s of CPU).  What is particular to them and needs no z3:
 @pytest.mark.parametrize("lemma_id", IDS)
-def test_lemma_proved_control_refuted_vacuity_ok(lemma_id):
+def test_lemma_cites_the_paper_and_says_what_it_does_not_prove(lemma_id):
     lem = LEMMAS[lemma_id]
-    r = prove(lem, timeout_s=10)
-    assert r.status == "proved", r.reason
-    assert r.premises_satisfiable is True
-    assert r.negative_control["status"] == "counterexample"
-    assert r.vacuity["verdict"] == "ok" and r.vacuity["all_dropped"] == "counterexample"
-    # no wall-clock bound: z3's timeout (10 s) bounds a hang; speed is measured in docs/proofs.md
     if lemma_id != "wang2020_time_normalisation":
         assert any("004" in c for c in lem.cites) and lem.not_proved
 
