@@ -65,6 +65,7 @@ import networkx as nx
 import numpy as np
 from scipy.spatial import cKDTree
 
+from swarmproof.models.disjoint_sets import DisjointSets
 from swarmproof.models.doclines import distinct_texts, num_text
 from swarmproof.models.errors import UsageError, check_positive
 from swarmproof.models.lattice import Edge, LatticeGraph
@@ -940,19 +941,8 @@ def _duplicate_groups(points: list[tuple[float, float]], pt: float) -> list[list
     if n <= 8 and not any(abs(points[i][0] - points[j][0]) <= pt and abs(points[i][1] - points[j][1]) <= pt
                           for i in range(n) for j in range(i)):
         return []    # the usual role: a few out-edges, all apart (checked pairwise: cheaper than hashing)
-    parent = list(range(n))
-
-    def find(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    def union(i: int, j: int) -> None:
-        a, b = find(i), find(j)
-        if a != b:
-            parent[max(a, b)] = min(a, b)
-
+    sets = DisjointSets(n)
+    find, union = sets.find, sets.union
     cells: dict[tuple, list[int]] = {}
     for i, (x, y) in enumerate(points):
         kx, ky = x / pt, y / pt
@@ -976,10 +966,7 @@ def _duplicate_groups(points: list[tuple[float, float]], pt: float) -> list[list
                 if bool(np.any((np.abs(a[:, 0] - p[0]) <= pt) & (np.abs(a[:, 1] - p[1]) <= pt))):
                     union(members[0], j)
                     break
-    groups: dict[int, list[int]] = {}
-    for i in range(len(points)):
-        groups.setdefault(find(i), []).append(i)
-    return [g for g in groups.values() if len(g) > 1]
+    return [g for g in sets.groups() if len(g) > 1]
 
 
 def _duplicate_position_defects(graph: LatticeGraph, pt: float) -> list[Defect]:

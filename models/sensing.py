@@ -33,6 +33,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from swarmproof.models.disjoint_sets import DisjointSets
+
 __all__ = ["neighbor_pairs", "components", "is_connected", "pair_distances"]
 
 #: Candidate radius inflation: cKDTree's own arithmetic may differ from hypot
@@ -121,28 +123,14 @@ _UNION_FIND_MAX_EDGES = 2000
 
 
 def _components_union_find(n: int, i: list, j: list) -> list[list[int]]:
-    """:func:`components` by union-find with path halving; the root of a set is its smallest index."""
-    parent = list(range(n))
-
-    def find(a: int) -> int:
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
+    """:func:`components` by :class:`~swarmproof.models.disjoint_sets.DisjointSets` (the root of a
+    set is its smallest index, so the groups come sorted and ordered by their smallest index)."""
+    sets = DisjointSets(n)
     for a, b in zip(i, j):
         if not (0 <= a < n and 0 <= b < n):
             raise ValueError(f"edge ({a}, {b}) names a vertex outside 0..{n - 1}")
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            if ra < rb:
-                parent[rb] = ra
-            else:
-                parent[ra] = rb
-    groups: dict[int, list[int]] = {}
-    for idx in range(n):
-        groups.setdefault(find(idx), []).append(idx)
-    return sorted(groups.values(), key=lambda c: c[0])
+        sets.union(a, b)
+    return sets.groups()
 
 
 def components(n: int, i, j) -> list[list[int]]:
