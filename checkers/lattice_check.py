@@ -69,6 +69,7 @@ from swarmproof.models.disjoint_sets import DisjointSets
 from swarmproof.models.doclines import distinct_texts, num_text
 from swarmproof.models.errors import UsageError, check_positive
 from swarmproof.models.lattice import Edge, LatticeGraph
+from swarmproof.models.lattice_io import MAX_MAGNITUDE, MIN_LENGTH
 from swarmproof.models.se2 import SE2, wrap_angle
 from swarmproof.models.verdict import Verdict
 
@@ -844,6 +845,16 @@ def _check_range(graph: LatticeGraph, range: float | None, max_rotation_order, b
         raise UsageError(f"{where}range is not given (range=None and the graph has no range)",
                          fix="pass --range PHI or set `range:` in the file")
     phi = check_positive("range", range)
+    if not MIN_LENGTH <= phi <= MAX_MAGNITUDE:
+        raise UsageError(f"range={phi!r} is beyond the bounds 1e-6 <= range <= 1e6 "
+                         "(far outside them the checker's squared lengths and counts overflow or underflow)",
+                         fix="scale the lattice and the range by one factor into 1e-6 .. 1e6 (e.g. millimetres "
+                             "instead of metres)")
+    short = next((e for e in graph.edges if 0 < e.transform.norm() < MIN_LENGTH), None)
+    if short is not None:     # a file's rows are refused by the loader; this is a graph built in Python
+        raise UsageError(f"edges[{short.index}] has length {short.transform.norm():.3g}, below the bound "
+                         "length >= 1e-6 (or exactly 0)",
+                         fix="scale the lattice and the range by one factor so that every edge is at least 1e-6 long")
     if not isinstance(max_rotation_order, int) or max_rotation_order < 1:
         raise UsageError(f"max_rotation_order={max_rotation_order!r} must be a whole number >= 1")
     if not isinstance(budget, int) or budget < 1:
@@ -888,16 +899,66 @@ def _strong_connectivity_defects(graph: LatticeGraph) -> list[Defect]:
 
 def _inverse_indices(graph: LatticeGraph, pt: float, at: float) -> list:
     """For every edge, the index of its inverse edge (the first in file order, as
-    :meth:`LatticeGraph.find_inverse` finds it) or None; each inverse transform computed once."""
+    :meth:`LatticeGraph.find_inverse` finds it) or None; each inverse transform computed once.
+
+    Linear in the number of edges on ordinary input (issue 29 item 2: 10,000 copies of one row
+    took 16.7 s, 30,000 took 177 s, comparing every pair): a role pair with more than a few
+    edges is hashed into square cells of side ``pos_tol`` (a match lies in one of the nine cells
+    around the query), and a query already answered (an exact copy of a row) is not asked again.
+    """
     by_pair: dict[tuple[str, str], list[Edge]] = {}
     for e in graph.edges:
         by_pair.setdefault((e.source, e.target), []).append(e)
+    cells_of: dict[tuple[str, str], dict] = {}
+    asked: dict[tuple, int | None] = {}
     out = []
     for e in graph.edges:
         t = e.transform.inverse()
-        out.append(next((c.index for c in by_pair.get((e.target, e.source), ())
-                         if c.transform.isclose(t, pt, at)), None))
+        pair = (e.target, e.source)
+        key = (pair, t.x, t.y, t.theta)
+        if key in asked:
+            out.append(asked[key])
+            continue
+        cands = by_pair.get(pair, ())
+        if len(cands) <= 8:
+            found = next((c.index for c in cands if c.transform.isclose(t, pt, at)), None)
+        else:
+            cells = cells_of.get(pair)
+            if cells is None:
+                cells = cells_of[pair] = _cells(cands, pt)
+            found = None
+            for k in _cell_and_neighbours(t.x, t.y, pt):
+                for c in cells.get(k, ()):                 # in file order: the first close one
+                    if found is not None and c.index >= found:
+                        break
+                    if c.transform.isclose(t, pt, at):
+                        found = c.index
+                        break
+        asked[key] = found
+        out.append(found)
     return out
+
+
+def _cell_key(x: float, y: float, pt: float) -> tuple:
+    kx, ky = x / pt, y / pt
+    # a tolerance below 1e-300 overflows the cell index: such points match only if equal
+    return (math.floor(kx), math.floor(ky)) if math.isfinite(kx) and math.isfinite(ky) else ("=", x, y)
+
+
+def _cells(edges: list[Edge], pt: float) -> dict:
+    """The ``edges`` by the cell of side ``pt`` their translation falls in, in file order."""
+    cells: dict[tuple, list[Edge]] = {}
+    for c in edges:
+        cells.setdefault(_cell_key(c.transform.x, c.transform.y, pt), []).append(c)
+    return cells
+
+
+def _cell_and_neighbours(x: float, y: float, pt: float) -> list[tuple]:
+    key = _cell_key(x, y, pt)
+    if key[0] == "=":
+        return [key]
+    cx, cy = key
+    return [(cx + dx, cy + dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)]
 
 
 def _missing_inverse_defects(graph: LatticeGraph, pt: float, at: float,
@@ -945,10 +1006,7 @@ def _duplicate_groups(points: list[tuple[float, float]], pt: float) -> list[list
     find, union = sets.find, sets.union
     cells: dict[tuple, list[int]] = {}
     for i, (x, y) in enumerate(points):
-        kx, ky = x / pt, y / pt
-        # a tolerance below 1e-300 overflows the cell index: such points are one only if equal
-        key = (math.floor(kx), math.floor(ky)) if math.isfinite(kx) and math.isfinite(ky) else ("=", x, y)
-        cells.setdefault(key, []).append(i)
+        cells.setdefault(_cell_key(x, y, pt), []).append(i)
     for members in cells.values():
         for i in members[1:]:
             union(members[0], i)

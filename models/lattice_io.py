@@ -298,6 +298,11 @@ def _is_number(v: Any) -> bool:
 #: holonomy products, squared lengths and translation refinement stay exact to its tolerances
 #: (a coordinate of 1e160 squared overflows; docs/file-format.md "Limits").
 MAX_MAGNITUDE = 1e6
+#: Shortest range and shortest edge of non-zero length: a lattice at 1e-300 metres underflows
+#: the checker's squared lengths and divisions (numpy warnings, a false "dense pattern"), so
+#: lengths span at most 1e-6 .. 1e6 (check-pattern's bound; docs/file-format.md "Limits").
+#: An edge of length exactly 0 stays legal: the checker reports it as a defect.
+MIN_LENGTH = 1e-6
 #: Largest file, roles and edges a lattice file may hold (docs/file-format.md "Limits"; a
 #: 100 x 100 supercell, 10,000 roles and 40,000 edges, is checked in a few seconds).
 MAX_FILE_BYTES = 16_000_000
@@ -406,6 +411,13 @@ def _header_fields(data: dict, ctx: _Ctx, default_name: str) -> tuple:
 
             raise ctx.error(("range",), f"range={num_text(data['range'])} must be > 0",
                             "give the sensing range phi as a positive number, or remove the key")
+        if rng < MIN_LENGTH:
+            from .doclines import num_text
+
+            raise ctx.error(("range",), f"range={num_text(data['range'])} is below the bound range >= {_e(MIN_LENGTH)}",
+                            f"scale the whole lattice (every x, y and the range by one factor, e.g. "
+                            f"micrometres instead of metres) so that the range and every edge are at "
+                            f"least {_e(MIN_LENGTH)}")
     unit = data.get("angle_unit", "deg")
     if unit not in _ANGLE_UNITS or not isinstance(unit, str):
         raise ctx.error(("angle_unit",), f"angle_unit={_r(unit)} is not a known unit",
@@ -477,6 +489,12 @@ def _edge_rows(data: dict, ctx: _Ctx, roles: list, seen: dict, unit: str) -> lis
             y = _number(ctx, ("edges", i, 3), y, "y")
             th = _number(ctx, ("edges", i, 4), th, f"theta (in {unit})")
         x, y, th = float(x), float(y), float(th)
+        if (x or y) and math.hypot(x, y) < MIN_LENGTH:
+            raise ctx.error(("edges", i), f"edges[{i}] has length {math.hypot(x, y):.3g}, below the bound "
+                                          f"length >= {_e(MIN_LENGTH)} (or exactly 0)",
+                            f"scale the whole lattice (every x, y and the range by one factor) so that every "
+                            f"edge is at least {_e(MIN_LENGTH)} long, or write x=0 y=0 for a robot on its "
+                            f"neighbour's spot")
         t = th * scale
         if not math.isfinite(t):  # pragma: no cover - scale <= 1 keeps it finite
             raise ctx.error(("edges", i, 4), f"edges[{i}][4]={row[4]!r} is too large", "use a smaller angle")
