@@ -346,7 +346,7 @@ def _v_positive(params: Params, n: int, ids) -> str | None:
 
 
 class Jiang:
-    """002's algorithm (registry name ``jiang``): Algorithm 2 read as a queue with occupied
+    """Jiang et al.'s algorithm (registry name ``jiang``): Algorithm 2 read as a queue with occupied
     positions (Sec. IV-B's prose).  See the module docstring."""
 
     name = "jiang"
@@ -419,7 +419,7 @@ class Jiang:
 
 
 class JiangLiteral(Jiang):
-    """002's Algorithm 2 as printed (registry name ``jiang-literal``): ``Q = Q u E u {r_i}``
+    """Jiang et al.'s Algorithm 2 as printed (registry name ``jiang-literal``): ``Q = Q u E u {r_i}``
     keeps the acting head first and ``O`` collects robots.  See the module docstring."""
 
     name = "jiang-literal"

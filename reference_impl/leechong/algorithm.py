@@ -245,14 +245,14 @@ def options_of(extra, *, target_shape: str | None = None, n: int | None = None, 
     >>> options_of({"nosuch": 1})
     Traceback (most recent call last):
     ...
-    swarmproof.models.errors.UsageError: params.extra nosuch=1 is not an option of 003's algorithms; fix: use one of ['then', 'fail', 'flock_to', 'position_errors', 'error_size', 'perturbation', 'arrive_tol', 'id_order', 'alpha_star', 'm', 'k', 'rotation', 'radius', 'center', 'index', 'noline']
+    swarmproof.models.errors.UsageError: params.extra nosuch=1 is not an option of Lee & Chong 2008's algorithms; fix: use one of ['then', 'fail', 'flock_to', 'position_errors', 'error_size', 'perturbation', 'arrive_tol', 'id_order', 'alpha_star', 'm', 'k', 'rotation', 'radius', 'center', 'index', 'noline']
     """
     from swarmproof.models import line_patterns as lp
 
     ex = dict(extra or {})
     for key in ex:
         if key not in OPTION_KEYS + PATTERN_PARAM_KEYS + _ENGINE_KEYS:
-            raise UsageError(f"params.extra {key}={ex[key]!r} is not an option of 003's algorithms",
+            raise UsageError(f"params.extra {key}={ex[key]!r} is not an option of Lee & Chong 2008's algorithms",
                              fix=f"use one of {list(OPTION_KEYS + PATTERN_PARAM_KEYS)!r}")
     order = str(ex.get("id_order", "u-increasing"))
     if order not in ID_ORDERS:
@@ -982,7 +982,7 @@ def _citation_of(name: str, default: str) -> str:
 
 
 class LeeChongLeader:
-    """003's leader-referenced formation control (registry name ``leechong-leader``); A-team, IDs
+    """Lee & Chong 2008's leader-referenced formation control (registry name ``leechong-leader``); A-team, IDs
     by Sec. 2.1's prose numbering (reading "2"; the printed formula is
     ``leechong-leader-printed``).  See the module docstring."""
 
@@ -1023,7 +1023,7 @@ class LeeChongLeader:
     #: 15): each robot re-identifies every other one by an optimal matching each step (O(n^3) per
     #: robot and step), so the engine refuses more than this many robots (exit 2).
     max_robots = 128
-    max_robots_reason = "003's small-scale teams; every robot matches all n robots every step (O(n^3))"
+    max_robots_reason = "Lee & Chong 2008's small-scale teams; every robot matches all n robots every step (O(n^3))"
     #: The robots sense every robot (Sec. 2.1); a range only draws the random connected starts: 2
     #: intervals, so starts are about as dense as the patterns, at least range/4 = 0.5 apart
     #: (Sec. 6.1: 600 mm apart at a 1000 mm interval).
@@ -1169,7 +1169,7 @@ class LeeChongLeader:
 
 
 class LeeChongNeighbor(LeeChongLeader):
-    """003's neighbor-referenced formation control (registry name ``leechong-neighbor``, Sec. 4, Alg. 4);
+    """Lee & Chong 2008's neighbor-referenced formation control (registry name ``leechong-neighbor``, Sec. 4, Alg. 4);
     IDs by Sec. 2.1's prose numbering (reading "2"; the printed formula is ``leechong-neighbor-printed``)."""
 
     name = "leechong-neighbor"

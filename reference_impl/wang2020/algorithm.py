@@ -873,7 +873,8 @@ def make_invariants() -> tuple:
 # -- the algorithm ----------------------------------------------------------------------------
 
 class Wang2020:
-    """004's algorithm (registry name ``wang2020``); see the module docstring.
+    """Wang & Rubenstein 2020's shape formation by local task swapping (registry name
+    ``wang2020``): grid waypoints, Alg. 2-4; see the module docstring.
 
     Parameters
     ----------

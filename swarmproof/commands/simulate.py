@@ -42,7 +42,7 @@ def add_arguments(p) -> None:
     which.add_argument("--shape", metavar="NAME|FILE", help="a goal-set target (--target shape:NAME)")
     which.add_argument("--pattern", metavar="NAME|FILE",
                        help="a pattern target of the algorithm's own pattern kind: a repeating pattern "
-                            "(--target pattern:NAME) or, for 003's algorithms, a line pattern (--target lines:NAME)")
+                            "(--target pattern:NAME) or, for Lee & Chong 2008's algorithms, a line pattern (--target lines:NAME)")
     p.add_argument("--robots", type=int, metavar="N", help="number of robots (random connected start)")
     p.add_argument("--seed", type=int, required=True, metavar="S", help="seed of the start and of the run")
     p.add_argument("--range", type=float, dest="range_", metavar="PHI",
