@@ -160,7 +160,25 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
     except UsageError as exc:
         raise bad("params", exc, cx.params) from None
     verdict = judge(cx.property, algorithm, lattice, params, result, cx.options)
+    verdict = _before_the_recorded_step(cx, verdict, result)
     return ReplayResult(cx, bool(verdict.violated), verdict, result)
+
+
+def _before_the_recorded_step(cx: Counterexample, verdict, result):
+    """A replay stopped by its step cap before the step its file records the violation at cannot
+    say the violation is gone: "held" over fewer steps is inconclusive (exit 3), naming both
+    steps.  (A run that ends by itself before that step did change: "held" stands.)"""
+    import dataclasses
+
+    at = (cx.violation or {}).get("step")
+    if (verdict.status != "held" or result.status != "step_cap" or not isinstance(at, int)
+            or isinstance(at, bool) or int(result.steps) >= at):
+        return verdict
+    return dataclasses.replace(
+        verdict, status="inconclusive",
+        message=(f"the replayed run ended after {int(result.steps)} steps (max_steps={cx.max_steps}), before "
+                 f"step {at}, where the file records the violation: cannot tell whether it still occurs "
+                 f"(it held up to step {int(result.steps)}); fix: give max_steps of at least {at} in the file"))
 
 
 def replay_file(path: str | os.PathLike) -> ReplayResult:

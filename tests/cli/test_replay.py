@@ -104,3 +104,20 @@ def test_an_inconclusive_replay_exits_3(capsys, tmp_path):
     out, err = capsys.readouterr()
     assert "not reproduced (inconclusive)" in out, out + err
     assert code == 3
+
+
+def test_a_replay_capped_before_the_recorded_step_exits_3(capsys, cx_file, tmp_path):
+    """A file whose max_steps stops the run before the step it records the violation at: the
+    replay held over fewer steps, which cannot say the violation is gone (exit 3, not 0)."""
+    cx, _ = cx_file
+    assert cx.violation["step"] == 17
+    cx.max_steps = 5
+    path = cx.save(tmp_path / "short.json")
+    code = main(["replay", path, "--json"])
+    doc = json.loads(capsys.readouterr().out)
+    assert code == 3 and doc["reproduced"] is False and doc["status"] == "inconclusive"
+    assert doc["steps_run"] == 5
+    assert "before step 17, where the file records the violation" in doc["message"]
+    assert "give max_steps of at least 17" in doc["message"]
+    cx.max_steps = 17               # the cap reaches the recorded step: reproduced again
+    assert main(["replay", cx.save(tmp_path / "enough.json")]) == 1
