@@ -229,6 +229,11 @@ def _judge_formation(algorithm, result, lattice, kind: str, params, phi: float) 
         sat = judged.satisfied(ids, poses, phi=phi, tol=tol)
         q = nq = None
         metrics = dict(judged.metrics(ids, poses, phi=phi))
+    if result.status == "step_cap" and sat.status == "violated" and dataclasses.is_dataclass(sat):
+        # no final configuration to judge: the run was cut, as the explorer's "formation" says
+        sat = dataclasses.replace(sat, status="inconclusive", message=(
+            f"not judged: the step cap {result.max_steps} was reached before the run ended (the "
+            f"configuration at the cap is not a final one; there: {sat.message})"))
     own = getattr(algorithm, "metrics", None)
     if callable(own):
         metrics.update(own(result))

@@ -292,7 +292,8 @@ class TreeLinkMonitor:
             # vacuous: nothing to check is never a pass (DESIGN.md section 1, "Verdicts")
             return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
                                    f"vacuous: no controller state has a {key!r} entry (the algorithm keeps no "
-                                   "spanning tree)", applicable=False)
+                                   "spanning tree, or the run ended before any robot chose a parent)",
+                                   applicable=False)
         if self.checked == 0:
             return InvariantResult("tree_links", "inconclusive", LEMMA_11, None,
                                    f"vacuous: no tree link was between neighbors at the start of a step ({mode} "

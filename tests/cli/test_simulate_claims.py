@@ -135,3 +135,20 @@ def test_a_claimed_property_left_vacuous_is_inconclusive_exit_3(capsys, tmp_path
     assert doc["connectivity"]["message"].startswith("vacuous: the start is disconnected")
     assert not any(doc[p]["status"] == "violated" for p in ("connectivity", "tree_links") if doc.get(p))
     assert code == 3 and doc["exit_code"] == 3
+
+
+def test_a_run_cut_by_the_step_cap_does_not_judge_the_formation(capsys):
+    """The formation is a property of the final configuration; a run cut by its step cap has none:
+    inconclusive and exit 3, as the explorer's "formation" and verify's rows say -- never
+    "violated" (exit 1) for a run that was only stopped early."""
+    code, out, _ = run(capsys, "song2016", "--lattice", "square", "--robots", "10", "--seed", "0",
+                       "--max-steps", "5", "--json")
+    doc = json.loads(out)
+    assert code == 3 and doc["exit_code"] == 3 and doc["status"] == "step_cap"
+    assert doc["satisfied"] is None and doc["satisfaction"]["status"] == "inconclusive"
+    assert "the step cap 5 was reached before the run ended" in doc["satisfaction"]["message"]
+    assert "matches no edge" in doc["satisfaction"]["message"]    # what the cut run showed, kept
+    code, out, _ = run(capsys, "song2016", "--lattice", "square", "--robots", "10", "--seed", "0",
+                       "--max-steps", "5")
+    assert code == 3 and "satisfies lattice: inconclusive - not judged" in out
+    assert out.rstrip().endswith("result: inconclusive (step cap reached)")
