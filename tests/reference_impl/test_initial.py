@@ -88,6 +88,17 @@ BAD_FILES = [
      "  - {id: 3, pose: [0.5, 1.0, 90]}\n",
      r"s\.yaml:5: field 'robots\[2\]\.pose': robots\[2\] \(id=3\) at \(0\.5, 1\.0\) is on the same point as "
      r"robots\[0\] \(id=1\): two robots cannot stand on one spot; fix: move one of them"),
+    # the first pair in file order (the later robot first, then the earlier), within 1e-9
+    ("same-point-first-pair", HEAD + "  - {id: 1, pose: [0, 0, 0]}\n  - {id: 2, pose: [0.5, 0, 0]}\n"
+     "  - {id: 3, pose: [0.5, 0.0000000001, 0]}\n  - {id: 4, pose: [0, 0, 0]}\n",
+     r"s\.yaml:5: field 'robots\[2\]\.pose': robots\[2\] \(id=3\) at \(0\.5, 1e-10\) is on the same point as "
+     r"robots\[1\] \(id=2\)"),
+    # issue 29: poses up to 1e308 were accepted (squared distances overflow); bounded as lattices are
+    ("x-1e308", HEAD + "  - {id: 1, pose: [0, 0, 0]}\n  - {id: 2, pose: [1.0e+308, 0, 0]}\n",
+     r"s\.yaml:4: field 'robots\[1\]\.pose\[0\]': robots\[1\]\.pose\[0\]=1e\+308 is beyond the bound "
+     r"\|x\| <= 1e6; fix: scale the start"),
+    ("theta-1e7", HEAD + "  - {id: 1, pose: [0, 0, 1.0e+7]}\n",
+     r"robots\[0\]\.pose\[2\]=10000000 is beyond the bound \|theta\| <= 1e6; fix: reduce the angle"),
 ]
 
 
