@@ -14,7 +14,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import UsageError, did_you_mean
 
 __all__ = ["AlgorithmSpec", "resolve_algorithm"]
 
@@ -139,7 +139,7 @@ def resolve_algorithm(algorithm) -> AlgorithmSpec:
         if algorithm in algorithm_names():
             return AlgorithmSpec(algorithm, algorithm, algorithm_factory(algorithm), claims_of(algorithm))
         if ":" not in algorithm:
-            raise UsageError(f"algorithm={algorithm!r} is not known",
+            raise UsageError(f"algorithm={algorithm!r} is not known{did_you_mean(algorithm, algorithm_names())}",
                              fix=f"use one of {algorithm_names()!r}, or module:qualname of your algorithm class")
         factory = _import_ref(algorithm)
         ref = algorithm

@@ -61,7 +61,7 @@ import numpy as np
 import z3
 
 from swarmproof.invariants.lemmas import NORMALISATION_LEMMAS, Encoding, Lemma, dist2, point as _pt
-from swarmproof.models.errors import UsageError, check_positive
+from swarmproof.models.errors import UsageError, check_positive, did_you_mean
 from swarmproof.reference_impl.registry import lemma_sets
 
 __all__ = [
@@ -173,7 +173,7 @@ def lookup(ids: Iterable[str] | None = None) -> list:
         lem = LEMMAS.get(i) or EXTRA_LEMMAS.get(i)
         if lem is None:
             raise UsageError(
-                f"lemma={i!r} is not a known lemma id",
+                f"lemma={i!r} is not a known lemma id{did_you_mean(i, [*LEMMAS, *EXTRA_LEMMAS])}",
                 fix="use one of: " + ", ".join(LEMMAS)
                     + " (run only when named: " + ", ".join(EXTRA_LEMMAS) + ")")
         out.append(lem)

@@ -29,7 +29,7 @@ import importlib
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping
 
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import UsageError, did_you_mean
 
 from .connectivity import LEMMA_11
 from .properties import CITE_COLLISION, CITE_DEADLOCK, CITE_OSCILLATION, CITE_PREMISES
@@ -270,7 +270,7 @@ def get_property(name) -> Property:
             return _REGISTRY[attr]
         raise UsageError(f"property={name!r}: {modname} has no Property {attr!r} and registers none of that name",
                          fix="define it with Property(...) or @property_check(name, kind)")
-    raise UsageError(f"property={name!r} is not known",
+    raise UsageError(f"property={name!r} is not known{did_you_mean(name, property_names())}",
                      fix=f"use one of {property_names()!r}, or module:name of a property you registered")
 
 

@@ -192,3 +192,20 @@ def check_positive(name: str, value: Any, *, fix: str | None = None) -> float:
     if not x > 0:
         raise UsageError(f"{name}={value!r} must be > 0", fix=fix or "give a positive number")
     return x
+
+
+def did_you_mean(name: Any, choices) -> str:
+    """``"; did you mean 'X'?"`` for the choice closest to a mistyped ``name`` (difflib's ratio
+    of at least 0.6), else ``""``: appended to a "not known" message before its fix.
+
+    >>> did_you_mean("song2061", ["song2014", "song2016", "wang2020"])
+    "; did you mean 'song2016'?"
+    >>> did_you_mean("algorithm", ["algorithms", "lemmas"])
+    "; did you mean 'algorithms'?"
+    >>> did_you_mean("zzz", ["square", "hexagon"])
+    ''
+    """
+    import difflib
+
+    close = difflib.get_close_matches(str(name), [str(c) for c in choices], n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""

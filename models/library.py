@@ -42,7 +42,7 @@ from __future__ import annotations
 import os
 from importlib import resources
 
-from .errors import InputFileError, UsageError
+from .errors import InputFileError, UsageError, did_you_mean
 from .lattice import LatticeGraph
 from .lattice_io import load_lattice_file, loads_lattice
 
@@ -116,5 +116,5 @@ def resolve(name_or_path: str | os.PathLike) -> LatticeGraph:
         return load_lattice_file(path)
     if path in names():
         return load(path)
-    raise InputFileError("no such file and no bundled lattice of that name", file=path,
+    raise InputFileError(f"no such file and no bundled lattice of that name{did_you_mean(path, names())}", file=path,
                          fix=f"give the path of a lattice-graph/1 file or one of the bundled names {names()!r}")

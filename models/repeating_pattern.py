@@ -48,7 +48,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from .doclines import field_name, line_of, parse_document
-from .errors import InputFileError, UsageError
+from .errors import InputFileError, UsageError, did_you_mean
 from .verdict import ThreeValued
 
 __all__ = ["PATTERN_FORMAT", "RepeatingPattern", "loads_pattern", "load_pattern_file", "load_pattern",
@@ -450,7 +450,8 @@ def resolve_pattern(name_or_path) -> RepeatingPattern:
         from . import library
 
         return pattern_from_lattice(library.load(text.split(":", 1)[1]))
-    raise InputFileError("no such file and no bundled pattern of that name", file=text,
+    raise InputFileError(f"no such file and no bundled pattern of that name{did_you_mean(text, pattern_names())}",
+                         file=text,
                          fix=f"give a {PATTERN_FORMAT} file or one of {pattern_names()!r}")
 
 

@@ -56,7 +56,7 @@ import numpy as np
 
 from . import library
 from . import line_patterns as _lp
-from .errors import InputFileError, UsageError
+from .errors import InputFileError, UsageError, did_you_mean
 from .lattice_io import load_lattice_file, loads_lattice
 from .repeating_pattern import RepeatingPattern, load_pattern, load_pattern_file, pattern_names, resolve_pattern
 from .shapes import _BUNDLED_SHAPES, GoalSet, bundled_shape, bundled_shape_names, load_shape_file
@@ -184,7 +184,8 @@ def resolve_target(text, kind: str | None = None, *, prefer: str | None = None):
             found = k.by_other_name(text)
             if found is not None:
                 return found
-        raise InputFileError(f"no such file and no bundled {kind} target of that name", file=text,
+        raise InputFileError(f"no such file and no bundled {kind} target of that name"
+                             f"{did_you_mean(text, k.bundled())}", file=text,
                              fix=f"give a file path or one of the bundled {kind} names {k.bundled()!r}")
     if os.path.exists(text):
         return _load_any_file(text)
@@ -197,7 +198,8 @@ def resolve_target(text, kind: str | None = None, *, prefer: str | None = None):
         raise UsageError(f"target={text!r} is ambiguous: bundled as {', '.join(matches)}",
                          fix="say which: " + " or ".join(f"{k}:{text}" for k in matches))
     names = [f"{k}:{n}" for k, n in target_names()]
-    raise InputFileError("no such file and no bundled target of that name", file=text,
+    raise InputFileError(f"no such file and no bundled target of that name"
+                         f"{did_you_mean(text, [n for _, n in target_names()] + names)}", file=text,
                          fix=f"give a file path or one of {names!r}")
 
 

@@ -16,10 +16,10 @@ Examples
 True
 >>> get_algorithm("example-gather").name
 'example-gather'
->>> get_algorithm("song2099")
+>>> get_algorithm("wang2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='song2099' is not known; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'wang2020']
+swarmproof.models.errors.UsageError: algorithm='wang2099' is not known; did you mean 'wang2020'?; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'wang2020']
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ import inspect
 import sys
 from typing import NamedTuple
 
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import UsageError, did_you_mean
 
 __all__ = ["ALGORITHMS", "ALIASES", "Alias", "ENTRY_POINT_GROUP", "LEMMA_SETS", "READINGS", "RETIRED_READINGS",
            "get_algorithm", "resolve_alias",
@@ -203,7 +203,8 @@ def algorithm_factory(name: str):
     _load_entry_points()
     name = resolve_alias(name)
     if not isinstance(name, str) or name not in ALGORITHMS:
-        raise UsageError(f"algorithm={name!r} is not known", fix=f"use one of {algorithm_names()!r}")
+        raise UsageError(f"algorithm={name!r} is not known{did_you_mean(name, algorithm_names())}",
+                         fix=f"use one of {algorithm_names()!r}")
     modname, _, attr = ALGORITHMS[name].partition(":")
     try:
         mod = importlib.import_module(modname)

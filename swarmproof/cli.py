@@ -54,6 +54,7 @@ class _Parser(argparse.ArgumentParser):
         if unknown is not None:        # `swarmproof simualte`: the closest command, not the usage
             message = unknown
         else:
+            message = _closest_choice(message)
             self.print_usage(sys.stderr)
         if _Parser.json_errors:
             from swarmproof.commands import emit_json
@@ -74,16 +75,33 @@ def _unknown_command(message: str) -> str | None:
     >>> _unknown_command("argument COMMAND: invalid choice: 'simualte' (choose from 'simulate', 'prove')")
     "unknown command 'simualte'; did you mean 'simulate'?"
     """
-    import difflib
     import re
+
+    from swarmproof.models.errors import did_you_mean
 
     m = re.match(r"argument COMMAND: invalid choice: '(.*?)' \(choose from (.*)\)$", message)
     if m is None:
         return None
     choices = re.findall(r"'([^']*)'", m.group(2)) or [c.strip() for c in m.group(2).split(",")]
-    close = difflib.get_close_matches(m.group(1), choices, n=1)
-    hint = f"; did you mean {close[0]!r}?" if close else f" (commands: {', '.join(choices)})"
+    hint = did_you_mean(m.group(1), choices) or f" (commands: {', '.join(choices)})"
     return f"unknown command {m.group(1)!r}{hint}"
+
+
+def _closest_choice(message: str) -> str:
+    """argparse's "invalid choice" of an option (``--section lemma``) with the closest choice
+    appended (``; did you mean 'lemmas'?``); any other message unchanged.
+
+    >>> _closest_choice("argument --section: invalid choice: 'lemma' (choose from 'lattices', 'lemmas')")
+    "argument --section: invalid choice: 'lemma' (choose from 'lattices', 'lemmas'); did you mean 'lemmas'?"
+    """
+    import re
+
+    from swarmproof.models.errors import did_you_mean
+
+    m = re.match(r"argument .*: invalid choice: '(.*?)' \(choose from (.*)\)$", message)
+    if m is None:
+        return message
+    return message + did_you_mean(m.group(1), re.findall(r"'([^']*)'", m.group(2)))
 
 
 def build_parser() -> argparse.ArgumentParser:

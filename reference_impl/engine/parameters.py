@@ -18,11 +18,10 @@ explore, campaign, verify) calls them before any run starts.
 
 from __future__ import annotations
 
-import difflib
 import math
 from typing import Any, Mapping
 
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import UsageError, did_you_mean
 
 from ..protocol import ParamSpec, Params
 
@@ -116,9 +115,8 @@ def check_extra(algorithm, extra: Mapping[str, Any] | None) -> None:
     for key, value in extra.items():
         spec = declared.get(key)
         if spec is None:
-            close = difflib.get_close_matches(str(key), list(declared), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise UsageError(f"parameter {key}={value!r} is not known to algorithm {_label(algorithm)!r}{hint}",
+            raise UsageError(f"parameter {key}={value!r} is not known to algorithm {_label(algorithm)!r}"
+                             f"{did_you_mean(key, declared)}",
                              fix=f"use one of its parameters {sorted(declared)!r}")
         why = spec.problem(value)
         if why is not None:

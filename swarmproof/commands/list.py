@@ -17,7 +17,7 @@ Exit codes: 0 listed; 2 an unknown KIND (the message names the kinds).
 from __future__ import annotations
 
 from swarmproof.commands import emit_json, human
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import UsageError, did_you_mean
 
 NAME = "list"
 HELP = "list what is registered: algorithms, properties, lemmas, targets, patterns, shapes"
@@ -199,7 +199,7 @@ def check_kind(kind: str | None) -> tuple[str, ...]:
     if kind is None:
         return KINDS
     if kind not in LISTERS:
-        raise UsageError(f"kind={kind!r} is not something swarmproof lists",
+        raise UsageError(f"kind={kind!r} is not something swarmproof lists{did_you_mean(kind, KINDS)}",
                          fix=f"use one of {', '.join(KINDS)}, or no KIND for all of them")
     return (kind,)
 

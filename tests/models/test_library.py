@@ -161,8 +161,8 @@ def test_resolve_reports_file_errors_of_existing_files(tmp_path):
 
 @pytest.mark.parametrize("arg", ["sqaure", "lattices/square.yaml", ""], ids=["typo", "missing-path", "empty"])
 def test_resolve_neither_file_nor_name(arg):
-    with pytest.raises(InputFileError, match=r"no such file and no bundled lattice of that name; "
-                                             r"fix: give the path of a lattice-graph/1 file or one of the "
+    with pytest.raises(InputFileError, match=r"no such file and no bundled lattice of that name(; did you mean "
+                                             r"'square'\?)?; fix: give the path of a lattice-graph/1 file or one of the "
                                              r"bundled names \['hexagon'"):
         library.resolve(arg)
 
