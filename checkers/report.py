@@ -614,14 +614,21 @@ def exploration_row(algorithm: str, prop: str, entry: dict | None, claim: str | 
                artifact=artifact if verdict is Verdict.VIOLATED else None, paper=paper)
 
 
-def _explore_one(ref: str, prop: str, n_examples: int, robots: tuple, seed: int, budget, out_dir, show=None):
-    """One exploration row's explorer run: ``(ExploreReport.as_dict(), counterexample)``.  A
-    module-level function, so that a Dask worker can run it (``section_exploration(workers=N)``)."""
+def _explore_one(ref: str, props, n_examples: int, robots: tuple, seed: int, budget, out_dir, show=None):
+    """One algorithm's exploration rows in one explorer call: ``[(doc, counterexample), ...]``, one
+    per property of ``props``, ``doc`` the ``ExploreReport.as_dict()`` with that property alone.
+    One call per algorithm, not per row: the explorer then judges each run for the properties
+    after the one that ran it (``checkers/explore.py``, ``_SharedRuns``), the same rows sooner.
+    ``budget`` is per property, as the rows report it.  A module-level function, so that a Dask
+    worker can run it (``section_exploration(workers=N)``)."""
     from swarmproof.checkers.explore import explore
 
-    rep = explore(ref, [prop], budget=budget, max_examples=n_examples, robots=tuple(robots), seed=seed,
-                  out_dir=out_dir, progress=show)
-    return rep.as_dict(), getattr(rep.properties.get(prop), "counterexample", None)
+    props = [props] if isinstance(props, str) else list(props)
+    rep = explore(ref, props, budget=None if budget is None else budget * len(props), max_examples=n_examples,
+                  robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
+    doc = rep.as_dict()
+    return [({**doc, "properties": {p: doc["properties"][p]}},
+             getattr(rep.properties.get(p), "counterexample", None)) for p in props]
 
 
 def _explore_on_worker(*job):
@@ -642,7 +649,8 @@ def _explore_parallel(jobs: list, workers: int, progress: Progress | None) -> li
     try:
         from distributed import as_completed
 
-        futures = [client.submit(_explore_on_worker, *job, key=f"swarmproof-verify-{i}-{job[0]}-{job[1]}", pure=False)
+        futures = [client.submit(_explore_on_worker, *job, key=f"swarmproof-verify-{i}-{job[0]}", pure=False,
+                                 priority=len(jobs) - i)
                    for i, job in enumerate(jobs)]
         index = {f.key: i for i, f in enumerate(futures)}
         out: list = [None] * len(jobs)
@@ -651,8 +659,9 @@ def _explore_parallel(jobs: list, workers: int, progress: Progress | None) -> li
             out[index[fut.key]] = fut.result()       # an error in a row is raised here, as in the serial run
             done += 1
             if progress:
-                ref, prop = jobs[index[fut.key]][:2]
-                progress(f"{done}/{len(jobs)} rows explored on {workers} processes (last: {ref} {prop})")
+                ref, props = jobs[index[fut.key]][:2]
+                progress(f"{done}/{len(jobs)} algorithms explored on {workers} processes (last: {ref}, "
+                         f"{len(props)} properties)")
         return out
     finally:
         client.close()
@@ -681,9 +690,11 @@ def section_exploration(*, algorithms=None, properties=None,
     Counterexample files are written into ``out_dir`` only when it is given
     (``swarmproof verify --out DIR``); otherwise each violated row carries the
     ``swarmproof explore`` command that repeats it (``reproduce`` in JSON).
-    ``workers`` > 1 runs the rows on that many local processes (Dask, as campaigns do): the
+    Each algorithm's properties are explored in one explorer call, which shares runs between them
+    (the same rows as one call per row, sooner; ``_SharedRuns`` in checkers/explore.py).
+    ``workers`` > 1 runs the algorithms on that many local processes (Dask, as campaigns do): the
     same rows, in the same order, sooner on a machine with that many cores; a ``section_budget``
-    keeps them in this process (its deadline is spent in row order).
+    keeps them in this process, one call per row (its deadline is spent in row order).
     """
     import math
 
@@ -707,10 +718,26 @@ def section_exploration(*, algorithms=None, properties=None,
     na = [subj.not_applicable(prop) for subj, prop, _ in plan]
     ran = None
     todo = [i for i, reason in enumerate(na) if reason is None]
-    if workers is not None and workers > 1 and section_budget is None and len(todo) > 1:
-        done = _explore_parallel([(plan[i][0].ref, plan[i][1], plan[i][2], tuple(robots), seed, budget, out_dir)
-                                  for i in todo], workers, progress)
-        ran = dict(zip(todo, done))
+    # one explorer call per algorithm (its applicable properties together: they share runs), unless
+    # a section budget is spent row by row
+    groups: dict[int, list[int]] = {}
+    for i in todo:
+        groups.setdefault(id(plan[i][0]), []).append(i)
+    jobs = [(plan[g[0]][0].ref, tuple(plan[i][1] for i in g), plan[g[0]][2], tuple(robots), seed, budget, out_dir)
+            for g in groups.values()]
+    if section_budget is None and workers is not None and workers > 1 and len(jobs) > 1:
+        ran = {}
+        for g, out in zip(groups.values(), _explore_parallel(jobs, workers, progress)):
+            ran.update(zip(g, out))
+    elif section_budget is None:
+        ran = {}
+        for g, job in zip(groups.values(), jobs):
+            show = None
+            if progress:
+                def show(prop, k, total, algo=plan[g[0]][0].label):
+                    progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
+                show(job[1][0], 0, job[2])
+            ran.update(zip(g, _explore_one(*job, show)))
     rows = []
     for i, (subj, prop, n_examples) in enumerate(plan):
         algo, claims = subj.label, subj.claims
@@ -739,7 +766,7 @@ def section_exploration(*, algorithms=None, properties=None,
                     progress(f"{algo} {prop}: example {k} (max {total} + shrinking)")
                 show(prop, 0, n_examples)
             used = None if budget is None and math.isinf(left) else min(math.inf if budget is None else budget, left)
-            doc, artifact = _explore_one(subj.ref, prop, n_examples, tuple(robots), seed, used, out_dir, show)
+            [(doc, artifact)] = _explore_one(subj.ref, (prop,), n_examples, tuple(robots), seed, used, out_dir, show)
         assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
                        "broken_assumptions": doc.get("broken_assumptions", [])}
         rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
