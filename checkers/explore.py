@@ -786,7 +786,7 @@ def check_explore_robots(robots, algorithm=None) -> tuple[int, int]:
     >>> check_explore_robots((300, 300))
     Traceback (most recent call last):
     ...
-    swarmproof.models.errors.UsageError: robots=300 is more than the explorer draws (at most 64 for connected starts: Hypothesis draws each scenario from a bounded buffer, which a larger start overruns); fix: explore at most 64 robots (e.g. --robots 3..64); simulate runs teams of up to 20000
+    swarmproof.models.errors.UsageError: robots=300 is more than the explorer draws (at most 64 for connected starts: Hypothesis draws each scenario from a bounded buffer, which a larger start overruns); fix: explore at most 64 robots (e.g. --robots 3..64 on the command line, robots: [3, 64] in a campaign); simulate runs teams of up to 20000
     """
     from swarmproof.checkers.runs import MAX_ROBOTS
     from swarmproof.reference_impl.engine.run import check_team_size
@@ -803,8 +803,9 @@ def check_explore_robots(robots, algorithm=None) -> tuple[int, int]:
         what = {"points": "connected starts", "cells": "connected grid starts", "free": "grid starts"}[start]
         raise UsageError(f"robots={hi} is more than the explorer draws (at most {cap} for {what}: Hypothesis "
                          "draws each scenario from a bounded buffer, which a larger start overruns)",
-                         fix=f"explore at most {cap} robots (e.g. --robots {lo if lo <= cap else min(3, cap)}..{cap}); simulate runs "
-                             f"teams of up to {MAX_ROBOTS}")
+                         fix=f"explore at most {cap} robots (e.g. --robots {lo if lo <= cap else min(3, cap)}..{cap} on the "
+                             f"command line, robots: [{lo if lo <= cap else min(3, cap)}, {cap}] in a campaign); simulate "
+                             f"runs teams of up to {MAX_ROBOTS}")
     if algorithm is not None:
         check_team_size(algorithm, hi)
     return lo, hi

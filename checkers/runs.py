@@ -152,7 +152,8 @@ def check_robots(robots: int | None, initial) -> None:
         raise UsageError(f"robots={robots!r} must be >= 1")
     if robots > MAX_ROBOTS:
         raise UsageError(f"robots={robots!r} is more than swarmproof draws a start for (at most {MAX_ROBOTS})",
-                         fix=f"run at most {MAX_ROBOTS} robots, or give an --initial file")
+                         fix=f"run at most {MAX_ROBOTS} robots, or start from your own poses "
+                             f"(swarmproof simulate --initial FILE)")
 
 
 def _seeded_start(algorithm, n: int, seed: int, params, lattice, phi: float, min_separation):
