@@ -183,6 +183,8 @@ class Report:
             "findings": sum(r.verdict is Verdict.VIOLATED and not r.claimed for r in self.rows),
             "exit_code": self.exit_code,
         }
+        if self.nothing_claimed():
+            doc["reason"] = self.nothing_claimed()[2:]     # why "inconclusive": nothing was judged
         if self.comparison is not None:
             doc["baseline"] = self.comparison.to_json()
             for row_doc, r in zip(doc["rows"], self.rows):
@@ -221,8 +223,20 @@ class Report:
             lines.append(f"claims alone: {self.verdict.value} ({counts})")
             lines.append(self.comparison.summary_line())
         else:
-            lines.append(f"verify: {self.verdict.value.upper()} ({counts})")
+            lines.append(f"verify: {self.verdict.value.upper()} ({counts}){self.nothing_claimed()}")
         return "\n".join(lines)
+
+    def nothing_claimed(self) -> str:
+        """Why the verdict is inconclusive when no applicable row checks a claim (nothing was judged:
+        never a pass), as a tail for the summary line; '' otherwise."""
+        if any(r.claimed and r.applicable for r in self.rows):
+            return ""
+        subjects = sorted({str(r.data.get("algorithm") or r.subject) for r in self.rows if r.applicable})
+        if not subjects:
+            return ": every row is not applicable, so nothing was judged"
+        return (f": no row checks a claim ({', '.join(subjects)} claim{'s' if len(subjects) == 1 else ''} none of "
+                "these properties), so nothing was judged; the rows marked * are findings (give your class a "
+                "`claims` mapping, property -> citation, to have them judged: docs/explorer.md)")
 
 
 # ---------------------------------------------------------------------------

@@ -210,3 +210,21 @@ def test_explore_says_not_applicable_and_runs_nothing(capsys):
     code = main(["explore", "jiang", "--property", "connectivity", "--max-examples", "2", "--budget", "none"])
     out = capsys.readouterr().out
     assert "  connectivity  n/a          not applicable: no range graph" in out
+
+
+def test_a_report_without_claimed_rows_says_why_it_is_inconclusive():
+    """Issue 29: `verify --algorithm example-gather --section exploration` said INCONCLUSIVE with no
+    reason: no row checks a claim, so nothing was judged (never a pass); the summary and JSON say so."""
+    rows = [Row("exploration", "example-gather n=3..8", "termination", Verdict.HELD, "held", {"algorithm": "example-gather"},
+                claim=None),
+            Row("exploration", "example-gather n=3..8", "collision", Verdict.VIOLATED, "overlap",
+                {"algorithm": "example-gather"}, claim=None)]
+    rep = Report(rows)
+    assert rep.verdict is Verdict.INCONCLUSIVE and rep.exit_code == 3
+    last = rep.format_table().splitlines()[-1]
+    assert last.startswith("verify: INCONCLUSIVE (0 proved, 1 held, 1 violated, 0 inconclusive): no row checks a "
+                           "claim (example-gather claims none of these properties), so nothing was judged")
+    assert rep.to_json()["reason"].startswith("no row checks a claim")
+    claimed = Report(rows + [Row("exploration", "s n=3..8", "termination", Verdict.HELD, "held", {"algorithm": "s"},
+                                 claim="001 Thm. 13")])
+    assert "reason" not in claimed.to_json() and "nothing was judged" not in claimed.format_table()
