@@ -101,3 +101,21 @@ def gather_reading(reading: str):
 
 
 GatherReading0 = gather_reading("0")
+
+
+#: Each suite lemma's proof, once per test process (``proved``).
+_PROVED: dict = {}
+
+
+def proved(lemma, timeout_s: float = 10.0):
+    """``swarmproof.checkers.proofs.prove(lemma, timeout_s)``, run once per test process: the
+    per-lemma test (tests/checkers/test_proofs.py) and verify's lemma section
+    (tests/cli/test_verify.py, whose ``run_suite`` is patched to call this) judge the same z3 results.
+    Both are in the xdist group ``z3-suite``, so one worker proves each lemma once (the suite was
+    proved twice, 12 s of CPU)."""
+    from swarmproof.checkers import proofs
+
+    key = (lemma.id, float(timeout_s))
+    if key not in _PROVED:
+        _PROVED[key] = proofs.prove(lemma, timeout_s)
+    return _PROVED[key]
