@@ -237,7 +237,10 @@ def run_and_judge(algorithm_name, prop: str, lattice, ids, poses, params, *, see
     so the verdict and its message are the same; when the shortened trace is
     *not* judged violated (the goal held at that step, or another rule would
     have to decide) the scenario is run again to its end without the monitor
-    and judged as usual.  Replay always runs to the end.
+    and judged as usual.  An ``invariants`` run carries an
+    :class:`~swarmproof.invariants.algorithm_invariants.InvariantsStop` and ends at the first
+    step where an invariant breaks (the same judgment as the whole run).  Replay always runs to
+    the end.
     """
     spec = algorithm_name if isinstance(algorithm_name, AlgorithmSpec) else resolve_algorithm(algorithm_name)
     from swarmproof.invariants.registry import get_property
@@ -246,6 +249,8 @@ def run_and_judge(algorithm_name, prop: str, lattice, ids, poses, params, *, see
     monitor = None
     if early_stop and rule.run_monitor is not None:
         monitor = rule.run_monitor(spec.factory, dict(options or {}))
+        if monitor is not None and callable(getattr(monitor, "start", None)):
+            monitor.start(list(ids))          # a monitor that needs the robots' IDs (invariants)
     algo, result = run_scenario(spec, lattice, ids, poses, params, seed=seed, max_steps=max_steps,
                                 allow_violations=allow_violations, faults=faults, stop_when=monitor)
     r = judge(prop, algo, lattice, params, result, options)

@@ -101,6 +101,33 @@ class InvariantsMonitor:
                                detail={"invariants": [i.name for i in self.invariants]})
 
 
+class InvariantsStop:
+    """Run-time form of the ``invariants`` property for ``simulate(stop_when=...)``: True at the
+    first step where one of the invariants breaks, so the explorer does not run a violated
+    scenario on to its end (each shrink of a leechong-neighbor counterexample ran hundreds of
+    steps past it).  Judging the stopped trace finds the same first violation -- the same step,
+    invariant and message -- as the whole run: every invariant is checked at every step up to it
+    (tests/invariants/test_invariants_stop.py).  ``start(ids)`` first; a run whose robots change
+    (a fault adds one) is not stopped.  ``step`` is where it fired.
+    """
+
+    def __init__(self, invariants) -> None:
+        self.monitor = InvariantsMonitor(invariants)
+        self.step: int | None = None
+
+    def start(self, ids) -> None:
+        self.monitor.start(ids)
+
+    def __call__(self, t: int, poses, states, present) -> bool:
+        if len(present) != len(self.monitor.ids):
+            return False
+        self.monitor.observe(t, poses, states, present)
+        if self.monitor.first:
+            self.step = int(t)
+            return True
+        return False
+
+
 def check_invariants(trace, algorithm) -> InvariantResult:
     """Run the algorithm's invariants over every recorded step of ``trace`` (the non-streaming
     form; a sparse trace is judged on what it kept -- the explorer streams instead)."""

@@ -454,6 +454,15 @@ def _oscillation_monitor(factory, options):
     return CycleMonitor(float(dict(options or {}).get("pos_tol", DEFAULT_POS_TOL)))
 
 
+def _invariants_monitor(factory, options):
+    """End a run at the first step where one of the algorithm's invariants breaks (its class's
+    ``invariants``; none declared there: no early stop)."""
+    from .algorithm_invariants import InvariantsStop, invariants_of
+
+    invs = invariants_of(factory)
+    return InvariantsStop(invs) if invs else None
+
+
 def _premises(trace, ctx):
     from .premises import premise_monitors_of
     from .properties import premises
@@ -518,7 +527,7 @@ for _p in (
     Property("invariants", "safety", _invariants, ("poses", "states", "the algorithm's invariants"),
              "only the invariants the algorithm declares (its invariants attribute), on its own state keys",
              "the algorithm's own runtime invariants (its invariants attribute)",
-             stream=_invariants_stream, every_step=True, needs=("invariants",)),
+             run_monitor=_invariants_monitor, stream=_invariants_stream, every_step=True, needs=("invariants",)),
     Property("no_crash", "safety", _no_crash, ("exceptions the algorithm's code raised",),
              "exceptions only: a controller that loops forever is stopped by the time budget, not found",
              CITE_NO_CRASH),
