@@ -129,9 +129,11 @@ def test_tty_progress_overwrites_one_line():
 
 
 def test_workers_explore_the_rows_on_dask_processes_with_the_same_rows(capsys, tmp_path):
-    """--workers 2: the exploration rows on a local Dask cluster of two processes give the JSON and
-    the counterexample files of the serial run, byte for byte (rows bounded by example counts)."""
-    argv = ["--section", "exploration", "--algorithm", "song2014", "--property", "connectivity",
+    """--workers 2: the exploration rows on a local Dask cluster of two processes, and the
+    algorithms section as a task on the same cluster, give the JSON and the counterexample files of
+    the serial run, byte for byte (rows bounded by example counts)."""
+    argv = ["--section", "algorithms", "--section", "exploration", "--algorithm", "song2014",
+            "--property", "connectivity",
             "--property", "termination", "--max-examples", "12", "--json"]
     docs, files = [], []
     for w in ("1", "2"):
@@ -139,7 +141,8 @@ def test_workers_explore_the_rows_on_dask_processes_with_the_same_rows(capsys, t
         code, out, _ = run(capsys, *argv, "--workers", w, "--out", str(out_dir))
         doc = json.loads(out)
         docs.append((code, json.dumps(doc, sort_keys=True).replace(str(out_dir), "OUT")))
-        verdicts = {r["property"]: r["verdict"] for r in doc["rows"]}
+        verdicts = {r["property"]: r["verdict"] for r in doc["rows"] if r["section"] == "exploration"}
+        assert {r["section"] for r in doc["rows"]} == {"algorithms", "exploration"}
         files.append({p.name: p.read_bytes() for p in sorted(out_dir.iterdir())})
     assert docs[0] == docs[1]
     assert files[0] == files[1] and files[0]          # song2014 loses connectivity: a counterexample file
