@@ -456,11 +456,13 @@ def _oscillation_monitor(factory, options):
 
 def _invariants_monitor(factory, options):
     """End a run at the first step where one of the algorithm's invariants breaks (its class's
-    ``invariants``; none declared there: no early stop)."""
-    from .algorithm_invariants import InvariantsStop, invariants_of
+    ``invariants`` tuple; declared per instance, or none: no early stop)."""
+    from .algorithm_invariants import InvariantsStop
 
-    invs = invariants_of(factory)
-    return InvariantsStop(invs) if invs else None
+    invs = getattr(factory, "invariants", None)
+    if not isinstance(invs, (tuple, list)) or not invs:
+        return None          # none, or declared per instance (a property: wang2020's depend on its params)
+    return InvariantsStop(invs)
 
 
 def _premises(trace, ctx):

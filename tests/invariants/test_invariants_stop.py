@@ -36,3 +36,25 @@ def test_early_stop_at_a_broken_invariant_gives_the_same_judgment(algorithm, tar
             seen_stop = True
     if algorithm == "leechong-leader-printed":
         assert seen_stop, "no start broke an invariant before the run's end: the test shows nothing"
+
+
+def test_invariants_declared_per_instance_are_not_stopped_early():
+    """wang2020 declares its invariants per instance (a property on the class): no early stop, and
+    no error (make verify met `'property' object is not iterable`)."""
+    from swarmproof.invariants.registry import get_property
+    from swarmproof.reference_impl.registry import algorithm_factory
+
+    rule = get_property("invariants")
+    assert rule.run_monitor(algorithm_factory("wang2020"), {}) is None
+    assert rule.run_monitor(algorithm_factory("leechong-neighbor"), {}) is not None
+    assert rule.run_monitor(algorithm_factory("song2016"), {}) is None      # declares none
+
+
+def test_every_registered_algorithm_gets_a_monitor_or_none():
+    from swarmproof.invariants.registry import get_property
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names
+
+    rule = get_property("invariants")
+    for name in algorithm_names():
+        mon = rule.run_monitor(algorithm_factory(name), {})
+        assert mon is None or callable(mon), name
