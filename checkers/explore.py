@@ -1062,6 +1062,9 @@ class _Ran:
 #: At most this many scenarios' judgments are kept for the later properties of one explore call
 #: (each a few judgments, not a trace: a few kB); past it, later properties run their scenarios.
 MAX_SHARED_RUNS = 50_000
+#: A later property is judged for sharing only while its judgments cost at most this fraction of
+#: a run (CPU, on average over the call so far: :meth:`_SharedRuns.worth_judging`).
+SHARE_JUDGE_FRACTION = 0.3
 
 
 class _SharedRuns:
@@ -1078,6 +1081,27 @@ class _SharedRuns:
 
     def __init__(self) -> None:
         self.records: dict[str, tuple[_Ran, dict]] = {}
+        self.run_cpu, self.runs = 0.0, 0
+        self.judge_cpu: dict[str, float] = {}
+        self.judged: dict[str, int] = {}
+
+    def worth_judging(self, prop: str) -> bool:
+        """Whether to judge ``prop`` now for later: while its judgments cost less than
+        :data:`SHARE_JUDGE_FRACTION` of a run on average (song2016's premises cost about a run
+        each, so sharing them would cost more than it saves).  A performance choice only: a
+        judgment not kept is made by ``prop``'s own search, with the same outcome."""
+        n = self.judged.get(prop, 0)
+        if n == 0 or self.runs == 0:
+            return True
+        return self.judge_cpu[prop] / n <= SHARE_JUDGE_FRACTION * self.run_cpu / self.runs
+
+    def note_run(self, cpu: float) -> None:
+        self.run_cpu += cpu
+        self.runs += 1
+
+    def note_judgment(self, prop: str, cpu: float) -> None:
+        self.judge_cpu[prop] = self.judge_cpu.get(prop, 0.0) + cpu
+        self.judged[prop] = self.judged.get(prop, 0) + 1
 
     @staticmethod
     def key(scn: "Scenario") -> str:
@@ -1205,6 +1229,7 @@ def _scenario_test(ex: _Exploration, search: _Search):
             ran, r, crash_r = had
         else:
             left = None if math.isinf(search.deadline) else max(search.deadline - time.monotonic(), 1e-3)
+            c0 = time.process_time()
             try:
                 # the budget holds against the algorithm under test: a step that never returns is
                 # stopped at the deadline (checkers/watchdog.py), and the search ends there
@@ -1222,12 +1247,18 @@ def _scenario_test(ex: _Exploration, search: _Search):
             if result.crash is not None and prop != "no_crash":
                 crash_r = judge("no_crash", algo_run, lattice, p, result, ex.options)
             if key is not None and search.later:
+                shared = search.shared
+                shared.note_run(time.process_time() - c0)
                 judged = {}
                 for q in search.later:
+                    if not shared.worth_judging(q):
+                        continue
+                    c1 = time.process_time()
                     try:
                         judged[q] = judge(q, algo_run, lattice, p, result, ex.options)
                     except Exception:  # noqa: BLE001 - q's own search runs the scenario and meets it
                         pass
+                    shared.note_judgment(q, time.process_time() - c1)
                 if ran.crash is not None:
                     judged["no_crash"] = crash_r if crash_r is not None else r
                 search.shared.put(key, ran, judged)
