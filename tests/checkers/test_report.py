@@ -235,9 +235,10 @@ def test_report_json_is_bit_identical_has_no_seconds_and_writes_no_files(tmp_pat
     assert os.listdir(tmp_path) == []  # without out_dir nothing is written (the row says how)
     assert a.rows[0].detail.endswith("; the file: swarmproof verify --out DIR")
     doc = a.to_json()
-    assert set(doc) == {"verdict", "rows", "counts", "findings", "exit_code"}
+    assert set(doc) == {"verdict", "rows", "counts", "findings", "exit_code", "reason"}
     # the only row is an unclaimed violation: a finding, and nothing claimed was checked
     assert (doc["verdict"], doc["findings"]) == ("inconclusive", 1)
+    assert doc["reason"].startswith("no row checks a claim")
     assert doc["counts"] == {"proved": 0, "held": 0, "violated": 1, "inconclusive": 0, "n/a": 0}
 
 
