@@ -22,6 +22,9 @@ File format ``swarmproof-initial/1`` (YAML or JSON, same keys)::
       - {id: 3, pose: [0.0, 0.0, 90.0]}
       - {id: 1, pose: [0.8, 0.0, 0.0]}
 
+Every ``x``, ``y`` and ``theta`` is a finite number of size at most 1e6 (the lattice files'
+bound, docs/file-format.md "Limits"), and no two robots stand within 1e-9 of each other.
+
 References
 ----------
 001_7a4e517b856331bc.txt (Song & O'Kane 2016), Sec. III (connected start),
