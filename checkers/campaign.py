@@ -441,9 +441,16 @@ def _client(scheduler: str | None, workers: int | None):
             raise UsageError(f"--scheduler {scheduler!r} is not a scheduler address ({exc})",
                              fix="e.g. --scheduler tcp://127.0.0.1:8786") from None
     n = workers or os.cpu_count() or 1
-    # dashboard_address=":0": any free port (the HTTP server cannot be switched off; 8787 may be taken)
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.ERROR)
+    import dask
+
+    # dashboard_address=":0": any free port (the HTTP server cannot be switched off; 8787 may be taken).
+    # The workers' statistical profiler is off: it samples every task's stack every 10 ms, and on
+    # the explorer's deep Hypothesis stacks that made a task 55 % slower (jiang's exploration rows:
+    # 26 s of CPU in one process, 40 s in a worker; 32 s against 31 s without it;
+    # docs/performance.md).  The workers read the setting when they start.
+    with dask.config.set({"distributed.worker.profile.enabled": False}):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
 

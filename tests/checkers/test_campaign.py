@@ -556,3 +556,27 @@ def test_not_applicable_tasks_are_no_verdict_counted_apart():
     only_na = CampaignResult(spec, tasks[:1], {"explore[0]/premises/seed0": {"verdict": "not_applicable",
                                                                               "figures": {}}}, out_dir="o")
     assert only_na.exit_code == 3
+
+
+def _worker_profiler_enabled():
+    import dask
+
+    return dask.config.get("distributed.worker.profile.enabled")
+
+
+def test_local_workers_run_without_dask_s_statistical_profiler():
+    """The embedded cluster's workers do not sample every task's stack every 10 ms (55 % slower
+    exploration tasks, docs/performance.md); the caller's own dask config is left as it was."""
+    import dask
+    import distributed  # noqa: F401 - registers the distributed.* config defaults
+
+    from swarmproof.checkers.campaign import _client
+
+    before = dask.config.get("distributed.worker.profile.enabled")
+    client, cluster = _client(None, 1)
+    try:
+        assert client.submit(_worker_profiler_enabled, pure=False).result() is False
+    finally:
+        client.close()
+        cluster.close()
+    assert dask.config.get("distributed.worker.profile.enabled") == before
