@@ -454,6 +454,19 @@ def _client(scheduler: str | None, workers: int | None):
     return Client(cluster), cluster
 
 
+@contextlib.contextmanager
+def local_client(workers: int | None):
+    """An embedded LocalCluster of ``workers`` processes (:func:`_client`) and its client, both
+    closed on leaving (verify's ``--workers``)."""
+    client, cluster = _client(None, workers)
+    try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
 def _not_yet_there(out_dir: str) -> list[str]:
     """The paths a new results store in ``out_dir`` would create (the store, its SQLite side files,
     the folders up to the first that exists), innermost first; nothing that exists already."""

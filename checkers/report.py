@@ -184,8 +184,9 @@ class Report:
             "findings": sum(r.verdict is Verdict.VIOLATED and not r.claimed for r in self.rows),
             "exit_code": self.exit_code,
         }
-        if self.nothing_claimed():
-            doc["reason"] = self.nothing_claimed()[2:]     # why "inconclusive": nothing was judged
+        why = self.nothing_claimed()
+        if why:
+            doc["reason"] = why[2:]     # why "inconclusive": nothing was judged
         if self.comparison is not None:
             doc["baseline"] = self.comparison.to_json()
             for row_doc, r in zip(doc["rows"], self.rows):
@@ -638,7 +639,7 @@ def _explore_one(ref: str, props, n_examples: int, robots: tuple, seed: int, bud
     worker can run it (``section_exploration(workers=N)``)."""
     from swarmproof.checkers.explore import explore
 
-    props = [props] if isinstance(props, str) else list(props)
+    props = list(props)
     rep = explore(ref, props, budget=None if budget is None else budget * len(props), max_examples=n_examples,
                   robots=tuple(robots), seed=seed, out_dir=out_dir, progress=show)
     doc = rep.as_dict()
@@ -659,14 +660,10 @@ def _explore_parallel(jobs: list, workers: int, progress: Progress | None, clien
     ``workers`` processes (the campaigns' engine, docs/campaigns.md), or on ``client``'s cluster
     when given (:func:`run_report` shares one with the other sections); results in the jobs'
     order.  Each row is bounded by its example count, so the rows are the serial run's (tested)."""
-    from swarmproof.checkers.campaign import _client
+    from swarmproof.checkers.campaign import local_client
 
-    own = client is None
-    cluster = None
-    if own:
-        client, cluster = _client(None, workers)
-    try:
-        from distributed import as_completed
+    with contextlib.nullcontext(client) if client is not None else local_client(workers) as client:
+        from distributed import as_completed     # after local_client: without Dask, its usage error first
 
         futures = [client.submit(_explore_on_worker, *job, key=f"swarmproof-verify-{i}-{job[0]}", pure=False,
                                  priority=len(jobs) - i)
@@ -682,11 +679,6 @@ def _explore_parallel(jobs: list, workers: int, progress: Progress | None, clien
                 progress(f"{done}/{len(jobs)} algorithms explored on {workers} processes (last: {ref}, "
                          f"{len(props)} properties)")
         return out
-    finally:
-        if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
 
 
 def section_exploration(*, algorithms=None, properties=None,
@@ -898,15 +890,10 @@ def _shared_workers(names: list, options: dict):
             or ex.get("section_budget") is not None):
         yield None, {}
         return
-    from swarmproof.checkers.campaign import _client
+    from swarmproof.checkers.campaign import local_client
 
-    client, cluster = _client(None, workers)
-    try:
+    with local_client(workers) as client:
         elsewhere = {name: client.submit(_section_task, name, dict(options.get(name, {})), pure=False,
                                          key=f"swarmproof-verify-section-{name}", priority=-1)
                      for name in names if name in _SECTIONS_ON_WORKERS}
         yield client, elsewhere
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
