@@ -448,7 +448,11 @@ def _client(scheduler: str | None, workers: int | None):
     # the explorer's deep Hypothesis stacks that made a task 55 % slower (jiang's exploration rows:
     # 26 s of CPU in one process, 40 s in a worker; 32 s against 31 s without it;
     # docs/performance.md).  The workers read the setting when they start.
-    with dask.config.set({"distributed.worker.profile.enabled": False}):
+    # worker-saturation 1.0: a worker is sent its next task only when it is free (Dask's default,
+    # 1.1, sends a one-thread worker two), so tasks start in priority order wherever a core frees
+    # up (verify hands out its exploration tasks costliest first).
+    with dask.config.set({"distributed.worker.profile.enabled": False,
+                          "distributed.scheduler.worker-saturation": 1.0}):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=logging.ERROR)
     return Client(cluster), cluster

@@ -655,20 +655,36 @@ def _explore_on_worker(*job):
         return _explore_one(*job)
 
 
-def _explore_parallel(jobs: list, workers: int, progress: Progress | None, client=None) -> list:
+def costliest_first(costs: list) -> list[int]:
+    """The order in which to hand out tasks of about these ``costs`` (None: unknown) to a few
+    workers: unknown first, then costliest first, ties in the given order (longest processing time
+    first: the last task to finish is then a short one).
+
+    >>> costliest_first([22, None, 196, 44, 196])
+    [1, 2, 4, 3, 0]
+    """
+    return sorted(range(len(costs)), key=lambda i: (costs[i] is not None, -(costs[i] or 0), i))
+
+
+def _explore_parallel(jobs: list, workers: int, progress: Progress | None, client=None,
+                      costs: list | None = None) -> list:
     """Run :func:`_explore_one` on each job's arguments on an embedded Dask ``LocalCluster`` of
     ``workers`` processes (the campaigns' engine, docs/campaigns.md), or on ``client``'s cluster
     when given (:func:`run_report` shares one with the other sections); results in the jobs'
-    order.  Each row is bounded by its example count, so the rows are the serial run's (tested)."""
+    order.  Each row is bounded by its example count, so the rows are the serial run's (tested).
+    ``costs`` (each job's ``VerifyPlan.explore_cost``) set the order in which the workers take the
+    jobs (:func:`costliest_first`); it changes no result."""
     from swarmproof.checkers.campaign import local_client
 
+    # submitted in that order (an idle worker takes a task as soon as it arrives), at falling priority
+    order = costliest_first(list(costs) if costs is not None else [None] * len(jobs))
     with contextlib.nullcontext(client) if client is not None else local_client(workers) as client:
         from distributed import as_completed     # after local_client: without Dask, its usage error first
 
-        futures = [client.submit(_explore_on_worker, *job, key=f"swarmproof-verify-{i}-{job[0]}", pure=False,
-                                 priority=len(jobs) - i)
-                   for i, job in enumerate(jobs)]
-        index = {f.key: i for i, f in enumerate(futures)}
+        futures = [client.submit(_explore_on_worker, *jobs[i], key=f"swarmproof-verify-{i}-{jobs[i][0]}",
+                                 pure=False, priority=len(jobs) - k)
+                   for k, i in enumerate(order)]
+        index = {f.key: i for f, i in zip(futures, order)}
         out: list = [None] * len(jobs)
         done = 0
         for fut in as_completed(futures):
@@ -740,7 +756,8 @@ def section_exploration(*, algorithms=None, properties=None,
             for g in groups.values()]
     if section_budget is None and workers is not None and workers > 1 and len(jobs) > 1:
         ran = {}
-        for g, out in zip(groups.values(), _explore_parallel(jobs, workers, progress, client)):
+        costs = [getattr(plan[g[0]][0].plan, "explore_cost", None) for g in groups.values()]
+        for g, out in zip(groups.values(), _explore_parallel(jobs, workers, progress, client, costs)):
             ran.update(zip(g, out))
     elif section_budget is None:
         ran = {}

@@ -433,6 +433,11 @@ class VerifyPlan:
         At most this many Hypothesis examples per ``exploration`` row of this algorithm
         (fewer than the gate's when its runs are long: 004's asynchronous agents take
         hundreds of ticks; still a count, never a clock).  None: the gate's number.
+    explore_cost : float, optional
+        About how many CPU-seconds this algorithm's ``exploration`` rows take (measured on the
+        project machine, docs/performance.md).  It only orders the work when verify explores on
+        several processes (``--workers``): costliest first, so that the last task to finish is a
+        short one.  It changes no row.  None (unknown): before every algorithm that states one.
 
     >>> VerifyPlan(("square",)).robots
     10
@@ -447,6 +452,7 @@ class VerifyPlan:
     rank: int = 100
     more: tuple = ()
     explore_max_examples: int | None = None
+    explore_cost: float | None = None
 
     def runs(self) -> tuple:
         """``(target, robots, seeds)`` of every ``algorithms`` row group, in report order."""

@@ -211,7 +211,8 @@ class AnonymousLine:
     #: Nothing is claimed: it is an example (a violation is a finding, not a failed claim).
     claims: dict = {}
     #: ``swarmproof verify`` shows it beside the papers' algorithms (its rows are findings).
-    verify = VerifyPlan(targets=("lines:line",), robots=6, seeds=(0, 1, 2), explore=True, rank=50)
+    verify = VerifyPlan(targets=("lines:line",), robots=6, seeds=(0, 1, 2), explore=True, rank=50,
+                        explore_cost=51)
     parameters = (ParamSpec("interval", float, None, low=0, low_open=True,
                             meaning="the spacing along the line; default the target's interval"),)
     target_kinds = ("lines",)
@@ -335,7 +336,8 @@ class GridGoals:
     )
     explore_targets = ("shape:letter-l", "shape:square-9")
     claims: dict = {}
-    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=60)
+    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=60,
+                        explore_cost=145)
     #: No keys of its own: only the engine's grid and clock keys (grid_spacing, clock rates, ...).
     parameters = ()
     target_kinds = ("shape",)

@@ -382,7 +382,7 @@ class Jiang:
     target_kinds = ("pattern",)
     verify = VerifyPlan(targets=("pattern:rhombus-triangles", "pattern:square-segments",
                                  "pattern:triangle-segments", "pattern:trapezoid-hexagons"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=20)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=20, explore_cost=22)
 
     @staticmethod
     def team_multiple(target) -> int:

@@ -1031,7 +1031,8 @@ class LeeChongLeader:
     #: simulate's --then (pattern switching, Secs. 3.4/3.6) and --fail (Sec. 3.5) become these params.
     options = ("then", "fail")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=40, explore_max_examples=15)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=40, explore_max_examples=15,
+                        explore_cost=141)
 
     @staticmethod
     def exact_checks() -> list:
@@ -1176,7 +1177,8 @@ class LeeChongNeighbor(LeeChongLeader):
     mode = "neighbor"
     claims = dict(LeeChongLeader.claims, formation="003 Sec. 4.2 (Function 1 by neighbor reference)")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=41, explore_max_examples=15)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=41, explore_max_examples=15,
+                        explore_cost=196)
 
 
 #: The ``-printed`` variants' verify rows: the two patterns on which the printed formula's IDs

@@ -705,7 +705,8 @@ class Song2014:
     #: 000 Lemma 7's premises: moves at most v dt, ends in the parent's disc phi - v dt.
     premise_monitors = ("step_bounded", "parent_bounded_range")
     #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
-    verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=1)
+    verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=1,
+                        explore_cost=44)
     #: Its ``Params.extra`` keys (the engine refuses any other) and the kind of target it forms.
     parameters = (
         ParamSpec("arrive_tol", float, None, low=0,

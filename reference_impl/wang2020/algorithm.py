@@ -919,7 +919,8 @@ class Wang2020:
     # exploration rows: 100 examples each (a scenario is hundreds of asynchronous ticks; 300 would
     # add about 4 minutes to `swarmproof verify`, docs/wang2020.md)
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
-                        more=(("shape:square-9", 9, (0, 1, 2)),), explore_max_examples=100)
+                        more=(("shape:square-9", 9, (0, 1, 2)),), explore_max_examples=100,
+                        explore_cost=44)
 
     def __init__(self, then=()) -> None:
         if then is None:

@@ -564,7 +564,7 @@ def _worker_profiler_enabled():
     return dask.config.get("distributed.worker.profile.enabled")
 
 
-def test_local_workers_run_without_dask_s_statistical_profiler():
+def test_local_workers_run_without_dask_s_statistical_profiler_one_task_at_a_time():
     """The embedded cluster's workers do not sample every task's stack every 10 ms (55 % slower
     exploration tasks, docs/performance.md); the caller's own dask config is left as it was."""
     import dask
@@ -573,10 +573,15 @@ def test_local_workers_run_without_dask_s_statistical_profiler():
     from swarmproof.checkers.campaign import _client
 
     before = dask.config.get("distributed.worker.profile.enabled")
+    saturation = dask.config.get("distributed.scheduler.worker-saturation")
     client, cluster = _client(None, 1)
     try:
         assert client.submit(_worker_profiler_enabled, pure=False).result() is False
+        # a one-thread worker is sent one task at a time: tasks start in priority order wherever a
+        # core frees up (verify's costliest-first exploration tasks)
+        assert cluster.scheduler.WORKER_SATURATION == 1.0
     finally:
         client.close()
         cluster.close()
     assert dask.config.get("distributed.worker.profile.enabled") == before
+    assert dask.config.get("distributed.scheduler.worker-saturation") == saturation
