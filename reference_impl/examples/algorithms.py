@@ -246,9 +246,11 @@ class GridGoalsController:
     def step(self, obs: Observation) -> Command:
         x, y = float(obs.own_pose[0]), float(obs.own_pose[1])
         here = self._cell(x, y)
-        on_edge = math.hypot(x - (self.origin[0] + here[0] * self.spacing),
-                             y - (self.origin[1] + here[1] * self.spacing)) > 1e-9 * self.spacing
-        at = {self._cell(x + float(dx), y + float(dy)): rid
+        (ox, oy), spacing = self.origin, self.spacing
+        on_edge = math.hypot(x - (ox + here[0] * spacing), y - (oy + here[1] * spacing)) > 1e-9 * spacing
+        # the neighbors' cells (self._cell inlined: this runs for every neighbor of every robot
+        # on every tick, and is most of an exploration run's time)
+        at = {(round((x + dx - ox) / spacing), round((y + dy - oy) / spacing)): rid
               for rid, (dx, dy) in zip(obs.neighbor_ids, obs.neighbor_poses[:, :2].tolist())}
         # claims heard: (goal, next cell, swap request) of each neighbor; a lower ID wins a clash
         taken, reserved, goal_of = set(), set(), {}
