@@ -109,10 +109,11 @@ _PROVED: dict = {}
 
 def proved(lemma, timeout_s: float = 10.0):
     """``swarmproof.checkers.proofs.prove(lemma, timeout_s)``, run once per test process: the
-    per-lemma test (tests/checkers/test_proofs.py) and verify's lemma section
-    (tests/cli/test_verify.py, whose ``run_suite`` is patched to call this) judge the same z3 results.
-    Both are in the xdist group ``z3-suite``, so one worker proves each lemma once (the suite was
-    proved twice, 12 s of CPU)."""
+    per-lemma test (tests/checkers/test_proofs.py), verify's lemma section
+    (tests/cli/test_verify.py, whose ``run_suite`` is patched to call this) and the tests of a
+    suite lemma's control counterexample (tests/checkers/test_proofs_wang2020.py) judge the same z3
+    results.  All are in the xdist group ``z3-suite``, so one worker proves each lemma once (the
+    suite was proved twice, 12 s of CPU).  Only a call with the per-lemma test's timeout shares."""
     from swarmproof.checkers import proofs
 
     key = (lemma.id, float(timeout_s))

@@ -64,8 +64,14 @@ def test_kinds_follow_design_section_5():
         assert any("v_max = 1" in n and "(wang2020_time_normalisation)" in n for n in LEMMAS[i].normalisations)
 
 
+# The suite lemmas' own proofs (same lemma, same timeout) are read through testkit.proved: the
+# per-lemma test (tests/checkers/test_proofs.py, xdist group z3-suite) proves each once per worker
+# and these tests check further facts about the same control counterexample.
+@pytest.mark.xdist_group("z3-suite")
 def test_ignoring_priority_sends_two_agents_to_one_waypoint():
-    r = prove(LEMMAS["wang2020_planner_vertex_one_moment"], timeout_s=10)
+    from testkit import proved
+
+    r = proved(LEMMAS["wang2020_planner_vertex_one_moment"], timeout_s=10)
     cex = r.negative_control["counterexample"]
     ags = [(0.0, 0.0)] + [(cex[f"c{k}_x"], cex[f"c{k}_y"]) for k in range(1, 4)]
     nxt = [(c[0] + cex[f"d{k}_x"], c[1] + cex[f"d{k}_y"]) for k, c in enumerate(ags)]
@@ -107,8 +113,11 @@ def test_lemma_iv_a_1_needs_two_periods_theorem_iv_a_2_one():
     assert proofs._solve_encoding(w.theorem_iv_a_2(0.5), deadline(), smt)["status"] == "counterexample"
 
 
+@pytest.mark.xdist_group("z3-suite")
 def test_separation_control_is_the_orthogonal_hand_over_below_the_bound():
-    cex = prove(LEMMAS["wang2020_separation_equal_speeds"], timeout_s=10).negative_control["counterexample"]
+    from testkit import proved
+
+    cex = proved(LEMMAS["wang2020_separation_equal_speeds"], timeout_s=10).negative_control["counterexample"]
     r = cex["r"]
     assert 1 / (2 * math.sqrt(2)) < r <= 1 / (2 * math.sqrt(2) * 0.99) + 1e-12   # l = 1 below 2 sqrt(2) r
     pi = np.array([cex["lam_i"] * cex["D_i_x"], cex["lam_i"] * cex["D_i_y"]])
@@ -168,8 +177,11 @@ def test_separation_with_speeds_at_equal_speeds_is_the_equal_speed_lemma():
     assert 1 / (2 * math.sqrt(2)) < cex["r"]
 
 
+@pytest.mark.xdist_group("z3-suite")
 def test_time_normalisation_control_is_a_negative_period():
-    r = prove(LEMMAS["wang2020_time_normalisation"], timeout_s=10)
+    from testkit import proved
+
+    r = proved(LEMMAS["wang2020_time_normalisation"], timeout_s=10)
     assert r.negative_control["counterexample"]["T"] < 0
 
 
