@@ -11,9 +11,24 @@ from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
 
-def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
-    r = explore("song2014", ["connectivity"], budget=60, max_examples=15, robots=(4, 6), lattices=["square"],
-                seed=0, out_dir=tmp_path)     # the budget is a ceiling: max_examples bounds the search
+#: One song2014 search on the square lattice, seed 0: bounded by max_examples and
+#: MAX_SHRINK_RUNS alone (no wall clock), so every call gives the same report.
+SONG2014_SQUARE = dict(max_examples=15, robots=(4, 6), lattices=["square"], seed=0)
+
+
+@pytest.fixture(scope="module")
+def song2014_square(tmp_path_factory):
+    """``explore("song2014", ["connectivity"], budget=None, **SONG2014_SQUARE)`` with a counterexample
+    file, once per worker (the tests that read it share the xdist group ``explore-song2014-square``):
+    the found-and-shrunk, shrinking-cap and round-trip tests asked for this same deterministic search
+    three times (about 3.5 s of CPU each)."""
+    return explore("song2014", ["connectivity"], budget=None, out_dir=tmp_path_factory.mktemp("song2014-square"),
+                   **SONG2014_SQUARE)
+
+
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_song2014_connectivity_loss_found_and_shrunk_fast(song2014_square):
+    r = song2014_square
     v = r.properties["connectivity"]
     assert v.status == "violated" and r.exit_code == 1
     assert len(v.counterexample.robots) <= 6
@@ -22,7 +37,8 @@ def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
     assert r.broken_assumptions == [] and "v_dt_below_range" in r.kept_assumptions
 
 
-def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch):
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch, song2014_square):
     """Issue 29 (determinism): Hypothesis stops shrinking after five minutes of wall clock, so a
     loaded machine gave another counterexample; the explorer lifts that stop and bounds shrinking by
     MAX_SHRINK_RUNS scenario runs instead: the same seed gives the same (larger) counterexample."""
@@ -30,8 +46,8 @@ def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch):
 
     from swarmproof.checkers import explore as ex
 
-    kw = dict(budget=None, max_examples=15, robots=(4, 6), lattices=["square"], seed=0)
-    full = explore("song2014", ["connectivity"], **kw).properties["connectivity"]
+    kw = dict(budget=None, **SONG2014_SQUARE)
+    full = song2014_square.properties["connectivity"]       # the same search, uncapped
     assert full.status == "violated" and "shrinking stopped" not in full.message
     shrink_runs = full.scenarios - full.first_failure_scenarios
     assert shrink_runs > 3                       # this search does shrink (else the cap below tests nothing)
@@ -158,9 +174,9 @@ def test_bad_input(kwargs, match):
         explore(args.pop("algorithm"), args.pop("properties"), **args)
 
 
-def test_counterexample_round_trip(tmp_path):
-    r = explore("song2014", ["connectivity"], budget=4, max_examples=15, robots=(4, 6), lattices=["square"],
-                seed=0, out_dir=tmp_path)
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_counterexample_round_trip(song2014_square):
+    r = song2014_square
     assert r.properties["connectivity"].status == "violated"
     cx = r.properties["connectivity"].counterexample
     assert Counterexample.load(r.properties["connectivity"].counterexample_path) == cx
