@@ -17,13 +17,21 @@ SONG2014_SQUARE = dict(max_examples=15, robots=(4, 6), lattices=["square"], seed
 
 
 @pytest.fixture(scope="module")
-def song2014_square(tmp_path_factory):
+def song2014_square_dir(tmp_path_factory):
+    """The folder of :func:`song2014_square`'s counterexample file (``cx``) and example database (``db``)."""
+    return tmp_path_factory.mktemp("song2014-square")
+
+
+@pytest.fixture(scope="module")
+def song2014_square(song2014_square_dir):
     """``explore("song2014", ["connectivity"], budget=None, **SONG2014_SQUARE)`` with a counterexample
-    file, once per worker (the tests that read it share the xdist group ``explore-song2014-square``):
-    the found-and-shrunk, shrinking-cap and round-trip tests asked for this same deterministic search
-    three times (about 3.5 s of CPU each)."""
-    return explore("song2014", ["connectivity"], budget=None, out_dir=tmp_path_factory.mktemp("song2014-square"),
-                   **SONG2014_SQUARE)
+    file and an example database, once per worker (the tests that read it share the xdist group
+    ``explore-song2014-square``): the found-and-shrunk, shrinking-cap, round-trip and database tests
+    asked for this same deterministic search four times (about 3.5 s of CPU each).  The database
+    (empty when the search starts) changes nothing in the report or the file: Hypothesis only
+    reads it before generating and writes the failure into it."""
+    return explore("song2014", ["connectivity"], budget=None, out_dir=song2014_square_dir / "cx",
+                   database_dir=song2014_square_dir / "db", **SONG2014_SQUARE)
 
 
 @pytest.mark.xdist_group("explore-song2014-square")
@@ -182,12 +190,13 @@ def test_counterexample_round_trip(song2014_square):
     assert Counterexample.load(r.properties["connectivity"].counterexample_path) == cx
 
 
-def test_example_database_folder_keeps_the_failure(tmp_path):
-    kw = dict(budget=60, max_examples=15, robots=(4, 6), lattices=["square"], seed=0,
-              database_dir=tmp_path / "db")
-    first = explore("song2014", ["connectivity"], **kw)
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_example_database_folder_keeps_the_failure(song2014_square, song2014_square_dir):
+    db = song2014_square_dir / "db"
+    kw = dict(budget=None, **SONG2014_SQUARE, database_dir=db)
+    first = song2014_square                 # the search above, run with database_dir=db
     assert first.properties["connectivity"].status == "violated"
-    assert any((tmp_path / "db").rglob("*")), "the failing example is stored"
+    assert any(db.rglob("*")), "the failing example is stored"
     again = explore("song2014", ["connectivity"], **dict(kw, seed=99, max_examples=1))
     # one example, another seed: without the database this finds nothing (held, checked below)
     assert again.properties["connectivity"].status == "violated"
