@@ -73,3 +73,22 @@ if os.environ.get("SWARMPROOF_TEST_CPU"):
         own2, kids2 = _cpu()
         with open(os.environ["SWARMPROOF_TEST_CPU"], "a") as fh:
             fh.write(f"{own2 - own:.3f} {kids2 - kids:.3f} {item.nodeid}\n")
+
+
+# --dist loadgroup sends the tests of one ``@pytest.mark.xdist_group(NAME)`` to one worker by the
+# suffix "@NAME" pytest-xdist adds to their node ids on the workers.  pytest-xdist (3.8) adds it by
+# setting ``item._nodeid``, which pytest 9 no longer reads (a node id is ``item._id``, a NodeId):
+# the suffix was lost and the groups were spread over the workers like any test, so a per-worker
+# cache (testkit.proved) or a module fixture of a group was computed on each worker.  This puts the
+# suffix where pytest 9 reads it, after pytest-xdist's own hook and only where that one had no effect.
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(config, items):
+    if not getattr(config.option, "loadgroup", False):
+        return                  # not an xdist worker of --dist loadgroup
+    for item in items:
+        names = sorted({str(m.args[0] if m.args else m.kwargs.get("name", "default"))
+                        for m in item.iter_markers("xdist_group")})
+        if names and "@" not in item.nodeid and hasattr(item, "_id"):
+            from _pytest.nodeid import NodeId   # pytest >= 9, which has item._id
+
+            item._id = NodeId.parse(f"{item.nodeid}@{'_'.join(names)}")

@@ -15,6 +15,10 @@ from swarmproof.checkers.html_report import CSP, render_html
 from swarmproof.checkers.report import Report, Row, section_exploration, section_lattices
 from swarmproof.models.verdict import Verdict
 
+# One worker builds the module's rows (two explorations, 2-2.5 s of CPU) and the JUnit schema once:
+# on two workers, two of the tests that read the rows built them each (measured).
+pytestmark = pytest.mark.xdist_group("ci-outputs-rows")
+
 XSD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "junit-10.xsd")
 
 

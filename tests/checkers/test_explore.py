@@ -11,9 +11,32 @@ from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
 
 
-def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
-    r = explore("song2014", ["connectivity"], budget=60, max_examples=15, robots=(4, 6), lattices=["square"],
-                seed=0, out_dir=tmp_path)     # the budget is a ceiling: max_examples bounds the search
+#: One song2014 search on the square lattice, seed 0: bounded by max_examples and
+#: MAX_SHRINK_RUNS alone (no wall clock), so every call gives the same report.
+SONG2014_SQUARE = dict(max_examples=15, robots=(4, 6), lattices=["square"], seed=0)
+
+
+@pytest.fixture(scope="module")
+def song2014_square_dir(tmp_path_factory):
+    """The folder of :func:`song2014_square`'s counterexample file (``cx``) and example database (``db``)."""
+    return tmp_path_factory.mktemp("song2014-square")
+
+
+@pytest.fixture(scope="module")
+def song2014_square(song2014_square_dir):
+    """``explore("song2014", ["connectivity"], budget=None, **SONG2014_SQUARE)`` with a counterexample
+    file and an example database, once per worker (the tests that read it share the xdist group
+    ``explore-song2014-square``): the found-and-shrunk, shrinking-cap, round-trip and database tests
+    asked for this same deterministic search four times (about 3.5 s of CPU each).  The database
+    (empty when the search starts) changes nothing in the report or the file: Hypothesis only
+    reads it before generating and writes the failure into it."""
+    return explore("song2014", ["connectivity"], budget=None, out_dir=song2014_square_dir / "cx",
+                   database_dir=song2014_square_dir / "db", **SONG2014_SQUARE)
+
+
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_song2014_connectivity_loss_found_and_shrunk_fast(song2014_square):
+    r = song2014_square
     v = r.properties["connectivity"]
     assert v.status == "violated" and r.exit_code == 1
     assert len(v.counterexample.robots) <= 6
@@ -22,7 +45,8 @@ def test_song2014_connectivity_loss_found_and_shrunk_fast(tmp_path):
     assert r.broken_assumptions == [] and "v_dt_below_range" in r.kept_assumptions
 
 
-def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch):
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch, song2014_square):
     """Issue 29 (determinism): Hypothesis stops shrinking after five minutes of wall clock, so a
     loaded machine gave another counterexample; the explorer lifts that stop and bounds shrinking by
     MAX_SHRINK_RUNS scenario runs instead: the same seed gives the same (larger) counterexample."""
@@ -30,8 +54,8 @@ def test_shrinking_is_bounded_by_a_count_not_the_clock(monkeypatch):
 
     from swarmproof.checkers import explore as ex
 
-    kw = dict(budget=None, max_examples=15, robots=(4, 6), lattices=["square"], seed=0)
-    full = explore("song2014", ["connectivity"], **kw).properties["connectivity"]
+    kw = dict(budget=None, **SONG2014_SQUARE)
+    full = song2014_square.properties["connectivity"]       # the same search, uncapped
     assert full.status == "violated" and "shrinking stopped" not in full.message
     shrink_runs = full.scenarios - full.first_failure_scenarios
     assert shrink_runs > 3                       # this search does shrink (else the cap below tests nothing)
@@ -158,20 +182,21 @@ def test_bad_input(kwargs, match):
         explore(args.pop("algorithm"), args.pop("properties"), **args)
 
 
-def test_counterexample_round_trip(tmp_path):
-    r = explore("song2014", ["connectivity"], budget=4, max_examples=15, robots=(4, 6), lattices=["square"],
-                seed=0, out_dir=tmp_path)
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_counterexample_round_trip(song2014_square):
+    r = song2014_square
     assert r.properties["connectivity"].status == "violated"
     cx = r.properties["connectivity"].counterexample
     assert Counterexample.load(r.properties["connectivity"].counterexample_path) == cx
 
 
-def test_example_database_folder_keeps_the_failure(tmp_path):
-    kw = dict(budget=60, max_examples=15, robots=(4, 6), lattices=["square"], seed=0,
-              database_dir=tmp_path / "db")
-    first = explore("song2014", ["connectivity"], **kw)
+@pytest.mark.xdist_group("explore-song2014-square")
+def test_example_database_folder_keeps_the_failure(song2014_square, song2014_square_dir):
+    db = song2014_square_dir / "db"
+    kw = dict(budget=None, **SONG2014_SQUARE, database_dir=db)
+    first = song2014_square                 # the search above, run with database_dir=db
     assert first.properties["connectivity"].status == "violated"
-    assert any((tmp_path / "db").rglob("*")), "the failing example is stored"
+    assert any(db.rglob("*")), "the failing example is stored"
     again = explore("song2014", ["connectivity"], **dict(kw, seed=99, max_examples=1))
     # one example, another seed: without the database this finds nothing (held, checked below)
     assert again.properties["connectivity"].status == "violated"
@@ -200,14 +225,21 @@ def test_song2014_oscillation_and_non_termination_hunted_with_the_same_budget(tm
             assert v.conclusive >= 1 and v.steps > 0
 
 
-def test_song2016_too_short_communication_timeout_is_named_and_found(tmp_path):
+def test_song2016_too_short_communication_timeout_is_named_and_found(tmp_path, monkeypatch):
     # 001 Def. 10 / Lemma 12: the timeout must let information cross the network (>= n - 1 steps)
-    r = explore("song2016", ["formation"], budget=15, max_examples=20, robots=(4, 8), lattices=["square"], seed=0,
+    from swarmproof.checkers import explore as ex
+
+    # Shrinking is bounded by a count, not the clock: the 15 s budget this test had stopped the
+    # shrinking wherever the machine's load put it (7-8 s of CPU); 20 shrink runs are enough to
+    # drop a robot, and minimal shrinking is test_song2014_connectivity_loss_found_and_shrunk_fast's.
+    monkeypatch.setattr(ex, "MAX_SHRINK_RUNS", 20)
+    r = explore("song2016", ["formation"], budget=None, max_examples=20, robots=(4, 8), lattices=["square"], seed=0,
                 params={"extra": {"communication_timeout": 1}}, allow_violations=True, out_dir=tmp_path)
     assert r.broken_assumptions == ["communication_timeout_sufficient"]
     v = r.properties["formation"]
     assert v.status == "violated", v.message
-    assert len(v.counterexample.robots) <= 8
+    assert len(v.counterexample.robots) < v.first_failure_robots <= 8     # shrunk, the short timeout kept
+    assert Counterexample.load(v.counterexample_path).params["extra"]["communication_timeout"] == 1
     assert replay_file(v.counterexample_path).reproduced
 
 
@@ -254,11 +286,17 @@ def test_no_time_budget_bounds_the_search_by_examples_alone(cli):
     assert code == 0 and v["status"] == "held" and v["scenarios"] == 3 and not v["budget_hit"]
 
 
-def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path):
+def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path, monkeypatch):
+    from swarmproof.checkers import explore as ex
     from swarmproof.reference_impl.engine import FaultModel
 
+    # 60 shrink runs (of the 162 a full shrink takes here, 4.5 s of CPU more) already drop a robot
+    # from the first failure with the crash schedule and the drawn speed kept; shrinking to the
+    # minimum is test_song2014_connectivity_loss_found_and_shrunk_fast's, with drawn crash faults
+    # test_drawn_crash_faults_are_named_shrunk_and_replayable's
+    monkeypatch.setattr(ex, "MAX_SHRINK_RUNS", 60)
     speeds = [0.05, 0.4, 0.8]
-    r = explore("song2016", ["connectivity"], budget=30, max_examples=60, robots=(3, 6), lattices=["square"],
+    r = explore("song2016", ["connectivity"], budget=None, max_examples=60, robots=(3, 6), lattices=["square"],
                 seed=0, speeds=speeds, fault_model=FaultModel(crashes={3: [1]}), out_dir=tmp_path)
     assert r.speeds == tuple(speeds) and r.as_dict()["speeds"] == speeds
     assert r.broken_assumptions == ["no_crashes"]
@@ -266,7 +304,7 @@ def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path):
     assert v.status == "violated"
     assert Counterexample.load(v.counterexample_path).faults["crashes"] == {"3": [1]}
     assert v.counterexample.params["v"] in speeds
-    assert 3 <= v.first_failure_robots <= 6 and v.counterexample.robots and len(v.counterexample.robots) <= v.first_failure_robots
+    assert 3 <= v.first_failure_robots <= 6 and v.counterexample.robots and len(v.counterexample.robots) < v.first_failure_robots
     assert 1 <= v.first_failure_scenarios <= v.scenarios
     assert 0 <= v.first_failure_cpu and 0 <= v.first_failure_seconds <= v.seconds
     assert "first_failure_seconds" not in v.as_dict()   # times stay out of the (deterministic) JSON

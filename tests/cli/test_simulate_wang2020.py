@@ -155,7 +155,7 @@ def test_vectorised_gives_the_same_json_and_trace(capsys, tmp_path):
     docs, traces = [], []
     for flag in ((), ("--vectorised",)):
         t = tmp_path / f"t{len(flag)}.json"
-        code, out, _ = run(capsys, "--shape", "letter-n", "--robots", "12", "--seed", "3", "--json",
+        code, out, _ = run(capsys, "--shape", "letter-n", "--robots", "8", "--seed", "3", "--json",
                            "--trace", str(t), *flag)
         assert code == 0, out
         docs.append(json.loads(out))

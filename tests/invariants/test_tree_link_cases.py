@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from swarmproof.invariants.premises import PremisesMonitor, check_premises
 from swarmproof.reference_impl.song2014.monitors import descendants_in_parent_bounded_ranges
@@ -24,10 +25,19 @@ from swarmproof.reference_impl.song2016.algorithm import Song2016, Song2016Messa
 PHI, V = 1.2, 0.05
 
 
-def test_the_newly_chosen_link_of_square_n20_seed1_breaks_and_the_monitor_names_it():
+@pytest.fixture(scope="module")
+def square_n20_seed1():
+    """``run_and_check("song2016", square, seed=1, robots=20)``, once per worker (both tests that
+    read it are in the xdist group ``song2016-square-n20-seed1``; the run is deterministic and
+    neither test changes it): they each simulated it (3-4 s of CPU)."""
     from swarmproof.checkers.runs import run_and_check
 
-    c = run_and_check("song2016", load("square"), seed=1, robots=20)
+    return run_and_check("song2016", load("square"), seed=1, robots=20)
+
+
+@pytest.mark.xdist_group("song2016-square-n20-seed1")
+def test_the_newly_chosen_link_of_square_n20_seed1_breaks_and_the_monitor_names_it(square_n20_seed1):
+    c = square_n20_seed1
     links = c.tree_links
     assert links.violated
     w = links.witness
@@ -44,10 +54,9 @@ def test_the_newly_chosen_link_of_square_n20_seed1_breaks_and_the_monitor_names_
         assert prem[old].held, prem[old]
 
 
-def test_streaming_premises_judge_like_the_whole_trace():
-    from swarmproof.checkers.runs import run_and_check
-
-    c = run_and_check("song2016", load("square"), seed=1, robots=20)
+@pytest.mark.xdist_group("song2016-square-n20-seed1")
+def test_streaming_premises_judge_like_the_whole_trace(square_n20_seed1):
+    c = square_n20_seed1
     trace = c.result.trace
     mon = PremisesMonitor(trace.meta["premise_monitors"], PHI, V, 1.0)
     mon.start(trace.ids)
