@@ -4,8 +4,9 @@ Usage (from the repository root)::
 
     MPLBACKEND=Agg .venv/bin/python benchmarks/song2016/bench_song2016_steps.py \\
         --sizes 10,20,30,40 --trials 10 --speeds 0.6,0.2,0.05 \\
-        --table docs/song2016-steps.md --plot docs/song2016-steps.png
-    .venv/bin/python benchmarks/song2016/bench_song2016_steps.py --sizes 10 --trials 2 --speeds 0.2
+        --table /tmp/song2016-steps.md --plot docs/song2016-steps.png
+    .venv/bin/python benchmarks/song2016/bench_song2016_steps.py --sizes 10,20,30,40 --trials 10 \\
+        --speeds 0.6,0.2 --reading subtree-clock
 
 Song & O'Kane 2016, Thm. 13 (proof): ``T = sum_{i=1}^{n-1} T_i + O(n)`` with ``T_i = T_timeout +
 T_wait + T_drive``, "the trailing O(n)" being "the communication timeout needed for the highest ID
@@ -43,7 +44,8 @@ at the start of the step (which robots are stable) and the decision the step rec
 
 The terms sum to the run's step count (tested: tests/benchmarks/test_bench_song2016_steps.py).
 Output: a markdown table (mean per cell over the finished trials, with the paper's accounting
-beside it) and a PNG of the stacked terms per relocation.  docs/song2016.md, "Where Table III's
+beside it; docs/song2016.md holds the one of the first command) and a PNG of the stacked terms
+per relocation.  docs/song2016.md, "Where Table III's
 steps go".
 """
 
