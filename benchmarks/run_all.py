@@ -47,6 +47,7 @@ SMALL_ARGS: dict[str, list[str]] = {
     "bench_proofs": ["--repeat", "1", "--trees", "3"],   # trees up to 5 robots: about 500 s
     "bench_song2014": ["perf", "--repeats", "1", "--sizes", "50"],
     "bench_song2016": ["--quick"],
+    "bench_song2016_steps": ["--sizes", "10", "--trials", "2", "--speeds", "0.2"],
     "bench_mutations": ["--budget", "10"],
     "bench_jiang": ["perf", "--seeds", "1", "--sizes", "10,20"],
     "bench_wang2020": ["perf", "--robots", "64", "--trial-robots", "16"],
@@ -70,6 +71,7 @@ FIGURES: dict[str, str] = {
     "bench_proofs": 'docs/performance.md "Proof suite"',
     "bench_song2014": 'docs/performance.md "song2014" (experiments: docs/song2014.md)',
     "bench_song2016": 'docs/performance.md "Simulation engine and song2016" > "song2016"',
+    "bench_song2016_steps": 'docs/song2016.md "Where Table III\'s steps go" (issue 31)',
     "bench_mutations": 'docs/performance.md (mutation benchmark section) and docs/explorer.md',
     "bench_jiang": 'docs/performance.md "Jiang et al. (issue 16)" (experiments: docs/jiang.md)',
     "bench_wang2020": 'docs/performance.md "Wang & Rubenstein 2020 (issue 15)" (experiments: docs/wang2020.md)',
