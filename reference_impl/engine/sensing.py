@@ -7,6 +7,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from swarmproof.models.errors import UsageError
@@ -27,6 +29,18 @@ def _rel_rows(frames: np.ndarray, poses: np.ndarray) -> np.ndarray:
     out[:, 1] = -s * dx + c * dy
     out[:, 2] = wrap_angle(poses[:, 2] - frames[:, 2])
     return out
+
+
+@functools.lru_cache(maxsize=256)
+def _all_pairs(m: int) -> tuple:
+    """``(src, dst)``: every ordered pair of distinct rows of ``m``, row-major (anonymous sensing
+    senses every robot); read-only, built once per team size instead of every step."""
+    ii, jj = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
+    mask = ii != jj
+    src, dst = ii[mask], jj[mask]
+    src.setflags(write=False)
+    dst.setflags(write=False)
+    return src, dst
 
 
 _OBS_FIELDS = ("step", "robot_id", "neighbor_ids", "neighbor_poses", "messages", "own_pose")
@@ -59,9 +73,7 @@ def sense(pp, idx, ids, pres_ids, phi: float, *, inclusive: bool, anonymous: boo
     """
     m = len(idx)
     if anonymous:
-        ii, jj = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
-        mask = ii != jj
-        src, dst = ii[mask], jj[mask]
+        src, dst = _all_pairs(m)
         rel = _rel_rows(pp[src], pp[dst])
         order = np.lexsort((rel[:, 1], rel[:, 0], src))
     else:

@@ -165,7 +165,12 @@ def agree(points, *, numbering: str = "prose", order: str = "u-increasing", lead
     >>> agree(np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 0.5], [0.0, -0.5]])).tie
     (0, 1)
     """
-    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    return _agree_at(np.asarray(points, dtype=float).reshape(-1, 2), numbering, order, leader)[1]
+
+
+def _agree_at(pts: np.ndarray, numbering: str, order: str, leader: int | None) -> tuple:
+    """:func:`agree` on an ``(n, 2)`` float array: ``(p_o as an array, Agreement)`` (p_o also for a
+    tie, which the controller moves its candidates away from)."""
     n = len(pts)
     origin = pts.mean(axis=0)                                            # Eq. (1)
     dist = np.hypot(pts[:, 0] - origin[0], pts[:, 1] - origin[1])
@@ -173,7 +178,7 @@ def agree(points, *, numbering: str = "prose", order: str = "u-increasing", lead
         far = float(dist.max()) if n else 0.0
         cands = tuple(int(k) for k in np.flatnonzero(dist >= far - TIE_REL * max(far, 1e-300)))
         if len(cands) > 1:                                               # Sec. 2.1: no unique leader
-            return Agreement(None, None, None, None, None, cands)
+            return origin, Agreement(None, None, None, None, None, cands)
         leader = cands[0]
     d = pts[leader] - origin
     norm = math.hypot(*d)
@@ -181,7 +186,7 @@ def agree(points, *, numbering: str = "prose", order: str = "u-increasing", lead
     rel = pts - origin
     common = np.column_stack((rel @ np.array(u), rel @ np.array((-u[1], u[0]))))   # Eqs. (3)-(4)
     ids = tuple(allocate_ids(common, leader, numbering=numbering, order=order))
-    return Agreement((float(origin[0]), float(origin[1])), int(leader), u, common, ids)
+    return origin, Agreement((float(origin[0]), float(origin[1])), int(leader), u, common, ids)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -344,14 +349,37 @@ class LeeChongController:
         self.rebuilds = 0
         self.flocking = False                  # the leader drives to its goal (Sec. 3.3)
         self.my_target = None                  # this follower's f_i now (private frame)
+        self._frame = None                     # what the memoised targets below were computed under
+        self._targets: dict = {}               # rid -> f_rid (private frame), read-only arrays
+        self._line_kind = None                 # Alg. 4's line kind under self._frame
+        self._rot_fwd = self._rot_back = (None, None)   # (th, _rot(th)), (th, _rot(-th)) last computed
+        self._tie_centre = None                # p_o of the last view that tied (Alg. 1, Sec. 2.1)
 
     # -- frames ---------------------------------------------------------------------------------
 
+    def _rot_th(self) -> np.ndarray:
+        """``_rot(self.th)``, memoised while the heading stands (the same float object)."""
+        th, r = self._rot_fwd
+        if th is not self.th:
+            r = _rot(self.th)
+            r.setflags(write=False)
+            self._rot_fwd = (self.th, r)
+        return r
+
+    def _rot_minus_th(self) -> np.ndarray:
+        """``_rot(-self.th)``, memoised while the heading stands (the same float object)."""
+        th, r = self._rot_back
+        if th is not self.th:
+            r = _rot(-self.th)
+            r.setflags(write=False)
+            self._rot_back = (self.th, r)
+        return r
+
     def _to_private(self, body: np.ndarray) -> np.ndarray:
-        return body @ _rot(self.th).T + np.array([self.x, self.y])
+        return body @ self._rot_th().T + np.array([self.x, self.y])
 
     def _to_body(self, p) -> np.ndarray:
-        return _rot(-self.th) @ (np.asarray(p, dtype=float) - np.array([self.x, self.y]))
+        return self._rot_minus_th() @ (np.asarray(p, dtype=float) - np.array([self.x, self.y]))
 
     def _common_to_private(self, uv) -> np.ndarray:
         u = np.array(self.u)
@@ -374,8 +402,9 @@ class LeeChongController:
         if self.alg.team == "F":
             labels = [self.fixed_id] + [self.labels.get(r) for r in rows]
             leader_row = labels.index(min(labels))
-        a = agree(pts, numbering=self.numbering, order=self.order, leader=leader_row)
+        centre, a = _agree_at(pts, self.numbering, self.order, leader_row)
         if a.tie:
+            self._tie_centre = centre                                     # p_o of this view
             return a.tie
         ids = list(a.ids) if self.alg.team == "A" else _rank_labels(labels)
         if self.alg.team == "F":
@@ -407,19 +436,39 @@ class LeeChongController:
     def _pattern(self) -> str:
         return self.patterns[self.pattern_k]
 
+    def _memo(self) -> dict:
+        """The memoised targets, emptied when what they are computed from changed: the pattern, n,
+        d_u, u_l, the origin or u.  The floats and tuples are compared by identity (every change
+        assigns a new object; an equal new value is only computed again), so a -0.0 for a 0.0
+        never reuses a target.  Pure performance: the same targets, bit for bit."""
+        f = self._frame
+        if (f is None or f[0] != self.pattern_k or f[1] != len(self.pos_of) or f[2] is not self.d_u
+                or f[3] is not self.u_l or f[4] is not self.origin or f[5] is not self.u):
+            self._frame = (self.pattern_k, len(self.pos_of), self.d_u, self.u_l, self.origin, self.u)
+            self._targets = {}
+            self._line_kind = None
+        return self._targets
+
     def _target_of(self, rid: int) -> np.ndarray:
-        """f_ID in the private frame (003 Alg. 2 / Alg. 3, in the common frame)."""
-        uv = self.target.target_of(self._pattern(), rid, len(self.pos_of), self.d_u, self.u_l)
-        return self._common_to_private(uv)
+        """f_ID in the private frame (003 Alg. 2 / Alg. 3, in the common frame); a read-only array,
+        memoised (:meth:`_memo`: each robot asks for every robot's target every step)."""
+        memo = self._memo()
+        f = memo.get(rid)
+        if f is None:
+            uv = self.target.target_of(self._pattern(), rid, len(self.pos_of), self.d_u, self.u_l)
+            f = self._common_to_private(uv)
+            f.setflags(write=False)
+            memo[rid] = f
+        return f
 
     # -- one step -----------------------------------------------------------------------------
 
     def step(self, obs: Observation) -> Command:
+        if self.i_failed:
+            return Command(message=("failed", self.id))                   # Sec. 3.5
         others_body = np.asarray(obs.neighbor_poses, dtype=float).reshape(-1, 2)
         others = self._to_private(others_body) if len(others_body) else np.zeros((0, 2))
         me = np.array([self.x, self.y])
-        if self.i_failed:
-            return Command(message=("failed", self.id))                   # Sec. 3.5
         due = self.fail_at.get("leader" if self.id == 0 else self.id, ()) if self.id is not None else ()
         if any(obs.step >= when for when in due):
             # --fail ID@STEP: the robot holding that ID at the first step >= STEP (IDs exist once
@@ -470,8 +519,7 @@ class LeeChongController:
             self.phase = "form"
             return self._act(me)
         if 0 in tie:                                                      # Sec. 2.1: off the circle
-            pts = np.vstack((me[None, :], others[rows]))
-            d = me - pts.mean(axis=0)
+            d = me - self._tie_centre                                     # p_o, as _agree computed it
             norm = math.hypot(*d)
             out = d / norm if norm > 0 else np.array([1.0, 0.0])
             step = float(self.rng.uniform(0.0, 1.0)) * min(self.perturb, self.params.v * self.params.dt)
@@ -518,7 +566,10 @@ class LeeChongController:
         """Whom follower ``rid`` is placed relative to: the leader (Sec. 3.2) or N_id (Alg. 4)."""
         if self.mode == "leader":
             return 0
-        kind, k = self.target.line_kind(self._pattern(), len(self.pos_of))
+        self._memo()
+        if self._line_kind is None:
+            self._line_kind = self.target.line_kind(self._pattern(), len(self.pos_of))
+        kind, k = self._line_kind
         return neighbor_id(rid, kind, k)
 
     def _rule_target(self, rid):
@@ -664,7 +715,7 @@ class LeeChongController:
             return None
         try:
             ref = self._reference_id(self.id)
-            off = _rot(-self.th) @ (self._target_of(ref) - self._target_of(self.id))
+            off = self._rot_minus_th() @ (self._target_of(ref) - self._target_of(self.id))
         except (KeyError, UsageError, ZeroDivisionError):
             return None
         return ref, (round(float(off[0]), 9), round(float(off[1]), 9))
