@@ -1083,7 +1083,7 @@ class LeeChongLeader:
     options = ("then", "fail")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
                         robots=12, seeds=(0, 1, 2), explore=True, rank=40, explore_max_examples=15,
-                        explore_cost=141)
+                        explore_cost=113)
 
     @staticmethod
     def exact_checks() -> list:
@@ -1229,7 +1229,7 @@ class LeeChongNeighbor(LeeChongLeader):
     claims = dict(LeeChongLeader.claims, formation="003 Sec. 4.2 (Function 1 by neighbor reference)")
     verify = VerifyPlan(targets=("lines:wedge", "lines:circle", "lines:two-row", "lines:triangle"),
                         robots=12, seeds=(0, 1, 2), explore=True, rank=41, explore_max_examples=15,
-                        explore_cost=196)
+                        explore_cost=149)
 
 
 #: The ``-printed`` variants' verify rows: the two patterns on which the printed formula's IDs
