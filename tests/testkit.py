@@ -107,23 +107,29 @@ GatherReading0 = gather_reading("0")
 _PROVED: dict = {}
 
 
+#: The wall-clock ceiling of a proof made for the tests (``proved``): a ceiling that a loaded
+#: machine cannot reach, never the thing checked (tests/README.md).  wang2020's separation lemma
+#: takes 7.5 s of its 10 s on an idle machine here, and timed out (inconclusive) at load 5.
+PROOF_CEILING_S = 120.0
+
+
 def proved(lemma, timeout_s: float = 10.0):
-    """``swarmproof.checkers.proofs.prove(lemma, timeout_s)``, run once per test process: the
+    """``swarmproof.checkers.proofs.prove(lemma, ...)``, run once per test process: the
     per-lemma test (tests/checkers/test_proofs.py), verify's lemma section
     (tests/cli/test_verify.py, whose ``run_suite`` is patched to call this) and the tests of a
     suite lemma's control counterexample (tests/checkers/test_proofs_wang2020.py) judge the same z3
     results.  All are in the xdist group ``z3-suite``, so one worker proves each lemma once (the
     suite was proved twice, 12 s of CPU).
 
-    A longer timeout reuses a ``proved`` result of a shorter one: in a proved lemma every solver
-    call (the lemma, its control, its vacuity controls) ended before its deadline, and z3's answers
-    and models do not depend on the time left (each call's limit is the time left to a deadline,
-    which differs from run to run; test_suite_json_is_deterministic_except_timings).  Anything
-    short of ``proved`` (a timeout on a loaded machine) is proved again with the longer timeout."""
+    The proof runs with :data:`PROOF_CEILING_S`, whatever ``timeout_s`` the caller names (the
+    timeout the code under test is given): z3's answers and models do not depend on the time left
+    (each call's limit is the time left to a deadline, which differs from run to run;
+    test_suite_json_is_deterministic_except_timings), so a lemma proved within 10 s on an idle
+    machine gives the same result, and a loaded test machine cannot turn it inconclusive.  What a
+    timeout does is tested with ``prove`` itself (test_timeout_is_inconclusive_never_proved)."""
     from swarmproof.checkers import proofs
 
-    key = (lemma.id, float(timeout_s))
+    key = lemma.id
     if key not in _PROVED:
-        shorter = [r for (lid, t), r in _PROVED.items() if lid == lemma.id and t <= key[1] and r.status == "proved"]
-        _PROVED[key] = shorter[0] if shorter else proofs.prove(lemma, timeout_s)
+        _PROVED[key] = proofs.prove(lemma, max(float(timeout_s), PROOF_CEILING_S))
     return _PROVED[key]
