@@ -119,6 +119,51 @@ class RepeatingPattern:
                         break
         return np.asarray(out, dtype=float)
 
+    def layer_sizes(self, copies: int) -> tuple:
+        """How many copies stand after each whole layer of the growth, up to the first count of at
+        least ``copies``: the root is the first layer and each next layer is every point one
+        vector of A (without (0, 0)) beyond the last one that is not taken yet (002 Sec. IV-B:
+        "The root is the first layer ... they continue to select other heads that are not in
+        the formation to join the tree and form a new layer"; Alg. 2's A' = A \\ {(0,0)} \\ O).
+
+        Which copies stand after a whole layer does not depend on the order in which the heads of
+        a layer act; within a layer it does (Alg. 2 queues the heads it places "according to the
+        node IDs", and the last ones go to the free slots nearest to them), so a run's formation
+        is a translate of :meth:`formation` for every start only when ``n / |B|`` is one of these
+        counts (docs/jiang.md, "Fig. 7a's quality").
+
+        >>> load_pattern("square-segments").layer_sizes(30)
+        (1, 4, 9, 16, 25, 36)
+        """
+        steps = [a for a in self.assembling if math.hypot(*a) > self.tol]
+        if not steps:
+            return (1,)
+        seen = {self._key((0.0, 0.0))}
+        layer, sizes = [(0.0, 0.0)], [1]
+        while sizes[-1] < copies:
+            nxt = []
+            for hx, hy in layer:
+                for ax, ay in steps:
+                    q = (hx + ax, hy + ay)
+                    if self._key(q) not in seen:
+                        seen.add(self._key(q))
+                        nxt.append(q)
+            layer = nxt
+            sizes.append(sizes[-1] + len(nxt))
+        return tuple(sizes)
+
+    def fills_whole_layers(self, n: int) -> bool:
+        """True when ``n`` robots make whole copies of B that fill whole layers
+        (:meth:`layer_sizes`): the one team size at which every run of 002's algorithm, whatever
+        its start, can stand as :meth:`formation` ``(n)``.
+
+        >>> p = load_pattern("square-segments")
+        >>> p.fills_whole_layers(50), p.fills_whole_layers(100), p.fills_whole_layers(51)
+        (True, False, False)
+        """
+        b = len(self.basic)
+        return n > 0 and n % b == 0 and n // b in self.layer_sizes(n // b)
+
     def _key(self, q) -> tuple:
         g = max(self.tol, 1e-12) * 10
         return (round(q[0] / g), round(q[1] / g))

@@ -8,7 +8,9 @@ Usage (from the repository root)::
 
 ``sec5``: the four patterns of Fig. 1 (bundled), n = 50..300 in steps of 50,
 uniform starts in a 15 m x 15 m square (Sec. V-A), 10 cm/s; per cell the
-formation quality epsilon (Def. 9, exact), Sec. V-A's alignment measure, the
+formation quality epsilon (Def. 9, exact), Sec. V-A's alignment measure (and in how many
+runs it is 1, whether n / |B| copies fill whole layers of the growth, and how many distinct
+formations up to translation the runs of a cell ended in), the
 total distance and the runs in which two robots came closer than 14 cm (the
 PiBot's diameter).  ``compare``: jiang toward ``lattice:square`` (one point,
 the square lattice's edges) and song2016 on the square lattice from the same
@@ -87,16 +89,20 @@ def sec5(seeds: int, sizes, patterns) -> list[dict]:
             rows.append(row)
             eps1 = sum(r["epsilon_exact"] == "1" for r in runs)
             print(f"  {name} n={n}: epsilon = 1 in {eps1}/{len(runs)}", file=sys.stderr, flush=True)
-    print("| pattern | n | |B| divides n | finished | epsilon = 1 | epsilon (mean) | alignment (mean ± sd) | "
+    print("| pattern | n | |B| divides n | whole layers | finished | epsilon = 1 | epsilon (mean) | "
+          "alignment (mean ± sd) | alignment = 1 | formations | "
           "total distance, m (mean ± sd) | steps (mean ± sd) | runs with robots < 14 cm apart |")
-    print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    print("|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for row in rows:
-        runs, b = row["runs"], len(load_pattern(row["pattern"]).basic)
+        pat = load_pattern(row["pattern"])
+        runs, b = row["runs"], len(pat.basic)
         k = len(runs)
         print(f"| {row['pattern']} | {row['n']} | {'yes' if row['n'] % b == 0 else 'no'} | "
+              f"{'yes' if pat.fills_whole_layers(row['n']) else 'no'} | "
               f"{sum(r['status'] == 'finished' for r in runs)}/{k} | "
               f"{sum(r['epsilon_exact'] == '1' for r in runs)}/{k} | {_ms([r['epsilon'] for r in runs])} | "
-              f"{_ms([r['alignment'] for r in runs])} | {_ms([r['total_distance'] for r in runs])} | "
+              f"{_ms([r['alignment'] for r in runs])} | {sum(r['alignment'] == 1 for r in runs)}/{k} | "
+              f"{len({r['shape'] for r in runs})} | {_ms([r['total_distance'] for r in runs])} | "
               f"{_ms([r['steps'] for r in runs])} | {sum(r['collides'] for r in runs)}/{k} |")
     return rows
 

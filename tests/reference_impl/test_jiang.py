@@ -220,3 +220,58 @@ def test_the_explorer_finds_the_delay_deadlock_and_its_file_replays(tmp_path):
     assert "deadlock" in v.message
     rr = replay_file(v.counterexample_path)
     assert rr.reproduced
+
+
+# -- Fig. 7a's quality: Sec. V-A's alignment measure (docs/jiang.md, "Fig. 7a's quality") -------------
+
+def _shape(pattern, xy):
+    """The formation up to translation (Sec. V-A's origin subtracted), as a set of grid points."""
+    xy = np.asarray(xy, dtype=float)[:, :2]
+    low = xy[xy[:, 1] <= xy[:, 1].min() + pattern.tol]
+    rel = xy - low[np.argmin(low[:, 0])]
+    return frozenset(map(tuple, np.rint(rel / (10 * pattern.tol)).astype(int).tolist()))
+
+
+def test_the_desired_formation_comes_from_B_A_n_and_a_planted_misplaced_copy_aligns_below_one():
+    p = load_pattern("square-segments")
+    fd = p.formation(50)                           # 25 copies: the 5 x 5 square, whole layers
+    assert p.fills_whole_layers(50) and np.array_equal(fd, load_pattern("square-segments").formation(50))
+    assert p.alignment(fd + (4.0, 7.0)) == 1.0 and p.alignment(fd[::-1]) == 1.0    # translation, order
+    # plant one copy misplaced: the copy at the square's top-right corner (4, 4) moved to (5, 0), a
+    # free slot one vector of A from the copy at (4, 0): still a perfect pattern (epsilon = 1) ...
+    corner = [k for k in range(0, 50, 2) if np.allclose(fd[k], (4.0, 4.0))][0]
+    moved = fd.copy()
+    moved[corner:corner + 2] += (1.0, -4.0)
+    assert p.satisfied(None, moved).status == "held"
+    # ... but not the desired formation: 48 of its 50 points align
+    assert p.alignment(moved) == pytest.approx(48 / 50)
+
+
+def test_layer_sizes_are_the_breadth_first_layers_of_A():
+    assert load_pattern("square-dots").layer_sizes(10) == (1, 4, 9, 16)
+    assert load_pattern("triangle-segments").layer_sizes(6) == (1, 3, 6)
+    assert load_pattern("trapezoid-hexagons").layer_sizes(13) == (1, 5, 12, 22)
+    p = load_pattern("rhombus-triangles")
+    assert [n for n in range(50, 301, 50) if p.fills_whole_layers(n)] == [300]
+    # the desired formation of whole layers is the union of those layers, in any growth order
+    fd = p.formation(3 * 9)
+    assert _shape(p, fd) == _shape(p, np.concatenate([fd[3 * k:3 * k + 3] for k in (0, 3, 2, 1, 8, 4, 6, 7, 5)]))
+
+
+def test_whole_layers_align_at_one_and_a_partial_layer_depends_on_the_start():
+    """002's growth fills a layer's slots in the order of the heads' IDs, and the last heads go to
+    the free slots nearest them: with 9 dots (3 x 3, whole layers) every start ends in the desired
+    formation, with 6 dots the starts end in different formations, so no desired formation fixed
+    before the runs aligns at 1 with all of them."""
+    p, alg = load_pattern("square-dots"), Jiang()
+    whole, partial = set(), set()
+    for seed in range(3):
+        r = simulate(alg, p, im.random_uniform(9, seed, side=4.0), alg.default_params(range=1.5, n=9), seed=seed)
+        assert r.status == "finished" and p.alignment(r.final_poses) == 1.0
+        whole.add(_shape(p, r.final_poses))
+    for seed in range(4):
+        r = simulate(alg, p, im.random_uniform(6, seed, side=4.0), alg.default_params(range=1.5, n=6), seed=seed)
+        assert r.status == "finished" and p.satisfied(None, r.final_poses).status == "held"
+        partial.add(_shape(p, r.final_poses))
+    assert whole == {_shape(p, p.formation(9))}
+    assert len(partial) >= 2
