@@ -852,16 +852,18 @@ def run_report(sections: list[str] | None = None, progress: Progress | None = No
     """
     names = list(SECTIONS) if sections is None else list(sections)
     options = options or {}
-    rows: list[Row] = []
+    by_name: dict[str, list[Row]] = {}
     seconds: dict[str, float] = {}
     with _shared_workers(names, options) as (client, elsewhere):
+        # the sections of this process first (the exploration's tasks queue behind the Dask
+        # tasks of the others, so no core waits for them), then the Dask tasks' rows
         for name in names:
-            if name in elsewhere:                 # a Dask task since the start: its rows, in order
-                got, seconds[name] = elsewhere[name].result()
-                rows.extend(got)
-                continue
-            _run_section(name, options, progress, rows, seconds, client)
-    return Report(rows, seconds)
+            if name not in elsewhere:
+                _run_section(name, options, progress, by_name.setdefault(name, []), seconds, client)
+        for name, fut in elsewhere.items():
+            by_name[name], seconds[name] = fut.result()
+    return Report([row for name in names for row in by_name.get(name, [])],
+                  {name: seconds[name] for name in names if name in seconds})
 
 
 def _run_section(name: str, options: dict, progress, rows: list, seconds: dict, client) -> None:
@@ -899,7 +901,8 @@ def _section_task(name: str, kw: dict):
 def _shared_workers(names: list, options: dict):
     """When exploration runs on several local workers (``workers`` > 1, no section budget), one
     Dask cluster for the whole report: the algorithms and lemmas sections are submitted first, at
-    a priority below the exploration rows, so they fill the cores the exploration leaves idle;
+    a priority below the exploration rows, and the exploration's tasks queue behind them
+    (:func:`run_report` collects their rows last), so no core waits;
     yields ``(client, {section: future})``.  Otherwise ``(None, {})``: every section here."""
     ex = options.get("exploration", {})
     workers = ex.get("workers")
