@@ -1243,8 +1243,8 @@ class LeeChongLeaderPrinted(LeeChongLeader):
     """``leechong-leader`` with the IDs of Alg. 1's printed formula (Lee & Chong, Alg. 1 lines 11-14:
     ``2 x rank`` for v >= 0, ``2 x rank - 1`` for v < 0): reading "1" of ``leechong-leader``, its
     default up to swarmproof 0.1.0, kept as a registered variant (issue 31).  Not a bijection onto
-    1..n-1 unless the half planes hold a = b or b = a + 1 followers (smallest failure: n = 3, both
-    followers on one side of u)."""
+    1..n-1 unless the half planes hold a = b or b = a + 1 followers (smallest failure: n = 2, its
+    one follower in the upper half plane gets ID 2; verify's ``formulas`` row)."""
 
     name = "leechong-leader-printed"
     reading = "1"

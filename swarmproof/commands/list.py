@@ -38,12 +38,14 @@ def _first_line(text: str | None) -> str:
 
     >>> _first_line("004's algorithm (registry name ``wang2020``); see the module docstring.\n\nMore.")
     "004's algorithm (registry name wang2020)."
+    >>> _first_line("Fixed IDs (labels 0..n-1; label 0 leads).")
+    'Fixed IDs (labels 0..n-1; label 0 leads).'
     """
     import re
 
     para = " ".join((text or "").strip().split("\n\n", 1)[0].split()).replace("``", "")
     para = re.sub(r"[;.]?\s*[Ss]ee the module docstring\.?", ".", para)
-    return para.replace("..", ".")
+    return re.sub(r"\.\.(?=\s|$)", ".", para)      # a sentence's stop doubled, not a range "0..n-1"
 
 
 def _entry(name: str, description: str, citation: str | None = None, **more) -> dict:
