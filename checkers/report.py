@@ -874,12 +874,18 @@ def _run_section(name: str, options: dict, progress, rows: list, seconds: dict, 
 
         def sub(text: str, name=name) -> None:
             progress(f"{name}: {text}")
-    t0 = time.perf_counter()
     kw = dict(options.get(name, {}))
     if name == "exploration" and client is not None:
         kw["client"] = client
-    rows.extend(SECTIONS[name](progress=sub, **kw))
-    seconds[name] = time.perf_counter() - t0
+    got, seconds[name] = _timed_section(name, progress=sub, **kw)
+    rows.extend(got)
+
+
+def _timed_section(name: str, **kw) -> tuple:
+    """One section's rows and its wall seconds."""
+    t0 = time.perf_counter()
+    got = SECTIONS[name](**kw)
+    return got, time.perf_counter() - t0
 
 
 #: The sections that run as Dask tasks beside the exploration rows when exploration runs on
@@ -892,9 +898,7 @@ def _section_task(name: str, kw: dict):
     from swarmproof.checkers.campaign import worker_warnings
 
     with worker_warnings():
-        t0 = time.perf_counter()
-        got = SECTIONS[name](**kw)
-        return got, time.perf_counter() - t0
+        return _timed_section(name, **kw)
 
 
 @contextlib.contextmanager

@@ -352,34 +352,25 @@ class LeeChongController:
         self._frame = None                     # what the memoised targets below were computed under
         self._targets: dict = {}               # rid -> f_rid (private frame), read-only arrays
         self._line_kind = None                 # Alg. 4's line kind under self._frame
-        self._rot_fwd = self._rot_back = (None, None)   # (th, _rot(th)), (th, _rot(-th)) last computed
-        self._tie_centre = None                # p_o of the last view that tied (Alg. 1, Sec. 2.1)
+        self._rots: dict = {}                  # +1 / -1 -> (th, _rot(+-th)) last computed
 
     # -- frames ---------------------------------------------------------------------------------
 
-    def _rot_th(self) -> np.ndarray:
-        """``_rot(self.th)``, memoised while the heading stands (the same float object)."""
-        th, r = self._rot_fwd
+    def _rotation(self, sign: int) -> np.ndarray:
+        """``_rot(self.th)`` (``sign`` 1) or ``_rot(-self.th)`` (``sign`` -1), read-only, memoised
+        while the heading stands (the same float object)."""
+        th, r = self._rots.get(sign, (None, None))
         if th is not self.th:
-            r = _rot(self.th)
+            r = _rot(self.th if sign > 0 else -self.th)
             r.setflags(write=False)
-            self._rot_fwd = (self.th, r)
-        return r
-
-    def _rot_minus_th(self) -> np.ndarray:
-        """``_rot(-self.th)``, memoised while the heading stands (the same float object)."""
-        th, r = self._rot_back
-        if th is not self.th:
-            r = _rot(-self.th)
-            r.setflags(write=False)
-            self._rot_back = (self.th, r)
+            self._rots[sign] = (self.th, r)
         return r
 
     def _to_private(self, body: np.ndarray) -> np.ndarray:
-        return body @ self._rot_th().T + np.array([self.x, self.y])
+        return body @ self._rotation(1).T + np.array([self.x, self.y])
 
     def _to_body(self, p) -> np.ndarray:
-        return self._rot_minus_th() @ (np.asarray(p, dtype=float) - np.array([self.x, self.y]))
+        return self._rotation(-1) @ (np.asarray(p, dtype=float) - np.array([self.x, self.y]))
 
     def _common_to_private(self, uv) -> np.ndarray:
         u = np.array(self.u)
@@ -396,7 +387,8 @@ class LeeChongController:
         return [r for r in range(len(others)) if r not in dead]
 
     def _agree(self, me: np.ndarray, others: np.ndarray, rows: list):
-        """003 Alg. 1 over this robot (row 0) and the live others; None when done, else the tie."""
+        """003 Alg. 1 over this robot (row 0) and the live others; None when done, else ``(tie,
+        p_o)``: the tied rows and the centre Alg. 1 computed (the candidates move away from it)."""
         pts = np.vstack((me[None, :], others[rows]))
         leader_row = None
         if self.alg.team == "F":
@@ -404,8 +396,7 @@ class LeeChongController:
             leader_row = labels.index(min(labels))
         centre, a = _agree_at(pts, self.numbering, self.order, leader_row)
         if a.tie:
-            self._tie_centre = centre                                     # p_o of this view
-            return a.tie
+            return a.tie, centre
         ids = list(a.ids) if self.alg.team == "A" else _rank_labels(labels)
         if self.alg.team == "F":
             self.label_of = {ids[k]: labels[k] for k in range(len(ids))}
@@ -514,12 +505,13 @@ class LeeChongController:
         rows = self._live_rows(others)
         if self.alg.team == "F" and (obs.step == 0 or any(r not in self.labels for r in rows)):
             return Command(message=("label", self.fixed_id))              # F-team: say the fixed label
-        tie = self._agree(me, others, rows)
-        if tie is None:
+        tied = self._agree(me, others, rows)
+        if tied is None:
             self.phase = "form"
             return self._act(me)
+        tie, centre = tied
         if 0 in tie:                                                      # Sec. 2.1: off the circle
-            d = me - self._tie_centre                                     # p_o, as _agree computed it
+            d = me - centre                                               # p_o, as _agree computed it
             norm = math.hypot(*d)
             out = d / norm if norm > 0 else np.array([1.0, 0.0])
             step = float(self.rng.uniform(0.0, 1.0)) * min(self.perturb, self.params.v * self.params.dt)
@@ -715,7 +707,7 @@ class LeeChongController:
             return None
         try:
             ref = self._reference_id(self.id)
-            off = self._rot_minus_th() @ (self._target_of(ref) - self._target_of(self.id))
+            off = self._rotation(-1) @ (self._target_of(ref) - self._target_of(self.id))
         except (KeyError, UsageError, ZeroDivisionError):
             return None
         return ref, (round(float(off[0]), 9), round(float(off[1]), 9))
