@@ -58,6 +58,7 @@ import time
 
 import numpy as np
 
+from swarmproof.models.fileio import atomic_write_text
 from swarmproof.models.library import load
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
@@ -311,9 +312,7 @@ def main(argv=None) -> int:
     table = markdown(cells, sizes, speeds)
     print(table)
     if args.table:
-        with open(args.table, "w", encoding="utf-8") as fh:
-            fh.write(table + "\n")
-        print("wrote", args.table)
+        print("wrote", atomic_write_text(args.table, table + "\n"))
     if args.plot:
         print("wrote", plot(cells, sizes, speeds, args.plot))
     return 0
