@@ -95,29 +95,39 @@ class RepeatingPattern:
 
     # -- the desired formation ------------------------------------------------
 
+    def _layers(self):
+        """The growth's layers, in order: the root ``[(0, 0)]``, then each next layer, every point
+        one vector of A (without (0, 0), in file order) beyond the last layer that is not taken
+        yet, in the order the last layer's heads reach them (002 Sec. IV-B, Alg. 2's
+        A' = A \\ {(0,0)} \\ O).  Ends after the root when A has no non-zero vector."""
+        steps = [a for a in self.assembling if math.hypot(*a) > self.tol]
+        layer = [(0.0, 0.0)]
+        seen = {self._key((0.0, 0.0))}
+        while layer:
+            yield layer
+            if not steps:
+                return
+            nxt = []
+            for hx, hy in layer:
+                for ax, ay in steps:
+                    q = (hx + ax, hy + ay)
+                    key = self._key(q)
+                    if key not in seen:
+                        seen.add(key)
+                        nxt.append(q)
+            layer = nxt
+
     def heads(self, copies: int) -> np.ndarray:
         """Positions of ``copies`` copies' first points, grown layer by layer from the origin
         by the vectors of A in file order (the layering of 002 Alg. 2, without robots)."""
         if copies <= 0:
             return np.zeros((0, 2))
-        steps = [a for a in self.assembling if math.hypot(*a) > self.tol]
-        if not steps:
-            return np.zeros((1, 2))
-        out = [(0.0, 0.0)]
-        seen = {self._key((0.0, 0.0))}
-        k = 0
-        while len(out) < copies and k < len(out):
-            hx, hy = out[k]
-            k += 1
-            for ax, ay in steps:
-                q = (hx + ax, hy + ay)
-                key = self._key(q)
-                if key not in seen:
-                    seen.add(key)
-                    out.append(q)
-                    if len(out) == copies:
-                        break
-        return np.asarray(out, dtype=float)
+        out: list = []
+        for layer in self._layers():
+            out.extend(layer)
+            if len(out) >= copies:
+                break
+        return np.asarray(out[:copies], dtype=float)
 
     def layer_sizes(self, copies: int) -> tuple:
         """How many copies stand after each whole layer of the growth, up to the first count of at
@@ -135,21 +145,11 @@ class RepeatingPattern:
         >>> load_pattern("square-segments").layer_sizes(30)
         (1, 4, 9, 16, 25, 36)
         """
-        steps = [a for a in self.assembling if math.hypot(*a) > self.tol]
-        if not steps:
-            return (1,)
-        seen = {self._key((0.0, 0.0))}
-        layer, sizes = [(0.0, 0.0)], [1]
-        while sizes[-1] < copies:
-            nxt = []
-            for hx, hy in layer:
-                for ax, ay in steps:
-                    q = (hx + ax, hy + ay)
-                    if self._key(q) not in seen:
-                        seen.add(self._key(q))
-                        nxt.append(q)
-            layer = nxt
-            sizes.append(sizes[-1] + len(nxt))
+        sizes: list = []
+        for layer in self._layers():
+            sizes.append((sizes[-1] if sizes else 0) + len(layer))
+            if sizes[-1] >= copies:
+                break
         return tuple(sizes)
 
     def fills_whole_layers(self, n: int) -> bool:
