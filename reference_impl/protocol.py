@@ -443,6 +443,12 @@ class VerifyPlan:
     10
     >>> VerifyPlan(("square",), more=(("hexagon", 40, (2,)),)).runs()
     (('square', 10, (0, 1, 2)), ('hexagon', 40, (2,)))
+    >>> from swarmproof.models.errors import UsageError
+    >>> try:
+    ...     VerifyPlan(("square",), explore_cost="fast")
+    ... except UsageError as exc:
+    ...     print(exc.message)
+    VerifyPlan explore_cost='fast' must be a number of CPU-seconds >= 0, or None
     """
 
     targets: tuple = ()
@@ -453,6 +459,15 @@ class VerifyPlan:
     more: tuple = ()
     explore_max_examples: int | None = None
     explore_cost: float | None = None
+
+    def __post_init__(self) -> None:
+        from swarmproof.models.errors import UsageError
+
+        cost = self.explore_cost
+        if cost is not None and (isinstance(cost, bool) or not isinstance(cost, (int, float))
+                                 or not math.isfinite(cost) or cost < 0):
+            raise UsageError(f"VerifyPlan explore_cost={cost!r} must be a number of CPU-seconds >= 0, or None",
+                             fix="e.g. explore_cost=60 (about what its exploration rows take), or leave it out")
 
     def runs(self) -> tuple:
         """``(target, robots, seeds)`` of every ``algorithms`` row group, in report order."""

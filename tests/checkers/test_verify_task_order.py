@@ -32,3 +32,19 @@ def test_the_worker_starts_the_costliest_job_first_and_the_results_keep_the_jobs
     assert started == [1, 2, 0]
     # the results are one process's, in the jobs' order
     assert got == [_explore_one(*job) for job in jobs]
+
+
+@pytest.mark.parametrize("cost", ["fast", -1, float("nan"), float("inf"), True], ids=repr)
+def test_a_bad_explore_cost_is_a_usage_error_naming_it(cost):
+    from swarmproof.models.errors import UsageError
+    from swarmproof.reference_impl.protocol import VerifyPlan
+
+    with pytest.raises(UsageError, match=r"explore_cost="):
+        VerifyPlan(("square",), explore_cost=cost)
+
+
+@pytest.mark.parametrize("cost", [None, 0, 12.5, 196])
+def test_a_number_of_seconds_or_none_is_an_explore_cost(cost):
+    from swarmproof.reference_impl.protocol import VerifyPlan
+
+    assert VerifyPlan(("square",), explore_cost=cost).explore_cost == cost
