@@ -463,6 +463,10 @@ class VerifyPlan:
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
 
+        cap = self.explore_max_examples
+        if cap is not None and (isinstance(cap, bool) or not isinstance(cap, int) or cap < 1):
+            raise UsageError(f"VerifyPlan explore_max_examples={cap!r} must be an integer >= 1, or None",
+                             fix="e.g. explore_max_examples=15, or leave it out for the gate's number")
         cost = self.explore_cost
         if cost is not None and (isinstance(cost, bool) or not isinstance(cost, (int, float))
                                  or not math.isfinite(cost) or cost < 0):

@@ -48,3 +48,13 @@ def test_a_number_of_seconds_or_none_is_an_explore_cost(cost):
     from swarmproof.reference_impl.protocol import VerifyPlan
 
     assert VerifyPlan(("square",), explore_cost=cost).explore_cost == cost
+
+
+@pytest.mark.parametrize("cap", ["15", 0, 2.5, True], ids=repr)
+def test_a_bad_explore_max_examples_is_a_usage_error_naming_it(cap):
+    from swarmproof.models.errors import UsageError
+    from swarmproof.reference_impl.protocol import VerifyPlan
+
+    with pytest.raises(UsageError, match=r"explore_max_examples="):
+        VerifyPlan(("square",), explore_max_examples=cap)
+    assert VerifyPlan(("square",), explore_max_examples=15).explore_max_examples == 15
