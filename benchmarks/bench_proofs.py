@@ -25,10 +25,10 @@ def _timed(fn, *args, **kwargs):
     return out, time.process_time() - c0, time.perf_counter() - w0
 
 
-def _trees(proofs, n: int, timeout: float, symmetry: bool) -> None:
-    out, cpu, wall = _timed(proofs.confirm_trees, n, timeout_s=timeout, symmetry=symmetry)
+def _trees(proofs, n: int, rlimit: int, symmetry: bool) -> None:
+    out, cpu, wall = _timed(proofs.confirm_trees, n, rlimit=rlimit, symmetry=symmetry)
     print(f"direct tree confirmation up to {n} robots, symmetry={symmetry} "
-          f"(timeout {timeout} s per z3 problem): {out['cases']} cases {out['counts']}, "
+          f"(rlimit {rlimit} per z3 problem): {out['cases']} cases {out['counts']}, "
           f"{out['classes']} z3 problems {out['class_counts']}; CPU {cpu:.1f} s, wall {wall:.1f} s")
     by_n = {}
     for k, *_rest, status, _why in out["not_proved"]:
@@ -42,7 +42,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--trees", type=int, default=5, help="max robots for the direct tree check (0: skip)")
-    ap.add_argument("--tree-timeout", type=float, default=10.0)
+    ap.add_argument("--tree-rlimit", type=int, default=None,
+                    help="z3's work budget per tree problem (default: confirm_trees' own)")
     ap.add_argument("--no-symmetry", action="store_true",
                     help="also run the tree check without the symmetry reduction")
     ap.add_argument("--oracle", type=int, default=200, help="kernel oracle instances (0: skip)")
@@ -50,6 +51,7 @@ def main(argv=None) -> int:
 
     print(f"python {platform.python_version()} on {platform.machine()}, z3 {proofs.z3.get_version_string()}")
     per = {lid: [] for lid in proofs.LEMMAS}
+    used = {}
     totals = []
     ok = True
     for _ in range(args.repeat):
@@ -57,13 +59,14 @@ def main(argv=None) -> int:
         for lem in proofs.LEMMAS.values():
             r, cpu, wall = _timed(proofs.prove, lem)
             per[lem.id].append((cpu, wall))
+            used[lem.id] = r.rlimit["used"]
             cpu_total, wall_total = cpu_total + cpu, wall_total + wall
             ok &= r.status == "proved"
         totals.append((cpu_total, wall_total))
-    print(f"{'lemma':<32} {'CPU best':>9} {'CPU worst':>9} {'wall best':>9} {'wall worst':>10}")
+    print(f"{'lemma':<36} {'CPU best':>9} {'CPU worst':>9} {'wall best':>9} {'wall worst':>10} {'rlimit used':>12}")
     for lid, ts in per.items():
         cpus, walls = [c for c, _ in ts], [w for _, w in ts]
-        print(f"{lid:<32} {min(cpus):9.3f} {max(cpus):9.3f} {min(walls):9.3f} {max(walls):10.3f}")
+        print(f"{lid:<36} {min(cpus):9.3f} {max(cpus):9.3f} {min(walls):9.3f} {max(walls):10.3f} {used[lid]:>12}")
     worst_cpu = max(c for ts in per.values() for c, _ in ts)
     worst_wall = max(w for ts in per.values() for _, w in ts)
     cpu_t, wall_t = [c for c, _ in totals], [w for _, w in totals]
@@ -73,9 +76,10 @@ def main(argv=None) -> int:
           f"every lemma < 2 s: CPU {worst_cpu < 2}, wall {worst_wall < 2}")
 
     if args.trees >= 2:
-        _trees(proofs, args.trees, args.tree_timeout, True)
+        rlimit = args.tree_rlimit or proofs.CASE_RLIMIT
+        _trees(proofs, args.trees, rlimit, True)
         if args.no_symmetry:
-            _trees(proofs, args.trees, args.tree_timeout, False)
+            _trees(proofs, args.trees, rlimit, False)
 
     if args.oracle:
         from swarmproof.models.geometry import nearest_point_in_disc_intersection as kernel

@@ -33,7 +33,7 @@ compared through their squares (no distance variables, no quantifiers).
 
 Examples
 --------
->>> r = prove(LEMMAS["relocate_stays_in_range"], timeout_s=10)
+>>> r = prove(LEMMAS["relocate_stays_in_range"])
 >>> r.status, r.premises_satisfiable, r.negative_control["status"]
 ('proved', True, 'counterexample')
 >>> sorted(LEMMAS)[:3]
@@ -78,10 +78,26 @@ __all__ = [
     "case_families",
     "kernel_oracle_check",
     "vacuity_controls",
+    "solve",
     "premise_names",
+    "Budget",
+    "check_rlimit",
+    "DEFAULT_RLIMIT",
+    "DEFAULT_TIMEOUT_S",
 ]
 
-DEFAULT_TIMEOUT_S = 10.0
+#: The outer wall-clock cap per lemma (seconds).  It decides nothing on a machine working as
+#: expected: the rlimit budget does (z3 counts its work deterministically).
+DEFAULT_TIMEOUT_S = 300.0
+#: z3's work budget per lemma when the lemma sets none (``Lemma.rlimit``): ten times what the
+#: costliest bundled lemma uses with z3 5.4 (wang2020_separation_equal_speeds, about 2e7 units,
+#: about 6 s here); docs/proofs.md "Budgets".
+DEFAULT_RLIMIT = 200_000_000
+#: z3 takes the resource limit as an unsigned 32-bit count.
+MAX_RLIMIT = 2**32 - 1
+#: z3's work budget per tree case of :func:`confirm_trees` and per check of
+#: :func:`kernel_oracle_check` (each far below it: docs/proofs.md "Budgets").
+CASE_RLIMIT = 50_000_000
 
 
 @dataclass
@@ -101,6 +117,8 @@ class LemmaResult:
     kind: str = "auxiliary"
     vacuity: dict = field(default_factory=dict)
     not_proved: list = field(default_factory=list)
+    #: ``{"budget": units, "used": units}``: z3's work budget for the proof and what it used
+    rlimit: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {
@@ -111,6 +129,7 @@ class LemmaResult:
             "not_proved": list(self.not_proved),
             "status": self.status,
             "seconds": round(self.seconds, 4),
+            "rlimit": dict(self.rlimit),
             "premises_satisfiable": self.premises_satisfiable,
             "negative_control": dict(self.negative_control),
             "vacuity": dict(self.vacuity),
@@ -189,21 +208,98 @@ def _configure() -> None:
     z3.set_param("nlsat.seed", 0)
 
 
-def _solver(timeout_ms: int, params: Sequence = ()) -> z3.Solver:
+def _solver(timeout_ms: float, params: Sequence = (), ctx: z3.Context | None = None,
+            rlimit: int = 0) -> z3.Solver:
     # Nonlinear real arithmetic: the nlsat procedure directly (measured: the
     # default combined solver answered `unknown` after 10 s on bounded_range,
     # nlsat proves it in about 0.15 s).  A lemma in linear real arithmetic with
     # Boolean structure asks for z3's default SMT solver with the pseudo-parameter
     # ("solver", "smt") (measured on 004's planner rule: nlsat timed out at 30 s
     # where the SMT solver's simplex decides in 0.06 s; docs/proofs.md).
+    # ``rlimit`` (0: none) is z3's resource limit for the next check, counted from the context's
+    # count now; the lemma's own solver_params come last and may override it.
     params = tuple(params)
     smt = ("solver", "smt") in params
-    s = z3.Solver() if smt else z3.Tactic("qfnra-nlsat").solver()
+    s = z3.Solver(ctx=ctx) if smt else z3.Tactic("qfnra-nlsat", ctx=ctx).solver()
     s.set("timeout", max(1, int(timeout_ms)))
+    if rlimit:
+        s.set("rlimit", int(rlimit))
     for k, v in params:
         if k != "solver":
             s.set(k, v)
     return s
+
+
+@dataclass
+class Budget:
+    """z3's work budget for one proof: ``rlimit`` resource units (deterministic: the same on a
+    loaded machine and an idle one, for one z3 version) and an outer wall-clock ``deadline``
+    (``time.perf_counter()`` seconds), which only a machine far slower than expected reaches.
+    ``used`` counts the units spent so far."""
+
+    rlimit: int
+    deadline: float
+    used: int = 0
+
+    @classmethod
+    def of(cls, rlimit: int | None, timeout_s: float) -> "Budget":
+        return cls(int(rlimit or DEFAULT_RLIMIT), time.perf_counter() + timeout_s)
+
+    @property
+    def left(self) -> int:
+        return self.rlimit - self.used
+
+    def spent_reason(self) -> str:
+        return f"z3's budget of rlimit={self.rlimit} was spent"
+
+
+class _Session:
+    """One fresh z3 context for one encoding's solver calls.
+
+    A fresh context makes the answers, the models and the resource counts of a lemma independent
+    of what was solved before in the process (in z3's main context, term ids left by earlier
+    lemmas changed the models of later ones: ``prove X`` alone and ``prove`` of the whole suite
+    gave different negative-control counterexamples)."""
+
+    def __init__(self, budget: Budget, params) -> None:
+        self.ctx = z3.Context()
+        self.budget = budget
+        self.params = tuple(params)
+        self.count = 0  # the context's rlimit count after the last check
+
+    def term(self, t):
+        return t.translate(self.ctx)
+
+    def check(self, premises: list, negate) -> tuple:
+        """One fresh solver: ``premises`` (name, term) tracked by name and optionally
+        ``Not(negate)``, with the budget left.
+
+        Returns (z3 result, model or None, reason_unknown); the result is None when the budget
+        was already spent (nothing was checked): reason ``"timeout"`` or ``"rlimit"``."""
+        left_ms = (self.budget.deadline - time.perf_counter()) * 1000
+        if left_ms <= 0:
+            return None, None, "timeout"
+        if self.budget.left <= 0:
+            return None, None, "rlimit"
+        s = _solver(left_ms, self.params, self.ctx, self.budget.left)
+        for k, (name, term) in enumerate(premises):
+            s.assert_and_track(self.term(term), z3.Bool(f"{k}:{name}", self.ctx))
+        if negate is not None:
+            s.add(z3.Not(self.term(negate)))
+        res = check_interruptibly(s)
+        stats = s.statistics()
+        if "rlimit count" in stats.keys():
+            count = int(stats.get_key_value("rlimit count"))
+            self.budget.used += count - self.count
+            self.count = count
+        if res == z3.sat:
+            return res, s.model(), ""
+        if res == z3.unknown:
+            why = s.reason_unknown()
+            if self.budget.left <= 0:
+                why = f"{self.budget.spent_reason()} ({why})"
+            return res, None, why
+        return res, None, ""
 
 
 def check_interruptibly(solver) -> "z3.CheckSatResult":
@@ -274,28 +370,6 @@ def model_to_numbers(model: z3.ModelRef, variables: Sequence) -> dict:
     return {str(v): _number(model.eval(v, model_completion=True)) for v in variables}
 
 
-def _check(premises: list, negate: z3.BoolRef | None, deadline: float, params) -> tuple:
-    """One fresh solver: premises (tracked by name) and optionally ``Not(negate)``,
-    with the time left until ``deadline`` (``time.perf_counter()`` seconds).
-
-    Returns (z3 result, model or None, reason_unknown); the result is None
-    when the deadline has already passed (nothing was checked)."""
-    left_ms = (deadline - time.perf_counter()) * 1000
-    if left_ms <= 0:
-        return None, None, "timeout"
-    s = _solver(left_ms, params)
-    for k, (name, term) in enumerate(premises):
-        s.assert_and_track(term, f"{k}:{name}")
-    if negate is not None:
-        s.add(z3.Not(negate))
-    res = check_interruptibly(s)
-    if res == z3.sat:
-        return res, s.model(), ""
-    if res == z3.unknown:
-        return res, None, s.reason_unknown()
-    return res, None, ""
-
-
 def _cases(enc: Encoding) -> list:
     if not enc.cases:
         return [("", list(enc.premises))]
@@ -307,15 +381,21 @@ def _outcome(status: str, premises_satisfiable, reason: str = "", counterexample
                 counterexample=counterexample, reason=reason)
 
 
-def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
-    """Premises satisfiable, then validity, case by case (and part by part).
-    Returns a dict with ``status``, ``premises_satisfiable``, ``counterexample``,
-    ``reason``."""
+def _not_checked(reason: str) -> str:
+    """Why a check did not run: the outer wall-clock cap or the rlimit budget."""
+    return "timeout" if reason == "timeout" else "z3's rlimit budget spent"
+
+
+def _solve_encoding(enc: Encoding, budget: Budget, params) -> dict:
+    """Premises satisfiable, then validity, case by case (and part by part), in one fresh z3
+    context (:class:`_Session`) on ``budget``.  Returns a dict with ``status``,
+    ``premises_satisfiable``, ``counterexample``, ``reason``."""
+    session = _Session(budget, params)
     for case, prem in _cases(enc):
         where = f" (case {case})" if case else ""
-        r, _, why = _check(prem, None, deadline, params)
+        r, _, why = session.check(prem, None)
         if r is None:
-            return _outcome("inconclusive", None, f"timeout before checking the premises{where}")
+            return _outcome("inconclusive", None, f"{_not_checked(why)} before checking the premises{where}")
         if r == z3.unsat:
             return _outcome("inconclusive", False,
                             f"premises unsatisfiable{where}: the lemma would hold vacuously")
@@ -323,17 +403,29 @@ def _solve_encoding(enc: Encoding, deadline: float, params) -> dict:
             return _outcome("inconclusive", None, f"z3 unknown on the premises{where}: {why}")
         for part, concl in (enc.parts or [("", enc.conclusion)]):
             what = f"the conclusion part {part}" if part else "the conclusion"
-            r, model, why = _check(prem, concl, deadline, params)
+            r, model, why = session.check(prem, concl)
             if r is None:
-                return _outcome("inconclusive", True, f"timeout before checking {what}{where}")
+                return _outcome("inconclusive", True, f"{_not_checked(why)} before checking {what}{where}")
             if r == z3.sat:
                 return _outcome("counterexample", True,
                                 f"z3 found premises true and {what} false{where}",
-                                model_to_numbers(model, enc.variables))
+                                model_to_numbers(model, [session.term(v) for v in enc.variables]))
             if r == z3.unknown:
                 return _outcome("inconclusive", True,
                                 f"z3 unknown on the negated {what[4:]}{where}: {why}")
     return _outcome("proved", True)
+
+
+def solve(enc: Encoding, params: Sequence = (), *, rlimit: int | None = None,
+          timeout_s: float = DEFAULT_TIMEOUT_S) -> dict:
+    """Solve one encoding on its own (premises satisfiable, then validity), without the
+    negative control and vacuity controls of :func:`prove`: a dict with ``status``,
+    ``premises_satisfiable``, ``counterexample``, ``reason``.
+
+    >>> solve(LEMMAS["bounded_range"].build())["status"]
+    'proved'
+    """
+    return _solve_encoding(enc, Budget.of(check_rlimit(rlimit), _check_timeout(timeout_s)), params)
 
 
 def _without(enc: Encoding, names) -> Encoding:
@@ -354,7 +446,8 @@ def premise_names(enc: Encoding) -> list:
     return out
 
 
-def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> dict:
+def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *,
+                     budget: Budget | None = None) -> dict:
     """Drop each premise of ``lemma`` in turn, then all of them, and solve again (issue 19).
 
     A premise the conclusion needs gives a counterexample when dropped; a lemma whose
@@ -364,7 +457,8 @@ def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> dict
     proves: the premises are redundant), ``"identity"`` (no premises at all: a normalisation
     identity, nothing to drop) or ``"inconclusive"`` (a solver timeout or ``unknown`` left it
     open).  ``dropped`` maps each premise to the status with it removed.  The whole check
-    shares one budget of ``timeout_s`` seconds.
+    shares one :class:`Budget`: ``budget`` (:func:`prove` passes the lemma's), else the lemma's
+    rlimit with an outer cap of ``timeout_s`` seconds.
 
     >>> v = vacuity_controls(LEMMAS["relocate_stays_in_range"])
     >>> v["verdict"], v["dropped"]["on_segment"], v["all_dropped"]
@@ -376,23 +470,23 @@ def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> dict
     if not names:
         return {"verdict": "identity", "dropped": {}, "all_dropped": None,
                 "note": "no premises: an identity, nothing to drop"}
-    deadline = time.perf_counter() + timeout_s
+    budget = budget or Budget.of(lemma.rlimit, timeout_s)
     params = tuple(lemma.solver_params)
-    dropped = {n: _solve_encoding(_without(enc, {n}), deadline, params)["status"] for n in names}
-    every = _solve_encoding(_without(enc, set(names)), deadline, params)["status"]
+    dropped = {n: _solve_encoding(_without(enc, {n}), budget, params)["status"] for n in names}
+    every = _solve_encoding(_without(enc, set(names)), budget, params)["status"]
     needed = sorted(n for n, st in dropped.items() if st == "counterexample")
     if every == "proved":
         verdict, note = "tautological", "the conclusion holds with every premise dropped"
     elif needed:
         verdict, note = "ok", "needed: " + ", ".join(needed)
     elif "inconclusive" in dropped.values() or every == "inconclusive":
-        verdict, note = "inconclusive", "a solver timeout or unknown left a drop undecided"
+        verdict, note = "inconclusive", "a spent budget, a timeout or z3 unknown left a drop undecided"
     else:
         verdict, note = "no_single_premise_needed", "each premise alone can be dropped and the lemma still holds"
     return {"verdict": verdict, "dropped": dropped, "all_dropped": every, "note": note}
 
 
-def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
+def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | None = None) -> LemmaResult:
     """Prove one lemma and refute its negative control (module docstring, steps 1-3).
 
     Parameters
@@ -400,8 +494,15 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
     lemma : Lemma
         From :data:`LEMMAS` or :data:`EXTRA_LEMMAS`, or your own.
     timeout_s : float
-        Wall-clock budget for the lemma, shared by its solver calls; the
-        control gets its own budget of the same size.
+        Outer wall-clock cap for the whole lemma (default 300 s).  The budget that decides is
+        ``rlimit``; the cap is there only for a machine far slower than expected (a cap that
+        is reached makes the lemma ``inconclusive``, reason ``timeout``).
+    rlimit : int, optional
+        z3's work budget for the whole proof: the lemma, its negative control and its vacuity
+        controls share it, counted in z3's deterministic resource units, so a loaded machine
+        gives the same verdict as an idle one (for one z3 version: the baseline's ``made_by``
+        records it).  Default: the lemma's own ``rlimit``, else :data:`DEFAULT_RLIMIT`.
+        The result's ``rlimit`` says the budget and what the proof used of it.
 
     Returns
     -------
@@ -412,19 +513,16 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
     Raises
     ------
     UsageError
-        If ``timeout_s`` is not a positive number.
+        If ``timeout_s`` is not a positive number or ``rlimit`` not a positive integer.
     """
-    timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
-    if timeout_s > 86400:
-        raise UsageError(f"timeout={timeout_s!r} seconds is over one day (z3 takes 32-bit milliseconds)",
-                         fix="give a timeout of at most 86400 seconds")
+    timeout_s = _check_timeout(timeout_s)
+    rlimit = check_rlimit(lemma.rlimit if rlimit is None else rlimit, f"for lemma {lemma.id!r}")
     _configure()
     params = tuple(lemma.solver_params)
     t0 = time.perf_counter()
-    main = _solve_encoding(lemma.build(), t0 + timeout_s, params)
-    t1 = time.perf_counter()
-    ctrl = _solve_encoding(lemma.control(), t1 + timeout_s, params)
-    seconds = time.perf_counter() - t0
+    budget = Budget.of(rlimit, timeout_s)
+    main = _solve_encoding(lemma.build(), budget, params)
+    ctrl = _solve_encoding(lemma.control(), budget, params)
     control = {"status": ctrl["status"], "counterexample": ctrl["counterexample"],
                "weakened": lemma.control_note}
     if ctrl["status"] != "counterexample":
@@ -434,7 +532,7 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
         status = "inconclusive"
         reason = (f"negative control not refuted ({control['reason']}): "
                   "the encoding may be unable to fail")
-    vac = vacuity_controls(lemma, timeout_s) if status == "proved" else {
+    vac = vacuity_controls(lemma, budget=budget) if status == "proved" else {
         "verdict": "not_run", "dropped": {}, "all_dropped": None, "note": f"the lemma is {status}"}
     if status == "proved" and vac["verdict"] not in ("ok", "identity"):
         status = "inconclusive"
@@ -445,11 +543,38 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S) -> LemmaResult:
         seconds=seconds, premises_satisfiable=main["premises_satisfiable"],
         negative_control=control, counterexample=main["counterexample"], reason=reason,
         normalisations=list(lemma.normalisations), kind=lemma.kind, vacuity=vac,
-        not_proved=list(lemma.not_proved))
+        not_proved=list(lemma.not_proved), rlimit={"budget": budget.rlimit, "used": budget.used})
+
+
+def _check_timeout(timeout_s) -> float:
+    timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
+    if timeout_s > 86400:
+        raise UsageError(f"timeout={timeout_s!r} seconds is over one day (z3 takes 32-bit milliseconds)",
+                         fix="give a timeout of at most 86400 seconds")
+    return timeout_s
+
+
+def check_rlimit(rlimit, where: str = "z3's work budget") -> int | None:
+    """``rlimit`` if it is None or an integer in 1..2**32-1 (z3 takes an unsigned 32-bit count),
+    else a :class:`UsageError` naming ``where``.
+
+    >>> check_rlimit(5_000_000), check_rlimit(None)
+    (5000000, None)
+    >>> check_rlimit(0)
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: rlimit=0 (z3's work budget) must be an integer from 1 to 4294967295 (z3's resource units); fix: give a positive integer, e.g. 200000000 (the default)
+    """
+    if rlimit is None:
+        return None
+    if isinstance(rlimit, bool) or not isinstance(rlimit, (int, np.integer)) or not 1 <= rlimit <= MAX_RLIMIT:
+        raise UsageError(f"rlimit={rlimit!r} ({where}) must be an integer from 1 to {MAX_RLIMIT} "
+                         "(z3's resource units)", fix=f"give a positive integer, e.g. {DEFAULT_RLIMIT} (the default)")
+    return int(rlimit)
 
 
 def run_suite(ids: Iterable[str] | None = None,
-              timeout_s: float = DEFAULT_TIMEOUT_S) -> list:
+              timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | None = None) -> list:
     """Prove the named lemmas (all of :data:`LEMMAS` when ``ids`` is None).
 
     This is what ``swarmproof prove`` and ``swarmproof verify`` call.
@@ -457,16 +582,19 @@ def run_suite(ids: Iterable[str] | None = None,
     Raises
     ------
     UsageError
-        Unknown lemma id or a non-positive timeout.
+        Unknown lemma id, a non-positive timeout or a bad ``rlimit`` (which, when given,
+        replaces every lemma's own budget).
     """
-    check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
-    return [prove(lem, timeout_s) for lem in lookup(ids)]
+    _check_timeout(timeout_s)
+    check_rlimit(rlimit)
+    return [prove(lem, timeout_s, rlimit=rlimit) for lem in lookup(ids)]
 
 
 # ------------------------------------- direct confirmation on small trees
 
-def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0, *, symmetry: bool = True,
-                  bounded_range: str = "phi_minus_vdt", lemma: str = "spanning_tree_kept") -> dict:
+def confirm_trees(max_robots: int = 5, timeout_s: float = 60.0, *, symmetry: bool = True,
+                  bounded_range: str = "phi_minus_vdt", lemma: str = "spanning_tree_kept",
+                  rlimit: int = CASE_RLIMIT) -> dict:
     """Confirm ``spanning_tree_kept`` with z3 directly on every tree shape of
     2..``max_robots`` robots, every root and every subset of moving robots.
 
@@ -480,8 +608,11 @@ def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0, *, symmetry: bool
     max_robots : int
         Largest tree (at least 2).
     timeout_s : float
-        Wall-clock budget per case (per class with ``symmetry``); a case that
-        runs out is ``inconclusive``, never counted as confirmed.
+        Outer wall-clock cap per case (per class with ``symmetry``); a case that
+        reaches it is ``inconclusive``, never counted as confirmed.
+    rlimit : int
+        z3's work budget per case (per class), in its deterministic resource units: the
+        budget that decides (:func:`prove`); a case that spends it is ``inconclusive``.
     symmetry : bool
         Solve one representative per isomorphism class (the family's key, e.g. ``rooted_shape``)
         and give every case of the class its answer; ``False`` solves every case.
@@ -510,16 +641,17 @@ def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0, *, symmetry: bool
 
     Examples
     --------
-    >>> out = confirm_trees(2, timeout_s=5)
+    >>> out = confirm_trees(2)
     >>> out["counts"], out["cases"], out["classes"]
     ({'proved': 8, 'counterexample': 0, 'inconclusive': 0}, 8, 4)
-    >>> confirm_trees(2, timeout_s=5, bounded_range="phi")["counts"]
+    >>> confirm_trees(2, bounded_range="phi")["counts"]
     {'proved': 6, 'counterexample': 2, 'inconclusive': 0}
     """
     if isinstance(max_robots, bool) or not isinstance(max_robots, int) or max_robots < 2:
         raise UsageError(f"max_robots={max_robots!r} must be an integer >= 2",
                          fix="give the largest tree size, for example 5")
-    timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
+    timeout_s = _check_timeout(timeout_s)
+    rlimit = check_rlimit(rlimit)
     families = case_families()
     if lemma not in families:
         raise UsageError(f"lemma={lemma!r} has no case family", fix=f"use one of {sorted(families)}")
@@ -537,8 +669,8 @@ def confirm_trees(max_robots: int = 5, timeout_s: float = 2.0, *, symmetry: bool
         edges = sorted(tree.edges())
         key = family.key(case) if symmetry else (n, tuple(edges), root, moving)
         if key not in solved:
-            r = _solve_encoding(family.encode(case, bounded_range),
-                                time.perf_counter() + timeout_s, family.solver_params)
+            r = _solve_encoding(family.encode(case, bounded_range), Budget.of(rlimit, timeout_s),
+                                family.solver_params)
             solved[key] = (r["status"], r["reason"])
             class_counts[r["status"]] += 1
         status, reason = solved[key]
@@ -557,7 +689,7 @@ def _q(x) -> z3.ArithRef:
 
 
 def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
-                        timeout_s: float = 2.0) -> tuple:
+                        timeout_s: float = 60.0) -> tuple:
     """Check one output of ``nearest_point_in_disc_intersection`` with z3.
 
     Exact rational arithmetic on the kernel's float inputs and output: the
@@ -583,18 +715,25 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     x = _pt("x")
     C1, C2, T = (_q(c1[0]), _q(c1[1])), (_q(c2[0]), _q(c2[1])), (_q(target[0]), _q(target[1]))
     R1, R2 = _q(r1), _q(r2)
-    ms = max(1, int(timeout_s * 1000))
+
+    def solve(*terms) -> tuple:
+        session = _Session(Budget.of(CASE_RLIMIT, timeout_s), ())
+        res, model, why = session.check([(f"c{k}", t) for k, t in enumerate(terms)], None)
+        if res is None:
+            return "inconclusive", _not_checked(why), None
+        if res == z3.sat:
+            return "sat", "", model_to_numbers(model, [session.term(v) for v in x])
+        return ("unsat", "", None) if res == z3.unsat else ("inconclusive", why, None)
+
     if q is None:
         if min(float(r1), float(r2)) < tol:
             return "inconclusive", "kernel returned None and a radius is below the tolerance"
-        s = _solver(ms)
-        s.add(dist2(x, C1) <= (R1 - tol) * (R1 - tol), dist2(x, C2) <= (R2 - tol) * (R2 - tol))
-        res = check_interruptibly(s)
-        if res == z3.unsat:
+        res, why, point = solve(dist2(x, C1) <= (R1 - tol) * (R1 - tol), dist2(x, C2) <= (R2 - tol) * (R2 - tol))
+        if res == "unsat":
             return "confirmed", "empty intersection confirmed"
-        if res == z3.sat:
-            return "refuted", f"kernel returned None but {model_to_numbers(s.model(), x)} is in both discs"
-        return "inconclusive", s.reason_unknown()
+        if res == "sat":
+            return "refuted", f"kernel returned None but {point} is in both discs"
+        return "inconclusive", why
     Q = (_q(q[0]), _q(q[1]))
     for name, C, R in (("first", C1, R1), ("second", C2, R2)):
         if not z3.is_true(z3.simplify(dist2(Q, C) <= (R + tol) * (R + tol))):
@@ -602,12 +741,9 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     dq = float(np.hypot(float(q[0]) - float(target[0]), float(q[1]) - float(target[1])))
     if dq <= tol:
         return "confirmed", "output is the target"
-    s = _solver(ms)
-    s.add(dist2(x, C1) <= R1 * R1, dist2(x, C2) <= R2 * R2,
-          dist2(x, T) < _q((dq - tol) ** 2))
-    res = check_interruptibly(s)
-    if res == z3.unsat:
+    res, why, point = solve(dist2(x, C1) <= R1 * R1, dist2(x, C2) <= R2 * R2, dist2(x, T) < _q((dq - tol) ** 2))
+    if res == "unsat":
         return "confirmed", "no point of the region nearer the target"
-    if res == z3.sat:
-        return "refuted", f"{model_to_numbers(s.model(), x)} is in the region and nearer the target"
-    return "inconclusive", s.reason_unknown()
+    if res == "sat":
+        return "refuted", f"{point} is in the region and nearer the target"
+    return "inconclusive", why

@@ -78,6 +78,10 @@ class Lemma:
     kind: str = "auxiliary"
     #: what the lemma does *not* cover that a reader could take it to (issue 19)
     not_proved: tuple = ()
+    #: z3's work budget for the whole proof (the lemma, its negative control and its vacuity
+    #: controls share it), in z3's deterministic resource units (``rlimit``); None: the prover's
+    #: default.  A budget, unlike a wall-clock timeout, gives the same verdict on a loaded machine.
+    rlimit: int | None = None
 
 
 # ------------------------------------------------------- vector helpers

@@ -1,11 +1,13 @@
-"""The versions a result was made with: swarmproof, Python and numpy.
+"""The versions a result was made with: swarmproof, Python, numpy and z3.
 
 Baselines and counterexample files record them (DESIGN.md section 5,
 "Baselines"), so that a verdict that changes between two machines can be
-traced to a changed library rather than a changed algorithm.
+traced to a changed library rather than a changed algorithm.  z3 is recorded because the
+proofs' budgets are counted in z3's resource units (``rlimit``), which change between z3
+releases (docs/proofs.md "Budgets").
 
 >>> sorted(tool_versions())
-['numpy', 'python', 'swarmproof']
+['numpy', 'python', 'swarmproof', 'z3']
 """
 
 from __future__ import annotations
@@ -22,7 +24,8 @@ DEFAULT_READING = "1"
 
 
 def tool_versions() -> dict[str, str]:
-    """``{"swarmproof": ..., "python": ..., "numpy": ...}`` of this process."""
+    """``{"swarmproof": ..., "python": ..., "numpy": ..., "z3": ...}`` of this process (z3: the
+    installed z3-solver distribution's version, read without importing z3)."""
     import numpy
 
     try:
@@ -34,4 +37,16 @@ def tool_versions() -> dict[str, str]:
             own = "unknown"
     except ImportError:  # pragma: no cover
         own = "unknown"
-    return {"swarmproof": own, "python": platform.python_version(), "numpy": numpy.__version__}
+    return {"swarmproof": own, "python": platform.python_version(), "numpy": numpy.__version__,
+            "z3": _distribution("z3-solver")}
+
+
+def _distribution(name: str) -> str:
+    try:
+        from importlib.metadata import PackageNotFoundError, version
+    except ImportError:  # pragma: no cover
+        return "unknown"
+    try:
+        return version(name)
+    except PackageNotFoundError:  # pragma: no cover - z3-solver is a dependency
+        return "unknown"

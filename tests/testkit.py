@@ -109,7 +109,8 @@ _PROVED: dict = {}
 
 #: The wall-clock ceiling of a proof made for the tests (``proved``): a ceiling that a loaded
 #: machine cannot reach, never the thing checked (tests/README.md).  wang2020's separation lemma
-#: takes 7.5 s of its 10 s on an idle machine here, and timed out (inconclusive) at load 5.
+#: took 7.5 s of the old 10 s timeout on an idle machine here, and timed out (inconclusive) at
+#: load 5; z3's rlimit budget decides now (docs/proofs.md "Budgets"), the ceiling stays an outer cap.
 PROOF_CEILING_S = 120.0
 
 

@@ -43,7 +43,7 @@ broadcast period ``1/f_comm = 1`` and the moment of the change ``t* = 0``
 Examples
 --------
 >>> from swarmproof.checkers.proofs import prove
->>> r = prove(LEMMAS["wang2020_lemma_iv_a_1"], timeout_s=10)
+>>> r = prove(LEMMAS["wang2020_lemma_iv_a_1"])
 >>> r.status, r.kind, r.negative_control["status"]
 ('proved', 'paper lemma', 'counterexample')
 

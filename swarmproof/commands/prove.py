@@ -1,4 +1,4 @@
-"""``swarmproof prove [LEMMA ...] [--json] [--timeout S]``: the z3 proof suite.
+"""``swarmproof prove [LEMMA ...] [--json] [--rlimit N] [--timeout S]``: the z3 proof suite.
 
 Runs :func:`swarmproof.checkers.proofs.run_suite` (docs/proofs.md).  Every
 lemma is proved by asserting its negation (``unsat``), its premises are shown
@@ -7,8 +7,12 @@ with a concrete counterexample.
 
 Exit codes (DESIGN.md section 2): 0 every requested lemma proved, 1 a
 counterexample, 2 an unknown lemma id or a non-positive timeout, 3
-inconclusive (z3 ``unknown``, a timeout, vacuous premises, or a negative
+inconclusive (z3 ``unknown``, a spent budget, vacuous premises, or a negative
 control that was not refuted).
+
+z3's work is budgeted in its deterministic resource units (``rlimit``, per lemma), not in
+seconds, so a loaded machine gives the same verdicts as an idle one; ``--timeout`` is only an
+outer wall-clock cap (docs/proofs.md "Budgets").
 """
 
 from __future__ import annotations
@@ -41,13 +45,30 @@ def _timeout(text: str) -> float:
     return x
 
 
+def _rlimit(text: str) -> int:
+    from swarmproof.checkers.proofs import DEFAULT_RLIMIT, MAX_RLIMIT
+
+    try:
+        x = int(text.replace("_", ""))
+    except ValueError:
+        x = None
+    if x is None or not 1 <= x <= MAX_RLIMIT:
+        raise argparse.ArgumentTypeError(f"--rlimit={text!r} must be an integer from 1 to {MAX_RLIMIT} "
+                                         f"(z3's resource units; e.g. {DEFAULT_RLIMIT}, the default)")
+    return x
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("lemmas", nargs="*", metavar="LEMMA",
                         help="lemma ids to prove (default: the whole suite)")
     parser.add_argument("--json", action="store_true",
                         help="print one JSON document on stdout and nothing else there")
+    parser.add_argument("--rlimit", type=_rlimit, default=None, metavar="N",
+                        help="z3's work budget per lemma in its deterministic resource units, for "
+                             "every lemma named (default: each lemma's own, else 200000000)")
     parser.add_argument("--timeout", type=_timeout, default=None, metavar="S",
-                        help="wall-clock budget per lemma in seconds (default 10)")
+                        help="outer wall-clock cap per lemma in seconds (default 300); the rlimit "
+                             "budget decides, the cap only stops a machine far slower than expected")
 
 
 def status_exit_code(statuses) -> int:
@@ -68,10 +89,12 @@ def status_exit_code(statuses) -> int:
 def format_human(results) -> list:
     """The human report: a table id / status / seconds / cites, a summary line,
     then each counterexample as numbers and each inconclusive reason."""
-    lines = [f"{'lemma':<36} {'status':<15} {'kind':<12} {'vacuity':<14} {'seconds':>8}  cites"]
+    lines = [f"{'lemma':<36} {'status':<15} {'kind':<12} {'vacuity':<14} {'seconds':>8} {'rlimit used':>12}  cites"]
     for r in results:
         vac = (r.vacuity or {}).get("verdict", "")
-        lines.append(f"{r.id:<36} {r.status:<15} {r.kind:<12} {vac:<14} {r.seconds:>8.3f}  {'; '.join(r.cites)}")
+        used = _used(r.rlimit)
+        lines.append(f"{r.id:<36} {r.status:<15} {r.kind:<12} {vac:<14} {r.seconds:>8.3f} {used:>12}  "
+                     f"{'; '.join(r.cites)}")
     counts = {k: sum(r.status == k for r in results)
               for k in ("proved", "counterexample", "inconclusive")}
     lines.append(f"{len(results)} lemmas: {counts['proved']} proved, "
@@ -88,14 +111,21 @@ def format_human(results) -> list:
     return lines
 
 
+def _used(rlimit: dict) -> str:
+    """``used/budget`` as a share: ``"12%"``, or ``""`` when nothing was recorded."""
+    if not rlimit or not rlimit.get("budget"):
+        return ""
+    return f"{100 * rlimit['used'] / rlimit['budget']:.0f}%"
+
+
 def run(args) -> int:
     from swarmproof.checkers.proofs import DEFAULT_TIMEOUT_S, run_suite
     from swarmproof.commands import emit_json, human
 
     timeout = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
-    results = run_suite(args.lemmas or None, timeout_s=timeout)
+    results = run_suite(args.lemmas or None, timeout_s=timeout, rlimit=args.rlimit)
     if args.json:
-        emit_json({"lemmas": [r.to_dict() for r in results], "timeout": timeout})
+        emit_json({"lemmas": [r.to_dict() for r in results], "timeout": timeout, "rlimit": args.rlimit})
     else:
         human(args, *format_human(results))
     return status_exit_code(r.status for r in results)

@@ -104,7 +104,7 @@ def test_round_trip_is_byte_identical(tmp_path):
     Baseline.load(p1).save(p2)
     assert p1.read_bytes() == p2.read_bytes()
     doc = json.loads(p1.read_text())
-    assert doc["format"] == BASELINE_FORMAT and set(doc["made_by"]) == {"swarmproof", "python", "numpy"}
+    assert doc["format"] == BASELINE_FORMAT and set(doc["made_by"]) == {"swarmproof", "python", "numpy", "z3"}
     assert [r["property"] for r in doc["rows"]] == ["a", "b", "c"]
     assert doc["rows"][1]["signature"]["kind"] == "the link child # -> parent # broke"
 

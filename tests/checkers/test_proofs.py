@@ -4,6 +4,7 @@ and unknown lemmas are never reported proved."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -107,7 +108,7 @@ def test_suite_json_is_deterministic_except_timings():
 def test_wrong_lemma_is_a_counterexample_with_numbers():
     # A real finding: strict neighbours (docs/decisions.md) + the closed bounded range of Def. 8.
     lem = EXTRA_LEMMAS["bounded_range_strict_closed"]
-    r = prove(lem, timeout_s=10)
+    r = prove(lem)
     assert r.status == "counterexample"
     assert r.counterexample == {"s": 0.5, "p_i_0_x": 0.0, "p_i_0_y": 0.0, "p_i_1_x": 0.0,
                                 "p_i_1_y": -0.5, "p_p_1_x": 0.0, "p_p_1_y": 0.5}
@@ -119,7 +120,7 @@ def test_partial_progress_finding_is_a_counterexample_with_numbers():
     # 000 Sec. IV-C assumes the intermediate goal is reached; a robot stopped short of it (the
     # engine's turn-then-drive, docs/decisions.md) can end outside the parent's bounded range.
     lem = EXTRA_LEMMAS["intermediate_goal_partial_progress"]
-    r = prove(lem, timeout_s=20)
+    r = prove(lem)
     assert r.status == "counterexample"
     assert r.counterexample == {"s": 0.5, "l": 0.0, "p_i_0_x": 0.75, "p_i_0_y": 0.0,
                                 "g_x": 0.375, "g_y": 0.0}
@@ -137,7 +138,7 @@ def test_vacuous_lemma_is_inconclusive():
     x = z3.Real("x")
     lem = _lemma(lambda: Encoding(premises=[("pos", x > 1), ("neg", x < 0)],
                                   conclusion=x == 42, variables=[x]))
-    r = prove(lem, timeout_s=5)
+    r = prove(lem)
     assert r.status == "inconclusive"
     assert r.premises_satisfiable is False
     assert "vacuous" in r.reason
@@ -147,7 +148,7 @@ def test_vacuous_case_of_a_split_lemma_is_inconclusive():
     x = z3.Real("x")
     lem = _lemma(lambda: Encoding(premises=[("pos", x > 1)], conclusion=x > 0, variables=[x],
                                   cases=[("ok", [("big", x > 2)]), ("empty", [("neg", x < 0)])]))
-    r = prove(lem, timeout_s=5)
+    r = prove(lem)
     assert (r.status, r.premises_satisfiable) == ("inconclusive", False)
     assert "case empty" in r.reason
 
@@ -165,14 +166,14 @@ def test_unknown_that_is_not_a_timeout_is_inconclusive():
     lem = _lemma(lambda: Encoding(premises=[("disc", x * x + y * y <= 1)],
                                   conclusion=x * y <= 1, variables=[x, y]),
                  params=(("rlimit", 1),))
-    r = prove(lem, timeout_s=5)
+    r = prove(lem)
     assert r.status == "inconclusive"
     assert "unknown" in r.reason and "resource" in r.reason
 
 
 def test_control_that_also_proves_makes_the_lemma_inconclusive():
     lem = _lemma(song_lemmas.relocate_stays_in_range, control=song_lemmas.relocate_stays_in_range)
-    r = prove(lem, timeout_s=10)
+    r = prove(lem)
     assert r.status == "inconclusive"
     assert r.reason.startswith("negative control not refuted")
     assert r.negative_control["status"] == "proved"
@@ -193,12 +194,12 @@ def test_bad_timeout_is_a_usage_error(timeout):
 
 def test_spanning_tree_confirmed_directly_on_small_trees():
     # Direct z3 statements on whole trees (no per-link lemma): every case up to 3 robots proved,
-    # with and without the symmetry reduction.  A generous per-case timeout (each case takes
-    # well under 0.5 s of CPU) so that a loaded machine cannot turn a proof into a timeout.
-    full = proofs.confirm_trees(max_robots=3, timeout_s=10, symmetry=False)
+    # with and without the symmetry reduction.  Each case's budget is z3's rlimit (each case uses
+    # well under a tenth of it), so a loaded machine cannot turn a proof into a timeout.
+    full = proofs.confirm_trees(max_robots=3, symmetry=False)
     assert full["counts"] == {"proved": 32, "counterexample": 0, "inconclusive": 0}
     assert (full["cases"], full["classes"], full["not_proved"]) == (32, 32, [])  # 2x4 + 3x8
-    reduced = proofs.confirm_trees(max_robots=3, timeout_s=10)
+    reduced = proofs.confirm_trees(max_robots=3)
     assert reduced["counts"] == full["counts"]
     assert (reduced["cases"], reduced["classes"]) == (32, 18)
     assert reduced["class_counts"] == {"proved": 18, "counterexample": 0, "inconclusive": 0}
@@ -206,7 +207,7 @@ def test_spanning_tree_confirmed_directly_on_small_trees():
 
 def test_tree_confirmation_control_is_refuted_and_timeouts_stay_inconclusive():
     # NCLB with radius phi: exactly the cases where a moving parent has a moving child fail.
-    ctrl = proofs.confirm_trees(max_robots=3, timeout_s=10, bounded_range="phi")
+    ctrl = proofs.confirm_trees(max_robots=3, bounded_range="phi")
     bad = {(tuple(map(tuple, e)), r, tuple(m)) for _, e, r, m, st, _ in ctrl["not_proved"]}
     import networkx as nx
     expected = set()
@@ -216,10 +217,13 @@ def test_tree_confirmation_control_is_refuted_and_timeouts_stay_inconclusive():
             expected.add((tuple(sorted(tree.edges())), root, tuple(sorted(moving))))
     assert bad == expected and len(expected) == 2 + 9
     assert {st for *_, st, _ in ctrl["not_proved"]} == {"counterexample"}
-    # A budget far too small: inconclusive, never counted as proved.
+    # A budget far too small, in seconds or in z3's units: inconclusive, never counted as proved.
     tiny = proofs.confirm_trees(max_robots=3, timeout_s=1e-6)
     assert tiny["counts"]["proved"] == 0 and tiny["counts"]["inconclusive"] == 32
     assert all(why.startswith("timeout") or "unknown" in why for *_, why in tiny["not_proved"])
+    spent = proofs.confirm_trees(max_robots=3, rlimit=1)
+    assert spent["counts"]["proved"] == 0 and spent["counts"]["inconclusive"] == 32
+    assert all("rlimit" in why for *_, why in spent["not_proved"]), spent["not_proved"][:2]
 
 
 @pytest.mark.parametrize("kwargs, message", [
@@ -236,7 +240,7 @@ def test_confirm_trees_bad_input(kwargs, message):
 @pytest.mark.slow
 def test_spanning_tree_confirmed_directly_up_to_five_robots():
     # Every tree shape of 2..5 robots x root x moving subset (640 cases, 284 classes).
-    out = proofs.confirm_trees(max_robots=5, timeout_s=10.0)
+    out = proofs.confirm_trees(max_robots=5)
     assert out["counts"] == {"proved": 640, "counterexample": 0, "inconclusive": 0}, \
         out["not_proved"]
     assert (out["cases"], out["classes"]) == (640, 284)
@@ -310,7 +314,7 @@ def test_tautological_lemma_is_inconclusive_never_proved():
     intermediate_goal_in_region repeated two of its premises in its conclusion."""
     x = z3.Real("x")
     lem = _lemma(lambda: Encoding(premises=[("pos", x > 1)], conclusion=z3.Or(x > 1, x <= 1), variables=[x]))
-    r = prove(lem, timeout_s=5)
+    r = prove(lem)
     assert r.status == "inconclusive" and r.vacuity["verdict"] == "tautological"
     assert r.reason.startswith("vacuity control tautological")
 
@@ -319,14 +323,14 @@ def test_a_conclusion_that_repeats_a_premise_has_that_premise_and_no_other_neede
     x, y = z3.Reals("x y")
     lem = _lemma(lambda: Encoding(premises=[("small", x < 1), ("other", y > 0)], conclusion=x < 1,
                                   variables=[x, y]))
-    v = proofs.vacuity_controls(lem, 5)
+    v = proofs.vacuity_controls(lem)
     assert v["verdict"] == "ok" and v["dropped"] == {"small": "counterexample", "other": "proved"}
 
 
 def test_redundant_premises_alone_are_not_needed_and_that_is_not_a_pass():
     x = z3.Real("x")
     lem = _lemma(lambda: Encoding(premises=[("a", x > 2), ("b", x > 3)], conclusion=x > 0, variables=[x]))
-    r = prove(lem, timeout_s=5)
+    r = prove(lem)
     assert r.vacuity["verdict"] == "no_single_premise_needed" and r.status == "inconclusive"
 
 
@@ -349,3 +353,48 @@ def test_intermediate_goal_in_region_repeats_no_premise():
     names = [n for n, _ in enc.premises]
     assert names == ["step_below_range", "neighbours_at_t"]
     assert [n for n, _ in enc.parts] == ["witness_in_P_i", "witness_in_P_p"]
+
+
+# ------------------------------------------------ issue 32: budgets in z3's units, not seconds
+
+def _no_time(r) -> dict:
+    return {k: v for k, v in r.to_dict().items() if k != "seconds"}
+
+
+def test_a_lemma_proves_the_same_whatever_was_proved_before():
+    """Each encoding is solved in a fresh z3 context: before, term ids left in z3's main context
+    by earlier lemmas changed the models of later ones (``prove wang2020_lemma_iv_a_1`` alone and
+    after other lemmas gave different negative-control counterexamples, and budgets)."""
+    lem = LEMMAS["wang2020_lemma_iv_a_1"]
+    first = _no_time(prove(lem))
+    prove(LEMMAS["wang2020_planner_edge_one_moment"])
+    prove(LEMMAS["scale_invariance"])
+    again = _no_time(prove(lem))
+    assert again == first
+    assert first["rlimit"]["budget"] == proofs.DEFAULT_RLIMIT and 0 < first["rlimit"]["used"] < 10**6
+
+
+def test_spent_budget_is_inconclusive_the_same_on_any_machine():
+    """An rlimit budget, unlike a wall-clock timeout, is spent at the same point of z3's work
+    whatever the load: the same verdict, reason and count twice over."""
+    a = prove(LEMMAS["bounded_range"], rlimit=300_000)
+    b = prove(LEMMAS["bounded_range"], rlimit=300_000)
+    assert a.status == "inconclusive" and "z3's budget of rlimit=300000 was spent" in a.reason
+    assert _no_time(a) == _no_time(b) and a.rlimit["used"] >= 300_000
+    full = prove(LEMMAS["bounded_range"])  # the default budget proves it
+    assert full.status == "proved" and full.rlimit["used"] < proofs.DEFAULT_RLIMIT // 10
+
+
+def test_a_lemma_declares_its_own_budget():
+    assert EXTRA_LEMMAS["nclb_three_children_direct"].rlimit == 20_000_000
+    lem = _lemma(LEMMAS["relocate_stays_in_range"].build)
+    small = dataclasses.replace(lem, rlimit=10)
+    r = prove(small)
+    assert r.status == "inconclusive" and r.rlimit["budget"] == 10 and "rlimit" in r.reason
+    assert prove(small, rlimit=proofs.DEFAULT_RLIMIT).status == "proved"  # the caller's wins
+
+
+@pytest.mark.parametrize("rlimit", [0, -5, 2**32, 1.5, True, "many"])
+def test_bad_rlimit_is_a_usage_error(rlimit):
+    with pytest.raises(UsageError, match=r"rlimit=.* must be an integer from 1 to 4294967295"):
+        prove(LEMMAS["translation_invariance"], rlimit=rlimit)

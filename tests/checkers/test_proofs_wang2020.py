@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -85,8 +84,7 @@ def test_ignoring_priority_sends_two_agents_to_one_waypoint():
 
 
 def test_optimistic_planner_swaps_along_an_edge():
-    ctrl = proofs._solve_encoding(w.planner_one_moment(rule="optimistic", conclusion="edge"),
-                                  time.perf_counter() + 10, (("solver", "smt"),))
+    ctrl = proofs.solve(w.planner_one_moment(rule="optimistic", conclusion="edge"), (("solver", "smt"),))
     assert ctrl["status"] == "counterexample" and "no_swap_along_an_edge" in ctrl["reason"]
 
 
@@ -95,9 +93,10 @@ def test_timing_control_counterexample_breaks_only_the_weakened_window(build):
     # The model itself, exactly (its thirds do not survive a round trip through floats).
     window = 1 if build is w.lemma_iv_a_1 else 0.5
     weak = build(window)
-    res, model, _ = proofs._check(weak.premises, weak.conclusion, time.perf_counter() + 10, (("solver", "smt"),))
+    session = proofs._Session(proofs.Budget.of(None, 60), (("solver", "smt"),))
+    res, model, _ = session.check(weak.premises, weak.conclusion)
     assert res == z3.sat
-    holds = lambda t: z3.is_true(model.eval(t, model_completion=True))  # noqa: E731
+    holds = lambda t: z3.is_true(model.eval(session.term(t), model_completion=True))  # noqa: E731
     assert all(holds(t) for _, t in weak.premises) and not holds(weak.conclusion)
     # the paper's window Delta t = 2/f_comm excludes it: some premise fails, and it is a window premise
     failing = [n for n, t in build().premises if not holds(t)]
@@ -105,12 +104,11 @@ def test_timing_control_counterexample_breaks_only_the_weakened_window(build):
 
 
 def test_lemma_iv_a_1_needs_two_periods_theorem_iv_a_2_one():
-    deadline = lambda: time.perf_counter() + 10  # noqa: E731
     smt = (("solver", "smt"),)
-    assert proofs._solve_encoding(w.lemma_iv_a_1(1), deadline(), smt)["status"] == "counterexample"
-    assert proofs._solve_encoding(w.lemma_iv_a_1(2), deadline(), smt)["status"] == "proved"
-    assert proofs._solve_encoding(w.theorem_iv_a_2(1), deadline(), smt)["status"] == "proved"
-    assert proofs._solve_encoding(w.theorem_iv_a_2(0.5), deadline(), smt)["status"] == "counterexample"
+    assert proofs.solve(w.lemma_iv_a_1(1), smt)["status"] == "counterexample"
+    assert proofs.solve(w.lemma_iv_a_1(2), smt)["status"] == "proved"
+    assert proofs.solve(w.theorem_iv_a_2(1), smt)["status"] == "proved"
+    assert proofs.solve(w.theorem_iv_a_2(0.5), smt)["status"] == "counterexample"
 
 
 @pytest.mark.xdist_group("z3-suite")
@@ -176,7 +174,7 @@ def test_separation_with_speeds_at_equal_speeds_is_the_equal_speed_lemma():
     then v_max."""
     ctrl = w.separation_speeds(0.99 ** 2)
     ctrl.premises.append(("equal_speeds", z3.Real("rho") == 1))
-    out = proofs._solve_encoding(ctrl, time.perf_counter() + 20, ())
+    out = proofs.solve(ctrl)
     cex = out["counterexample"]
     assert out["status"] == "counterexample" and cex["rho"] == cex["w_i"] == cex["w_j"] == 1
     assert 1 / (2 * math.sqrt(2)) < cex["r"]

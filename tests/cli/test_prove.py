@@ -59,9 +59,10 @@ def test_human_table_exact_lines(capsys):
     code, out, _ = run(capsys, "bounded_range", "relocate_stays_in_range")
     lines = out.splitlines()
     assert code == 0
-    assert lines[0] == "lemma                                status          kind         vacuity         seconds  cites"
-    row = re.sub(r" +\d+\.\d{3}  ", "  <s>  ", lines[1])
-    assert row == ("bounded_range                        proved          paper lemma  ok  <s>  "
+    assert lines[0] == ("lemma                                status          kind         vacuity         seconds "
+                        " rlimit used  cites")
+    row = re.sub(r" +\d+\.\d{3} ", "  <s> ", lines[1])
+    assert row == ("bounded_range                        proved          paper lemma  ok  <s>           2%  "
                    "Song & O'Kane 2014, Lemma 7, Eqs. 5-7; Song & O'Kane 2016, Lemma 7")   # readable, no seed file
     assert lines[2].startswith("relocate_stays_in_range              proved          auxiliary    ok ")
     assert lines[3] == "2 lemmas: 2 proved, 0 counterexample, 0 inconclusive"
@@ -87,12 +88,21 @@ def test_wrong_lemma_prints_counterexample_as_numbers_exit_1(capsys):
 
 
 def test_counterexample_beats_inconclusive_for_the_exit_code(capsys):
-    code, _, _ = run(capsys, "bounded_range_strict_closed", "nclb_three_children_direct",
-                     "--timeout", "0.3")
-    assert code == 1
+    # z3's work budget, not seconds: bounded_range_strict_closed's counterexample takes about
+    # 4e5 units, nclb_three_children_direct spends 2e6 without an answer, on any machine load
+    # (a 0.3 s timeout here could also cut the counterexample short on a loaded machine)
+    code, out, _ = run(capsys, "bounded_range_strict_closed", "nclb_three_children_direct",
+                       "--rlimit", "2_000_000", "--json")
+    doc = json.loads(out)
+    assert code == 1 and [d["status"] for d in doc["lemmas"]] == ["counterexample", "inconclusive"]
+    assert doc["rlimit"] == 2_000_000 and doc["timeout"] == 300.0
+    spent = doc["lemmas"][1]
+    assert "z3's budget of rlimit=2000000 was spent" in spent["reason"]
+    assert spent["rlimit"]["budget"] == 2_000_000 and spent["rlimit"]["used"] >= 2_000_000
 
 
 def test_timeout_exit_3(capsys):
+    # the outer wall-clock cap still stops a lemma (exit 3), whatever its rlimit budget
     code, out, _ = run(capsys, "nclb_three_children_direct", "--timeout", "0.3", "--json")
     d = json.loads(out)["lemmas"][0]
     assert code == 3 and d["status"] == "inconclusive" and "timeout" in d["reason"]
@@ -117,7 +127,11 @@ def test_vacuous_lemma_exit_3(capsys, monkeypatch):
     (["--timeout", "0"], r"--timeout='0' must be > 0"),
     (["--timeout", "-2"], r"--timeout='-2' must be > 0"),
     (["--timeout", "inf"], r"--timeout='inf' must be > 0 and at most 86400"),
-], ids=["unknown-id", "zero-timeout", "negative-timeout", "infinite-timeout"])
+    (["--rlimit", "0"], r"--rlimit='0' must be an integer from 1 to 4294967295 \(z3's resource units"),
+    (["--rlimit", "1e6"], r"--rlimit='1e6' must be an integer from 1"),
+    (["--rlimit", "4294967296"], r"--rlimit='4294967296' must be an integer from 1 to 4294967295"),
+], ids=["unknown-id", "zero-timeout", "negative-timeout", "infinite-timeout", "zero-rlimit",
+        "float-rlimit", "huge-rlimit"])
 def test_usage_errors_exit_2(capsys, argv, message):
     code, out, err = run(capsys, *argv)
     assert code == 2 and out == ""

@@ -38,9 +38,9 @@ def test_lemma_section_json_every_lemma_proved_exit_0(capsys, monkeypatch):
 
     # the lemmas' z3 proofs are those of the per-lemma test (tests/checkers/test_proofs.py),
     # run once per worker: this test judges what verify makes of them
-    assert proofs_mod.DEFAULT_TIMEOUT_S == 10.0
-    monkeypatch.setattr(proofs_mod, "run_suite",
-                        lambda ids=None, timeout_s=10.0: [proved(lem, timeout_s) for lem in proofs_mod.lookup(ids)])
+    assert proofs_mod.DEFAULT_TIMEOUT_S == 300.0
+    monkeypatch.setattr(proofs_mod, "run_suite", lambda ids=None, timeout_s=300.0, rlimit=None: [
+        proved(lem, timeout_s) for lem in proofs_mod.lookup(ids)])
     code, out, err = run(capsys, "--section", "lemmas", "--json")
     doc = json.loads(out)
     assert code == 0 and err == ""

@@ -111,7 +111,7 @@ def test_shipped_baseline_is_current_and_records_versions():
     doc = json.load(open(SHIPPED, encoding="utf-8"))
     assert doc["format"] == "swarmproof-baseline/1"
     assert doc["gate"] == {"max_examples": 300, "robots": [3, 8], "seed": 0}
-    assert set(doc["made_by"]) == {"swarmproof", "python", "numpy"}
+    assert set(doc["made_by"]) == {"swarmproof", "python", "numpy", "z3"}
     rows = {(r["section"], r["subject"], r["property"]): r for r in doc["rows"]}
     # the known findings the gate stays green on, each with its citation and signature
     assert rows[("exploration", "song2014 n=3..8", "tree_links")]["verdict"] == "violated"
