@@ -55,7 +55,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Iterable, Sequence
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 import z3
@@ -574,7 +574,8 @@ def check_rlimit(rlimit, where: str = "z3's work budget") -> int | None:
 
 
 def run_suite(ids: Iterable[str] | None = None,
-              timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | None = None) -> list:
+              timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | None = None,
+              progress: Callable[[str], None] | None = None) -> list:
     """Prove the named lemmas (all of :data:`LEMMAS` when ``ids`` is None).
 
     This is what ``swarmproof prove`` and ``swarmproof verify`` call.
@@ -584,10 +585,19 @@ def run_suite(ids: Iterable[str] | None = None,
     UsageError
         Unknown lemma id, a non-positive timeout or a bad ``rlimit`` (which, when given,
         replaces every lemma's own budget).
+
+    ``progress``, if given, is called with ``"k/N lemma_id"`` before each lemma (``swarmproof
+    prove`` shows it on a terminal).
     """
     _check_timeout(timeout_s)
     check_rlimit(rlimit)
-    return [prove(lem, timeout_s, rlimit=rlimit) for lem in lookup(ids)]
+    lemmas = lookup(ids)
+    out = []
+    for k, lem in enumerate(lemmas, 1):
+        if progress is not None:
+            progress(f"{k}/{len(lemmas)} {lem.id}")
+        out.append(prove(lem, timeout_s, rlimit=rlimit))
+    return out
 
 
 # ------------------------------------- direct confirmation on small trees

@@ -134,3 +134,24 @@ def proved(lemma, timeout_s: float = 10.0):
     if key not in _PROVED:
         _PROVED[key] = proofs.prove(lemma, max(float(timeout_s), PROOF_CEILING_S))
     return _PROVED[key]
+
+
+class FakeTerminal:
+    """stdout and stderr of one terminal: both write into one screen buffer."""
+
+    def __init__(self) -> None:
+        self.text = ""
+
+    def write(self, s: str) -> int:
+        self.text += s
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return True
+
+    def lines(self) -> list:
+        """What the terminal shows: each line after its last carriage return, erase codes dropped."""
+        return [ln.rsplit("\r", 1)[-1].replace("\033[K", "") for ln in self.text.split("\n")]

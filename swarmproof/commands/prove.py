@@ -119,11 +119,18 @@ def _used(rlimit: dict) -> str:
 
 
 def run(args) -> int:
+    import sys
+
     from swarmproof.checkers.proofs import DEFAULT_TIMEOUT_S, run_suite
-    from swarmproof.commands import emit_json, human
+    from swarmproof.commands import StatusLine, emit_json, human
 
     timeout = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
-    results = run_suite(args.lemmas or None, timeout_s=timeout, rlimit=args.rlimit)
+    progress = StatusLine(sys.stderr, "prove") if sys.stderr.isatty() else None
+    try:
+        results = run_suite(args.lemmas or None, timeout_s=timeout, rlimit=args.rlimit, progress=progress)
+    finally:
+        if progress is not None:
+            progress.clear()
     if args.json:
         emit_json({"lemmas": [r.to_dict() for r in results], "timeout": timeout, "rlimit": args.rlimit})
     else:

@@ -7,6 +7,7 @@ import re
 
 import pytest
 import z3
+from testkit import FakeTerminal
 
 from swarmproof.checkers import proofs
 from swarmproof.reference_impl.song2016 import lemmas as song_lemmas
@@ -141,3 +142,20 @@ def test_usage_errors_exit_2(capsys, argv, message):
 def test_non_numeric_timeout_exit_2(capsys):
     assert main(["prove", "--timeout", "soon"]) == 2
     assert "--timeout='soon' is not a number of seconds" in capsys.readouterr().err
+
+
+def test_progress_on_a_terminal_is_erased_before_the_table(monkeypatch):
+    """#32: prove shows which lemma it is on when stderr is a terminal, then erases it."""
+    term = FakeTerminal()
+    monkeypatch.setattr("sys.stdout", term)
+    monkeypatch.setattr("sys.stderr", term)
+    assert main(["prove", "translation_invariance", "rotation_invariance"]) == 0
+    assert "prove: 1/2 translation_invariance" in term.text and "prove: 2/2 rotation_invariance" in term.text
+    shown = term.lines()
+    assert not any("prove: " in ln for ln in shown), shown
+    assert shown[0].startswith("lemma ") and shown[3] == "2 lemmas: 2 proved, 0 counterexample, 0 inconclusive"
+
+
+def test_no_progress_when_stderr_is_not_a_terminal(capsys):
+    code, out, err = run(capsys, "translation_invariance")
+    assert code == 0 and err == ""

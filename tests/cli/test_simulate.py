@@ -6,6 +6,8 @@ import json
 
 import pytest
 
+from testkit import FakeTerminal
+
 from swarmproof.cli import main
 from swarmproof.models.trace import Trace
 
@@ -136,30 +138,9 @@ def test_tree_link_mode_decided_by_default_and_persistent_on_request(capsys):
     assert "persistent links" in doc["tree_links"]["message"]
 
 
-class _FakeTerminal:
-    """stdout and stderr of one terminal: both write into one screen buffer."""
-
-    def __init__(self) -> None:
-        self.text = ""
-
-    def write(self, s: str) -> int:
-        self.text += s
-        return len(s)
-
-    def flush(self) -> None:
-        pass
-
-    def isatty(self) -> bool:
-        return True
-
-    def lines(self) -> list:
-        """What the terminal shows: each line after its last carriage return, erase codes dropped."""
-        return [ln.rsplit("\r", 1)[-1].replace("\033[K", "") for ln in self.text.split("\n")]
-
-
 def test_the_progress_line_is_erased_before_the_report_on_a_terminal(monkeypatch):
     """Issue 29 item 13: the report used to be glued to "simulate: step k/K"."""
-    term = _FakeTerminal()
+    term = FakeTerminal()
     monkeypatch.setattr("sys.stdout", term)
     monkeypatch.setattr("sys.stderr", term)
     code = main(["simulate", "song2016", "--lattice", "square", "--robots", "4", "--seed", "0"])
