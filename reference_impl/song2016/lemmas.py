@@ -31,13 +31,15 @@ from typing import Callable
 
 import z3
 
+from swarmproof.invariants import lemma_api as _api
+from swarmproof.invariants.lemma_api import And, Ge, Le, LemmaSpec, Point, Real
 from swarmproof.invariants.lemmas import (ORIGIN as _ORIGIN, Encoding, Lemma, add as _add, dist2, eq as _eq,
                                           point as _pt, scale as _scale, sub as _sub, variables as _vars)
 
 __all__ = ["LEMMAS", "EXTRA_LEMMAS", "CASE_FAMILIES", "TREE_SOLVER_PARAMS", "tree_case_encoding", "tree_cases",
            "rooted_shape", "bounded_range", "nclb_link_kept", "tree_link_kept", "tree_link_kept_control",
            "relocate_stays_in_range", "safe_region_nonempty", "intermediate_goal_in_region",
-           "intermediate_goal_partial_progress", "nclb_three_children_direct"]
+           "intermediate_goal_partial_progress", "nclb_three_children_direct", "RELOCATE_STAYS_IN_RANGE"]
 
 
 def _step_range(s) -> tuple:
@@ -130,19 +132,38 @@ def tree_link_kept_control() -> Encoding:
     return nclb_link_kept(radius="phi")
 
 
+def _relocate_spec(endpoint_radius2: int) -> LemmaSpec:
+    """``relocate_stays_in_range`` declared once (issue 32: one definition for the proof and
+    for float judgments, swarmproof.invariants.lemma_api): a point on a segment between two
+    points within ``phi`` of a stationary robot is within ``phi`` of it.  Normalised: the
+    stationary robot (the root) at the origin, ``phi = 1``.  The control lets one endpoint be
+    ``2 phi`` away (``endpoint_radius2 = 4``)."""
+    def end(radius2):
+        return ("end_within_range", lambda v: Le(_api.dist2(v.b), radius2))
+
+    start = ("start_within_range", lambda v: Le(_api.dist2(v.a), 1))
+    on_segment = ("on_segment", lambda v: And(Ge(v.l, 0), Le(v.l, 1)))
+    return LemmaSpec(
+        id="relocate_stays_in_range",
+        statement="A robot moving along the straight segment between two points within phi of "
+                  "a stationary robot stays within phi of it.",
+        variables=(Point("a"), Point("b"), Real("l", 0.0, 1.0)),
+        premises=(start, end(endpoint_radius2), on_segment),
+        conclusion=lambda v: Le(_api.dist2(_api.add(v.a, _api.scale(v.l, _api.sub(v.b, v.a)))), 1),
+        control_premises=(start, end(4), on_segment),
+        cites=("001_7a4e517b856331bc.txt Sec. V-C case 2 (relocate robot toward the vacancy)",),
+        normalisations=(_t("the stationary robot"), "scale: phi = 1 (scale_invariance)"),
+        control_note="the segment's end may be 2 phi away",
+        not_proved=("that the relocate robot's step ends within phi of the root: the run-time "
+                    "monitor checks that end directly (a disc is convex; this lemma only extends "
+                    "the two ends to the path between them)",),
+    )
+
+
 def relocate_stays_in_range(endpoint_radius2: int = 1) -> Encoding:
-    """A point on a segment between two points within ``phi`` of a stationary
-    robot is within ``phi`` of it.  Normalised: the stationary robot (the root)
-    at the origin, ``phi = 1``.  The control lets one endpoint be ``2 phi`` away."""
-    a, b = _pt("a"), _pt("b")
-    lam = z3.Real("l")
-    q = _add(a, _scale(lam, _sub(b, a)))
-    prem = [
-        ("start_within_range", dist2(a) <= 1),
-        ("end_within_range", dist2(b) <= endpoint_radius2),
-        ("on_segment", z3.And(lam >= 0, lam <= 1)),
-    ]
-    return Encoding(premises=prem, conclusion=dist2(q) <= 1, variables=_vars(a, b, lam))
+    """The z3 encoding of :data:`RELOCATE_STAYS_IN_RANGE` (``endpoint_radius2 = 4``: its
+    negative control)."""
+    return _relocate_spec(endpoint_radius2).build()
 
 
 def safe_region_nonempty(children: int = 3, ds_bound: str = "phi_minus_vdt") -> Encoding:
@@ -233,6 +254,9 @@ def _t(what: str) -> str:
 
 #: The suite's lemmas of these papers, in order (``swarmproof prove`` runs them after the
 #: normalisation lemmas).
+#: ``relocate_stays_in_range`` declared once (the proof and float judgments read it).
+RELOCATE_STAYS_IN_RANGE = _relocate_spec(1)
+
 _LEMMA_LIST = [
     Lemma(
         id="bounded_range",
@@ -297,19 +321,7 @@ _LEMMA_LIST = [
             "communication graph): argued on paper in docs/proofs.md, not by z3",
         ),
     ),
-    Lemma(
-        id="relocate_stays_in_range",
-        statement="A robot moving along the straight segment between two points within phi of "
-                  "a stationary robot stays within phi of it.",
-        cites=("001_7a4e517b856331bc.txt Sec. V-C case 2 (relocate robot toward the vacancy)",),
-        normalisations=(_t("the stationary robot"), "scale: phi = 1 (scale_invariance)"),
-        build=relocate_stays_in_range,
-        control=lambda: relocate_stays_in_range(endpoint_radius2=4),
-        control_note="the segment's end may be 2 phi away",
-        not_proved=("that the relocate robot's step ends within phi of the root: the run-time "
-                    "monitor checks that end directly (a disc is convex; this lemma only extends "
-                    "the two ends to the path between them)",),
-    ),
+    RELOCATE_STAYS_IN_RANGE.lemma(),
     Lemma(
         id="safe_region_nonempty",
         statement="If every child is within d_s < phi - v dt of its parent, the parent's own "

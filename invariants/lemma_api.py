@@ -1,0 +1,420 @@
+"""A lemma declared once, read two ways: z3 terms for its proof, floats for a run (issue 32).
+
+A :class:`LemmaSpec` holds a lemma's variables (:class:`Real`, :class:`Point`), its named
+premises and its conclusion as Python functions of those variables, its citation, kind, gaps
+and negative control.  The functions are written with this module's helpers -- the comparisons
+:func:`Le` :func:`Lt` :func:`Ge` :func:`Gt` :func:`Eq`, the connectives :func:`And` :func:`Or`
+:func:`Not` :func:`Implies`, the vector helpers :func:`sub` :func:`add` :func:`scale`
+:func:`dist2` -- and Python's ``+ - *``, which mean the same on z3 terms and on floats.  From the
+one definition:
+
+* :meth:`LemmaSpec.lemma` is the :class:`~swarmproof.invariants.lemmas.Lemma` the prover
+  proves (``swarmproof.checkers.proofs``): the functions called on z3 variables;
+* :meth:`LemmaSpec.judge` evaluates the same functions on float values (a run's step, a
+  counterexample): each premise with the tolerance that makes it *harder* to satisfy, the
+  conclusion with the one that makes it *easier*, so float noise can neither fake a premise nor
+  hide a failed conclusion ("premises held, conclusion false" is then a real transfer failure);
+* :func:`cross_check` draws float values where the premises hold and checks the conclusion in
+  floating point: it finds a lemma whose real-number truth does not survive floats.
+
+Tolerances (``tol``, default :data:`TOL`, in the lemma's normalised units): in a premise,
+``Le(a, b)`` is ``a <= b - tol``, ``Lt(a, b)`` is ``a < b - tol``, ``Eq(a, b)`` is ``a == b``
+exactly; in the conclusion ``Le(a, b)`` is ``a <= b + tol``, ``Lt(a, b)`` is ``a < b + tol``,
+``Eq(a, b)`` is ``|a - b| <= tol``.  :func:`Not` (and the left side of :func:`Implies`) turns the
+direction round, so a negated comparison is judged as strictly as a plain one.  z3 reads every
+comparison exactly.
+
+Examples
+--------
+>>> spec = LemmaSpec(
+...     id="half_below_one", statement="0 <= x <= 1 implies x / 2 <= 1",
+...     variables=(Real("x"),),
+...     premises=(("x_in_unit", lambda v: And(Ge(v.x, 0), Le(v.x, 1))),),
+...     conclusion=lambda v: Le(v.x * 0.5, 1),
+...     cites=("example",), control_note="x up to 4",
+...     control_premises=(("x_in_unit", lambda v: And(Ge(v.x, 0), Le(v.x, 4))),))
+>>> spec.judge({"x": 0.5})
+Judgment(premises={'x_in_unit': True}, conclusion=True)
+>>> spec.judge({"x": 1.0}).premises       # at the boundary: not a premise that held (tolerance)
+{'x_in_unit': False}
+>>> str(spec.lemma().build().conclusion)
+'x*1/2 <= 1'
+"""
+
+from __future__ import annotations
+
+import contextvars
+import math
+from dataclasses import dataclass, field
+from types import SimpleNamespace
+from typing import Callable
+
+import z3
+
+from swarmproof.invariants.lemmas import Encoding, Lemma
+
+__all__ = ["TOL", "Real", "Point", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq", "And", "Or",
+           "Not", "Implies", "sub", "add", "scale", "dist2", "cross_check"]
+
+#: The default tolerance of a float judgment, in the lemma's normalised units (``phi = 1``): the
+#: engine's monitors compare positions with ``1e-9 * phi`` (swarmproof.invariants.premises).
+TOL = 1e-9
+
+# ------------------------------------------------------------------ the two readings
+
+#: True while a spec's functions are called on z3 variables (LemmaSpec.lemma's build)
+_Z3 = contextvars.ContextVar("swarmproof_lemma_z3", default=False)
+
+
+@dataclass(frozen=True)
+class _Cmp:
+    """A comparison of two floats, judged later with the direction of its place (premise or
+    conclusion, turned round under a negation)."""
+
+    op: str
+    a: float
+    b: float
+
+
+@dataclass(frozen=True)
+class _Op:
+    op: str        # "and" | "or" | "not"
+    args: tuple
+
+
+def _is_z3(*xs) -> bool:
+    return _Z3.get() or any(isinstance(x, z3.ExprRef) for x in xs)
+
+
+def _cmp(op: str, a, b):
+    if _is_z3(a, b):
+        return {"le": lambda: a <= b, "lt": lambda: a < b, "ge": lambda: a >= b, "gt": lambda: a > b,
+                "eq": lambda: a == b}[op]()
+    return _Cmp(op, float(a), float(b))
+
+
+def Le(a, b):
+    """``a <= b``."""
+    return _cmp("le", a, b)
+
+
+def Lt(a, b):
+    """``a < b``."""
+    return _cmp("lt", a, b)
+
+
+def Ge(a, b):
+    """``a >= b``."""
+    return _cmp("ge", a, b)
+
+
+def Gt(a, b):
+    """``a > b``."""
+    return _cmp("gt", a, b)
+
+
+def Eq(a, b):
+    """``a == b``."""
+    return _cmp("eq", a, b)
+
+
+def And(*args):
+    """Every argument holds (z3.And on z3 terms)."""
+    if _is_z3(*args):
+        return z3.And(*[_as_z3(x) for x in args])
+    return _Op("and", args)
+
+
+def Or(*args):
+    """Some argument holds (z3.Or on z3 terms)."""
+    if _is_z3(*args):
+        return z3.Or(*[_as_z3(x) for x in args])
+    return _Op("or", args)
+
+
+def Not(a):
+    """``a`` does not hold; in a float judgment its comparisons change direction."""
+    if _is_z3(a):
+        return z3.Not(_as_z3(a))
+    return _Op("not", (a,))
+
+
+def Implies(a, b):
+    """``Or(Not(a), b)``."""
+    return Or(Not(a), b)
+
+
+def _as_z3(x):
+    if isinstance(x, bool):
+        return z3.BoolVal(x)
+    return x
+
+
+def _truth(x, strict: bool, tol: float) -> bool:
+    """A float formula's truth: ``strict`` (a premise: harder to satisfy) or lenient."""
+    if isinstance(x, bool):
+        return x
+    if isinstance(x, _Cmp):
+        t = -tol if strict else tol
+        a, b = x.a, x.b
+        if x.op == "le":
+            return a <= b + t
+        if x.op == "lt":
+            return a < b + t
+        if x.op == "ge":
+            return a >= b - t
+        if x.op == "gt":
+            return a > b - t
+        return a == b if strict else abs(a - b) <= tol
+    if isinstance(x, _Op):
+        if x.op == "not":
+            return not _truth(x.args[0], not strict, tol)
+        vals = (_truth(a, strict, tol) for a in x.args)
+        return all(vals) if x.op == "and" else any(vals)
+    raise TypeError(f"formula={x!r} is not a comparison of this module (Le, Lt, ...) or a bool; "
+                    "write premises and conclusions with swarmproof.invariants.lemma_api's helpers")
+
+
+# ------------------------------------------------------------------ vectors
+
+def sub(a, b):
+    """``a - b``."""
+    return (a[0] - b[0], a[1] - b[1])
+
+
+def add(a, b):
+    """``a + b``."""
+    return (a[0] + b[0], a[1] + b[1])
+
+
+def scale(k, a):
+    """``k a``."""
+    return (k * a[0], k * a[1])
+
+
+def dist2(a, b=(0, 0)):
+    """``||a - b||^2`` (squared: no square roots, no distance variables)."""
+    d = sub(a, b)
+    return d[0] * d[0] + d[1] * d[1]
+
+
+# ------------------------------------------------------------------ declarations
+
+@dataclass(frozen=True)
+class Real:
+    """A real variable.  ``lo``/``hi``: where :func:`cross_check` draws it (the premises, not
+    this range, state every constraint)."""
+
+    name: str
+    lo: float = -2.0
+    hi: float = 2.0
+
+    def names(self) -> list:
+        return [self.name]
+
+    def z3(self):
+        return z3.Real(self.name)
+
+    def value(self, values: dict):
+        return float(values[self.name])
+
+
+@dataclass(frozen=True)
+class Point:
+    """A point variable ``(name_x, name_y)``, each coordinate drawn in ``[lo, hi]``."""
+
+    name: str
+    lo: float = -2.0
+    hi: float = 2.0
+
+    def names(self) -> list:
+        return [f"{self.name}_x", f"{self.name}_y"]
+
+    def z3(self):
+        return (z3.Real(f"{self.name}_x"), z3.Real(f"{self.name}_y"))
+
+    def value(self, values: dict):
+        return (float(values[f"{self.name}_x"]), float(values[f"{self.name}_y"]))
+
+
+@dataclass(frozen=True)
+class Judgment:
+    """A float judgment of one instance: each premise's truth (strict) and the conclusion's
+    (lenient)."""
+
+    premises: dict
+    conclusion: bool
+
+    @property
+    def premises_hold(self) -> bool:
+        return all(self.premises.values())
+
+    @property
+    def transfer_failure(self) -> bool:
+        """Premises held and the conclusion did not: the proof does not carry over."""
+        return self.premises_hold and not self.conclusion
+
+
+@dataclass(frozen=True)
+class LemmaSpec:
+    """A lemma declared once (module docstring).  ``premises`` and ``control_premises`` are
+    ``(name, function)`` pairs; each function takes the variables as attributes of one argument
+    (``v.s``, ``v.p_i_0``) and returns a formula of this module's helpers."""
+
+    id: str
+    statement: str
+    variables: tuple
+    premises: tuple
+    conclusion: Callable
+    cites: tuple
+    control_note: str
+    #: the negative control's premises (the lemma's, one weakened); the conclusion is the lemma's
+    control_premises: tuple = ()
+    normalisations: tuple = ()
+    kind: str = "auxiliary"
+    not_proved: tuple = ()
+    solver_params: tuple = ()
+    rlimit: int | None = None
+    tol: float = TOL
+    extra: dict = field(default_factory=dict)
+
+    def _namespace(self, make) -> SimpleNamespace:
+        return SimpleNamespace(**{var.name: make(var) for var in self.variables})
+
+    def _encoding(self, premises) -> Encoding:
+        token = _Z3.set(True)
+        try:
+            v = self._namespace(lambda var: var.z3())
+            prem = [(name, _as_z3(fn(v))) for name, fn in premises]
+            concl = _as_z3(self.conclusion(v))
+        finally:
+            _Z3.reset(token)
+        flat = [t for var in self.variables for t in (var.z3() if isinstance(var, Point) else (var.z3(),))]
+        return Encoding(premises=prem, conclusion=concl, variables=flat)
+
+    def build(self) -> Encoding:
+        """The z3 encoding of the lemma."""
+        return self._encoding(self.premises)
+
+    def control(self) -> Encoding:
+        """The z3 encoding of the negative control."""
+        if not self.control_premises:
+            raise ValueError(f"lemma {self.id!r} declares no control_premises")
+        return self._encoding(self.control_premises)
+
+    def lemma(self) -> Lemma:
+        """The :class:`~swarmproof.invariants.lemmas.Lemma` the prover proves."""
+        return Lemma(id=self.id, statement=self.statement, cites=tuple(self.cites),
+                     normalisations=tuple(self.normalisations), build=self.build, control=self.control,
+                     control_note=self.control_note, solver_params=tuple(self.solver_params), kind=self.kind,
+                     not_proved=tuple(self.not_proved), rlimit=self.rlimit)
+
+    def names(self) -> list:
+        """Every float value a judgment needs, in the order a counterexample lists them."""
+        return [n for var in self.variables for n in var.names()]
+
+    def judge(self, values: dict, *, tol: float | None = None) -> Judgment:
+        """The premises (strict) and the conclusion (lenient) on float ``values`` keyed by
+        :meth:`names` (a z3 counterexample's dict fits)."""
+        missing = [n for n in self.names() if n not in values]
+        if missing:
+            raise KeyError(f"lemma {self.id!r} needs values for {missing}")
+        tol = self.tol if tol is None else tol
+        v = self._namespace(lambda var: var.value(values))
+        prem = {name: _truth(fn(v), True, tol) for name, fn in self.premises}
+        return Judgment(prem, _truth(self.conclusion(v), False, tol))
+
+
+# ------------------------------------------------------------------ the concrete cross-check
+
+def cross_check(spec: LemmaSpec, *, examples: int = 200, seed: int = 0) -> dict:
+    """Draw float values where ``spec``'s premises hold and check its conclusion in floating
+    point, with ``spec.tol`` (the tolerances of :meth:`LemmaSpec.judge`).
+
+    Values come from Hypothesis (``examples`` draws from each variable's ``lo..hi``, seeded with
+    ``seed``, shrunk to a small failure) and from z3 models of the premises (exact values
+    rounded to floats; found even where the premises hold on a thin set that random draws miss).
+    Returns ``{"status", "instances", "counterexample", "message"}``: ``"violated"`` with the
+    float values where the premises held and the conclusion failed, ``"held"`` when some
+    instances had the premises hold and none failed, ``"inconclusive"`` when no instance had
+    them hold (vacuous: nothing was checked).  Exploration, not a proof."""
+    from hypothesis import HealthCheck, Phase, given, seed as hseed, settings
+    from hypothesis import strategies as st
+
+    bounds = {n: (var.lo, var.hi) for var in spec.variables for n in var.names()}
+    held = 0
+    for values in _z3_models(spec):
+        j = spec.judge(values)
+        if j.premises_hold:
+            held += 1
+            if not j.conclusion:
+                return _found(spec, values, held)
+    draws = st.fixed_dictionaries({n: st.floats(min_value=lo, max_value=hi, allow_nan=False)
+                                   for n, (lo, hi) in bounds.items()})
+    counted = {"held": 0, "last": None}
+
+    @hseed(seed)
+    @settings(max_examples=examples, database=None, deadline=None, print_blob=False,
+              suppress_health_check=list(HealthCheck), phases=[Phase.generate, Phase.shrink])
+    @given(draws)
+    def probe(values) -> None:
+        j = spec.judge(values)
+        counted["held"] += j.premises_hold
+        if j.transfer_failure:
+            counted["last"] = values   # Hypothesis runs the shrunk failure last
+            raise _Failed
+
+    try:
+        probe()
+        found = None
+    except _Failed:
+        found = counted["last"]
+    held += counted["held"]
+    if found is not None:
+        return _found(spec, found, held)
+    if not held:
+        return {"status": "inconclusive", "instances": 0, "counterexample": None,
+                "message": f"no drawn instance of {spec.id} had its premises hold: nothing was checked"}
+    return {"status": "held", "instances": held, "counterexample": None,
+            "message": f"the conclusion held in floating point on {held} instances where the premises held"}
+
+
+class _Failed(Exception):
+    """A drawn instance where the premises held and the conclusion did not."""
+
+
+def _found(spec: LemmaSpec, values: dict, held: int) -> dict:
+    vals = {n: float(values[n]) for n in spec.names()}
+    return {"status": "violated", "instances": held, "counterexample": vals,
+            "message": f"premises of {spec.id} held in floating point and the conclusion did not "
+                       f"(tolerance {spec.tol:g}): the lemma's real-number truth does not survive floats"}
+
+
+def _z3_models(spec: LemmaSpec, count: int = 8) -> list:
+    """Up to ``count`` z3 models of the premises (each excluded from the next), as floats."""
+    enc = spec.build()
+    s = z3.Solver()
+    s.set("rlimit", 20_000_000)
+    for _, term in enc.premises:
+        s.add(term)
+    out = []
+    for _ in range(count):
+        if s.check() != z3.sat:
+            break
+        m = s.model()
+        vals = {}
+        for var in enc.variables:
+            val = m.eval(var, model_completion=True)
+            vals[str(var)] = _float(val)
+        out.append(vals)
+        s.add(z3.Or([var != m.eval(var, model_completion=True) for var in enc.variables]))
+    return out
+
+
+def _float(val) -> float:
+    if z3.is_rational_value(val):
+        return val.numerator_as_long() / val.denominator_as_long()
+    if z3.is_algebraic_value(val):
+        r = val.approx(20)
+        return r.numerator_as_long() / r.denominator_as_long()
+    return math.nan  # pragma: no cover
