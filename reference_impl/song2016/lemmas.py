@@ -252,11 +252,11 @@ def _t(what: str) -> str:
     return f"translation: {what} at the origin (translation_invariance)"
 
 
-#: The suite's lemmas of these papers, in order (``swarmproof prove`` runs them after the
-#: normalisation lemmas).
 #: ``relocate_stays_in_range`` declared once (the proof and float judgments read it).
 RELOCATE_STAYS_IN_RANGE = _relocate_spec(1)
 
+#: The suite's lemmas of these papers, in order (``swarmproof prove`` runs them after the
+#: normalisation lemmas).
 _LEMMA_LIST = [
     Lemma(
         id="bounded_range",
