@@ -19,7 +19,7 @@ True
 >>> get_algorithm("wang2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='wang2099' is not known; did you mean 'wang2020'?; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'wang2020']
+swarmproof.models.errors.UsageError: algorithm='wang2099' is not known; did you mean 'wang2020'?; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'song2016-subtree-clock', 'wang2020']
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ __all__ = ["ALGORITHMS", "ALIASES", "Alias", "ENTRY_POINT_GROUP", "LEMMA_SETS", 
 ALGORITHMS: dict[str, str] = {
     "song2016": "swarmproof.reference_impl.song2016:Song2016",
     "song2016-literal": "swarmproof.reference_impl.song2016:Song2016Literal",
+    "song2016-subtree-clock": "swarmproof.reference_impl.song2016:Song2016SubtreeClock",
     "song2014": "swarmproof.reference_impl.song2014:Song2014",
     "jiang": "swarmproof.reference_impl.jiang:Jiang",
     "jiang-literal": "swarmproof.reference_impl.jiang:JiangLiteral",
@@ -181,7 +182,7 @@ def verify_plans() -> list[tuple[str, object]]:
     ``verify`` plan, in the plans' ``rank`` order (ties by name).
 
     >>> [name for name, _ in verify_plans()]
-    ['song2016', 'song2016-literal', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-printed', 'leechong-neighbor-printed', 'example-anonymous-line', 'example-grid-goals']
+    ['song2016', 'song2016-literal', 'song2016-subtree-clock', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-printed', 'leechong-neighbor-printed', 'example-anonymous-line', 'example-grid-goals']
     """
     plans = []
     for name in algorithm_names():

@@ -60,14 +60,16 @@ def test_every_algorithm_declares_what_the_checkers_read(name):
 
 def test_verify_plans_order_and_content():
     plans = verify_plans()
-    assert [n for n, _ in plans] == ["song2016", "song2016-literal", "song2014", "jiang", "jiang-literal",
+    assert [n for n, _ in plans] == ["song2016", "song2016-literal", "song2016-subtree-clock", "song2014", "jiang",
+                                     "jiang-literal",
                                      "wang2020", "leechong-leader", "leechong-neighbor", "leechong-leader-printed", "leechong-neighbor-printed",
                                      "example-anonymous-line", "example-grid-goals"]
-    for _, plan in (plans[0], plans[2]):
+    for _, plan in (plans[0], plans[2], plans[3]):
         assert plan.targets == ("square", "hexagon", "octagon-square") and plan.robots == 10
         assert plan.seeds == (0, 1, 2)
     assert plans[0][1].more == (("square", 20, (1,)),)           # the Lemma 11 lag finding (issue 19)
     assert plans[1][1].runs() == (("hexagon", 40, (2,)),)       # the literal reading's deadlock
+    assert plans[2][1].runs() == plans[0][1].runs()             # the subtree clock beside the default
 
 
 def test_an_installed_package_adds_its_algorithm_by_entry_point(monkeypatch):

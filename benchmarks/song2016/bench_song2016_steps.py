@@ -16,8 +16,8 @@ confirm the change of its states, and an movement timeout if it is supposed to m
 paper's own accounting of a run is ``n + (n-1)(2n) + (wait + drive)``, and Table III minus
 ``2n^2 - n`` is what it leaves for waiting and driving.
 
-This script runs the registered ``song2016`` unchanged (``Song2016(n_robots=n)``, timeouts = n,
-square lattice, range 1.2, omega = pi/4, dt = 1, ``random_connected`` starts with
+This script runs the registered ``song2016`` unchanged (``Song2016(n_robots=n)``, timeouts = n;
+with ``--reading subtree-clock`` the registered variant ``song2016-subtree-clock``), square lattice, range 1.2, omega = pi/4, dt = 1, ``random_connected`` starts with
 min_separation 0.3, seeds 0..trials-1, as benchmarks/song2016/bench_song2016.py) and watches it
 from outside with an engine observer (``simulate(observers=...)``): after every step t it reads
 the controller states and poses.  Step t (1..T) is attributed to exactly one term, by the state
@@ -63,7 +63,7 @@ from swarmproof.models.library import load
 from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
-from swarmproof.reference_impl.song2016.algorithm import Song2016, Song2016Controller
+from swarmproof.reference_impl.song2016.algorithm import Song2016, Song2016SubtreeClock
 
 #: The terms, in the order of a relocation (Thm. 13 plus the rows it does not name).
 TERMS = ("first", "reform", "t_comm", "t_move", "wait", "turn", "drive", "end")
@@ -146,35 +146,14 @@ class StepBreakdown:
         return dict(self.counts)
 
 
-class _SubtreeClockController(Song2016Controller):
-    """Scratch reading (never registered): the relocate robot's movement timeout runs from when
-    its own ``subtree`` marker was set (Algorithm 1 line 29: ``subtree <- myID = relocateID or
-    ...``, i.e. from the step its relocateID became its own ID), not from its confirmation as the
-    relocate robot.  With both timeouts = n (Sec. VI) it may move as soon as it is confirmed."""
-
-    def _take_roles(self, msg, t):
-        relocate, mover, may_move, changed = super()._take_roles(msg, t)
-        if mover == "relocate" and self.relocate_since < self.mover_since:
-            self.mover_since = self.relocate_since
-            may_move = t - self.mover_since >= self.cfg.movement_timeout
-        return relocate, mover, may_move, changed
-
-
-class _SubtreeClock(Song2016):
-    """:class:`Song2016` with :class:`_SubtreeClockController` (memoisation off: a scratch copy)."""
-
-    def controller(self, robot_id, params, lattice, rng):
-        c = super().controller(robot_id, params, lattice, rng)
-        return _SubtreeClockController(c.robot_id, params, lattice, c.cfg, memoize=False)
-
-
-#: The readings this script can run: the registered algorithm, and scratch readings measured
-#: here only (docs/song2016.md, "Where Table III's steps go").
-READINGS = {"song2016": Song2016, "subtree-clock": _SubtreeClock}
+#: The readings this script can run, by ``--reading``: the default and the registered variant
+#: ``song2016-subtree-clock`` (docs/song2016.md, "Where Table III's steps go").
+READINGS = {"song2016": Song2016, "subtree-clock": Song2016SubtreeClock}
 
 
 def run(n: int, seed: int, v: float, lattice_name: str = "square", reading: str = "song2016") -> dict:
-    """One run of the registered song2016 (or a scratch reading); its status, steps and breakdown."""
+    """One run of the registered song2016 (or of ``song2016-subtree-clock``: ``reading="subtree-clock"``);
+    its status, steps and breakdown."""
     lattice = load(lattice_name)
     init = random_connected(n, seed, range=lattice.range, min_separation=0.3)
     p = Params(range=lattice.range, v=v, omega=math.pi / 4, dt=1.0)
@@ -290,7 +269,8 @@ def main(argv=None) -> int:
     ap.add_argument("--speeds", default="0.6,0.2,0.05", help="comma-separated v")
     ap.add_argument("--lattice", default="square")
     ap.add_argument("--reading", default="song2016", choices=sorted(READINGS),
-                    help="song2016 (the registered algorithm) or a scratch reading")
+                    help="song2016 (the default) or subtree-clock (the registered variant "
+                         "song2016-subtree-clock)")
     ap.add_argument("--table", default=None, help="write the markdown table here")
     ap.add_argument("--plot", default=None, help="write the PNG here")
     args = ap.parse_args(argv)

@@ -6,7 +6,8 @@ algorithm", IROS 2016 (seed 001_7a4e517b856331bc.txt; docs/references.md, docs/s
 The package holds everything about this paper:
 
 * :mod:`.algorithm` -- the reference implementation of Sec. V and Algorithm 1 (registered as
-  ``song2016``, and the literal Sec. V-B parent rule as ``song2016-literal``);
+  ``song2016``, the literal Sec. V-B parent rule as ``song2016-literal``, and the relocate
+  robot's movement timeout counted from its line-29 subtree marker as ``song2016-subtree-clock``);
 * :mod:`.geometry` -- the motion geometry: bounded ranges (Def. 8), safe regions, NCLB;
 * :mod:`.lemmas` -- the z3 encodings of the geometric safety lemmas (Lemma 7, NCLB,
   Lemma 11's per-link cases; also those of 000 Lemma 7) and the whole-tree cases of Lemma 11;

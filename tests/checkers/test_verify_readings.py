@@ -1,6 +1,7 @@
 """Issue 19 in ``swarmproof verify``: both readings of song2016's parent rule are judged, the
 literal one where its deadlock appears, and Lemma 11's row shows the one-step-lag break; each
-violated row can be repeated (the simulate command) and replayed (``--out``)."""
+violated row can be repeated (the simulate command) and replayed (``--out``).  Issue 31: the
+subtree-clock reading of the movement timeout is judged beside the default too."""
 
 from __future__ import annotations
 
@@ -48,3 +49,17 @@ def test_song2016_lemma_11_row_shows_the_one_step_lag(monkeypatch):
     assert "messages take one step" in links.detail and "Lemma 11" in links.detail
     assert links.to_json()["reproduce"] == "swarmproof simulate song2016 --target square --robots 20 --seed 1"
     assert rows["connectivity"].verdict is Verdict.HELD and rows["termination"].verdict is Verdict.HELD
+
+
+def test_the_subtree_clock_reading_is_judged_beside_the_default(monkeypatch):
+    from swarmproof.reference_impl.protocol import VerifyPlan
+
+    plan = dict(registry.verify_plans())["song2016-subtree-clock"]
+    assert plan.runs()[0] == ("square", 10, (0, 1, 2))
+    _only(monkeypatch, "song2016-subtree-clock", VerifyPlan(targets=("square",), robots=10, seeds=(0,)))
+    rows = {r.property: r for r in section_algorithms()}
+    assert set(rows) == {"termination", "formation", "connectivity", "tree_links"}
+    for r in rows.values():
+        assert r.subject == "song2016-subtree-clock square n=10" and r.claimed
+        assert r.verdict is Verdict.HELD, r.detail
+    assert rows["termination"].claim.startswith("001 Thm. 13")

@@ -22,6 +22,10 @@ def test_algorithms_exact_lines(capsys):
     width = max(len(line.split()[0]) for line in lines[1:] if line.strip()) + 2   # the longest name's column
     assert ("  " + "song2016".ljust(width) + "The Song & O'Kane 2016 algorithm (Song & O'Kane 2016, Sec. V), for the "
             "engine. [Song & O'Kane 2016]") in lines
+    # the registered readings of a paper are listed beside its default
+    assert any(line.startswith("  " + "song2016-subtree-clock".ljust(width) + "Song & O'Kane 2016 with the relocate "
+                               "robot's movement timeout counted from its own subtree marker (Song & O'Kane 2016, "
+                               "Alg. 1 line 29)") for line in lines)
     # a class without a paper has no citation
     assert "  " + "example-gather".ljust(width) + 'The example algorithm (registry name "example-gather").' in lines
 

@@ -118,6 +118,11 @@ def test_shipped_baseline_is_current_and_records_versions():
     assert rows[("algorithms", "song2016 square n=20", "tree_links")]["signature"]["kind"] == \
         "the link child # -> parent # broke"
     assert rows[("algorithms", "song2016-literal hexagon n=40", "termination")]["verdict"] == "violated"
+    # every registered reading of song2016 has the default's algorithms rows, the one-step lag included
+    for name in ("song2016", "song2016-subtree-clock"):
+        assert rows[("algorithms", f"{name} square n=20", "tree_links")]["verdict"] == "violated"
+        assert rows[("algorithms", f"{name} hexagon n=10", "formation")]["verdict"] == "held"
+    assert doc["readings"]["song2016-subtree-clock"] == "1"
     assert rows[("exploration", "song2016 n=3..8", "connectivity")]["verdict"] == "held"
     assert all(r["claim"] or r["verdict"] != "violated" or r["section"] in ("algorithms", "exploration")
                for r in doc["rows"])
