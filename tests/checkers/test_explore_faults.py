@@ -22,7 +22,7 @@ def test_fault_kinds():
 
 
 def test_drawn_additions_break_song2016_formation_named_and_replayed(tmp_path):
-    r = explore("song2016", ["formation"], budget=20, max_examples=15, robots=(3, 5), lattices=["square"], seed=0,
+    r = explore("song2016", ["formation"], budget=None, max_examples=15, robots=(3, 5), lattices=["square"], seed=0,
                 draw_faults=("additions",), out_dir=tmp_path)
     assert r.broken_assumptions == ["fixed_robot_set"] and "fixed_robot_set" not in r.kept_assumptions
     v = r.properties["formation"]

@@ -18,7 +18,7 @@ def run(capsys, *argv):
 
 
 def test_song2014_connectivity_violated_exit_1_and_file_written(capsys, tmp_path):
-    code, out, err = run(capsys, "song2014", "--property", "connectivity", "--budget", "4",
+    code, out, err = run(capsys, "song2014", "--property", "connectivity", "--budget", "none",
                          "--max-examples", "15", "--robots", "4..6", "--seed", "0", "--json",
                          "--out", str(tmp_path))
     doc = json.loads(out)
