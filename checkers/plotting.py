@@ -4,16 +4,14 @@ Every picture swarmproof draws (formations, trajectories, counterexamples,
 lattice checks) goes through :func:`new_figure` and :func:`save_png` so that
 output is deterministic (no timestamps in the PNG metadata) and never
 half-written.  Animations (:func:`animate_trace`, a counterexample as an
-animated GIF) go through :func:`save_gif`: matplotlib's ``PillowWriter``
-renders each frame with Agg, Pillow encodes the GIF (no timestamps either),
-and the bytes are written atomically.
+animated GIF) go through :func:`save_gif`: Agg renders each frame (the axes
+once, then only the artists that move), Pillow encodes the GIF as matplotlib's
+``PillowWriter`` does (no timestamps either), and the bytes are written atomically.
 """
 
 from __future__ import annotations
 
 import io
-import os
-import tempfile
 
 import matplotlib
 
@@ -45,32 +43,59 @@ def save_png(fig, path) -> str:
     return atomic_write_bytes(path, buf.getvalue())
 
 
-def save_gif(fig, update, frames, path, *, fps: int = 8) -> str:
-    """Render ``update(frame)`` for every frame with matplotlib's ``PillowWriter``; write atomically.
+def save_gif(fig, update, frames, path, *, fps: int = 8, animated=()) -> str:
+    """Render ``update(frame)`` for every frame and encode the frames as a GIF with Pillow (as
+    matplotlib's ``PillowWriter`` does); write atomically.
 
-    ``update`` changes the figure's artists for one frame.  The figure is
-    closed afterwards.  Same figure and frames give the same bytes.
+    ``update`` changes the figure's artists for one frame.  ``animated``: the artists ``update``
+    changes, when it changes no other (it may also hide them).  The rest of the figure (axes,
+    ticks, labels) is then drawn once and each frame redraws only those artists on it; that is the
+    picture of a whole redraw when every other artist of their axes lies below them (lower
+    ``zorder``) or apart from them (the ticks and spines around the data).  The figure is closed
+    afterwards.  Same figure and frames give the same bytes.
     """
-    from matplotlib.animation import PillowWriter
+    from PIL import Image
 
     from swarmproof.models.fileio import atomic_write_bytes
 
     check_output_path(path)     # a missing folder is refused, as for every output (never created)
-    folder = os.path.dirname(os.path.abspath(os.fspath(path)))
-    fd, tmp = tempfile.mkstemp(suffix=".gif", dir=folder)
-    os.close(fd)
     try:
-        writer = PillowWriter(fps=fps)
-        with writer.saving(fig, tmp, dpi=fig.dpi):
-            for f in frames:
-                update(f)
-                writer.grab_frame()
-        with open(tmp, "rb") as fh:
-            data = fh.read()
+        images = []
+        canvas = fig.canvas
+        if animated:
+            for a in animated:
+                a.set_animated(True)
+            canvas.draw()                             # everything but the animated artists, once
+            background = canvas.copy_from_bbox(fig.bbox)
+            order = _draw_order(animated)
+        for f in frames:
+            update(f)
+            if animated:
+                canvas.restore_region(background)
+                for a in order:
+                    fig.draw_artist(a)
+                rgba = bytes(canvas.buffer_rgba())
+            else:                                     # the whole figure, as PillowWriter grabs it
+                raw = io.BytesIO()
+                fig.savefig(raw, format="rgba", dpi=fig.dpi)
+                rgba = raw.getvalue()
+            im = Image.frombuffer("RGBA", canvas.get_width_height(), rgba, "raw", "RGBA", 0, 1)
+            # as PillowWriter: an opaque frame goes to the GIF encoder as RGB (a better palette)
+            images.append(im if im.getextrema()[3][0] < 255 else im.convert("RGB"))
+        buf = io.BytesIO()
+        images[0].save(buf, format="GIF", save_all=True, append_images=images[1:], duration=int(1000 / fps),
+                       loop=0)
     finally:
-        os.unlink(tmp)
         plt.close(fig)
-    return atomic_write_bytes(path, data)
+    return atomic_write_bytes(path, buf.getvalue())
+
+
+def _draw_order(artists) -> list:
+    """``artists`` in the order their axes draw them: by ``zorder``, ties in the axes' own order."""
+    def key(a):
+        kids = a.axes.get_children() if a.axes is not None else []
+        return (a.get_zorder(), kids.index(a) if a in kids else len(kids))
+    return sorted(artists, key=key)
 
 
 def gif_frames(steps: int, mark: int | None = None, max_frames: int = 60, hold: int = 6) -> list:
@@ -151,7 +176,9 @@ def animate_trace(trace, path, *, phi: float | None = None, mark_step: int | Non
         caption.set_text(text + (f": {mark_label}" if marked else ""))
         caption.set_color("tab:red" if marked else "black")
 
-    return save_gif(fig, update, gif_frames(T, mark_step, max_frames), path, fps=fps)
+    # every artist update() changes lies above the axes' own (ticks and spines, apart from the data)
+    return save_gif(fig, update, gif_frames(T, mark_step, max_frames), path, fps=fps,
+                    animated=[*trails, links, dots, heads, ring, *labels, caption])
 
 
 def plot_pattern_check(result, path) -> str:

@@ -82,7 +82,7 @@ def test_song2014_connectivity_loss_found_within_120s_and_shrunk_to_8(tmp_path):
 
 
 def test_song2016_holds_its_claims_under_its_assumptions_small_budget():
-    r = explore("song2016", ["connectivity", "tree_links", "termination", "formation"], budget=40, max_examples=5,
+    r = explore("song2016", ["connectivity", "tree_links", "termination", "formation"], budget=None, max_examples=5,
                 robots=(3, 5), seed=0)
     for name in ("connectivity", "tree_links", "termination", "formation"):
         v = r.properties[name]
@@ -93,7 +93,7 @@ def test_song2016_holds_its_claims_under_its_assumptions_small_budget():
 
 def test_broken_assumption_is_named_and_violation_reported(tmp_path):
     # v*dt = 0.6 * 2 = 1.2 >= phi = 1.2 breaks "v*dt < phi"; the explorer runs anyway and says so
-    r = explore("song2014", ["connectivity"], budget=20, max_examples=20, robots=(3, 6), lattices=["square"],
+    r = explore("song2014", ["connectivity"], budget=None, max_examples=20, robots=(3, 6), lattices=["square"],
                 seed=0, params={"v": 0.6, "dt": 2.0}, allow_violations=True, out_dir=tmp_path)
     assert "v_dt_below_range" in r.broken_assumptions
     assert "v_dt_below_range" not in r.kept_assumptions
@@ -128,7 +128,7 @@ def test_broken_assumption_refused_without_allow_violations():
 
 
 def test_same_seed_same_report_and_counterexample():
-    kw = dict(budget=60, max_examples=10, robots=(3, 5), lattices=["square"], seed=3)
+    kw = dict(budget=None, max_examples=10, robots=(3, 5), lattices=["square"], seed=3)
     a = explore("song2014", ["connectivity", "deadlock"], **kw)
     b = explore("song2014", ["connectivity", "deadlock"], **kw)
     assert not any(v.budget_hit for v in a.properties.values())
@@ -141,7 +141,7 @@ def test_same_seed_same_report_and_counterexample():
 
 
 def test_inconclusive_when_every_run_is_capped():
-    r = explore("song2016", ["formation"], budget=20, max_examples=3, robots=(3, 4), seed=0, max_steps=2)
+    r = explore("song2016", ["formation"], budget=None, max_examples=3, robots=(3, 4), seed=0, max_steps=2)
     v = r.properties["formation"]
     assert v.status == "inconclusive" and v.capped == v.scenarios >= 1 and r.exit_code == 3
 
@@ -244,7 +244,7 @@ def test_song2016_too_short_communication_timeout_is_named_and_found(tmp_path, m
 
 
 def test_drawn_crash_faults_are_named_shrunk_and_replayable(tmp_path):
-    r = explore("song2016", ["formation"], budget=20, max_examples=15, robots=(3, 6), lattices=["square"],
+    r = explore("song2016", ["formation"], budget=None, max_examples=15, robots=(3, 6), lattices=["square"],
                 seed=0, draw_faults=("crashes",), out_dir=tmp_path)
     assert r.broken_assumptions == ["no_crashes"]
     v = r.properties["formation"]
@@ -309,7 +309,7 @@ def test_scenarios_draw_their_speed_and_the_first_failure_is_recorded(tmp_path, 
     assert 0 <= v.first_failure_cpu and 0 <= v.first_failure_seconds <= v.seconds
     assert "first_failure_seconds" not in v.as_dict()   # times stay out of the (deterministic) JSON
     assert replay_file(v.counterexample_path).reproduced
-    held = explore("song2016", ["connectivity"], budget=30, max_examples=5, robots=(3, 4), seed=0, speeds=speeds)
+    held = explore("song2016", ["connectivity"], budget=None, max_examples=5, robots=(3, 4), seed=0, speeds=speeds)
     assert held.properties["connectivity"].first_failure_seconds is None
 
 

@@ -157,7 +157,7 @@ def test_bad_algorithm_specs(algorithm, match):
 
 
 def test_explore_a_class_then_replay_it_from_the_file(tmp_path):
-    r = explore(RootDrifts, ["premises"], budget=30, max_examples=10, out_dir=tmp_path, **SMALL)
+    r = explore(RootDrifts, ["premises"], budget=None, max_examples=10, out_dir=tmp_path, **SMALL)
     v = r.properties["premises"]
     assert r.algorithm == "song2016" and r.as_dict()["algorithm_ref"] == f"{__name__}:RootDrifts"
     assert v.status == "violated"
@@ -174,7 +174,7 @@ def test_replay_of_an_unimportable_class_is_a_clear_file_error(tmp_path):
     class Local(GatherToLowestId):
         pass
 
-    r = explore(Local, ["connectivity"], budget=10, max_examples=1, robots=(3, 3), lattices=["square"], seed=0)
+    r = explore(Local, ["connectivity"], budget=None, max_examples=1, robots=(3, 3), lattices=["square"], seed=0)
     assert r.as_dict()["algorithm_ref"].endswith("<locals>.Local")
     cx = Counterexample(algorithm=r.as_dict()["algorithm_ref"], params={"range": 1.2, "v": 0.05, "omega": 0.5,
                                                                         "dt": 1.0},
@@ -187,7 +187,7 @@ def test_replay_of_an_unimportable_class_is_a_clear_file_error(tmp_path):
 
 
 def test_unregistered_class_claims_nothing_by_default():
-    r = explore(Dither, ["connectivity"], budget=10, max_examples=1, max_steps=20, **SMALL)
+    r = explore(Dither, ["connectivity"], budget=None, max_examples=1, max_steps=20, **SMALL)
     assert r.claims == {"connectivity": None}
     assert r.as_dict()["properties"]["connectivity"]["claim"] is None
 
@@ -195,7 +195,7 @@ def test_unregistered_class_claims_nothing_by_default():
 # -- the lemma premise property -----------------------------------------------------------
 
 def test_premises_hold_for_song2016_under_its_assumptions():
-    r = explore("song2016", ["premises"], budget=30, max_examples=5, robots=(3, 5), lattices=["square"], seed=0)
+    r = explore("song2016", ["premises"], budget=None, max_examples=5, robots=(3, 5), lattices=["square"], seed=0)
     v = r.properties["premises"]
     assert v.status == "held" and v.conclusive == 5 and r.broken_assumptions == []
 
@@ -203,7 +203,7 @@ def test_premises_hold_for_song2016_under_its_assumptions():
 def test_premises_violated_by_song2014_lemma7_as_implemented(tmp_path):
     # docs/decisions.md "The velocity in Lemma 7": turn-then-drive can stop a descendant outside
     # the parent's disc phi - v dt (000 Lemma 7's premise); kept, not repaired
-    r = explore("song2014", ["premises"], budget=30, max_examples=15, robots=(3, 6), lattices=["square"], seed=0,
+    r = explore("song2014", ["premises"], budget=None, max_examples=15, robots=(3, 6), lattices=["square"], seed=0,
                 out_dir=tmp_path)
     v = r.properties["premises"]
     assert v.status == "violated"
@@ -223,7 +223,7 @@ def test_premises_not_applicable_when_the_algorithm_declares_none():
 # -- no progress over a window (randomized algorithms) ------------------------------------
 
 def test_randomized_algorithm_that_progresses_holds():
-    r = explore(LazyMarch, ["oscillation"], budget=20, max_examples=5, options={"progress_window": 20},
+    r = explore(LazyMarch, ["oscillation"], budget=None, max_examples=5, options={"progress_window": 20},
                 **SMALL)
     v = r.properties["oscillation"]
     assert v.status == "held" and v.conclusive == 5, v.message
@@ -232,7 +232,7 @@ def test_randomized_algorithm_that_progresses_holds():
 
 
 def test_randomized_algorithm_without_progress_is_violated_and_replays(tmp_path):
-    r = explore(Dither, ["oscillation"], budget=20, max_examples=3, max_steps=150, options={"progress_window": 100},
+    r = explore(Dither, ["oscillation"], budget=None, max_examples=3, max_steps=150, options={"progress_window": 100},
                 out_dir=tmp_path, **SMALL)
     v = r.properties["oscillation"]
     assert v.status == "violated"
@@ -246,6 +246,6 @@ def test_randomized_algorithm_without_progress_is_violated_and_replays(tmp_path)
 
 
 def test_randomized_algorithm_without_a_measure_is_inconclusive():
-    r = explore(DitherNoMeasure, ["oscillation"], budget=20, max_examples=2, max_steps=150, **SMALL)
+    r = explore(DitherNoMeasure, ["oscillation"], budget=None, max_examples=2, max_steps=150, **SMALL)
     v = r.properties["oscillation"]
     assert v.status == "inconclusive" and "without a progress measure" in v.message

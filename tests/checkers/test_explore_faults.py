@@ -22,7 +22,7 @@ def test_fault_kinds():
 
 
 def test_drawn_additions_break_song2016_formation_named_and_replayed(tmp_path):
-    r = explore("song2016", ["formation"], budget=20, max_examples=15, robots=(3, 5), lattices=["square"], seed=0,
+    r = explore("song2016", ["formation"], budget=None, max_examples=15, robots=(3, 5), lattices=["square"], seed=0,
                 draw_faults=("additions",), out_dir=tmp_path)
     assert r.broken_assumptions == ["fixed_robot_set"] and "fixed_robot_set" not in r.kept_assumptions
     v = r.properties["formation"]
@@ -41,7 +41,7 @@ def test_drawn_additions_break_song2016_formation_named_and_replayed(tmp_path):
 
 
 def test_drawn_noise_and_additions_are_named():
-    r = explore("example-gather", ["connectivity"], budget=10, max_examples=5, robots=(3, 4), lattices=["square"],
+    r = explore("example-gather", ["connectivity"], budget=None, max_examples=5, robots=(3, 4), lattices=["square"],
                 seed=0, draw_faults=("noise", "additions"))
     assert r.broken_assumptions == ["fixed_robot_set", "exact_sensing"]
     assert r.properties["connectivity"].status in ("held", "violated")
@@ -81,7 +81,7 @@ def test_drawn_faults_replay_through_run_scenario():
 def test_cli_accepts_the_new_fault_kinds(capsys, kind):
     from swarmproof.cli import main
 
-    code = main(["explore", "example-gather", "--property", "connectivity", "--budget", "10", "--max-examples", "2",
+    code = main(["explore", "example-gather", "--property", "connectivity", "--budget", "none", "--max-examples", "2",
                  "--robots", "3..3", "--fault", kind, "--json"])
     doc = json.loads(capsys.readouterr().out)
     assert code in (0, 1)

@@ -614,13 +614,31 @@ def first_visible_problem(g, phi, check_radius=2.5, max_points=3000):
 
 ROUNDED_RING_VALUES = ("0.866", "0.8660", "0.86603", "0.866025", "0.8661", "0.8662", "0.8665")
 
+#: One child process checks every rounded ring under the address-space cap, one `check-lattice
+#: --json` after another, and prints ``[{code, out, err}, ...]``: seven Python start-ups (imports)
+#: were most of the seven subprocesses' 8 s of CPU.  Each check runs in a process that already ran
+#: the ones before it, under the same cap: no more memory than a fresh one has.
+_RING_CHILD = """
+import contextlib, io, json, sys, traceback
+from swarmproof.cli import main
+runs = []
+for path in sys.argv[1:]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(["check-lattice", path, "--json"])
+        except BaseException:          # a MemoryError (or anything) that escaped main: its traceback
+            code = None
+            traceback.print_exc(file=err)
+    runs.append({"code": code, "out": out.getvalue(), "err": err.getvalue()})
+print(json.dumps(runs))
+"""
 
-@pytest.mark.parametrize("value", ROUNDED_RING_VALUES, ids=lambda v: f"sqrt3/2-as-{v}")
-def test_rounded_hexagon_ring_is_decided_within_bounded_memory(tmp_path, value):
-    """hexagon-ring with sqrt(3)/2 rounded: its translations become tiny, the pattern window
-    would hold billions of points.  The budget is counted before the window is allocated,
-    so the check ends (here: missing inverses, and the self-consistency defect of a pattern
-    that repeats too densely) under a 3 GB address-space cap instead of a MemoryError."""
+
+@pytest.fixture(scope="module")
+def rounded_ring_runs(tmp_path_factory):
+    """``{value: (exit code, stdout, stderr)}`` of ``check-lattice --json`` on hexagon-ring with
+    sqrt(3)/2 rounded to each of :data:`ROUNDED_RING_VALUES`, under a 3 GB address-space cap."""
     import json
     import resource
     import subprocess
@@ -628,17 +646,36 @@ def test_rounded_hexagon_ring_is_decided_within_bounded_memory(tmp_path, value):
 
     text = library.text("hexagon-ring")
     assert "0.8660254037844386" in text
-    f = tmp_path / "ring-rounded.yaml"
-    f.write_text(text.replace("0.8660254037844386", value), encoding="utf-8")
+    folder = tmp_path_factory.mktemp("rounded-ring")
+    paths = []
+    for value in ROUNDED_RING_VALUES:
+        f = folder / f"ring-rounded-{value}.yaml"
+        f.write_text(text.replace("0.8660254037844386", value), encoding="utf-8")
+        paths.append(str(f))
 
     def cap():
         resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
 
-    proc = subprocess.run([sys.executable, "-m", "swarmproof.cli", "check-lattice", str(f), "--json"],
-                          capture_output=True, text=True, timeout=120, preexec_fn=cap)
-    assert "Traceback" not in proc.stderr and "MemoryError" not in proc.stderr, proc.stderr[-2000:]
-    doc = json.loads(proc.stdout)
-    assert proc.returncode == 1
+    proc = subprocess.run([sys.executable, "-c", _RING_CHILD, *paths], capture_output=True, text=True,
+                          timeout=300, preexec_fn=cap)
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr[-2000:]
+    runs = json.loads(proc.stdout)
+    return {value: (r["code"], r["out"], r["err"]) for value, r in zip(ROUNDED_RING_VALUES, runs)}
+
+
+@pytest.mark.xdist_group("rounded-ring")
+@pytest.mark.parametrize("value", ROUNDED_RING_VALUES, ids=lambda v: f"sqrt3/2-as-{v}")
+def test_rounded_hexagon_ring_is_decided_within_bounded_memory(rounded_ring_runs, value):
+    """hexagon-ring with sqrt(3)/2 rounded: its translations become tiny, the pattern window
+    would hold billions of points.  The budget is counted before the window is allocated,
+    so the check ends (here: missing inverses, and the self-consistency defect of a pattern
+    that repeats too densely) under a 3 GB address-space cap instead of a MemoryError."""
+    import json
+
+    code, out, err = rounded_ring_runs[value]
+    assert "Traceback" not in err and "MemoryError" not in err, err[-2000:]
+    doc = json.loads(out)
+    assert code == 1
     assert doc["valid"] is False
     kinds = [d["kind"] for d in doc["defects"]]
     assert kinds.count("missing_inverse") == 2 and "self_consistency" in kinds

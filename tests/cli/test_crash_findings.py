@@ -27,7 +27,7 @@ def here(tmp_path, monkeypatch):
 
 def test_a_crash_in_the_controller_is_a_shrunk_no_crash_finding_that_replays(cli, here):
     code, out, err = cli("explore", "mymod:Crashy", "--property", "connectivity", "--out", "cx",
-                         "--max-examples", "20", "--json")
+                         "--max-examples", "20", "--budget", "none", "--json")
     doc = json.loads(out)
     assert code == 1 and "Traceback" not in err
     crash = doc["properties"]["no_crash"]
@@ -45,7 +45,7 @@ def test_a_crash_in_the_controller_is_a_shrunk_no_crash_finding_that_replays(cli
 
 
 def test_explore_by_default_judges_no_crash(cli, here):
-    code, out, _ = cli("explore", "mymod:Crashy", "--max-examples", "10", "--json")
+    code, out, _ = cli("explore", "mymod:Crashy", "--max-examples", "10", "--budget", "none", "--json")
     doc = json.loads(out)
     assert code == 1 and doc["properties"]["no_crash"]["status"] == "violated"
     assert "no_crash" in doc["properties"]
@@ -96,7 +96,7 @@ def test_tree_links_of_an_algorithm_without_a_tree_is_inconclusive_not_held(cli,
     # 3-4 robots (issue 29): the verdict is about the algorithm keeping no tree, not the swarm's
     # size; the default 3-8 ran gathers of up to 8 robots (7 s of CPU, now about 3).
     code, out, _ = cli("explore", "mymod:CentroidGather", "--property", "tree_links", "--max-examples", "5",
-                       "--robots", "3..4", "--json")
+                       "--robots", "3..4", "--budget", "none", "--json")
     v = json.loads(out)["properties"]["tree_links"]
     assert code == 3 and v["status"] == "inconclusive" and "keeps no spanning tree" in v["message"]
     code, out, _ = cli("simulate", "mymod:CentroidGather", "--lattice", "square", "--robots", "4", "--seed", "0",

@@ -18,7 +18,7 @@ def run(capsys, *argv):
 
 
 def test_song2014_connectivity_violated_exit_1_and_file_written(capsys, tmp_path):
-    code, out, err = run(capsys, "song2014", "--property", "connectivity", "--budget", "4",
+    code, out, err = run(capsys, "song2014", "--property", "connectivity", "--budget", "none",
                          "--max-examples", "15", "--robots", "4..6", "--seed", "0", "--json",
                          "--out", str(tmp_path))
     doc = json.loads(out)
@@ -33,7 +33,7 @@ def test_song2014_connectivity_violated_exit_1_and_file_written(capsys, tmp_path
 
 
 def test_broken_assumption_and_drawn_faults_named_in_json(capsys, tmp_path):
-    code, out, err = run(capsys, "song2016", "--property", "formation", "--budget", "20", "--max-examples", "10",
+    code, out, err = run(capsys, "song2016", "--property", "formation", "--budget", "none", "--max-examples", "10",
                          "--robots", "3..5", "--param", "communication_timeout=1", "--allow-violations",
                          "--fault", "crashes", "--json", "--out", str(tmp_path))
     doc = json.loads(out)
@@ -44,18 +44,18 @@ def test_broken_assumption_and_drawn_faults_named_in_json(capsys, tmp_path):
 
 
 def test_speeds_drawn_per_scenario_named_in_output_and_json(capsys):
-    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
+    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "none",
                          "--max-examples", "3", "--robots", "3..4", "--speeds", "0.05,0.8")
     assert code == 0
     assert out.splitlines()[0] == ("explore song2016: seed 0, robots 3..4, max 3 examples per property, "
                                    "v drawn from [0.05, 0.8]")
-    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
+    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "none",
                          "--max-examples", "3", "--robots", "3..4", "--speeds", "0.05,0.8", "--json")
     assert code == 0 and json.loads(out)["speeds"] == [0.05, 0.8]
 
 
 def test_song2016_held_exit_0_human_output(capsys):
-    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "20",
+    code, out, err = run(capsys, "song2016", "--property", "connectivity", "--budget", "none",
                          "--max-examples", "3", "--robots", "3..4")
     assert code == 0
     assert "connectivity  held" in out and "explored, not proved" in out

@@ -190,8 +190,8 @@ def test_explore_on_a_users_lattice_file_writes_a_counterexample_that_replays_wi
     path = tmp_path / "my-ring.yaml"
     shutil.copy(library._folder() / "hexagon-ring.yaml", path)
     code, out, _ = cli("explore", "song2014", "--lattice", str(path), "--property", "tree_links",
-                       "--max-examples", "30", "--robots", "3..6", "--seed", "0", "--out", str(tmp_path / "cx"),
-                       "--json")
+                       "--max-examples", "30", "--robots", "3..6", "--seed", "0", "--budget", "none",
+                       "--out", str(tmp_path / "cx"), "--json")
     doc = json.loads(out)
     assert code == 1 and doc["lattices"] == [str(path)]
     cx_path = doc["properties"]["tree_links"]["counterexample"]

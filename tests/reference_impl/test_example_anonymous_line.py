@@ -42,11 +42,11 @@ def test_the_run_does_not_depend_on_the_robots_ids():
 
 def test_explore_on_the_line_and_replay_a_counterexample(cli, tmp_path):
     rep = explore(AnonymousLine, ["formation", "connectivity"], max_examples=15, robots=(2, 5), seed=0,
-                  budget=120)
+                  budget=None)
     assert rep.lattices == ("lines:line",)
     assert rep.properties["formation"].status == "held" and rep.properties["formation"].conclusive == 15
     # robots as discs of radius 0.45 collide on the way (the line's interval is 1): a finding
-    rep = explore("example-anonymous-line", ["collision"], max_examples=30, robots=(2, 6), seed=0, budget=120,
+    rep = explore("example-anonymous-line", ["collision"], max_examples=30, robots=(2, 6), seed=0, budget=None,
                   options={"radius": 0.45}, out_dir=tmp_path)
     v = rep.properties["collision"]
     assert v.status == "violated" and v.counterexample.target["kind"] == "lines"
