@@ -1224,9 +1224,11 @@ class Song2016:
     target_kinds = ("lattice",)
     #: The statement of the parent rule this class follows by default (:data:`PARENT_RULES`).
     default_parent_rule = "relocate_route"
-    #: The controller class :meth:`controller` builds (a reading of the timeouts may replace it:
-    #: :class:`Song2016SubtreeClock`).
-    controller_class = Song2016Controller
+    #: The controller class :meth:`controller` builds when not :class:`Song2016Controller` (a
+    #: reading of the timeouts replaces it: :class:`Song2016SubtreeClock`).  None: the module's
+    #: ``Song2016Controller``, looked up when a controller is built, so a copy of this module
+    #: with that name replaced (benchmarks/mutants.py's seeded faults) builds the replacement.
+    controller_class = None
 
     def __init__(self, n_robots: int | None = None, *, communication_timeout: int | None = None,
                  movement_timeout: int | None = None, d_s: float | None = None,
@@ -1367,7 +1369,8 @@ class Song2016:
             raise UsageError(f"lattice {lattice.name!r} has no edge of positive length",
                              fix="give a lattice graph with edges (001 Def. 1)")
         cfg = self.config(params, min_edge)
-        return self.controller_class(int(robot_id), params, lattice, cfg, memoize=self.memoize)
+        cls = self.controller_class or Song2016Controller
+        return cls(int(robot_id), params, lattice, cfg, memoize=self.memoize)
 
     def default_max_steps(self, params: Params, n: int) -> int:
         """The engine's step cap: twice the Theorem 13 bound, with our constants.
