@@ -253,6 +253,32 @@ class Budget:
         return f"z3's budget of rlimit={self.rlimit} was spent"
 
 
+#: the z3 context of the encoding being solved (Ctrl-C cancels it: :func:`_holding_ctrl_c`)
+_CURRENT_CTX: list = [None]
+
+
+def _cancel_current() -> None:
+    ctx = _CURRENT_CTX[0]
+    if ctx is not None:
+        ctx.interrupt()
+
+
+def _holding_ctrl_c(fn):
+    """Run ``fn`` with Ctrl-C held (:func:`swarmproof.models.interrupt.deferred`): a press cancels
+    the z3 check under way and is raised at the next safe point.  z3's Python objects free native
+    memory in ``__del__``; a ``KeyboardInterrupt`` landing there is printed as "Exception ignored"
+    with a traceback (seen with a fresh context per encoding: many more objects freed)."""
+    import functools
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        from swarmproof.models.interrupt import deferred
+
+        with deferred(_cancel_current):
+            return fn(*args, **kwargs)
+    return wrapper
+
+
 class _Session:
     """One fresh z3 context for one encoding's solver calls.
 
@@ -263,6 +289,7 @@ class _Session:
 
     def __init__(self, budget: Budget, params) -> None:
         self.ctx = z3.Context()
+        _CURRENT_CTX[0] = self.ctx
         self.budget = budget
         self.params = tuple(params)
         self.count = 0  # the context's rlimit count after the last check
@@ -276,6 +303,9 @@ class _Session:
 
         Returns (z3 result, model or None, reason_unknown); the result is None when the budget
         was already spent (nothing was checked): reason ``"timeout"`` or ``"rlimit"``."""
+        from swarmproof.models.interrupt import raise_if_interrupted
+
+        raise_if_interrupted()
         left_ms = (self.budget.deadline - time.perf_counter()) * 1000
         if left_ms <= 0:
             return None, None, "timeout"
@@ -287,6 +317,7 @@ class _Session:
         if negate is not None:
             s.add(z3.Not(self.term(negate)))
         res = check_interruptibly(s)
+        raise_if_interrupted()
         stats = s.statistics()
         if "rlimit count" in stats.keys():
             count = int(stats.get_key_value("rlimit count"))
@@ -416,6 +447,7 @@ def _solve_encoding(enc: Encoding, budget: Budget, params) -> dict:
     return _outcome("proved", True)
 
 
+@_holding_ctrl_c
 def solve(enc: Encoding, params: Sequence = (), *, rlimit: int | None = None,
           timeout_s: float = DEFAULT_TIMEOUT_S) -> dict:
     """Solve one encoding on its own (premises satisfiable, then validity), without the
@@ -446,6 +478,7 @@ def premise_names(enc: Encoding) -> list:
     return out
 
 
+@_holding_ctrl_c
 def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *,
                      budget: Budget | None = None) -> dict:
     """Drop each premise of ``lemma`` in turn, then all of them, and solve again (issue 19).
@@ -486,6 +519,7 @@ def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *,
     return {"verdict": verdict, "dropped": dropped, "all_dropped": every, "note": note}
 
 
+@_holding_ctrl_c
 def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | None = None) -> LemmaResult:
     """Prove one lemma and refute its negative control (module docstring, steps 1-3).
 
@@ -602,6 +636,7 @@ def run_suite(ids: Iterable[str] | None = None,
 
 # ------------------------------------- direct confirmation on small trees
 
+@_holding_ctrl_c
 def confirm_trees(max_robots: int = 5, timeout_s: float = 60.0, *, symmetry: bool = True,
                   bounded_range: str = "phi_minus_vdt", lemma: str = "spanning_tree_kept",
                   rlimit: int = CASE_RLIMIT) -> dict:
@@ -698,6 +733,7 @@ def _q(x) -> z3.ArithRef:
     return z3.RealVal(f.numerator) / f.denominator if f.denominator != 1 else z3.RealVal(f.numerator)
 
 
+@_holding_ctrl_c
 def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
                         timeout_s: float = 60.0) -> tuple:
     """Check one output of ``nearest_point_in_disc_intersection`` with z3.

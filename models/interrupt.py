@@ -28,7 +28,8 @@ import signal
 import threading
 from contextlib import contextmanager
 
-__all__ = ["EXIT_INTERRUPTED", "handler", "installed", "interrupted", "note", "raise_if_interrupted", "reset"]
+__all__ = ["EXIT_INTERRUPTED", "deferred", "handler", "installed", "interrupted", "note", "raise_if_interrupted",
+           "reset"]
 
 #: The exit code of a command stopped by Ctrl-C (128 + SIGINT, as shells report it).
 EXIT_INTERRUPTED = 130
@@ -80,3 +81,45 @@ def installed():
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+_DEFERRING = [False]
+
+
+@contextmanager
+def deferred(on_press=None):
+    """Hold Ctrl-C while the block runs (main thread only; elsewhere, or nested, a no-op): a
+    press is remembered and ``on_press()`` is called (e.g. to cancel a solver), but nothing is
+    raised where the press lands; the block calls :func:`raise_if_interrupted` at its safe points,
+    and the press is raised when the block ends at the latest.
+
+    For code whose objects free native memory in ``__del__`` (z3's terms, solvers and contexts):
+    a ``KeyboardInterrupt`` raised inside a ``__del__`` is not an exception anyone can catch --
+    Python prints "Exception ignored in ..." with a traceback and goes on.
+
+    >>> reset()
+    >>> with deferred():
+    ...     interrupted()
+    False
+    """
+    if _DEFERRING[0] or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def hold(signum, frame) -> None:   # noqa: ARG001 - signal handler signature
+        _PRESSED[0] = True
+        if on_press is not None:
+            on_press()
+
+    try:
+        previous = signal.signal(signal.SIGINT, hold)
+    except (ValueError, OSError):   # pragma: no cover - no signals here
+        yield
+        return
+    _DEFERRING[0] = True
+    try:
+        yield
+    finally:
+        _DEFERRING[0] = False
+        signal.signal(signal.SIGINT, previous)
+    raise_if_interrupted()
