@@ -512,6 +512,9 @@ def vacuity_controls(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *,
         verdict, note = "tautological", "the conclusion holds with every premise dropped"
     elif needed:
         verdict, note = "ok", "needed: " + ", ".join(needed)
+        undecided = sorted(n for n, st in dropped.items() if st == "inconclusive")
+        if undecided:   # the verdict stands (one needed premise rules out a tautology); say what is open
+            note += "; undecided (budget, timeout or z3 unknown): " + ", ".join(undecided)
     elif "inconclusive" in dropped.values() or every == "inconclusive":
         verdict, note = "inconclusive", "a spent budget, a timeout or z3 unknown left a drop undecided"
     else:
@@ -551,6 +554,7 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | N
     """
     timeout_s = _check_timeout(timeout_s)
     rlimit = check_rlimit(lemma.rlimit if rlimit is None else rlimit, f"for lemma {lemma.id!r}")
+    _check_solver_params(lemma)
     _configure()
     params = tuple(lemma.solver_params)
     t0 = time.perf_counter()
@@ -578,6 +582,16 @@ def prove(lemma: Lemma, timeout_s: float = DEFAULT_TIMEOUT_S, *, rlimit: int | N
         negative_control=control, counterexample=main["counterexample"], reason=reason,
         normalisations=list(lemma.normalisations), kind=lemma.kind, vacuity=vac,
         not_proved=list(lemma.not_proved), rlimit={"budget": budget.rlimit, "used": budget.used})
+
+
+def _check_solver_params(lemma: Lemma) -> None:
+    """A lemma's ``solver_params`` may tune the solver, not its budget: ``timeout`` would bring the
+    wall clock back into the verdict and ``rlimit`` would bypass the recorded budget."""
+    for key, value in lemma.solver_params:
+        if key in ("timeout", "rlimit"):
+            raise UsageError(f"lemma {lemma.id!r} sets solver_params {key}={value!r}",
+                             fix="give z3's work budget as Lemma(rlimit=N) (or prove --rlimit N); "
+                                 "the wall-clock cap is prove's --timeout")
 
 
 def _check_timeout(timeout_s) -> float:

@@ -54,7 +54,7 @@ import z3
 from swarmproof.invariants.lemmas import Encoding, Lemma
 
 __all__ = ["TOL", "Real", "Point", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq", "And", "Or",
-           "Not", "Implies", "sub", "add", "scale", "dist2", "cross_check"]
+           "Not", "Implies", "If", "sub", "add", "scale", "dist2", "cross_check"]
 
 #: The default tolerance of a float judgment, in the lemma's normalised units (``phi = 1``): the
 #: engine's monitors compare positions with ``1e-9 * phi`` (swarmproof.invariants.premises).
@@ -66,8 +66,18 @@ TOL = 1e-9
 _Z3 = contextvars.ContextVar("swarmproof_lemma_z3", default=False)
 
 
+class _Formula:
+    """A float formula of this module, judged later.  Python's ``and``/``or``/``not`` and
+    ``x if c else y`` would read it as a plain truth value (always true) and judge it wrongly,
+    so using it as one is an error."""
+
+    def __bool__(self) -> bool:
+        raise TypeError("a lemma formula has no plain truth value: combine formulas with And, Or, Not, "
+                        "Implies and If of swarmproof.invariants.lemma_api, not Python's and/or/not/if")
+
+
 @dataclass(frozen=True)
-class _Cmp:
+class _Cmp(_Formula):
     """A comparison of two floats, judged later with the direction of its place (premise or
     conclusion, turned round under a negation)."""
 
@@ -77,7 +87,7 @@ class _Cmp:
 
 
 @dataclass(frozen=True)
-class _Op:
+class _Op(_Formula):
     op: str        # "and" | "or" | "not"
     args: tuple
 
@@ -144,6 +154,15 @@ def Implies(a, b):
     return Or(Not(a), b)
 
 
+def If(cond, a, b):
+    """``a`` where ``cond`` holds, else ``b`` (``z3.If`` on z3 terms).  In floats ``cond`` is
+    judged exactly, without a tolerance: a choice between two values has no harder or easier
+    side."""
+    if _is_z3(cond, a, b):
+        return z3.If(_as_z3(cond), a, b)
+    return a if _truth(cond, True, 0.0) else b
+
+
 def _as_z3(x):
     if isinstance(x, bool):
         return z3.BoolVal(x)
@@ -152,8 +171,6 @@ def _as_z3(x):
 
 def _truth(x, strict: bool, tol: float) -> bool:
     """A float formula's truth: ``strict`` (a premise: harder to satisfy) or lenient."""
-    if isinstance(x, bool):
-        return x
     if isinstance(x, _Cmp):
         t = -tol if strict else tol
         a, b = x.a, x.b
@@ -171,8 +188,9 @@ def _truth(x, strict: bool, tol: float) -> bool:
             return not _truth(x.args[0], not strict, tol)
         vals = (_truth(a, strict, tol) for a in x.args)
         return all(vals) if x.op == "and" else any(vals)
-    raise TypeError(f"formula={x!r} is not a comparison of this module (Le, Lt, ...) or a bool; "
-                    "write premises and conclusions with swarmproof.invariants.lemma_api's helpers")
+    raise TypeError(f"formula={x!r} is not a comparison of this module (Le, Lt, Ge, Gt, Eq) or a "
+                    "connective of them (And, Or, Not, Implies): a Python comparison such as x <= 1 "
+                    "is judged without the tolerances; write it Le(x, 1)")
 
 
 # ------------------------------------------------------------------ vectors
@@ -278,6 +296,20 @@ class LemmaSpec:
     tol: float = TOL
     extra: dict = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        from swarmproof.models.errors import UsageError
+
+        if not self.control_premises:
+            raise UsageError(f"lemma {self.id!r} declares no control_premises (its negative control)",
+                             fix="give control_premises: the premises with one weakened, which z3 must "
+                                 "refute with a counterexample (docs/proofs.md)")
+        for label, pairs in (("premises", self.premises), ("control_premises", self.control_premises)):
+            for pair in pairs:
+                if not (isinstance(pair, tuple) and len(pair) == 2 and isinstance(pair[0], str)
+                        and callable(pair[1])):
+                    raise UsageError(f"lemma {self.id!r}: {label} entry={pair!r} is not (name, function)",
+                                     fix="write each premise as (\"name\", lambda v: Le(...))")
+
     def _namespace(self, make) -> SimpleNamespace:
         return SimpleNamespace(**{var.name: make(var) for var in self.variables})
 
@@ -298,8 +330,6 @@ class LemmaSpec:
 
     def control(self) -> Encoding:
         """The z3 encoding of the negative control."""
-        if not self.control_premises:
-            raise ValueError(f"lemma {self.id!r} declares no control_premises")
         return self._encoding(self.control_premises)
 
     def lemma(self) -> Lemma:

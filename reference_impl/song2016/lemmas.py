@@ -378,8 +378,8 @@ EXTRA_LEMMAS: dict = {
     ),
     "nclb_three_children_direct": Lemma(
         id="nclb_three_children_direct",
-        statement="NCLB for three children at once, un-normalised (true; too hard for z3 in a "
-                  "short timeout, DESIGN.md section 4).",
+        statement="NCLB for three children at once, un-normalised: true, but too hard for z3 "
+                  "within its budget (DESIGN.md section 4).",
         cites=("001_7a4e517b856331bc.txt Sec. V-C",),
         normalisations=(_S_NORM,),
         build=nclb_three_children_direct,

@@ -51,7 +51,11 @@ def _rlimit(text: str) -> int:
     try:
         x = int(text.replace("_", ""))
     except ValueError:
-        x = None
+        try:
+            f = float(text)            # 2e8, as the docs write budgets
+            x = int(f) if f.is_integer() else None
+        except (ValueError, OverflowError):
+            x = None
     if x is None or not 1 <= x <= MAX_RLIMIT:
         raise argparse.ArgumentTypeError(f"--rlimit={text!r} must be an integer from 1 to {MAX_RLIMIT} "
                                          f"(z3's resource units; e.g. {DEFAULT_RLIMIT}, the default)")
@@ -112,9 +116,16 @@ def format_human(results) -> list:
 
 
 def _used(rlimit: dict) -> str:
-    """``used/budget`` as a share: ``"12%"``, or ``""`` when nothing was recorded."""
+    """``used/budget`` as a share: ``"12%"``; ``"spent"`` once z3 reached the budget (its count
+    may run a little past it); ``""`` when nothing was recorded.
+
+    >>> _used({"budget": 200, "used": 24}), _used({"budget": 1000, "used": 1720}), _used({})
+    ('12%', 'spent', '')
+    """
     if not rlimit or not rlimit.get("budget"):
         return ""
+    if rlimit["used"] >= rlimit["budget"]:
+        return "spent"
     return f"{100 * rlimit['used'] / rlimit['budget']:.0f}%"
 
 

@@ -163,9 +163,8 @@ def test_timeout_is_inconclusive_never_proved():
 
 def test_unknown_that_is_not_a_timeout_is_inconclusive():
     x, y = z3.Reals("x y")
-    lem = _lemma(lambda: Encoding(premises=[("disc", x * x + y * y <= 1)],
-                                  conclusion=x * y <= 1, variables=[x, y]),
-                 params=(("rlimit", 1),))
+    lem = dataclasses.replace(_lemma(lambda: Encoding(premises=[("disc", x * x + y * y <= 1)],
+                                                      conclusion=x * y <= 1, variables=[x, y])), rlimit=1)
     r = prove(lem)
     assert r.status == "inconclusive"
     assert "unknown" in r.reason and "resource" in r.reason
@@ -398,3 +397,10 @@ def test_a_lemma_declares_its_own_budget():
 def test_bad_rlimit_is_a_usage_error(rlimit):
     with pytest.raises(UsageError, match=r"rlimit=.* must be an integer from 1 to 4294967295"):
         prove(LEMMAS["translation_invariance"], rlimit=rlimit)
+
+
+@pytest.mark.parametrize("key", ["timeout", "rlimit"])
+def test_a_lemma_cannot_set_its_budget_through_solver_params(key):
+    lem = _lemma(LEMMAS["relocate_stays_in_range"].build, params=((key, 5),))
+    with pytest.raises(UsageError, match=rf"sets solver_params {key}=5; fix: give z3's work budget as Lemma\(rlimit=N\)"):
+        prove(lem)

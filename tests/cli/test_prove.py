@@ -129,7 +129,7 @@ def test_vacuous_lemma_exit_3(capsys, monkeypatch):
     (["--timeout", "-2"], r"--timeout='-2' must be > 0"),
     (["--timeout", "inf"], r"--timeout='inf' must be > 0 and at most 86400"),
     (["--rlimit", "0"], r"--rlimit='0' must be an integer from 1 to 4294967295 \(z3's resource units"),
-    (["--rlimit", "1e6"], r"--rlimit='1e6' must be an integer from 1"),
+    (["--rlimit", "1.5e0"], r"--rlimit='1.5e0' must be an integer from 1"),
     (["--rlimit", "4294967296"], r"--rlimit='4294967296' must be an integer from 1 to 4294967295"),
 ], ids=["unknown-id", "zero-timeout", "negative-timeout", "infinite-timeout", "zero-rlimit",
         "float-rlimit", "huge-rlimit"])
