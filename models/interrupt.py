@@ -65,22 +65,32 @@ def handler(signum, frame) -> None:   # noqa: ARG001 - signal handler signature
 
 
 @contextmanager
+def _sigint(new_handler, on_start=None):
+    """``new_handler`` for SIGINT while the block runs, then the previous one again; the block
+    gets True, or False where no handler can be set (another thread than the main one, or no
+    signals here) and nothing changed."""
+    if threading.current_thread() is not threading.main_thread():
+        yield False
+        return
+    if on_start is not None:
+        on_start()
+    try:
+        previous = signal.signal(signal.SIGINT, new_handler)
+    except (ValueError, OSError):   # pragma: no cover - no signals here
+        yield False
+        return
+    try:
+        yield True
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextmanager
 def installed():
     """Install :func:`handler` for SIGINT while the block runs (main thread only; elsewhere a no-op),
     then put the previous handler back."""
-    if threading.current_thread() is not threading.main_thread():
+    with _sigint(handler, on_start=reset):
         yield
-        return
-    reset()
-    try:
-        previous = signal.signal(signal.SIGINT, handler)
-    except (ValueError, OSError):   # pragma: no cover - no signals here
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 _DEFERRING = [False]
@@ -102,7 +112,7 @@ def deferred(on_press=None):
     ...     interrupted()
     False
     """
-    if _DEFERRING[0] or threading.current_thread() is not threading.main_thread():
+    if _DEFERRING[0]:
         yield
         return
 
@@ -111,15 +121,13 @@ def deferred(on_press=None):
         if on_press is not None:
             on_press()
 
-    try:
-        previous = signal.signal(signal.SIGINT, hold)
-    except (ValueError, OSError):   # pragma: no cover - no signals here
-        yield
-        return
-    _DEFERRING[0] = True
-    try:
-        yield
-    finally:
-        _DEFERRING[0] = False
-        signal.signal(signal.SIGINT, previous)
+    with _sigint(hold) as held:
+        if not held:
+            yield
+            return
+        _DEFERRING[0] = True
+        try:
+            yield
+        finally:
+            _DEFERRING[0] = False
     raise_if_interrupted()
