@@ -72,8 +72,8 @@ def main(argv=None) -> int:
     cpu_t, wall_t = [c for c, _ in totals], [w for _, w in totals]
     print(f"suite total over {args.repeat} runs: CPU {min(cpu_t):.2f}-{max(cpu_t):.2f} s, "
           f"wall {min(wall_t):.2f}-{max(wall_t):.2f} s; all proved: {ok}")
-    print(f"targets: suite < 10 s: CPU {max(cpu_t) < 10}, wall {max(wall_t) < 10}; "
-          f"every lemma < 2 s: CPU {worst_cpu < 2}, wall {worst_wall < 2}")
+    print(f"target (issue 32): suite < 30 s: CPU {max(cpu_t) < 30}, wall {max(wall_t) < 30}; "
+          f"slowest lemma: CPU {worst_cpu:.2f} s, wall {worst_wall:.2f} s")
 
     if args.trees >= 2:
         rlimit = args.tree_rlimit or proofs.CASE_RLIMIT
