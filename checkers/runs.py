@@ -149,7 +149,7 @@ def check_robots(robots: int | None, initial) -> None:
         raise UsageError("robots=None: the number of robots is required without an initial file",
                          fix="e.g. --robots 10")
     if robots < 1:
-        raise UsageError(f"robots={robots!r} must be >= 1")
+        raise UsageError(f"robots={robots!r} must be >= 1", fix="give the team size, e.g. --robots 10")
     if robots > MAX_ROBOTS:
         raise UsageError(f"robots={robots!r} is more than swarmproof draws a start for (at most {MAX_ROBOTS})",
                          fix=f"run at most {MAX_ROBOTS} robots, or start from your own poses "

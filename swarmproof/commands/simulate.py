@@ -197,7 +197,7 @@ def _initial(args):
     if args.robots is None:
         raise UsageError("--robots N is required without --initial", fix="e.g. --robots 10")
     if args.robots < 1:
-        raise UsageError(f"--robots {args.robots!r} must be >= 1")
+        raise UsageError(f"--robots {args.robots!r} must be >= 1", fix="give the team size, e.g. --robots 10")
     return None
 
 

@@ -82,7 +82,7 @@ BAD = [
     ("unknown-lattice", ["example-gather", "--lattice", "nolattice", "--robots", "3", "--seed", "0"],
      "nolattice: no such file and no bundled lattice"),
     ("zero-robots", ["example-gather", "--lattice", "square", "--robots", "0", "--seed", "0"],
-     "--robots 0 must be >= 1"),
+     "--robots 0 must be >= 1; fix: give the team size, e.g. --robots 10"),
     ("no-robots", ["example-gather", "--lattice", "square", "--seed", "0"], "--robots N is required"),
     ("negative-seed", ["example-gather", "--lattice", "square", "--robots", "2", "--seed", "-1"],
      "--seed -1 must be >= 0"),
