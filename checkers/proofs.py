@@ -95,6 +95,8 @@ DEFAULT_TIMEOUT_S = 300.0
 DEFAULT_RLIMIT = 200_000_000
 #: z3 takes the resource limit as an unsigned 32-bit count.
 MAX_RLIMIT = 2**32 - 1
+#: Longest accepted wall-clock cap (one day): z3 takes its timeout as 32-bit milliseconds.
+MAX_TIMEOUT_S = 86400.0
 #: z3's work budget per tree case of :func:`confirm_trees` and per check of
 #: :func:`kernel_oracle_check` (each far below it: docs/proofs.md "Budgets").
 CASE_RLIMIT = 50_000_000
@@ -217,7 +219,8 @@ def _solver(timeout_ms: float, params: Sequence = (), ctx: z3.Context | None = N
     # ("solver", "smt") (measured on 004's planner rule: nlsat timed out at 30 s
     # where the SMT solver's simplex decides in 0.06 s; docs/proofs.md).
     # ``rlimit`` (0: none) is z3's resource limit for the next check, counted from the context's
-    # count now; the lemma's own solver_params come last and may override it.
+    # count now.  The params come last; prove refuses a lemma whose params set timeout or rlimit
+    # (_check_solver_params).
     params = tuple(params)
     smt = ("solver", "smt") in params
     s = z3.Solver(ctx=ctx) if smt else z3.Tactic("qfnra-nlsat", ctx=ctx).solver()
@@ -596,9 +599,9 @@ def _check_solver_params(lemma: Lemma) -> None:
 
 def _check_timeout(timeout_s) -> float:
     timeout_s = check_positive("timeout", timeout_s, fix="give a timeout in seconds > 0")
-    if timeout_s > 86400:
+    if timeout_s > MAX_TIMEOUT_S:
         raise UsageError(f"timeout={timeout_s!r} seconds is over one day (z3 takes 32-bit milliseconds)",
-                         fix="give a timeout of at most 86400 seconds")
+                         fix=f"give a timeout of at most {MAX_TIMEOUT_S:g} seconds")
     return timeout_s
 
 
@@ -776,7 +779,7 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     C1, C2, T = (_q(c1[0]), _q(c1[1])), (_q(c2[0]), _q(c2[1])), (_q(target[0]), _q(target[1]))
     R1, R2 = _q(r1), _q(r2)
 
-    def solve(*terms) -> tuple:
+    def decide(*terms) -> tuple:
         session = _Session(Budget.of(CASE_RLIMIT, timeout_s), ())
         res, model, why = session.check([(f"c{k}", t) for k, t in enumerate(terms)], None)
         if res is None:
@@ -788,7 +791,7 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     if q is None:
         if min(float(r1), float(r2)) < tol:
             return "inconclusive", "kernel returned None and a radius is below the tolerance"
-        res, why, point = solve(dist2(x, C1) <= (R1 - tol) * (R1 - tol), dist2(x, C2) <= (R2 - tol) * (R2 - tol))
+        res, why, point = decide(dist2(x, C1) <= (R1 - tol) * (R1 - tol), dist2(x, C2) <= (R2 - tol) * (R2 - tol))
         if res == "unsat":
             return "confirmed", "empty intersection confirmed"
         if res == "sat":
@@ -801,7 +804,7 @@ def kernel_oracle_check(kernel, c1, r1, c2, r2, target, *, tol: float = 1e-9,
     dq = float(np.hypot(float(q[0]) - float(target[0]), float(q[1]) - float(target[1])))
     if dq <= tol:
         return "confirmed", "output is the target"
-    res, why, point = solve(dist2(x, C1) <= R1 * R1, dist2(x, C2) <= R2 * R2, dist2(x, T) < _q((dq - tol) ** 2))
+    res, why, point = decide(dist2(x, C1) <= R1 * R1, dist2(x, C2) <= R2 * R2, dist2(x, T) < _q((dq - tol) ** 2))
     if res == "unsat":
         return "confirmed", "no point of the region nearer the target"
     if res == "sat":

@@ -51,7 +51,7 @@ from typing import Callable
 
 import z3
 
-from swarmproof.invariants.lemmas import Encoding, Lemma
+from swarmproof.invariants.lemmas import Encoding, Lemma, add, dist2, scale, sub
 
 __all__ = ["TOL", "Real", "Point", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq", "And", "Or",
            "Not", "Implies", "If", "sub", "add", "scale", "dist2", "cross_check"]
@@ -191,29 +191,6 @@ def _truth(x, strict: bool, tol: float) -> bool:
     raise TypeError(f"formula={x!r} is not a comparison of this module (Le, Lt, Ge, Gt, Eq) or a "
                     "connective of them (And, Or, Not, Implies): a Python comparison such as x <= 1 "
                     "is judged without the tolerances; write it Le(x, 1)")
-
-
-# ------------------------------------------------------------------ vectors
-
-def sub(a, b):
-    """``a - b``."""
-    return (a[0] - b[0], a[1] - b[1])
-
-
-def add(a, b):
-    """``a + b``."""
-    return (a[0] + b[0], a[1] + b[1])
-
-
-def scale(k, a):
-    """``k a``."""
-    return (k * a[0], k * a[1])
-
-
-def dist2(a, b=(0, 0)):
-    """``||a - b||^2`` (squared: no square roots, no distance variables)."""
-    d = sub(a, b)
-    return d[0] * d[0] + d[1] * d[1]
 
 
 # ------------------------------------------------------------------ declarations

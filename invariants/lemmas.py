@@ -114,8 +114,10 @@ def eq(a: Point, b: Point) -> z3.BoolRef:
     return z3.And(a[0] == b[0], a[1] == b[1])
 
 
-def dist2(a: Point, b: Point = ORIGIN):
-    """Squared Euclidean distance ``||a - b||^2`` (no distance variables)."""
+def dist2(a: Point, b: Point = (0, 0)):
+    """Squared Euclidean distance ``||a - b||^2`` (no distance variables).  Like :func:`sub`,
+    :func:`add` and :func:`scale` it works on z3 terms and on floats alike (z3 reads the default
+    origin's ``0`` as ``RealVal(0)``), so :mod:`swarmproof.invariants.lemma_api` uses these."""
     d = sub(a, b)
     return d[0] * d[0] + d[1] * d[1]
 

@@ -28,25 +28,18 @@ def tool_versions() -> dict[str, str]:
     installed z3-solver distribution's version, read without importing z3)."""
     import numpy
 
-    try:
-        from importlib.metadata import PackageNotFoundError, version
-
-        try:
-            own = version("swarmproof")
-        except PackageNotFoundError:  # pragma: no cover - running from a source tree, not installed
-            own = "unknown"
-    except ImportError:  # pragma: no cover
-        own = "unknown"
-    return {"swarmproof": own, "python": platform.python_version(), "numpy": numpy.__version__,
-            "z3": _distribution("z3-solver")}
+    return {"swarmproof": _distribution("swarmproof"), "python": platform.python_version(),
+            "numpy": numpy.__version__, "z3": _distribution("z3-solver")}
 
 
 def _distribution(name: str) -> str:
+    """The installed distribution's version, ``"unknown"`` when it is not installed (swarmproof
+    run from a source tree)."""
     try:
         from importlib.metadata import PackageNotFoundError, version
     except ImportError:  # pragma: no cover
         return "unknown"
     try:
         return version(name)
-    except PackageNotFoundError:  # pragma: no cover - z3-solver is a dependency
+    except PackageNotFoundError:  # pragma: no cover - running from a source tree, not installed
         return "unknown"

@@ -31,7 +31,6 @@ from typing import Callable
 
 import z3
 
-from swarmproof.invariants import lemma_api as _api
 from swarmproof.invariants.lemma_api import And, Ge, Le, LemmaSpec, Point, Real
 from swarmproof.invariants.lemmas import (ORIGIN as _ORIGIN, Encoding, Lemma, add as _add, dist2, eq as _eq,
                                           point as _pt, scale as _scale, sub as _sub, variables as _vars)
@@ -139,9 +138,9 @@ def _relocate_spec(endpoint_radius2: int) -> LemmaSpec:
     stationary robot (the root) at the origin, ``phi = 1``.  The control lets one endpoint be
     ``2 phi`` away (``endpoint_radius2 = 4``)."""
     def end(radius2):
-        return ("end_within_range", lambda v: Le(_api.dist2(v.b), radius2))
+        return ("end_within_range", lambda v: Le(dist2(v.b), radius2))
 
-    start = ("start_within_range", lambda v: Le(_api.dist2(v.a), 1))
+    start = ("start_within_range", lambda v: Le(dist2(v.a), 1))
     on_segment = ("on_segment", lambda v: And(Ge(v.l, 0), Le(v.l, 1)))
     return LemmaSpec(
         id="relocate_stays_in_range",
@@ -149,7 +148,7 @@ def _relocate_spec(endpoint_radius2: int) -> LemmaSpec:
                   "a stationary robot stays within phi of it.",
         variables=(Point("a"), Point("b"), Real("l", 0.0, 1.0)),
         premises=(start, end(endpoint_radius2), on_segment),
-        conclusion=lambda v: Le(_api.dist2(_api.add(v.a, _api.scale(v.l, _api.sub(v.b, v.a)))), 1),
+        conclusion=lambda v: Le(dist2(_add(v.a, _scale(v.l, _sub(v.b, v.a)))), 1),
         control_premises=(start, end(4), on_segment),
         cites=("001_7a4e517b856331bc.txt Sec. V-C case 2 (relocate robot toward the vacancy)",),
         normalisations=(_t("the stationary robot"), "scale: phi = 1 (scale_invariance)"),

@@ -30,11 +30,9 @@ DESCRIPTION = (
 )
 
 
-#: Longest accepted --timeout (one day): z3 takes its timeout as 32-bit milliseconds.
-MAX_TIMEOUT_S = 86400.0
-
-
 def _timeout(text: str) -> float:
+    from swarmproof.checkers.proofs import MAX_TIMEOUT_S
+
     try:
         x = float(text)
     except ValueError:
