@@ -305,9 +305,12 @@ def closeness(prop: str, result) -> float | None:
 
 #: Fault kinds the explorer can draw (all replayable: data-driven hooks, or draws from the
 #: engine's fault generator, which the run's seed fixes).
-FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops", "additions", "noise", "delays")
+FAULT_KINDS: tuple[str, ...] = ("schedule", "crashes", "drops", "additions", "noise", "delays", "latency")
 #: Largest drawn message delay (steps) of the ``delays`` fault kind.
 MAX_DRAWN_DELAY = 5
+#: Largest drawn message delay (steps) of the ``latency`` fault kind: long enough to outlast a
+#: protocol's timeouts (004's handshake: 3 Delta t = 12 ticks by default).
+MAX_DRAWN_LATENCY = 40
 
 #: Largest drawn sensing-noise standard deviations: (x, y) as a fraction of the range phi, theta in radians.
 MAX_NOISE_XY_FRACTION = 0.04
@@ -332,7 +335,10 @@ def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str], *, poses: S
       seeded by the run's seed, so a replay is exact);
     * ``delays``: every delivery arrives 0..K steps late, K drawn in 1..5
       (``FaultModel.message_delay``), in order or not (``message_reorder`` drawn); the
-      delays come from the engine's fault generator (exact replay).
+      delays come from the engine's fault generator (exact replay);
+    * ``latency``: every delivery (broadcasts and point-to-point exchanges) arrives 0..K steps
+      late, in order, K drawn in 6..40: latencies that outlast timeouts (a link whose latency
+      is not negligible, 004 Sec. II-A e); with ``delays`` too, K is the latency's.
 
     ``poses`` are the starting poses of the robots ``ids`` (same order), ``phi``
     the range; both are needed for ``additions`` only.
@@ -372,6 +378,8 @@ def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str], *, poses: S
     if "delays" in kinds:
         kw["message_delay"] = draw(st.integers(1, MAX_DRAWN_DELAY))
         kw["message_reorder"] = draw(st.booleans())
+    if "latency" in kinds:
+        kw["message_delay"] = draw(st.integers(MAX_DRAWN_DELAY + 1, MAX_DRAWN_LATENCY))
     return FaultModel(**kw) if kw else None
 
 
@@ -384,7 +392,8 @@ def _fault_probe(kinds: Sequence[str]):
                       drop_message=DropSet(frozenset({(0, 0, 1)})) if "drops" in kinds else None,
                       additions={0: [(0, [0.0, 0.0, 0.0])]} if "additions" in kinds else {},
                       noise_std=(0.01, 0.01) if "noise" in kinds else (0.0, 0.0),
-                      message_delay=1 if "delays" in kinds else 0, message_reorder="delays" in kinds)
+                      message_delay=1 if ("delays" in kinds or "latency" in kinds) else 0,
+                      message_reorder="delays" in kinds)
 
 
 #: Angle steps tried, in order, when a drawn placement lands closer than range/4 to a robot
@@ -1448,12 +1457,13 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         Engine step cap (default: the algorithm's).
     options : mapping, optional
         Property options: ``radius`` (collision), ``deadlock_k``, ``pos_tol`` (oscillation),
+        ``invariants`` (names: the ``invariants`` property checks only these of the algorithm's),
         ``progress_window`` (oscillation's no-progress window W, default
         :data:`DEFAULT_PROGRESS_WINDOW` for algorithms with ``randomized = True``; given explicitly
         it applies to any algorithm with a ``progress_measure``), ``progress_eps``.
     draw_faults : sequence of str
         Fault kinds Hypothesis draws per scenario (:data:`FAULT_KINDS`: ``schedule``, ``crashes``,
-        ``drops``, ``additions``, ``noise``, ``delays``; see :func:`draw_fault_model`); they break
+        ``drops``, ``additions``, ``noise``, ``delays``, ``latency``; see :func:`draw_fault_model`); they break
         robot-model assumptions, which the report names.  Not together with ``fault_model``.
     database_dir : path, optional
         Keep Hypothesis's example database in this folder, so a rerun tries known failures first
@@ -1489,6 +1499,10 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
                       progress, out_dir, database_dir)
     _check_run_inputs(ex, algo, lats, rng_robots[1], speeds)
     kept, broken = _kept_and_broken_assumptions(ex, algo, lats, rng_robots[1], speeds)
+    if options and options.get("invariants") is not None:
+        from swarmproof.invariants.algorithm_invariants import invariants_of
+
+        invariants_of(algo, options["invariants"])      # a name it does not declare: exit 2 up front
     draw_faults = _check_draw_faults(draw_faults, fault_model)
     broken = _with_fault_assumptions(broken, algo, fault_model, draw_faults)
     report = ExploreReport(spec.label, seed, max_examples, rng_robots, lats, kept, broken,

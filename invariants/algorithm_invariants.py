@@ -54,9 +54,27 @@ class Invariant:
     check: Callable[[int, Any, np.ndarray, tuple], str | None]
 
 
-def invariants_of(algorithm) -> tuple:
-    """The algorithm's ``invariants`` attribute (a tuple of :class:`Invariant`), else ``()``."""
-    return tuple(getattr(algorithm, "invariants", None) or ())
+def invariants_of(algorithm, only=None) -> tuple:
+    """The algorithm's ``invariants`` attribute (a tuple of :class:`Invariant`), else ``()``;
+    ``only`` (names, e.g. the explorer's property option ``invariants``) keeps those of them.
+
+    Raises
+    ------
+    UsageError
+        A name in ``only`` that the algorithm does not declare (naming the ones it does).
+    """
+    invs = tuple(getattr(algorithm, "invariants", None) or ())
+    if only is None:
+        return invs
+    names = (only,) if isinstance(only, str) else tuple(only)
+    known = [i.name for i in invs]
+    for name in names:
+        if name not in known:
+            from swarmproof.models.errors import UsageError, did_you_mean
+
+            raise UsageError(f"invariant={name!r} is not an invariant of {getattr(algorithm, 'name', 'the algorithm')}"
+                             f"{did_you_mean(name, known)}", fix=f"use some of {known!r}")
+    return tuple(i for i in invs if i.name in names)
 
 
 class InvariantsMonitor:
@@ -128,10 +146,10 @@ class InvariantsStop:
         return False
 
 
-def check_invariants(trace, algorithm) -> InvariantResult:
-    """Run the algorithm's invariants over every recorded step of ``trace`` (the non-streaming
-    form; a sparse trace is judged on what it kept -- the explorer streams instead)."""
-    mon = InvariantsMonitor(invariants_of(algorithm))
+def check_invariants(trace, algorithm, only=None) -> InvariantResult:
+    """Run the algorithm's invariants (``only``: those named) over every recorded step of ``trace``
+    (the non-streaming form; a sparse trace is judged on what it kept -- the explorer streams)."""
+    mon = InvariantsMonitor(invariants_of(algorithm, only))
     mon.start(trace.ids)
     present = getattr(trace, "present", None)
     for k in range(len(trace.poses)):

@@ -457,12 +457,12 @@ def _oscillation_monitor(factory, options):
 def _invariants_monitor(factory, options):
     """End a run at the first step where one of the algorithm's invariants breaks (its class's
     ``invariants`` tuple; declared per instance, or none: no early stop)."""
-    from .algorithm_invariants import InvariantsStop
+    from .algorithm_invariants import InvariantsStop, invariants_of
 
     invs = getattr(factory, "invariants", None)
     if not isinstance(invs, (tuple, list)) or not invs:
         return None          # none, or declared per instance (a property: wang2020's depend on its params)
-    return InvariantsStop(invs)
+    return InvariantsStop(invariants_of(factory, (options or {}).get("invariants")))
 
 
 def _premises(trace, ctx):
@@ -475,13 +475,13 @@ def _premises(trace, ctx):
 def _invariants(trace, ctx):
     from .algorithm_invariants import check_invariants
 
-    return check_invariants(trace, ctx.algorithm)
+    return check_invariants(trace, ctx.algorithm, ctx.options.get("invariants"))
 
 
 def _invariants_stream(algorithm, params, options):
     from .algorithm_invariants import InvariantsMonitor, invariants_of
 
-    return InvariantsMonitor(invariants_of(algorithm))
+    return InvariantsMonitor(invariants_of(algorithm, dict(options or {}).get("invariants")))
 
 
 def _no_crash(trace, ctx):

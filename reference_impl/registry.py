@@ -19,7 +19,7 @@ True
 >>> get_algorithm("wang2099")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: algorithm='wang2099' is not known; did you mean 'wang2020'?; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'song2016-subtree-clock', 'wang2020']
+swarmproof.models.errors.UsageError: algorithm='wang2099' is not known; did you mean 'wang2020'?; fix: use one of ['example-anonymous-line', 'example-gather', 'example-grid-goals', 'jiang', 'jiang-literal', 'leechong-leader', 'leechong-leader-fteam', 'leechong-leader-printed', 'leechong-neighbor', 'leechong-neighbor-fteam', 'leechong-neighbor-printed', 'song2014', 'song2016', 'song2016-literal', 'song2016-subtree-clock', 'wang2020', 'wang2020-broadcast-handshake']
 """
 
 from __future__ import annotations
@@ -57,6 +57,7 @@ ALGORITHMS: dict[str, str] = {
     "example-anonymous-line": "swarmproof.reference_impl.examples:AnonymousLine",
     "example-grid-goals": "swarmproof.reference_impl.examples:GridGoals",
     "wang2020": "swarmproof.reference_impl.wang2020:Wang2020",
+    "wang2020-broadcast-handshake": "swarmproof.reference_impl.wang2020:Wang2020BroadcastHandshake",
 }
 
 ENTRY_POINT_GROUP = "swarmproof.algorithms"
@@ -84,6 +85,9 @@ READINGS: dict[tuple[str, str], str] = {
     # reading "1", Alg. 1's printed formula, is the -printed variant.
     ("leechong-leader", "1"): "leechong-leader-printed",
     ("leechong-neighbor", "1"): "leechong-neighbor-printed",
+    # 0.3.0 (issue 30): wang2020's handshake became an exchange answered within the tick (reading
+    # "2", Sec. II-A c and e); reading "1", the handshake in the broadcasts, is the variant.
+    ("wang2020", "1"): "wang2020-broadcast-handshake",
 }
 
 #: Old registry names that still work: ``old name -> Alias(new name, readings, why)``.  The old

@@ -9,6 +9,7 @@ asynchronous clock does not tick wait in its backlog (:meth:`Delivery.hold`).
 
 from __future__ import annotations
 
+import heapq
 from collections.abc import Mapping as _MappingABC
 
 import numpy as np
@@ -202,3 +203,98 @@ class Delivery:
             events.append(Event(t, "drop", (), (("deliveries", tuple(self.dropped)),)))
         if self.late_log:
             events.append(Event(t, "late_delivery", (), (("deliveries", tuple(self.late_log)),)))
+
+
+class Exchanges:
+    """Point-to-point exchanges (``Command.requests``): a request and its answer within the step.
+
+    A request goes to a robot the sender can hear from now (the model's audience); the fault
+    model's loss (``drop_message``, ``message_loss``) and delay (``message_delay``) apply to
+    each direction, drawn from the fault generator in sending order; duplication and
+    reordering are the broadcasts' only.  Without faults a request is answered, and the answer
+    is read, in the step it was sent: the model of a link whose latency is negligible (004 Sec.
+    II-A e).  A robot that is gone when a request or answer is due loses it.
+
+    Per run one object; per step :meth:`send` for every robot that asked, then :meth:`due`
+    hands the deliveries due now to the engine's exchange phase, oldest first, and :meth:`end`
+    records the lost and late ones (``drop`` and ``late_delivery`` events, key ``exchanges``).
+    """
+
+    def __init__(self, model, faults, ids_list, rng) -> None:
+        self.comm = model.communication
+        self.anonymous = model.sensing == "anonymous"
+        self.faults, self.rng = faults, rng
+        self.drops = faults.drops_messages
+        self.max_delay = int(faults.message_delay)
+        self.slot_of = {int(r): s for s, r in enumerate(ids_list)}
+        self.queue: list = []       # heap of (due step, seq, kind, from slot, to slot, payload, reply)
+        self.seq = 0
+        self.dropped: list = []
+        self.late_log: list = []
+
+    def _fate(self, t: int, from_id: int, to_id: int):
+        """None (lost) or the step a delivery from ``from_id`` to ``to_id`` sent at ``t`` arrives."""
+        f = self.faults
+        if f.drop_message is not None and f.drop_message(t, from_id, to_id, self.rng):
+            self.dropped.append((from_id, to_id))
+            return None
+        if f.message_loss > 0 and self.rng.random() < f.message_loss:
+            self.dropped.append((from_id, to_id))
+            return None
+        d = int(self.rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
+        if d:
+            self.late_log.append((from_id, to_id, t + d, 1))
+        return t + d
+
+    def _push(self, due: int, kind: str, a: int, b: int, payload, reply=None) -> None:
+        heapq.heappush(self.queue, (due, self.seq, kind, a, b, payload, reply))
+        self.seq += 1
+
+    def send(self, t: int, k: int, my_id, requests, audience) -> None:
+        """The requests of the robot in slot ``k`` (``Command.requests``) to the robots it can
+        hear from now (``audience``: their IDs; None: every present robot)."""
+        from swarmproof.models.errors import ProtocolError
+
+        if self.anonymous or my_id is None:
+            raise ProtocolError(f"a robot without an ID returned Command.requests={requests!r} at step {t}: "
+                                "an exchange needs the robots' IDs (RobotModel.sensing != 'anonymous')")
+        try:
+            pairs = [(int(peer), payload) for peer, payload in requests]
+        except (TypeError, ValueError):
+            raise ProtocolError(f"controller of robot {my_id!r} returned Command.requests={requests!r} at step "
+                                f"{t}; expected ((peer_id, payload), ...)") from None
+        heard = None if audience is None else set(int(i) for i in audience)
+        for peer, payload in pairs:
+            s = self.slot_of.get(peer)
+            if s is None or self.comm == "none" or (heard is not None and peer not in heard) or peer == int(my_id):
+                self.dropped.append((int(my_id), peer))
+                continue
+            due = self._fate(t, int(my_id), peer)
+            if due is not None:
+                self._push(due, "request", k, s, payload)
+
+    def answered(self, t: int, a: int, b: int, a_id: int, b_id: int, payload, reply) -> None:
+        """The robot in slot ``b`` answered ``reply`` to slot ``a``'s request: send it back."""
+        due = self._fate(t, b_id, a_id)
+        if due is not None:
+            self._push(due, "reply", a, b, payload, reply)
+
+    def due(self, t: int):
+        """The next delivery due at or before step ``t`` (removed), or None."""
+        if self.queue and self.queue[0][0] <= t:
+            return heapq.heappop(self.queue)
+        return None
+
+    def forget(self, slot: int) -> None:
+        """A crashed robot: what it would still receive is lost."""
+        self.queue = [e for e in self.queue if not ((e[2] == "request" and e[4] == slot)
+                                                    or (e[2] == "reply" and e[3] == slot))]
+        heapq.heapify(self.queue)
+
+    def end(self, t: int, events: list) -> None:
+        if self.dropped:
+            events.append(Event(t, "drop", (), (("exchanges", tuple(self.dropped)),)))
+            self.dropped = []
+        if self.late_log:
+            events.append(Event(t, "late_delivery", (), (("exchanges", tuple(self.late_log)),)))
+            self.late_log = []

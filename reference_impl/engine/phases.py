@@ -7,6 +7,7 @@ step, calls::
     activate(run, step)       # 1. which robots act: the schedule, the clocks
     sense(run, step)          # 2. what every present robot senses (vectorised)
     decide(run, step)         # 3.-4. message delivery and every acting robot's decision
+    exchange(run, step)       # 4b. point-to-point requests answered within the step
     move(run, step)           # 5. motion (vectorised), then the step count advances
     record(run, step)         # 6. the trace, the monitors, quiet steps
     stop_test(run, step)      # finished, static, or stopped by a monitor
@@ -38,7 +39,7 @@ from .motion import _command_values
 from .sensing import _new_observation
 from .sensing import sense as _sense
 
-__all__ = ["RunState", "StepView", "apply_faults", "activate", "sense", "decide", "move", "record", "stop_test"]
+__all__ = ["RunState", "StepView", "apply_faults", "activate", "sense", "decide", "exchange", "move", "record", "stop_test"]
 
 
 @dataclass(slots=True, eq=False)
@@ -102,6 +103,8 @@ class RunState:
     window: int | None = None
     rec: Any = None
     delivery: Any = None
+    exchanges: Any = None               # point-to-point exchanges (communication.Exchanges)
+    record_exchanges: bool = False      # messages recorded: every exchange is an event
     controllers: list = field(default_factory=list)
     states: tuple | None = None
     # -- the loop's state --
@@ -175,6 +178,7 @@ def apply_faults(run: RunState, step: StepView) -> None:
                 run.controllers[k] = None
                 run.last_msgs[k] = None
                 run.delivery.forget(k)
+                run.exchanges.forget(k)
                 events.append(Event(t, "crash", (int(rid),)))
     for slot, p in run.slot_of_add.get(t, ()):
         poses[slot] = p
@@ -337,6 +341,10 @@ def _decide_general(run: RunState, step: StepView) -> None:
             run.outbox[k] = cmd.message
         else:
             new_msgs[k] = cmd.message
+        if cmd.requests:
+            run.calling = k
+            run.exchanges.send(t, k, my_id, cmd.requests, None if run.delivery.comm == "all" else nb_ids[a])
+            run.calling = None
     delivery.end(t, run.events)
     if async_clocks:
         for a, k in enumerate(idx_l):
@@ -400,9 +408,62 @@ def _decide_repeating(run: RunState, step: StepView) -> None:
             turns[a], fwds[a] = _command_values(cmd, pres_ids_l[a], t)
             new_msgs[k] = cmd.message
             last_cmds[k] = cmd
+            if cmd.requests:
+                run.calling = k
+                run.exchanges.send(t, k, pres_ids_l[a], cmd.requests, nb_ids[a])
+                run.calling = None
         run.calling = k
         hold[a] = t + 1 if horizons[k] is None else horizons[k](t)
         run.calling = None
+
+
+def exchange(run: RunState, step: StepView) -> None:
+    """4b. The point-to-point exchanges due now (``Command.requests``; :class:`.communication.Exchanges`).
+
+    After every robot decided: each request due is answered by its addressee's ``answer``, and
+    each answer due is read by the asker's ``on_reply``, oldest first (due step, then sending
+    order); an answer due in this step (no delay) is read in this step.  Each robot is passed its
+    local clock in the step.  A robot gone by then loses what was due to it.  With messages
+    recorded, every delivery is an ``exchange`` event.
+
+    Parameters
+    ----------
+    run : RunState
+        Changed in place.
+    step : StepView
+        This step's values.
+    """
+    ex = run.exchanges
+    if not ex.queue and not ex.dropped and not ex.late_log:
+        return
+    t, controllers, present, ids_list = step.t, run.controllers, run.present, run.ids_list
+    clocks = run.clocks if run.async_clocks else None
+    touched = []
+    while True:
+        e = ex.due(t)
+        if e is None:
+            break
+        _, _, kind, a, b, payload, reply = e
+        to = b if kind == "request" else a
+        if not present[to] or controllers[to] is None:
+            continue
+        clock = float(clocks.phase[to] + clocks.rate[to] * t) if clocks is not None else float(t)
+        run.calling = to
+        if kind == "request":
+            reply = controllers[b].answer(ids_list[a], payload, clock)
+        else:
+            controllers[a].on_reply(ids_list[b], payload, reply, clock)
+        run.calling = None
+        touched.append(to)
+        if run.record_exchanges:
+            run.events.append(Event(t, "exchange", (ids_list[a], ids_list[b]) if kind == "request" else
+                                    (ids_list[b], ids_list[a]),
+                                    (("kind", kind), ("request", payload), ("reply", reply))))
+        if kind == "request" and reply is not None:
+            ex.answered(t, a, b, ids_list[a], ids_list[b], payload, reply)
+    ex.end(t, run.events)
+    if step.stepped is not None:
+        step.stepped.extend(k for k in touched if k not in step.stepped)
 
 
 def move(run: RunState, step: StepView) -> None:

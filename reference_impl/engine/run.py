@@ -38,6 +38,11 @@ each phase's model lives in a module of its own:
    so the engine does not ask (nor reads its state, nor calls ``finished``
    while no state changed).  Sensing itself is reused when no present robot
    moved.
+4b. *Exchanges* (:class:`.communication.Exchanges`): the point-to-point
+   requests of the step's commands (``Command.requests``) go to the addressed
+   neighbors, whose ``answer`` replies, and the replies come back to the
+   askers' ``on_reply``, all within the step (negligible latency) unless the
+   fault model loses or delays a direction.
 5. *Motion* (:mod:`.motion`, vectorized): differential drive, turn in place
    then drive straight: ``|turn|`` is clamped to ``omega*dt`` and ``forward``
    to ``[0, v*(dt - |turn|/omega)]`` (docs/decisions.md "Model and
@@ -92,10 +97,10 @@ from swarmproof.models.trace import Event, InitialConfiguration, Trace, to_jsona
 from ..protocol import Params
 from .clocks import clock_model
 from .common import PROGRESS_EVERY, _ro, _robot_rng
-from .communication import Delivery
+from .communication import Delivery, Exchanges
 from .faults import DropSet, FaultModel, TableSchedule
 from .motion import motion_model
-from .phases import RunState, StepView, activate, apply_faults, decide, move, record, sense, stop_test
+from .phases import RunState, StepView, activate, apply_faults, decide, exchange, move, record, sense, stop_test
 from .parameters import check_extra, check_motion, check_target_kind
 
 __all__ = [
@@ -583,6 +588,8 @@ def _start(run: RunState, initial: InitialConfiguration, stop_when_static, recor
     run.noisy = faults.noisy
     run.inclusive = model.neighbor_rule == "inclusive"
     run.delivery = Delivery(model, faults, run.phi, run.ids_list, run.fault_rng)
+    run.exchanges = Exchanges(model, faults, run.ids_list, run.fault_rng)
+    run.record_exchanges = bool(record_messages)
     run.calling = -1
     finished = bool(algorithm.finished(tuple(s for s, p in zip(run.states, run.present) if p)))
     run.calling = None
@@ -720,6 +727,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             activate(run, step)         # 1. who acts: the schedule, the clocks
             sense(run, step)            # 2.
             decide(run, step)           # 3.-4. message delivery and decisions
+            exchange(run, step)         # 4b. point-to-point requests, answered within the step
             move(run, step)             # 5.
             record(run, step)           # 6. the trace and the monitors
             stop_test(run, step)

@@ -21,10 +21,13 @@ clock tick:
   3-10); a swap that reduces the pairwise Manhattan cost (line 11), or one
   that leaves it equal with probability beta (line 16), runs the 2-way
   handshake of Sec. III-A (client: the lexically smaller agent, sends a
-  request and waits for the ACK; server: waits for the request, takes the
-  client's goal on receiving it and answers with an ACK carrying its old
-  goal).  The handshake is **not atomic**, as in the paper: the server
-  updates on the request, the client on the ACK, each with its own timeout.
+  request once and waits for the ACK; server: waits for its intended peer's
+  request, takes the client's goal on receiving it and answers with an ACK
+  carrying its old goal; anyone else's request gets a negative ACK).  The
+  request is a point-to-point exchange of its own (``Command.requests``),
+  answered within the tick as Sec. II-A c) and e) assume (lossless links,
+  negligible latency), so a swap is atomic.  Reading "1", where request and
+  ACK ride in the broadcasts, is :class:`Wang2020BroadcastHandshake`.
 * **Shape complete** (Sec. III-B): an agent whose hop-count exceeds the
   number of agents knows no anchor is left; it says so in its messages,
   every agent that hears it does the same, and then forms the next shape if
@@ -59,7 +62,7 @@ from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.reference_impl.protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel,
                                                VerifyPlan)
 
-__all__ = ["Wang2020", "Wang2020Controller", "WangMsg", "manhattan", "lex_greater", "default_params",
+__all__ = ["Wang2020", "Wang2020Controller", "Wang2020BroadcastHandshake", "BroadcastHandshakeController", "WangMsg", "manhattan", "lex_greater", "default_params",
            "J1", "J2", "INVARIANT_NAMES", "window_bound", "speed_range", "speed_buffer_bound"]
 
 #: Alg. 2 lines 9 and 11: the surroundings in the printed order (x - l, y), (x, y - l), (x + l, y), (x, y + l).
@@ -159,6 +162,7 @@ class Wang2020Controller:
         self._heard_cache: tuple | None = ()
         self.hs: _Handshake | None = None
         self.seq = 0
+        self._send: int | None = None    # the request number to send at the end of this tick
         self.ack: tuple | None = None    # (client, seq, old goal, until)
         self.answered: set = set()       # (client, seq) requests this server has answered
         self.moving = False
@@ -256,7 +260,7 @@ class Wang2020Controller:
                 del senders[s]
                 self._heard_cache = None
         move = None if self.moving else self._main(now)
-        return Command(message=self.message(), move=move)
+        return Command(message=self.message(), move=move, requests=self._requests())
 
     # -- Algorithm 2 ----------------------------------------------------------------------
 
@@ -354,10 +358,6 @@ class Wang2020Controller:
 
         (Hot path: ``manhattan`` and ``lex_greater`` are written out inline; ``m.p > self.p``
         compares two ``(x, y)`` tuples, which is :func:`lex_greater`.)"""
-        if m.request is not None and m.request[0] == self.id:
-            self._on_request(now, sender, m.request)
-        if m.ack is not None and m.ack[0] == self.id:
-            self._on_ack(now, sender, m.ack)
         mc = m.completed
         while mc > self.completed:                                              # Sec. III-B propagation
             self._switch(now)
@@ -387,48 +387,62 @@ class Wang2020Controller:
         return self._random_goal()
 
     def _begin_handshake(self, now: float, peer: int, m: WangMsg) -> None:
-        """Sec. III-A: client when the peer is lexically larger, else server."""
+        """Sec. III-A: client when the peer is lexically larger (it sends its request once, at the
+        end of this tick), else server (it waits for its peer's request until its timeout)."""
         if lex_greater(m.p, self.p):
             self.seq += 1
             self.hs = _Handshake("client", int(peer), self.seq, now + self.timeout, self.T)
+            self._send = self.seq
         else:
             self.hs = _Handshake("server", int(peer), -1, now + self.timeout, self.T)
 
-    def _on_request(self, now: float, sender: int, req: tuple) -> None:
-        """Server side: a request from its intended peer -> take the client's goal and ACK with the
-        old one; from anyone else -> no answer (the client times out)."""
-        hs = self.hs
-        key = (int(sender), int(req[1]))
-        if hs is None or hs.role != "server" or hs.peer != sender or key in self.answered:
-            return
-        old = self.T
-        self.T = tuple(req[2])
-        self.last_check = now                                                   # Alg. 4 line 21
-        self.ack = (int(sender), int(req[1]), old, now + self.ack_hold)
-        self.answered.add(key)
-        self.hs = None
-        self.swaps += 1
+    # -- the 2-way handshake as an exchange of its own (Sec. III-A, II-A c and e) -------------
 
-    def _on_ack(self, now: float, sender: int, ack: tuple) -> None:
-        """Client side: the ACK of the request it is waiting on -> take the server's old goal."""
+    def _requests(self) -> tuple:
+        """The client's request, sent once, point to point (``Command.requests``): ``(server,
+        (seq, the client's goal))``; nothing when no handshake began this tick or it already
+        ended (a shape switch later in the tick)."""
+        seq, self._send = self._send, None
         hs = self.hs
-        if hs is None or hs.role != "client" or hs.peer != sender or int(ack[1]) != hs.seq:
-            return
-        self.T = tuple(ack[2])
-        self.last_check = now                                                   # Alg. 4 line 15/21
+        if seq is None or hs is None or hs.role != "client" or hs.seq != seq:
+            return ()
+        return ((hs.peer, (hs.seq, hs.goal)),)
+
+    def answer(self, sender: int, payload, clock: float):
+        """Server side, within the tick the request was sent (negligible latency, II-A e): from
+        its intended peer while it waits -> take the client's goal and ACK with its old one
+        ``("ack", seq, old goal)``; from anyone else -> ``("nack", seq)`` (Sec. III-A: "answer the
+        requests from these agents with a negative ACK"; docs/decisions.md)."""
+        seq, goal = int(payload[0]), tuple(payload[1])
+        hs = self.hs
+        if hs is None or hs.role != "server" or hs.peer != sender or clock > hs.deadline:
+            return ("nack", seq)
+        old = self.T
+        self.T = goal
+        self.last_check = float(clock)                                          # Alg. 4 line 21
         self.hs = None
         self.swaps += 1
+        return ("ack", seq, old)
+
+    def on_reply(self, peer: int, payload, reply, clock: float) -> None:
+        """Client side: the ACK of its waiting request -> take the server's old goal (Sec. III-A:
+        "only after receiving the ACK"); a NACK releases it at once.  A reply after its timeout
+        (possible only under a delay fault) finds it no longer waiting and is ignored."""
+        hs = self.hs
+        if hs is None or hs.role != "client" or hs.peer != peer or int(reply[1]) != hs.seq or clock > hs.deadline:
+            return
+        self.hs = None
+        if reply[0] == "ack":
+            self.T = tuple(reply[2])
+            self.last_check = float(clock)                                      # Alg. 4 line 15/21
+            self.swaps += 1
 
     # -- Algorithm 3 and the state ---------------------------------------------------------
 
     def message(self) -> WangMsg:
-        """004 Alg. 3 line 2, with the handshake fields."""
-        req = None
-        if self.hs is not None and self.hs.role == "client":
-            req = (self.hs.peer, self.hs.seq, self.hs.goal)
-        ack = None if self.ack is None else self.ack[:3]
+        """004 Alg. 3 line 2 (the handshake is an exchange of its own: no request or ACK field)."""
         return WangMsg(self.p, self.wp, self.next_step, self.T, self.q_u,
-                       None if self.hop == math.inf else int(self.hop), self.completed, req, ack)
+                       None if self.hop == math.inf else int(self.hop), self.completed, None, None)
 
     def _heard(self) -> tuple:
         """The senders in msg_buff, sorted (kept as a count per sender as msg_buff changes)."""
@@ -458,6 +472,67 @@ class Wang2020Controller:
                 ("waited", self.waited_at_departure), ("window", float(self.delta_t)),
                 ("heard", self._heard()),
                 ("n_goals", len(self.Q)), ("shape_box", self.boxes[self.shape]), ("spacing", self.l))
+
+
+class BroadcastHandshakeController(Wang2020Controller):
+    """:class:`Wang2020Controller` with the 2-way handshake carried by the broadcasts (reading "1"
+    of ``wang2020``, swarmproof 0.2.0's default; :class:`Wang2020BroadcastHandshake`).
+
+    The client's request ``(server, seq, client goal)`` rides in every broadcast of the client
+    until the ACK or its timeout; the server takes the client's goal on the first request of its
+    intended peer and answers with ``(client, seq, old goal)`` in its broadcasts for ``ack_hold``;
+    requests of other agents get no answer.  Each direction waits for the sender's next broadcast
+    and arrives a tick later, so the exchange takes rounds: latency the paper assumes away (004
+    Sec. II-A e).  A client whose timeout ends before the ACK keeps its goal while the server
+    has already taken it (a "half swap": J2 rises, Lemma IV-B.2's premise of an atomic swap is
+    gone).
+    """
+
+    def _requests(self) -> tuple:
+        self._send = None
+        return ()
+
+    def _goal_manager(self, now: float, sender: int, m: WangMsg) -> None:
+        """The request or ACK addressed to this agent first, then 004 Alg. 4."""
+        if m.request is not None and m.request[0] == self.id:
+            self._on_request(now, sender, m.request)
+        if m.ack is not None and m.ack[0] == self.id:
+            self._on_ack(now, sender, m.ack)
+        Wang2020Controller._goal_manager(self, now, sender, m)
+
+    def _on_request(self, now: float, sender: int, req: tuple) -> None:
+        """Server side: a request from its intended peer -> take the client's goal and ACK with the
+        old one; from anyone else -> no answer (the client times out)."""
+        hs = self.hs
+        key = (int(sender), int(req[1]))
+        if hs is None or hs.role != "server" or hs.peer != sender or key in self.answered:
+            return
+        old = self.T
+        self.T = tuple(req[2])
+        self.last_check = now                                                   # Alg. 4 line 21
+        self.ack = (int(sender), int(req[1]), old, now + self.ack_hold)
+        self.answered.add(key)
+        self.hs = None
+        self.swaps += 1
+
+    def _on_ack(self, now: float, sender: int, ack: tuple) -> None:
+        """Client side: the ACK of the request it is waiting on -> take the server's old goal."""
+        hs = self.hs
+        if hs is None or hs.role != "client" or hs.peer != sender or int(ack[1]) != hs.seq:
+            return
+        self.T = tuple(ack[2])
+        self.last_check = now                                                   # Alg. 4 line 15/21
+        self.hs = None
+        self.swaps += 1
+
+    def message(self) -> WangMsg:
+        """004 Alg. 3 line 2, with the handshake fields."""
+        req = None
+        if self.hs is not None and self.hs.role == "client":
+            req = (self.hs.peer, self.hs.seq, self.hs.goal)
+        ack = None if self.ack is None else self.ack[:3]
+        return WangMsg(self.p, self.wp, self.next_step, self.T, self.q_u,
+                       None if self.hop == math.inf else int(self.hop), self.completed, req, ack)
 
 
 # -- parameters and assumptions -------------------------------------------------------------
@@ -761,6 +836,7 @@ class _Checks:
         self.key = None
         self.frame = None
         self.prev = None          # (shape, J1, J2, goals, handshakes)
+        self.mono = (None, (None, None))   # (frame key, (J2 message, J1 message)) of the last step judged
         self.c0 = None            # (shape, c_t0)
 
     def _frame(self, t, ids, poses, states):
@@ -827,33 +903,48 @@ class _Checks:
             return f"J1={j1} > |A| c_t0 = {n} x {self.c0[1]:g}"
         return None
 
-    def monotone(self, t, ids, poses, states):
-        """Lemma IV-B.2: J2 never rises; J1 never rises while J2 = 0 (within one shape)."""
+    def _monotone(self, t, ids, poses, states):
+        """Lemma IV-B.2 on one step, once per step for both of its statements: ``(J2 message,
+        J1 message)``, each None when that statement held (within one shape)."""
+        key = (t, id(states), id(poses))
+        if self.mono[0] == key:
+            return self.mono[1]
         if t == 0:
             self.prev = None
         _, split, shape = self._frame(t, ids, poses, states)
+        out = (None, None)
         if shape is None:
             self.prev = None
-            return None
-        rid = ids.tolist()
-        goals = {r: d["goal"] for r, (d, _, _) in zip(rid, split)}
-        hs = {r: d["handshake"] for r, (d, _, _) in zip(rid, split)}
-        j1, j2 = _j1(split), len(split) - len(set(goals.values()))
-        prev, self.prev = self.prev, (shape, j1, j2, goals, hs)
-        if prev is None or prev[0] != shape:
-            return None
-        if j2 <= prev[2] and not (prev[2] == 0 and j1 > prev[1]):
-            return None
-        changed = ", ".join(f"robot {r}: {prev[3].get(r)} -> {g}" + (f" (handshake {prev[4].get(r)})"
-                                                                    if prev[4].get(r) else "")
-                            for r, g in goals.items() if prev[3].get(r) != g)
-        if j2 > prev[2]:
-            lost = sorted(set(prev[3].values()) - set(goals.values()))
-            return f"J2 rose from {prev[2]} to {j2}: goal(s) {lost} no longer held ({changed})"
-        return f"J1 rose from {prev[1]} to {j1} while J2 = 0 ({changed or 'no goal changed'})"
+        else:
+            rid = ids.tolist()
+            goals = {r: d["goal"] for r, (d, _, _) in zip(rid, split)}
+            hs = {r: d["handshake"] for r, (d, _, _) in zip(rid, split)}
+            j1, j2 = _j1(split), len(split) - len(set(goals.values()))
+            prev, self.prev = self.prev, (shape, j1, j2, goals, hs)
+            if prev is not None and prev[0] == shape and (j2 > prev[2] or (prev[2] == 0 == j2 and j1 > prev[1])):
+                changed = ", ".join(f"robot {r}: {prev[3].get(r)} -> {g}" + (f" (handshake {prev[4].get(r)})"
+                                                                            if prev[4].get(r) else "")
+                                    for r, g in goals.items() if prev[3].get(r) != g)
+                m2 = m1 = None
+                if j2 > prev[2]:
+                    lost = sorted(set(prev[3].values()) - set(goals.values()))
+                    m2 = f"J2 rose from {prev[2]} to {j2}: goal(s) {lost} no longer held ({changed})"
+                else:
+                    m1 = f"J1 rose from {prev[1]} to {j1} while J2 = 0 ({changed or 'no goal changed'})"
+                out = (m2, m1)
+        self.mono = (key, out)
+        return out
+
+    def j2_monotone(self, t, ids, poses, states):
+        """Lemma IV-B.2, first statement: J2 never rises (within one shape)."""
+        return self._monotone(t, ids, poses, states)[0]
+
+    def j1_monotone(self, t, ids, poses, states):
+        """Lemma IV-B.2, second statement: J1 never rises while J2 = 0 (before and after the step)."""
+        return self._monotone(t, ids, poses, states)[1]
 
 
-INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j_monotone")
+INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone", "j1_monotone")
 
 
 def make_invariants() -> tuple:
@@ -866,7 +957,10 @@ def make_invariants() -> tuple:
         Invariant("constraint_edge", "no two agents travel one edge in opposite directions",
                   "004 Constraint III-A.2, Theorem IV-A.2", ch.edge),
         Invariant("j_bounded", "J2 <= |A| - 1 and J1 <= |A| c_t0", "004 Lemma IV-B.1", ch.bounded),
-        Invariant("j_monotone", "J2 never rises; J1 never rises once J2 = 0", "004 Lemma IV-B.2", ch.monotone),
+        Invariant("j2_monotone", "J2 never rises", "004 Lemma IV-B.2 (\"J2 is monotonically decreasing\")",
+                  ch.j2_monotone),
+        Invariant("j1_monotone", "J1 never rises while J2 = 0", "004 Lemma IV-B.2 (\"moreover, J1 is monotonically "
+                  "decreasing if J2 equals zero\")", ch.j1_monotone),
     )
 
 
@@ -890,8 +984,11 @@ class Wang2020:
     #: The seed paper (docs/references.md) whose claims ``claims`` cites.
     paper = "004"
     #: The reading version (protocol.Algorithm.reading: bumped when its behaviour changes on
-    #: purpose; CHANGELOG.md).
-    reading = "1"
+    #: purpose; CHANGELOG.md).  "2" (0.3.0, issue 30): the handshake is an exchange of its own,
+    #: answered within the tick (Sec. II-A c, e); reading "1" is ``wang2020-broadcast-handshake``.
+    reading = "2"
+    #: Assumptions of the paper this reading does not keep (none: it is the paper's model).
+    departs_from = ()
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = ASSUMPTIONS
@@ -1140,3 +1237,24 @@ class Wang2020:
     def default_max_steps(params: Params, n: int) -> int:
         """Generous: 20000 ticks plus 400 per agent."""
         return int(20000 + 400 * n)
+
+
+class Wang2020BroadcastHandshake(Wang2020):
+    """``wang2020`` with the 2-way handshake carried by the broadcasts
+    (:class:`BroadcastHandshakeController`): reading "1" of ``wang2020``, its default up to
+    swarmproof 0.2.0, kept as a registered variant (issue 30).
+
+    It breaks 004 Sec. II-A e) ("the communication latency is negligible"): each direction of
+    the handshake waits for the sender's next broadcast, so a server can take a request whose
+    ACK reaches the client after the client's timeout (a half swap: two agents on one goal, J2
+    rises; Lemma IV-B.2's ``j2_monotone`` is violated).  Its findings are reported beside the
+    default's in verify (docs/wang2020.md, "The handshake").
+    """
+
+    name = "wang2020-broadcast-handshake"
+    reading = "1"
+    departs_from = ("004 Sec. II-A e) \"The communication latency is negligible\": the handshake's request "
+                    "and ACK ride in the broadcasts, one broadcast interval each way",)
+    controller_class = BroadcastHandshakeController
+    verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=31,
+                        explore_max_examples=100, explore_cost=44)

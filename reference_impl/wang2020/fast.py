@@ -15,7 +15,7 @@ How the sequential parts stay exact
 * **Algorithm 4 runs per received message, in order** (each may change the goal,
   start a handshake or draw a random number).  Here a round computes, for every
   receiver's pending messages at once, whether the message can change anything
-  (a request or ACK addressed to a waiting handshake, a higher shape count, or,
+  (a higher shape count, or,
   outside a handshake, the same goal held by a lexically larger agent, or a swap
   that does not raise the pairwise cost).  Messages that cannot are no-ops in the
   reference too; the first that can is processed by a scalar copy of
@@ -76,10 +76,9 @@ __all__ = ["simulate_fast", "unsupported", "trace_json"]
 INF = np.int64(1) << 60
 _EPS = 1e-9
 _ROLE = {0: None, 1: "client", 2: "server"}
-#: columns of a message's integer row (Alg. 3's fields and the handshake's); px, py are a float row
-(WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP, REQ_ON, REQ_PEER, REQ_SEQ, REQ_GX, REQ_GY,
- ACK_ON, ACK_CL, ACK_SEQ, ACK_GX, ACK_GY) = range(20)
-_NI = 20
+#: columns of a message's integer row (Alg. 3's fields); px, py are a float row
+(WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP) = range(10)
+_NI = 10
 
 
 def trace_json(result) -> str:
@@ -225,7 +224,7 @@ class _Run:
         self.last = self.nshapes - 1
         self.delta_t = ctrl.delta_t
         self.beta, self.p_random = ctrl.beta, ctrl.p_random
-        self.timeout, self.ack_hold = ctrl.timeout, ctrl.ack_hold
+        self.timeout = ctrl.timeout
         self.clocks = clocks
         # dense membership grids of the shapes (Q lookups of whole arrays)
         self.qgrid = []
@@ -248,10 +247,8 @@ class _Run:
         self.role, self.peer, self.hseq, self.hgx, self.hgy = i64(), i64(), i64(), i64(), i64()
         self.deadline = np.zeros(n)
         self.seq = i64()
-        self.ack_on = np.zeros(n, dtype=bool)
-        self.acl, self.aseq, self.agx, self.agy = i64(), i64(), i64(), i64()
-        self.until = np.zeros(n)
-        self.answered = [set() for _ in range(n)]
+        self.send = np.zeros(n, dtype=bool)     # a client's request to send at the end of the tick
+        self.slot_of = {r: k for k, r in enumerate(self.ids_l)}
         self.swaps = i64()
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
         self._heard = self._heard_R = self._prev_heard = None
@@ -272,7 +269,6 @@ class _Run:
         self.nx[k], self.ny[k] = self.wx[k], self.wy[k]      # line 5
         self.last_check[k] = now                             # line 7
         self.role[k] = 0
-        self.ack_on[k] = False
 
     def _switch(self, k, now):
         self.completed[k] += 1
@@ -295,25 +291,6 @@ class _Run:
     def _gm(self, k, now, sid, m, mf):
         """``Wang2020Controller._goal_manager`` for receiver slot k and one received message from
         ``sid`` (``m``: its integer row, ``mf``: (px, py))."""
-        me = self.ids_l[k]
-        if m[REQ_ON] and m[REQ_PEER] == me:
-            key = (sid, m[REQ_SEQ])
-            if self.role[k] == 2 and self.peer[k] == sid and key not in self.answered[k]:
-                ox, oy = int(self.Tx[k]), int(self.Ty[k])
-                self.Tx[k], self.Ty[k] = m[REQ_GX], m[REQ_GY]
-                self.last_check[k] = now
-                self.ack_on[k] = True
-                self.acl[k], self.aseq[k], self.agx[k], self.agy[k] = sid, key[1], ox, oy
-                self.until[k] = now + self.ack_hold
-                self.answered[k].add(key)
-                self.role[k] = 0
-                self.swaps[k] += 1
-        if m[ACK_ON] and m[ACK_CL] == me:
-            if self.role[k] == 1 and self.peer[k] == sid and m[ACK_SEQ] == self.hseq[k]:
-                self.Tx[k], self.Ty[k] = m[ACK_GX], m[ACK_GY]
-                self.last_check[k] = now
-                self.role[k] = 0
-                self.swaps[k] += 1
         mc = m[COMP]
         while mc > self.completed[k]:
             self._switch(k, now)
@@ -339,6 +316,7 @@ class _Run:
             if mp > p:                                            # client (Sec. III-A)
                 self.seq[k] += 1
                 self.role[k], self.hseq[k] = 1, self.seq[k]
+                self.send[k] = True
             else:
                 self.role[k], self.hseq[k] = 2, -1
             self.peer[k] = sid
@@ -360,8 +338,6 @@ class _Run:
         nxt = wp if moving else (None if ns == wp else ns)
         role = int(self.role[k])
         hs = None if role == 0 else (_ROLE[role], int(self.peer[k]), int(self.hseq[k]))
-        ack = (None if not self.ack_on[k] else
-               (int(self.acl[k]), int(self.aseq[k]), (int(self.agx[k]), int(self.agy[k]))))
         hop = int(self.hop[k])
         shape = int(self.shape[k])
         completed = int(self.completed[k])
@@ -370,7 +346,7 @@ class _Run:
                 ("wp", wp), ("moving", moving), ("shape", shape),
                 ("completed", completed), ("done", completed >= self.nshapes),
                 ("hop", None if hop == INF else hop), ("q_u", (int(self.qx[k]), int(self.qy[k]))),
-                ("handshake", hs), ("ack", ack),
+                ("handshake", hs), ("ack", None),
                 ("waited", float(self.waited[k])), ("window", float(self.delta_t)),
                 ("heard", self._heard_of(k)),
                 ("n_goals", len(self.shapes[shape])), ("shape_box", self.boxes[shape]), ("spacing", self.l))
@@ -405,32 +381,53 @@ class _Run:
         no state iff these are equal)."""
         ints = np.stack((self.started, self.cx, self.cy, self.nx, self.ny, self.Tx, self.Ty, self.wx, self.wy,
                          self.moving, self.shape, self.completed, self.hop, self.qx, self.qy, self.role,
-                         np.where(self.role != 0, self.peer, 0), np.where(self.role != 0, self.hseq, 0),
-                         self.ack_on, np.where(self.ack_on, self.acl, 0), np.where(self.ack_on, self.aseq, 0),
-                         np.where(self.ack_on, self.agx, 0), np.where(self.ack_on, self.agy, 0)))
+                         np.where(self.role != 0, self.peer, 0), np.where(self.role != 0, self.hseq, 0)))
         floats = np.stack((self.px, self.py, self.waited))
         return ints, floats
 
     def outbox(self):
         """Algorithm 3's message of every agent (``Wang2020Controller.message``): an integer row
-        (rows WPX ... ACK_GY, a column per agent) and a float one (px, py): field-major, so a
+        (rows WPX ... COMP, a column per agent) and a float one (px, py): field-major, so a
         field of the tick's receipts is one contiguous row."""
-        client = self.role == 1
-        ack = self.ack_on
         I = np.empty((_NI, self.n), dtype=np.int64)
         I[WPX], I[WPY], I[NSX], I[NSY] = self.wx, self.wy, self.nx, self.ny
         I[TX], I[TY], I[QX], I[QY] = self.Tx, self.Ty, self.qx, self.qy
-        I[HOP], I[COMP], I[REQ_ON] = self.hop, self.completed, client
-        I[REQ_PEER] = np.where(client, self.peer, 0)
-        I[REQ_SEQ] = np.where(client, self.hseq, 0)
-        I[REQ_GX] = np.where(client, self.hgx, 0)
-        I[REQ_GY] = np.where(client, self.hgy, 0)
-        I[ACK_ON] = ack
-        I[ACK_CL] = np.where(ack, self.acl, 0)
-        I[ACK_SEQ] = np.where(ack, self.aseq, 0)
-        I[ACK_GX] = np.where(ack, self.agx, 0)
-        I[ACK_GY] = np.where(ack, self.agy, 0)
+        I[HOP], I[COMP] = self.hop, self.completed
         return I, np.stack((self.px, self.py))
+
+    def exchange(self, now) -> None:
+        """The engine's exchange phase (engine/phases.py ``exchange``) for the handshakes begun this
+        tick: every client's request, in slot order, answered by its server
+        (``Wang2020Controller.answer``), then every answer read by its client (``on_reply``), in
+        the same order -- the engine's queue order; each peer is a neighbour (its message was
+        just received)."""
+        ks = np.flatnonzero(self.send).tolist()
+        if not ks:
+            return
+        self.send[:] = False
+        ids, role, peer = self.ids_l, self.role, self.peer
+        replies = []
+        for k in ks:
+            if role[k] != 1:
+                continue                                  # the handshake ended this tick (a shape switch)
+            s = self.slot_of[int(peer[k])]
+            if role[s] == 2 and peer[s] == ids[k] and not now[s] > self.deadline[s]:
+                old = (int(self.Tx[s]), int(self.Ty[s]))
+                self.Tx[s], self.Ty[s] = self.hgx[k], self.hgy[k]
+                self.last_check[s] = now[s]
+                role[s] = 0
+                self.swaps[s] += 1
+                replies.append((k, old))
+            else:
+                replies.append((k, None))
+        for k, old in replies:
+            if role[k] != 1 or now[k] > self.deadline[k]:
+                continue
+            role[k] = 0
+            if old is not None:
+                self.Tx[k], self.Ty[k] = old
+                self.last_check[k] = now[k]
+                self.swaps[k] += 1
 
     # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
 
@@ -453,7 +450,6 @@ class _Run:
         self.cx[arrived], self.cy[arrived] = cx[arrived], cy[arrived]
         self.last_check[arrived] = now[arrived]                   # line 33
         self.role[(self.role != 0) & (now > self.deadline)] = 0   # handshake timeout (Sec. III-A)
-        self.ack_on[self.ack_on & (now > self.until)] = False
 
         # this tick's receipts: every neighbour within R that broadcast last tick, by sender ID
         R, S = self._receipts(poses, phi, last_valid)
@@ -496,23 +492,18 @@ class _Run:
         n = self.n
         pos = np.searchsorted(R, np.arange(n))
         cand = None
-        ids = self.ids
-        sid_all = ids[S]
-        comp, req_on, req_peer = I[COMP], I[REQ_ON], I[REQ_PEER]
-        ack_on, ack_cl, ack_seq = I[ACK_ON], I[ACK_CL], I[ACK_SEQ]
+        sid_all = self.ids[S]
+        comp = I[COMP]
         mTx_all, mTy_all, mx_all, my_all = I[TX], I[TY], I[WPX], I[WPY]
         mpx_all, mpy_all = F[0], F[1]
         while True:
             if cand is None:
-                r, sid, c = R, sid_all, slice(None)
+                r, c = R, slice(None)
             else:
-                r, sid, c = R[cand], sid_all[cand], cand
+                r, c = R[cand], cand
             hs_r = self.role[r]
             ccomp = comp[c]
             trig = ccomp > self.completed[r]
-            trig |= (req_on[c] == 1) & (req_peer[c] == ids[r]) & (hs_r == 2) & (self.peer[r] == sid)
-            trig |= ((ack_on[c] == 1) & (ack_cl[c] == ids[r]) & (hs_r == 1) & (self.peer[r] == sid)
-                     & (ack_seq[c] == self.hseq[r]))
             free = (hs_r == 0) & (np.minimum(ccomp, self.last) == self.shape[r])
             if cand is None:
                 f, rf = np.flatnonzero(free), R[free]
@@ -764,6 +755,7 @@ def _ticks(run, mover, clocks, rec, events, phi, max_steps, window, observers, p
             raise AssertionError("a rate-1 clock skipped a tick")   # unsupported() rules this out
         movers, dx, dy = run.tick(poses, tau0, last_msgs, last_valid, phi)   # 2.-4.
         new_outbox = run.outbox()
+        run.exchange(tau0)                                         # 4b. the handshakes' requests
         same_poses = _grid_motion(mover, poses, movers, dx, dy, events, ids, t)   # 5. motion
         t += 1
         run.t = t

@@ -64,12 +64,25 @@ def add_arguments(p) -> None:
                    help="explore even when the parameters break a paper assumption (reported)")
     p.add_argument("--max-steps", type=int, metavar="K", help="step cap per run (default: the algorithm's)")
     add_tree_link_mode(p)
+    p.add_argument("--invariant", action="append", dest="invariants", metavar="NAME",
+                   help="the invariants property checks only this one of the algorithm's invariants "
+                        "(repeatable; default: all), e.g. wang2020's j2_monotone")
     # argparse takes "-1,0.05" for an option ("--speeds: expected one argument"); a value that reads as
     # numbers (a negative one, a list of them) is a value here, so `--speeds -1,0.05` gets the explorer's
     # message about -1 (argparse's own matcher knows only a lone "-1" or "-.5")
     p._negative_number_matcher = _NUMBERS
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
+
+
+def _options(args) -> dict | None:
+    """The property options the flags give (None: none)."""
+    opts = {}
+    if args.tree_link_mode:
+        opts["tree_link_mode"] = args.tree_link_mode
+    if args.invariants:
+        opts["invariants"] = tuple(args.invariants)
+    return opts or None
 
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
@@ -178,7 +191,7 @@ def run(args) -> int:
                      database_dir=args.database, draw_faults=tuple(args.faults), params=params,
                      allow_violations=args.allow_violations, max_steps=args.max_steps,
                      speeds=parse_speeds(args.speeds), lattices=args.targets, strict=args.strict,
-                     options={"tree_link_mode": args.tree_link_mode} if args.tree_link_mode else None)
+                     options=_options(args))
     if progress is not None:
         sys.stderr.write("\n")
     doc = report.as_dict()

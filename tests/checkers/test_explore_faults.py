@@ -18,7 +18,7 @@ from swarmproof.reference_impl.protocol import Params
 
 
 def test_fault_kinds():
-    assert FAULT_KINDS == ("schedule", "crashes", "drops", "additions", "noise", "delays")
+    assert FAULT_KINDS == ("schedule", "crashes", "drops", "additions", "noise", "delays", "latency")
 
 
 def test_drawn_additions_break_song2016_formation_named_and_replayed(tmp_path):

@@ -33,19 +33,21 @@ def test_scenarios_put_one_agent_per_goal_on_distinct_cells(scn):
     assert sorted(scn.ids) == list(range(scn.n))
 
 
-def test_explore_finds_the_non_atomic_handshake_and_replays_it(tmp_path, capsys):
-    """Lemma IV-B.2 (J2 never rises) breaks on a 3-agent scenario: the server takes the client's
-    goal first, so for a moment two agents hold one goal.  The file replays (exit 1)."""
-    rep = explore("wang2020", ["invariants"], budget=None, max_examples=10, robots=(3, 8), seed=0,
-                  out_dir=tmp_path)
+def test_explore_finds_the_broadcast_handshakes_non_atomic_swap_and_replays_it(tmp_path, capsys):
+    """wang2020-broadcast-handshake: Lemma IV-B.2 (J2 never rises) breaks on a 3-agent scenario: the
+    server takes the client's goal a broadcast before the client takes the server's, so for a
+    moment two agents hold one goal.  The file replays (exit 1)."""
+    rep = explore("wang2020-broadcast-handshake", ["invariants"], budget=None, max_examples=10, robots=(3, 8),
+                  seed=0, out_dir=tmp_path)
     v = rep.properties["invariants"]
     assert v.status == "violated" and len(v.counterexample.robots) == 3
-    assert "j_monotone" in v.message and "J2 rose from 0 to 1" in v.message and "'server'" in v.message
+    assert "j2_monotone" in v.message and "J2 rose from 0 to 1" in v.message and "'server'" in v.message
     from swarmproof.cli import main
 
     code = main(["replay", v.counterexample_path, "--json"])
     doc = json.loads(capsys.readouterr().out)
     assert code == 1 and doc["reproduced"] is True and doc["property"] == "invariants"
+    assert json.load(open(v.counterexample_path))["algorithm"] == "wang2020-broadcast-handshake"
     assert doc["step"] == v.counterexample.violation["step"]
     cx = json.load(open(v.counterexample_path))
     assert cx["target"]["kind"] == "shape" and len(cx["target"]["cells"]) == 3   # the scaled goal set

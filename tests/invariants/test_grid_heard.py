@@ -112,12 +112,13 @@ def test_streaming_form_keeps_its_own_frames_and_agrees():
 
 def _column(loss=0.0, observers=()):
     """`swarmproof explore wang2020 --property premises --max-examples 100 --seed 0` (before the
-    fix): 4 agents in a column at x = -0.2, letter-l scaled to 4 cells, seed 2."""
+    fix): 4 agents in a column at x = -0.2, letter-l scaled to 4 cells, seed 2.  Found on wang2020's
+    reading "1", ``wang2020-broadcast-handshake`` since 0.3.0 (the same traces)."""
     from swarmproof.models.targets import resolve_target
     from swarmproof.reference_impl.engine import FaultModel, simulate
-    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, default_params
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, Wang2020BroadcastHandshake, default_params
 
-    alg = Wang2020()
+    alg = Wang2020BroadcastHandshake()
     target = Wang2020.scale_target(resolve_target("shape:letter-l"), 4)
     init = InitialConfiguration([0, 1, 2, 3], [[-0.2, y, 0.0] for y in (0.4, 0.2, 0.0, -0.2)])
     params = default_params(0.6, 4)

@@ -18,18 +18,20 @@ from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_grid_connected
 from swarmproof.reference_impl.protocol import Observation, Params
 from swarmproof.reference_impl.registry import get_algorithm
-from swarmproof.reference_impl.wang2020.algorithm import (J1, J2, Wang2020, Wang2020Controller, WangMsg, default_params,
+from swarmproof.reference_impl.wang2020.algorithm import (J1, J2, BroadcastHandshakeController, Wang2020,
+                                                          Wang2020BroadcastHandshake, Wang2020Controller, WangMsg,
+                                                          default_params,
                                                 delta_t_of)
 
 L = 0.2
 SQUARE9 = tuple((i, j) for i in range(3) for j in range(3))
 
 
-def _ctl(cell=(0, 0), goal=(2, 0), *, rid=1, shapes=(SQUARE9,), seed=0, **extra):
+def _ctl(cell=(0, 0), goal=(2, 0), *, rid=1, shapes=(SQUARE9,), seed=0, cls=Wang2020Controller, **extra):
     """A started controller at ``cell`` with goal ``goal`` (Alg. 2 lines 1-7 ran at clock 0)."""
     p = default_params(0.6, len(shapes[0]))
     p = Params(range=p.range, v=p.v, dt=p.dt, extra={**p.extra, **extra})
-    c = Wang2020Controller(rid, p, shapes, np.random.default_rng(seed))
+    c = cls(rid, p, shapes, np.random.default_rng(seed))
     c.step(_obs(c, 0.0, cell))
     c.T = goal
     return c
@@ -137,26 +139,71 @@ def test_the_random_selector_draws_from_q_and_the_mix_is_ninety_ten():
     assert 0.85 < np.mean(mixed) < 0.95                                # Alg. 4 line 6: rand > 0.1
 
 
-def _swap_pair():
+def _swap_pair(cls=Wang2020Controller):
     """Client at (0, 0) (goal (0, 2)), server at (0, 2) (goal (0, 0)): a swap saves 4 edges."""
-    return _ctl(cell=(0, 0), goal=(0, 2), rid=1), _ctl(cell=(0, 2), goal=(0, 0), rid=2)
+    return _ctl(cell=(0, 0), goal=(0, 2), rid=1, cls=cls), _ctl(cell=(0, 2), goal=(0, 0), rid=2, cls=cls)
 
 
-def test_line_11_cost_reducing_swap_runs_the_two_way_handshake_client_and_server():
+def test_line_11_cost_reducing_swap_runs_the_two_way_handshake_as_one_exchange_within_the_tick():
+    """The default (Sec. III-A under II-A c, e): the client sends its request once, point to point
+    (``Command.requests``), never in its broadcast; the server answers within the tick; both commit
+    there, so no step sees two agents on one goal."""
     client, server = _swap_pair()
-    m_client = _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))]).message
-    assert client.hs.role == "client" and m_client.request == (2, 1, (0, 2)) and client.T == (0, 2)
+    cmd = _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    assert client.hs.role == "client" and client.T == (0, 2)
+    assert cmd.requests == ((2, (1, (0, 2))),) and cmd.message.request is None        # sent once
+    assert _tick(client, 2.0).requests == ()                                          # ... only once
+    m_server = _tick(server, 1.0, [(1, _msg((0, 0), T=(0, 2)))])
+    assert server.hs.role == "server" and m_server.requests == () and server.T == (0, 0)
+    reply = server.answer(1, (1, (0, 2)), 1.0)                     # the server commits on the request
+    assert reply == ("ack", 1, (0, 0)) and server.T == (0, 2) and server.hs is None and server.swaps == 1
+    client.on_reply(2, (1, (0, 2)), reply, 1.0)                    # the client commits on the ACK
+    assert client.T == (0, 0) and client.hs is None and client.last_check == 1.0 and client.swaps == 1
+    assert J2([client.state(), server.state()]) == 0
+
+
+def test_a_server_nacks_anyone_but_its_intended_peer_and_a_nack_releases_the_client_at_once():
+    client, server = _swap_pair()
+    _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    assert server.answer(1, (1, (0, 2)), 1.0) == ("nack", 1)       # the server never intended this swap
+    assert server.T == (0, 0)
+    client.on_reply(2, (1, (0, 2)), ("nack", 1), 1.0)
+    assert client.hs is None and client.T == (0, 2)                # released, goal kept
+    _tick(server, 1.0, [(1, _msg((0, 0), T=(0, 2)))])
+    assert server.answer(9, (5, (1, 1)), 2.0) == ("nack", 5) and server.hs.peer == 1 and server.T == (0, 0)
+    for t in range(2, 15):
+        _tick(server, float(t))
+    assert server.hs is None                                        # its wait times out (1 + 3 Delta t = 13)
+    assert server.answer(1, (2, (0, 2)), 15.0) == ("nack", 2) and server.T == (0, 0)
+
+
+def test_the_broadcast_handshake_variant_is_not_atomic_the_server_commits_a_broadcast_earlier():
+    """Reading "1" (``wang2020-broadcast-handshake``): request and ACK ride in the broadcasts, so
+    between the server's update and the client's both hold the client's goal (J2 = 1), and a
+    client whose timeout ends first never takes the server's goal (a half swap)."""
+    client, server = _swap_pair(BroadcastHandshakeController)
+    cmd = _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    assert client.hs.role == "client" and cmd.message.request == (2, 1, (0, 2)) and cmd.requests == ()
     m_server = _tick(server, 1.0, [(1, _msg((0, 0), T=(0, 2)))]).message
     assert server.hs.role == "server" and m_server.request is None and server.T == (0, 0)
-    m_server = _tick(server, 2.0, [(1, m_client)]).message          # the request: server updates first
+    m_server = _tick(server, 2.0, [(1, cmd.message)]).message       # the request: server updates first
     assert server.T == (0, 2) and server.swaps == 1 and m_server.ack == (1, 1, (0, 0))
     assert J2([client.state(), server.state()]) == 1                # not atomic: both hold (0, 2) now
     _tick(client, 3.0, [(2, m_server)])                             # the ACK
     assert client.T == (0, 0) and client.hs is None and client.last_check == 3.0
+    late, server = _swap_pair(BroadcastHandshakeController)         # the half swap: the ACK after the timeout
+    cmd = _tick(late, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    _tick(server, 1.0, [(1, _msg((0, 0), T=(0, 2)))])
+    m_server = _tick(server, 2.0, [(1, cmd.message)]).message
+    for t in range(2, 15):
+        _tick(late, float(t))                                       # timeout 3 Delta t = 12
+    assert late.hs is None and late.T == (0, 2) == server.T and J2([late.state(), server.state()]) == 1
+    _tick(late, 15.0, [(2, m_server)])                              # the ACK, too late: not taken
+    assert late.T != (0, 0) and server.T == (0, 2)                  # (0, 0) is nobody's goal now
 
 
-def test_the_handshake_times_out_and_a_server_does_not_answer_another_agent():
-    client, server = _swap_pair()
+def test_the_handshake_times_out_and_the_variant_server_does_not_answer_another_agent():
+    client, server = _swap_pair(BroadcastHandshakeController)
     _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
     for t in range(2, 13):
         _tick(client, float(t))
@@ -241,7 +288,8 @@ def test_collision_radius_comes_from_params_unless_given():
 def test_registry_and_declarations():
     alg = get_algorithm("wang2020")
     assert alg.name == "wang2020" and alg.model.motion == "grid" and alg.model.neighbor_rule == "inclusive"
-    assert [i.name for i in alg.invariants] == ["constraint_vertex", "constraint_edge", "j_bounded", "j_monotone"]
+    assert [i.name for i in alg.invariants] == ["constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone",
+                                               "j1_monotone"]
     assert alg.invariants[0] is not alg.invariants[0]             # fresh J memory per monitor
 
 
@@ -269,7 +317,7 @@ def _monitored(alg, seed, n=9, target="shape:square-9"):
 
 
 @pytest.mark.parametrize("mutant, seed, invariant", [(IgnorePriority, 0, "constraint_vertex"),
-                                                     (SwapOnEdge, 1, "constraint_edge")])
+                                                     (SwapOnEdge, 12, "constraint_edge")])
 def test_mutated_planners_break_the_constraints_the_paper_does_not(mutant, seed, invariant):
     r, mon, col = _monitored(Wang2020(), seed)
     assert r.status == "finished" and "constraint_vertex" not in mon.first and "constraint_edge" not in mon.first
@@ -280,10 +328,58 @@ def test_mutated_planners_break_the_constraints_the_paper_does_not(mutant, seed,
     assert col.status == "violated"
 
 
-def test_the_non_atomic_handshake_lets_j2_rise_lemma_iv_b2_is_a_finding():
-    r, mon, _ = _monitored(Wang2020(), 2, n=5, target="shape:letter-l")
-    step, msg = mon.first["j_monotone"]
+def test_the_broadcast_handshake_lets_j2_rise_the_default_keeps_lemma_iv_b2_on_the_same_start():
+    r, mon, _ = _monitored(Wang2020BroadcastHandshake(), 2, n=5, target="shape:letter-l")
+    step, msg = mon.first["j2_monotone"]
     assert "J2 rose" in msg and "handshake ('server'" in msg and "j_bounded" not in mon.first
+    r, mon, _ = _monitored(Wang2020(), 2, n=5, target="shape:letter-l")
+    assert r.status == "finished" and "j2_monotone" not in mon.first
+
+
+def test_the_default_finding_a_server_moves_on_while_it_waits_and_the_swap_raises_j1():
+    """Lemma IV-B.2's J1 half fails on the default (a finding about the paper, docs/wang2020.md):
+    the server agreed to an equal-cost swap from its waypoint; Alg. 2 is not blocked by the
+    handshake, so it departed toward its old goal in the tick the request came, and the swap it
+    then committed (Sec. III-A, no second cost test) raised J1 by 2."""
+    r, mon, _ = _monitored(Wang2020(), 2, n=5, target="shape:letter-l")
+    step, msg = mon.first["j1_monotone"]
+    assert msg.startswith("J1 rose from 6 to 8 while J2 = 0") and "handshake ('server'" in msg
+    server = dict(zip(r.trace.ids.tolist(), r.trace.states[step]))[0]
+    assert dict(server)["moving"] and dict(server)["goal"] == (0, 0) != dict(server)["wp"]
+
+
+def test_two_agents_through_the_engine_each_swap_is_one_exchange_event_and_j2_never_rises():
+    """The scripted pair through the engine, messages recorded: every handshake is an ``exchange``
+    request and its reply in the same step, the two goals swap in that step, and J2 never rises;
+    the variant's pair on the same start shows J2 rising (its half of a swap in one step)."""
+    pair = GoalSet.from_bitmap("pair", ["##"], spacing=0.2, range=0.6)
+    init = InitialConfiguration([1, 2], [[0.0, 0.4, 0.0], [0.2, 0.4, 0.0]])
+    seen = 0
+    for seed in range(12):
+        alg = Wang2020()
+        r = simulate(alg, pair, init, alg.default_params(0.6, 2), seed=seed, record_messages=True)
+        ex = [e for e in r.trace.events if e.kind == "exchange"]
+        for q in [e for e in ex if dict(e.detail)["kind"] == "request"]:
+            a = [e for e in ex if dict(e.detail)["kind"] == "reply" and e.step == q.step and e.robots == q.robots[::-1]]
+            assert len(a) == 1 and dict(a[0].detail)["reply"][0] in ("ack", "nack")
+            reply = dict(a[0].detail)["reply"]
+            if reply[0] == "ack":                   # after the step: each holds what the other had
+                seen += 1
+                client, server = q.robots
+                after = {rid: dict(s)["goal"] for rid, s in zip(r.trace.ids.tolist(), r.trace.states[q.step + 1])}
+                assert (after[client], after[server]) == (tuple(reply[2]), tuple(dict(q.detail)["request"][1]))
+        assert all(m is None or (m.request is None and m.ack is None)
+                   for frame in r.trace.messages for m in frame.values())
+        j2 = [J2(frame) for frame in r.trace.states[1:]]
+        assert all(b <= a for a, b in zip(j2, j2[1:]))
+    assert seen > 0
+    rises = 0
+    for seed in range(12):
+        alg = Wang2020BroadcastHandshake()
+        r = simulate(alg, pair, init, alg.default_params(0.6, 2), seed=seed)
+        j2 = [J2(frame) for frame in r.trace.states[1:]]
+        rises += sum(b > a for a, b in zip(j2, j2[1:]))
+    assert rises > 0
 
 
 # ---------------------------------------------------------------- determinism and scale

@@ -124,7 +124,9 @@ def test_sparse_grid_trace_keeps_edge_events_but_not_their_frames():
 # -- the per-robot hot path: traces pinned to the implementation before it was optimised.  First
 # pinned at 13d8e4b; re-pinned at f6c6410 (main just before the optimisation was merged), whose engine
 # lets grid robots exactly R apart hear each other (inclusive rounding) and whose states carry the
-# premise monitors' keys: the optimised code gives these same traces bit for bit.
+# premise monitors' keys: the optimised code gives these same traces bit for bit.  Since 0.3.0
+# (issue 30) that reading is ``wang2020-broadcast-handshake``: the variant gives the old default's
+# traces bit for bit.  ``PINNED_DEFAULT``: the default's (reading "2") at the commit that made it.
 
 PINNED = {
     (12, 0, True, True): ("finished", 544, "c684f7fa9f18df9fae770e23d17987afbb7f32d6835fc514538bebdc03518980"),
@@ -141,7 +143,7 @@ def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
     from swarmproof.models.shapes import shape_for
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.wang2020.algorithm import Wang2020
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020BroadcastHandshake
 
     root = pathlib.Path(__file__).resolve().parents[2]
     spec = importlib.util.spec_from_file_location("trace_hashes", root / "benchmarks" / "trace_hashes.py")
@@ -152,7 +154,7 @@ def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
     goals = random_shape(n, rng)
     cells = random_start_cells(n, centered_arena(goals.cells, 8), rng)
     init = InitialConfiguration(list(range(n)), [[0.2 * x, 0.2 * y, 0.0] for x, y in cells])
-    alg = Wang2020(then=shape_for("letter-u", n) if then else ())
+    alg = Wang2020BroadcastHandshake(then=shape_for("letter-u", n) if then else ())
     r = simulate(alg, goals, init, alg.default_params(0.6, n), seed=seed, record_messages=msgs)
     assert (r.status, r.steps, th.digest(r)) == PINNED[case]
 
