@@ -63,8 +63,10 @@ def costs(starts, goals) -> tuple:
 
 # -- the instrumented controller --------------------------------------------------------------
 
-class Counting(W.Wang2020Controller):
-    """The reference controller, counting (in ``self.c``) where its goal changes come from."""
+class Counting(W.BroadcastHandshakeController):
+    """The controller of reading "1" (``wang2020-broadcast-handshake``: the handshake in the
+    broadcasts, wang2020's default up to 0.3.0, on which this study of issue 15 was made), counting
+    (in ``self.c``) where its goal changes come from."""
 
     def __init__(self, *a, **k):
         super().__init__(*a, **k)
@@ -263,7 +265,7 @@ def decompose(n: int, seed: int, reading: str = "", params: dict | None = None, 
             super().__init__(*a, **k)
             made.append(self)
 
-    alg = type("Instrumented", (W.Wang2020,), {"controller_class": Ctrl})()
+    alg = type("Instrumented", (W.Wang2020BroadcastHandshake,), {"controller_class": Ctrl})()
     init = InitialConfiguration(list(range(n)), [[l * x, l * y, 0.0] for x, y in starts])
     ob = ProgressObserver(W.goal_cells(goals, l), l, every=10)
     t0 = time.process_time()

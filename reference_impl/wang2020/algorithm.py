@@ -174,6 +174,7 @@ class Wang2020Controller:
         self.waited_at_departure = 0.0
         self.now = 0.0
         self.swaps = 0                   # successful handshakes (either role)
+        self.took: tuple | None = None   # the last goal taken in a handshake: (role, peer, seq)
         # lines 26/28 inline unless a subclass redefines them (mutation tests)
         self._plain = (type(self).occupied is Wang2020Controller.occupied
                        and type(self).yields_to is Wang2020Controller.yields_to)
@@ -422,6 +423,7 @@ class Wang2020Controller:
         self.last_check = float(clock)                                          # Alg. 4 line 21
         self.hs = None
         self.swaps += 1
+        self.took = ("server", int(sender), seq)
         return ("ack", seq, old)
 
     def on_reply(self, peer: int, payload, reply, clock: float) -> None:
@@ -436,6 +438,7 @@ class Wang2020Controller:
             self.T = tuple(reply[2])
             self.last_check = float(clock)                                      # Alg. 4 line 15/21
             self.swaps += 1
+            self.took = ("client", int(peer), hs.seq)
 
     # -- Algorithm 3 and the state ---------------------------------------------------------
 
@@ -455,14 +458,15 @@ class Wang2020Controller:
         """The keys other monitors read: ``cell`` (the waypoint the agent is at, or left),
         ``next`` (the waypoint it moves to, or its next_step while waiting; None at its goal),
         ``goal``, ``priority`` (its position as Alg. 2 line 28 compares it), ``wp``,
-        ``moving``, ``shape``, the handshake and the timing premises."""
+        ``moving``, ``shape``, the handshake and the timing premises, and ``took``: the last
+        goal taken in a handshake, ``(role, peer, seq)`` (the ``pairwise_swap`` invariant)."""
         nxt = self.wp if self.moving else (None if self.next_step == self.wp else self.next_step)
         if not self.started:
             return (("cell", None), ("next", None), ("goal", None), ("priority", None), ("wp", None),
                     ("moving", False), ("shape", 0), ("completed", 0), ("done", False), ("hop", None),
                     ("q_u", None), ("handshake", None), ("ack", None), ("waited", 0.0), ("window", self.delta_t),
                     ("heard", ()),
-                    ("n_goals", len(self.Q)), ("shape_box", self.boxes[0]), ("spacing", self.l))
+                    ("n_goals", len(self.Q)), ("shape_box", self.boxes[0]), ("spacing", self.l), ("took", None))
         hs = None if self.hs is None else (self.hs.role, self.hs.peer, self.hs.seq)
         return (("cell", self.cell), ("next", nxt), ("goal", self.T), ("priority", self.p),
                 ("wp", self.wp), ("moving", self.moving), ("shape", self.shape),
@@ -471,7 +475,8 @@ class Wang2020Controller:
                 ("handshake", hs), ("ack", None if self.ack is None else self.ack[:3]),
                 ("waited", self.waited_at_departure), ("window", float(self.delta_t)),
                 ("heard", self._heard()),
-                ("n_goals", len(self.Q)), ("shape_box", self.boxes[self.shape]), ("spacing", self.l))
+                ("n_goals", len(self.Q)), ("shape_box", self.boxes[self.shape]), ("spacing", self.l),
+                ("took", self.took))
 
 
 class BroadcastHandshakeController(Wang2020Controller):
@@ -514,6 +519,7 @@ class BroadcastHandshakeController(Wang2020Controller):
         self.answered.add(key)
         self.hs = None
         self.swaps += 1
+        self.took = ("server", int(sender), int(req[1]))
 
     def _on_ack(self, now: float, sender: int, ack: tuple) -> None:
         """Client side: the ACK of the request it is waiting on -> take the server's old goal."""
@@ -524,6 +530,7 @@ class BroadcastHandshakeController(Wang2020Controller):
         self.last_check = now                                                   # Alg. 4 line 15/21
         self.hs = None
         self.swaps += 1
+        self.took = ("client", int(sender), hs.seq)
 
     def message(self) -> WangMsg:
         """004 Alg. 3 line 2, with the handshake fields."""
@@ -838,6 +845,8 @@ class _Checks:
         self.prev = None          # (shape, J1, J2, goals, handshakes)
         self.mono = (None, (None, None))   # (frame key, (J2 message, J1 message)) of the last step judged
         self.c0 = None            # (shape, c_t0)
+        self.pending: dict = {}   # (client, seq) -> (server, step): a server took its client's goal
+        self.took_prev: dict = {}
 
     def _frame(self, t, ids, poses, states):
         key = (t, id(states), id(poses))
@@ -944,7 +953,35 @@ class _Checks:
         return self._monotone(t, ids, poses, states)[1]
 
 
-INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone", "j1_monotone")
+    def pairwise(self, t, ids, poses, states):
+        """Sec. III-A: "Only the pair of who successfully handshake with each other can swap the
+        goal": a server that took its client's goal (state ``took``) is matched by the client taking
+        the server's (its ``took``) before the client's handshake ends.  A client that stops
+        waiting without it leaves a half swap."""
+        if t == 0:
+            self.pending, self.took_prev = {}, {}
+        took, waiting = {}, {}
+        for r, st in zip(ids.tolist(), states):
+            d = dict(st)
+            took[r], waiting[r] = d.get("took"), d.get("handshake")
+        new = [tk + (r,) for r, tk in took.items() if tk is not None and tk != self.took_prev.get(r)]
+        for role, peer, seq, r in sorted(new, key=lambda x: x[0] != "server"):    # servers first
+            if role == "server":
+                self.pending[(peer, seq)] = (r, int(t))
+            else:
+                self.pending.pop((r, seq), None)
+        self.took_prev = took
+        for (c, seq), (srv, t0) in sorted(self.pending.items()):
+            if c not in waiting:
+                del self.pending[(c, seq)]          # the client is gone (crashed): no swap to finish
+            elif waiting[c] != ("client", srv, seq):
+                del self.pending[(c, seq)]
+                return (f"half swap: robot {srv} took robot {c}'s goal in step {t0} (handshake {seq}), but robot "
+                        f"{c}'s handshake ended without taking robot {srv}'s")
+        return None
+
+
+INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone", "j1_monotone", "pairwise_swap")
 
 
 def make_invariants() -> tuple:
@@ -961,6 +998,9 @@ def make_invariants() -> tuple:
                   ch.j2_monotone),
         Invariant("j1_monotone", "J1 never rises while J2 = 0", "004 Lemma IV-B.2 (\"moreover, J1 is monotonically "
                   "decreasing if J2 equals zero\")", ch.j1_monotone),
+        Invariant("pairwise_swap", "a goal taken in a handshake is swapped by both of the pair (no half swap)",
+                  "004 Sec. III-A (\"Only the pair of who successfully handshake with each other can swap the goal\")",
+                  ch.pairwise),
     )
 
 
@@ -999,7 +1039,8 @@ class Wang2020:
     vectorised_controller = Wang2020Controller
     claims = {
         "collision": "004 Theorems IV-A.1/IV-A.2 with l >= 2 sqrt(2) r (Sec. III-A): discs never overlap",
-        "invariants": "004 Constraints III-A.1/2 (Theorems IV-A.1/2), Lemmas IV-B.1/IV-B.2 (J1, J2)",
+        "invariants": "004 Constraints III-A.1/2 (Theorems IV-A.1/2), Lemmas IV-B.1/IV-B.2 (J1, J2), Sec. III-A "
+                      "(pairwise swaps)",
         "formation": "004 Theorem IV-B.1 (J1, J2 -> 0 almost surely; exploration: held over what it ran)",
         "termination": "004 Theorem IV-B.1 with Sec. III-B shape-complete detection (almost surely)",
         "deadlock": "004 Sec. II-C, Lemma IV-B.4 (deadlock-free)",

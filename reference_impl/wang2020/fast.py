@@ -250,6 +250,7 @@ class _Run:
         self.send = np.zeros(n, dtype=bool)     # a client's request to send at the end of the tick
         self.slot_of = {r: k for k, r in enumerate(self.ids_l)}
         self.swaps = i64()
+        self.took_role, self.took_peer, self.took_seq = i64(), i64(), i64()   # state "took" (0: None)
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
         self._heard = self._heard_R = self._prev_heard = None
         self.prev_blocks: list = []
@@ -331,7 +332,7 @@ class _Run:
                     ("moving", False), ("shape", 0), ("completed", 0), ("done", False), ("hop", None),
                     ("q_u", None), ("handshake", None), ("ack", None), ("waited", 0.0), ("window", self.delta_t),
                     ("heard", ()), ("n_goals", len(self.shapes[0])), ("shape_box", self.boxes[0]),
-                    ("spacing", self.l))
+                    ("spacing", self.l), ("took", None))
         wp = (int(self.wx[k]), int(self.wy[k]))
         ns = (int(self.nx[k]), int(self.ny[k]))
         moving = bool(self.moving[k])
@@ -339,6 +340,8 @@ class _Run:
         role = int(self.role[k])
         hs = None if role == 0 else (_ROLE[role], int(self.peer[k]), int(self.hseq[k]))
         hop = int(self.hop[k])
+        tr = int(self.took_role[k])
+        took = None if tr == 0 else (_ROLE[tr], int(self.took_peer[k]), int(self.took_seq[k]))
         shape = int(self.shape[k])
         completed = int(self.completed[k])
         return (("cell", (int(self.cx[k]), int(self.cy[k]))), ("next", nxt),
@@ -349,7 +352,8 @@ class _Run:
                 ("handshake", hs), ("ack", None),
                 ("waited", float(self.waited[k])), ("window", float(self.delta_t)),
                 ("heard", self._heard_of(k)),
-                ("n_goals", len(self.shapes[shape])), ("shape_box", self.boxes[shape]), ("spacing", self.l))
+                ("n_goals", len(self.shapes[shape])), ("shape_box", self.boxes[shape]), ("spacing", self.l),
+                ("took", took))
 
     def heard_keys(self, previous: bool = False) -> np.ndarray:
         """``receiver * n + sender`` of every sender in msg_buff, sorted, unique (state key "heard");
@@ -381,7 +385,8 @@ class _Run:
         no state iff these are equal)."""
         ints = np.stack((self.started, self.cx, self.cy, self.nx, self.ny, self.Tx, self.Ty, self.wx, self.wy,
                          self.moving, self.shape, self.completed, self.hop, self.qx, self.qy, self.role,
-                         np.where(self.role != 0, self.peer, 0), np.where(self.role != 0, self.hseq, 0)))
+                         np.where(self.role != 0, self.peer, 0), np.where(self.role != 0, self.hseq, 0),
+                         self.took_role, self.took_peer, self.took_seq))
         floats = np.stack((self.px, self.py, self.waited))
         return ints, floats
 
@@ -417,6 +422,7 @@ class _Run:
                 self.last_check[s] = now[s]
                 role[s] = 0
                 self.swaps[s] += 1
+                self.took_role[s], self.took_peer[s], self.took_seq[s] = 2, ids[k], self.hseq[k]
                 replies.append((k, old))
             else:
                 replies.append((k, None))
@@ -428,6 +434,7 @@ class _Run:
                 self.Tx[k], self.Ty[k] = old
                 self.last_check[k] = now[k]
                 self.swaps[k] += 1
+                self.took_role[k], self.took_peer[k], self.took_seq[k] = 1, peer[k], self.hseq[k]
 
     # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
 

@@ -209,8 +209,8 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
     assert calls == [(a, tuple(p for p in ("connectivity", "termination")
                                if not (p == "connectivity" and a in ("jiang", "leechong-leader", "leechong-neighbor"))),
                       7, (3, 8), 0, None)
-                     for a in ("song2016", "song2014", "jiang", "wang2020", "leechong-leader", "leechong-neighbor",
-                               "example-anonymous-line", "example-grid-goals")]
+                     for a in ("song2016", "song2014", "jiang", "wang2020", "wang2020-broadcast-handshake",
+                               "leechong-leader", "leechong-neighbor", "example-anonymous-line", "example-grid-goals")]
     assert [(r.subject, r.property) for r in rows if not r.applicable] == [
         ("jiang n=3..8", "connectivity"), ("leechong-leader n=3..8", "connectivity"),
         ("leechong-neighbor n=3..8", "connectivity")]
@@ -219,6 +219,8 @@ def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
         ("song2014 n=3..8", "connectivity", False), ("song2014 n=3..8", "termination", False),
         ("jiang n=3..8", "connectivity", False), ("jiang n=3..8", "termination", True),
         ("wang2020 n=3..8", "connectivity", False), ("wang2020 n=3..8", "termination", True),
+        ("wang2020-broadcast-handshake n=3..8", "connectivity", False),
+        ("wang2020-broadcast-handshake n=3..8", "termination", True),
         ("leechong-leader n=3..8", "connectivity", False), ("leechong-leader n=3..8", "termination", True),
         ("leechong-neighbor n=3..8", "connectivity", False), ("leechong-neighbor n=3..8", "termination", True),
         ("example-anonymous-line n=3..8", "connectivity", False),

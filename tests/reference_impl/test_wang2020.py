@@ -289,7 +289,7 @@ def test_registry_and_declarations():
     alg = get_algorithm("wang2020")
     assert alg.name == "wang2020" and alg.model.motion == "grid" and alg.model.neighbor_rule == "inclusive"
     assert [i.name for i in alg.invariants] == ["constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone",
-                                               "j1_monotone"]
+                                               "j1_monotone", "pairwise_swap"]
     assert alg.invariants[0] is not alg.invariants[0]             # fresh J memory per monitor
 
 

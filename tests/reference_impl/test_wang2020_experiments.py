@@ -126,24 +126,31 @@ def test_sparse_grid_trace_keeps_edge_events_but_not_their_frames():
 # lets grid robots exactly R apart hear each other (inclusive rounding) and whose states carry the
 # premise monitors' keys: the optimised code gives these same traces bit for bit.  Since 0.3.0
 # (issue 30) that reading is ``wang2020-broadcast-handshake``: the variant gives the old default's
-# traces bit for bit.  ``PINNED_DEFAULT``: the default's (reading "2") at the commit that made it.
+# traces bit for bit (a700a8c; then its states gained the key ``took``, the same steps and statuses,
+# re-pinned).  ``PINNED_DEFAULT``: the default's (reading "2") at the commit that made it.
 
 PINNED = {
-    (12, 0, True, True): ("finished", 544, "c684f7fa9f18df9fae770e23d17987afbb7f32d6835fc514538bebdc03518980"),
-    (20, 1, False, False): ("finished", 276, "30d366b630452a955aa4e92f35d957892325f642957189fc156809c1b448df72"),
-    (16, 2, True, False): ("finished", 869, "56b3dbdd9433eda00209b2ae2b49e69fae82ba52425fc59624186bd0df5c636c"),
+    (12, 0, True, True): ("finished", 544, "b36c6882e8efec7acf9920c11438b34788b1dd3e02d5d55fdd9f55da09424f72"),
+    (20, 1, False, False): ("finished", 276, "e7b90e86cabdaecc9ef158b36879f727e4554f65d2352129afa2903f50e7e1ec"),
+    (16, 2, True, False): ("finished", 869, "01f2a1acef6502ef8f99ae77cd56cc3f1d4e188f870159a4f9860a3c68a05229"),
+}
+PINNED_DEFAULT = {
+    (12, 0, True, True): ("finished", 417, "647fb6f12a990bb5b487049a74c97de6f98eb6792588bb084f1ed0bb694270f5"),
+    (20, 1, False, False): ("finished", 327, "3f64b59625e16b39d49986ef7608a7ceffb7b43196dbcda2e061f80f5683a68a"),
+    (16, 2, True, False): ("finished", 635, "ada0f2095121006c531635d5065ae490338f85ff8e96b945030265000cec743c"),
 }
 
 
+@pytest.mark.parametrize("reading", ["broadcast-handshake", "default"])
 @pytest.mark.parametrize("case", list(PINNED), ids=lambda c: f"n={c[0]}-seed={c[1]}-then={c[2]}-msgs={c[3]}")
-def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
+def test_wang2020_traces_unchanged_by_the_faster_hot_path(case, reading):
     import importlib.util
     import pathlib
 
     from swarmproof.models.shapes import shape_for
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
-    from swarmproof.reference_impl.wang2020.algorithm import Wang2020BroadcastHandshake
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, Wang2020BroadcastHandshake
 
     root = pathlib.Path(__file__).resolve().parents[2]
     spec = importlib.util.spec_from_file_location("trace_hashes", root / "benchmarks" / "trace_hashes.py")
@@ -154,9 +161,10 @@ def test_wang2020_traces_unchanged_by_the_faster_hot_path(case):
     goals = random_shape(n, rng)
     cells = random_start_cells(n, centered_arena(goals.cells, 8), rng)
     init = InitialConfiguration(list(range(n)), [[0.2 * x, 0.2 * y, 0.0] for x, y in cells])
-    alg = Wang2020BroadcastHandshake(then=shape_for("letter-u", n) if then else ())
+    cls = Wang2020 if reading == "default" else Wang2020BroadcastHandshake
+    alg = cls(then=shape_for("letter-u", n) if then else ())
     r = simulate(alg, goals, init, alg.default_params(0.6, n), seed=seed, record_messages=msgs)
-    assert (r.status, r.steps, th.digest(r)) == PINNED[case]
+    assert (r.status, r.steps, th.digest(r)) == (PINNED_DEFAULT if reading == "default" else PINNED)[case]
 
 
 def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
