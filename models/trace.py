@@ -310,30 +310,59 @@ class Trace:
         """The engine step recorded at index ``i``."""
         return i if self.times is None else self.times[i]
 
+    def frame_of(self, step: int) -> int | None:
+        """The index at which engine step ``step`` is recorded, or None when the trace did not
+        keep it (a sparse trace) or the run never reached it.
+
+        >>> t = Trace(ids=[0], poses=np.zeros((3, 1, 3)), states=[(None,)] * 3, times=[0, 5, 7])
+        >>> t.frame_of(5), t.frame_of(6), t.frame_of(8)
+        (1, None, None)
+        """
+        step = int(step)
+        if self.times is None:
+            return step if 0 <= step < len(self.poses) else None
+        import bisect
+
+        i = bisect.bisect_left(self.times, step)
+        return i if i < len(self.times) and self.times[i] == step else None
+
     # -- views -----------------------------------------------------------
     @property
     def steps(self) -> int:
-        """T, the number of steps run."""
-        return len(self.poses) - 1
+        """T, the number of steps run: the last recorded step (a sparse trace always keeps the
+        last one), not the number of frames kept (:attr:`frames`).
+
+        >>> t = Trace(ids=[0], poses=np.zeros((3, 1, 3)), states=[(None,)] * 3, times=[0, 5, 7])
+        >>> t.steps, t.frames
+        (7, 3)
+        """
+        return len(self.poses) - 1 if self.times is None else self.times[-1]
+
+    @property
+    def frames(self) -> int:
+        """The number of recorded frames (``len(poses)``): ``steps + 1`` on a dense trace; index
+        ``poses``, ``states`` and :meth:`present_at` with ``range(frames)``."""
+        return len(self.poses)
 
     @property
     def n(self) -> int:
         """Number of robot slots (robots added by a fault model included)."""
         return len(self.ids)
 
-    def present_at(self, t: int) -> np.ndarray:
-        """Boolean mask of the robots present after ``t`` steps."""
+    def present_at(self, i: int) -> np.ndarray:
+        """Boolean mask of the robots present in recorded frame ``i`` (a dense trace: after ``i``
+        steps; a sparse one: after step ``times[i]``); ``-1`` is the last frame."""
         if self.present is None:
             return np.ones(self.n, dtype=bool)
-        return self.present[t]
+        return self.present[i]
 
     def final_poses(self) -> np.ndarray:
         """Poses after the last step (present robots only)."""
-        return self.poses[-1][self.present_at(self.steps)]
+        return self.poses[-1][self.present_at(-1)]
 
     def final_ids(self) -> np.ndarray:
         """IDs of the robots present after the last step."""
-        return self.ids[self.present_at(self.steps)]
+        return self.ids[self.present_at(-1)]
 
     # -- serialisation -------------------------------------------------------
     def as_dict(self) -> dict:

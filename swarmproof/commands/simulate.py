@@ -343,7 +343,7 @@ def plot_run(trace, lattice, roles, path, phi) -> str:
     from swarmproof.invariants.result import state_value
 
     fig, ax = new_figure()
-    present = trace.present_at(trace.steps)
+    present = trace.present_at(-1)
     ids = trace.ids.tolist()
     slot = {rid: k for k, rid in enumerate(ids)}
     for k in range(trace.n):
