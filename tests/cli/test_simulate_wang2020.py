@@ -198,3 +198,16 @@ def test_termination_names_the_last_step_of_a_sparse_trace(capsys):
         msgs.append(doc["termination"]["message"])
         assert f"after {doc['steps']} steps" in doc["termination"]["message"] and doc["steps"] > 100
     assert msgs[0] == msgs[1]
+
+
+def test_the_trace_of_8_agents_is_about_a_megabyte_not_five(capsys, tmp_path):
+    """The review of issue 15 found an 8-agent dense trace of 5 MB: the indented JSON, not what it
+    holds (docs/performance.md, "Trace size"). Every state of every step is still there."""
+    path = tmp_path / "t.json"
+    code, out, _ = run(capsys, "--target", "shape:letter-l", "--robots", "8", "--seed", "0", "--json",
+                       "--trace", str(path))
+    doc = json.loads(out)
+    assert code == 0 and doc["steps"] == 424
+    assert path.stat().st_size < 1_300_000                       # 5,054,476 bytes indented, 1,140,219 now
+    t = Trace.load(path)
+    assert t.frames == 425 and len(t.states) == 425 and dict(t.states[-1][0])["done"]
