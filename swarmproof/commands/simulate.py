@@ -56,7 +56,10 @@ def add_arguments(p) -> None:
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="algorithm parameter (Params.extra), repeatable; numbers are parsed")
     p.add_argument("--min-separation", type=float, metavar="D",
-                   help="minimum separation of the random start (default range/4)")
+                   help="minimum separation of the random connected start of continuous robots (default "
+                        "range/4); refused (exit 2) where no start would keep it: with --initial, for grid "
+                        "robots (distinct waypoints, grid_spacing apart) and for an algorithm's own start "
+                        "(wang2020's arena)")
     p.add_argument("--allow-violations", action="store_true",
                    help="run even when a paper assumption is broken (reported)")
     p.add_argument("--strict", action="store_true",

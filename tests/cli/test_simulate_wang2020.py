@@ -136,6 +136,10 @@ BAD = [
      r"loss_repeats=1"),
     (lambda tp: ["--shape", "letter-l", "--robots", "5", "--param", "arena=big"],
      r"arena='big' is not an arena size; fix: give --param arena=SIDE"),
+    (lambda tp: ["--shape", "letter-l", "--robots", "5", "--min-separation", "0.5"],
+     r"min_separation=0.5 \(--min-separation\) is not used: algorithm 'wang2020' draws its own start \(its "
+     r"initial hook: distinct grid waypoints, at least grid_spacing=0.2 apart\); fix: drop --min-separation "
+     r"\(a sparser start: a larger arena, --param arena=SIDE\), or give the poses yourself \(--initial FILE\)"),
     (lambda tp: ["--shape", "letter-n", "--then", "letter-v", "--robots", "8"],
      r"then='letter-v': no such file and no bundled shape target of that name; did you mean 'letter-u'\?"
      r".*; fix: give a file path or one of the bundled shape names"),
@@ -148,7 +152,8 @@ BAD = [
 
 @pytest.mark.parametrize("argv, match", BAD, ids=["disconnected-txt", "png-no-filled-cell", "more-than-arena",
                                                   "more-than-small-arena", "grid-spacing-too-small",
-                                                  "window-below-bound", "bad-arena", "then-unknown-shape",
+                                                  "window-below-bound", "bad-arena", "min-separation",
+                                                  "then-unknown-shape",
                                                   "then-not-a-shape", "then-disconnected-txt"])
 def test_bad_input_exits_2_naming_the_value_and_the_fix(capsys, tmp_path, argv, match):
     code, out, _ = run(capsys, *argv(tmp_path), "--seed", "0", "--json")
