@@ -99,8 +99,9 @@ def _draw_order(artists) -> list:
 
 
 def gif_frames(steps: int, mark: int | None = None, max_frames: int = 60, hold: int = 6) -> list:
-    """The trace steps shown as frames: ``max_frames`` evenly spaced over ``0..steps``, always the
-    first, the last and ``mark`` (the violation step), which is held for ``hold`` frames.
+    """The recorded frames shown: ``max_frames`` evenly spaced over ``0..steps`` (the last frame
+    index; on a dense trace the last step), always the first, the last and ``mark`` (the
+    violation's frame), which is held for ``hold`` frames.
 
     >>> gif_frames(10, mark=7, max_frames=4, hold=2)
     [0, 3, 7, 7, 10]
@@ -125,12 +126,15 @@ def animate_trace(trace, path, *, phi: float | None = None, mark_step: int | Non
     """An animated GIF of a trace: each robot's trail so far, its position, heading and ID, the
     communication links (pairs closer than ``phi``) and, at ``mark_step``, the robots
     ``mark_ids`` (default: every present robot) circled in red (the violation).
-    Deterministic: same trace, same bytes.
+    A sparse trace (``trace.times``) shows the frames it kept, captioned by their engine steps; a
+    ``mark_step`` it did not keep is not marked.  Deterministic: same trace, same bytes.
     """
     import numpy as np
 
     P = np.asarray(trace.poses, float)
-    T, n = trace.steps, trace.n
+    # frames index the arrays; the caption names engine steps (they differ on a sparse trace)
+    last, T, n = trace.frames - 1, trace.steps, trace.n
+    mark = None if mark_step is None else trace.frame_of(mark_step)
     xy = P[:, :, :2].reshape(-1, 2)
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     pad = 0.1 * float(max(hi - lo)) + 0.3
@@ -169,15 +173,16 @@ def animate_trace(trace, path, *, phi: float | None = None, mark_step: int | Non
                         lx += [pa[0], pb[0], np.nan]
                         ly += [pa[1], pb[1], np.nan]
         links.set_data(lx, ly)
-        marked = mark_step is not None and t == mark_step
+        marked = mark is not None and t == mark
         sel = pres if mark_ids is None else pres & np.isin(trace.ids, list(mark_ids))
         ring.set_data(P[t, sel, 0] if marked else [], P[t, sel, 1] if marked else [])
-        text = f"{title}  step {t}/{T}" if title else f"step {t}/{T}"
+        step = trace.time_of(t)
+        text = f"{title}  step {step}/{T}" if title else f"step {step}/{T}"
         caption.set_text(text + (f": {mark_label}" if marked else ""))
         caption.set_color("tab:red" if marked else "black")
 
     # every artist update() changes lies above the axes' own (ticks and spines, apart from the data)
-    return save_gif(fig, update, gif_frames(T, mark_step, max_frames), path, fps=fps,
+    return save_gif(fig, update, gif_frames(last, mark, max_frames), path, fps=fps,
                     animated=[*trails, links, dots, heads, ring, *labels, caption])
 
 

@@ -199,11 +199,11 @@ def plot_replay(rr, path) -> str:
         ax.plot(trace.poses[0, k, 0], trace.poses[0, k, 1], "o", ms=4, color="tab:blue", zorder=2)
         ax.plot(trace.poses[-1, k, 0], trace.poses[-1, k, 1], "x", ms=5, color="0.2", zorder=2)
         ax.annotate(str(int(trace.ids[k])), trace.poses[0, k, :2], fontsize=7, zorder=3)
-    if step is not None and 0 <= int(step) <= trace.steps:
-        s = int(step)
-        pres = trace.present_at(s)
-        ax.plot(trace.poses[s, pres, 0], trace.poses[s, pres, 1], "o", ms=7, mfc="none", color="tab:red",
-                zorder=4, label=f"step {s}: violation")
+    f = None if step is None else trace.frame_of(int(step))    # None: a step the trace did not keep
+    if f is not None:
+        pres = trace.present_at(f)
+        ax.plot(trace.poses[f, pres, 0], trace.poses[f, pres, 1], "o", ms=7, mfc="none", color="tab:red",
+                zorder=4, label=f"step {int(step)}: violation")
         ax.legend(loc="best", fontsize=8)
     cx = rr.counterexample
     status = "reproduced" if rr.reproduced else "not reproduced"

@@ -159,18 +159,48 @@ def check_robots(robots: int | None, initial) -> None:
 def _seeded_start(algorithm, n: int, seed: int, params, lattice, phi: float, min_separation):
     """The start drawn for ``n`` robots from ``seed``: the algorithm's own ``initial(n, seed,
     params, target)`` when it has one (004 Sec. V-A: distinct random waypoints of an arena), else a
-    random connected start (on grid cells for grid motion)."""
+    random connected start (on grid cells for grid motion).  ``min_separation`` is honoured by the
+    random connected start of continuous robots only; given for another start it is a usage error
+    (:func:`_unused_min_separation`), never silently dropped."""
     from swarmproof.reference_impl import initial as initial_mod
 
     start = getattr(algorithm, "initial", None)
     initial = start(n, seed, params, lattice) if callable(start) else None
+    grid = getattr(algorithm.model, "motion", None) == "grid"
+    if min_separation is not None and (initial is not None or grid):
+        raise _unused_min_separation(algorithm, params, min_separation, own_start=initial is not None)
     if initial is None:
-        if getattr(algorithm.model, "motion", None) == "grid":
+        if grid:
             initial = initial_mod.random_grid_connected(n, seed, range=phi,
                                                         spacing=float(params.extra.get("grid_spacing", 1.0)))
         else:
             initial = initial_mod.random_connected(n, seed, range=phi, min_separation=min_separation)
     return initial
+
+
+def _unused_min_separation(algorithm, params, min_separation, *, own_start: bool = False,
+                           initial_file: bool = False) -> UsageError:
+    """The usage error of a ``min_separation`` no start would honour (docs/decisions.md, "Wang &
+    Rubenstein 2020: the review of issue 15"): an initial file gives the poses; grid robots start
+    on distinct waypoints, at least ``grid_spacing`` apart by construction (an algorithm's own
+    start, 004 Sec. V-A's arena, is such a start)."""
+    what = f"min_separation={min_separation!r} (--min-separation)"
+    if initial_file:
+        return UsageError(f"{what} is not used with an initial file: the file gives the poses",
+                          fix="drop --min-separation, or drop --initial to draw a start that keeps it")
+    l = float(dict(params.extra).get("grid_spacing", 1.0))
+    if own_start:
+        why = (f"algorithm {algorithm.name!r} draws its own start (its initial hook"
+               + ("" if getattr(algorithm.model, "motion", None) != "grid" else
+                  f": distinct grid waypoints, at least grid_spacing={l!r} apart") + ")")
+    else:
+        why = (f"algorithm {algorithm.name!r} moves on a grid: its random connected start puts robots on "
+               f"distinct waypoints, at least grid_spacing={l!r} apart")
+    fix = "drop --min-separation, or give the poses yourself (--initial FILE)"
+    if own_start and callable(getattr(algorithm, "arena_size", None)):
+        fix = "drop --min-separation (a sparser start: a larger arena, --param arena=SIDE), or give the " \
+              "poses yourself (--initial FILE)"
+    return UsageError(f"{what} is not used: {why}", fix=fix)
 
 
 def _engine(algorithm, vectorised: bool) -> Callable:
@@ -418,6 +448,8 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     params = build_params(algorithm, phi, n, v=v, omega=omega, dt=dt, extra=extra)
     if initial is None:
         initial = _seeded_start(algorithm, n, seed, params, lattice, phi, min_separation)
+    elif min_separation is not None:
+        raise _unused_min_separation(algorithm, params, min_separation, initial_file=True)
     link_mode = tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode})
     observers = _streaming_monitors(algorithm, phi, link_mode) if record_every != 1 else ()
     result = _engine(algorithm, vectorised)(

@@ -51,8 +51,9 @@ LEMMA_11 = "001 Lemma 11 (connectivity is preserved)"
 
 
 def components_at(trace, t: int, phi: float, inclusive: bool = False) -> list[list[int]]:
-    """Components (as sorted lists of robot IDs) of the communication graph after ``t`` steps
-    (neighbors strictly closer than ``phi``; ``inclusive``: at most ``phi``)."""
+    """Components (as sorted lists of robot IDs) of the communication graph in recorded frame ``t``
+    (after ``t`` steps on a dense trace; neighbors strictly closer than ``phi``, ``inclusive``: at
+    most ``phi``)."""
     mask = trace.present_at(t)
     idx = np.flatnonzero(mask)
     xy = trace.poses[t][idx, :2]
@@ -69,14 +70,14 @@ def first_disconnection(trace, phi: float, inclusive: bool = False):
     graph).  Step 0 counts: a disconnected start returns ``(0, ...)``.
     """
     prev = None
-    for t in range(trace.steps + 1):
-        cur = (trace.poses[t], trace.present_at(t))
+    for i in range(len(trace.poses)):      # recorded frames; the step returned is the engine's
+        cur = (trace.poses[i], trace.present_at(i))
         if prev is not None and np.array_equal(cur[0], prev[0]) and np.array_equal(cur[1], prev[1]):
             continue
         prev = cur
-        comps = components_at(trace, t, phi, inclusive)
+        comps = components_at(trace, i, phi, inclusive)
         if len(comps) > 1:
-            return t, comps
+            return trace.time_of(i), comps
     return None
 
 
@@ -89,8 +90,8 @@ def _trace_inclusive(trace, inclusive):
 def _feed(monitor, trace):
     """Feed every recorded step of ``trace`` to a streaming monitor; returns it."""
     monitor.start(trace.ids)
-    for t in range(trace.steps + 1):
-        monitor.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
+    for i in range(len(trace.poses)):      # recorded frames, named by their engine step
+        monitor.observe(trace.time_of(i), trace.poses[i], trace.states[i], trace.present_at(i))
     return monitor
 
 

@@ -73,10 +73,12 @@ def params_of(trace) -> tuple:
 
 
 def examined_steps(trace):
-    """The steps a monitor examines: every step of a trace, or the one step of a
+    """The steps a monitor examines, as the index ``t`` of the frame before each (it reads frames
+    ``t`` and ``t + 1``): every pair of consecutive frames of a trace (on a dense one, every step;
+    a sparse one's frames are further apart, ``trace.times``), or the one step of a
     :class:`Window` (the streaming form, :class:`PremisesMonitor`)."""
     r = getattr(trace, "step_range", None)
-    return range(trace.steps) if r is None else r
+    return range(len(trace.poses) - 1) if r is None else r
 
 
 class Window:
@@ -385,7 +387,7 @@ def premises(trace, monitors, phi: float, v: float, dt: float) -> InvariantResul
     'inconclusive'
     """
     monitors = tuple(monitors)
-    results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors] if trace.steps >= 1 else []
+    results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors] if len(trace.poses) >= 2 else []
     return combine_premises(monitors, results, trace.steps)
 
 

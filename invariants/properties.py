@@ -128,8 +128,8 @@ def collision(trace, radius: float, *, tol: float = 1e-9) -> InvariantResult:
     """
     mon = CollisionMonitor(radius, tol)
     mon.start(trace.ids)
-    for t in range(trace.steps + 1):
-        mon.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
+    for i in range(len(trace.poses)):      # recorded frames, named by their engine step
+        mon.observe(trace.time_of(i), trace.poses[i], trace.states[i], trace.present_at(i))
     return mon.result()
 
 

@@ -287,7 +287,7 @@ def progress_values(trace, measure) -> list:
     """
     out: list = []
     prev = None
-    for t in range(trace.steps + 1):
+    for t in range(len(trace.poses)):      # recorded frames
         pres = trace.present_at(t)
         key = (trace.poses[t].tobytes(), pres.tobytes(), trace.states[t])
         if key != prev:

@@ -88,7 +88,10 @@ def static_by_bound(trace, bound: int, *, cites: str = THEOREM_13) -> InvariantR
     t_exec = execution_steps(trace)
     status = trace.meta.get("status")
     if t_exec > bound:
-        moved = np.flatnonzero((p[bound + 1:] != p[bound:-1]).any(axis=2).any(axis=0))
+        # frames, not steps: the last frame at or before the bound (the same index on a dense trace)
+        times = getattr(trace, "times", None)
+        f = bound if times is None else int(np.searchsorted(times, bound, side="right")) - 1
+        moved = np.flatnonzero((p[f + 1:] != p[f:-1]).any(axis=2).any(axis=0))
         rid = int(trace.ids[moved[0]]) if len(moved) else None
         last = t_exec
         return InvariantResult("termination", "violated", cites,

@@ -220,7 +220,7 @@ class SimulationResult:
 
     @property
     def final_states(self) -> tuple:
-        present = self.trace.present_at(self.steps)
+        present = self.trace.present_at(-1)
         return tuple(s for s, p in zip(self.trace.states[-1], present) if p)
 
     @property

@@ -69,7 +69,7 @@ def execution_time(result: SimulationResult, *, start: int = 0) -> int | None:
         return None
     poses = result.trace.poses
     final = poses[-1]
-    present = result.trace.present_at(result.steps)
+    present = result.trace.present_at(-1)
     t = len(poses) - 1
     while t > start and np.array_equal(poses[t - 1][present], final[present]):
         t -= 1

@@ -578,6 +578,9 @@ PARAMETERS = (
     ParamSpec("loss_repeats", int, 1, low=1, meaning="m, times a message is sent so every neighbour hears it "
               "(Sec. V-B3)"),
     ParamSpec("arena", object, "32x32", meaning="the arena starts are drawn in: SIDE or WxH waypoints (Sec. V-A)"),
+    ParamSpec("then", object, (), meaning="shapes to form next, in order, each once the one before is detected "
+              "complete: names or files, comma-separated, each scaled to the team (Fig. 9: N then U; "
+              "simulate --then)"),
 )
 
 
@@ -1006,6 +1009,24 @@ def make_invariants() -> tuple:
 
 # -- the algorithm ----------------------------------------------------------------------------
 
+def _then_shape(name: str):
+    """The goal set a ``then`` entry names: a bundled shape or a shape file, ``shape:`` optional."""
+    from swarmproof.models.errors import InputFileError, UsageError
+    from swarmproof.models.targets import resolve_target
+
+    try:
+        g = resolve_target(name, kind=None if ":" in name else "shape")
+    except UsageError as exc:
+        if isinstance(exc, InputFileError) and (exc.line is not None or exc.field):
+            raise                        # a shape file's own error names its file, line and field
+        raise UsageError(f"then={name!r}: {exc.message}", fix=exc.fix or "name a shape (swarmproof list "
+                         "shapes) or a shape file, e.g. --then shape:letter-u") from None
+    if getattr(g, "cells", None) is None:
+        raise UsageError(f"then={name!r} is a {getattr(g, 'kind', type(g).__name__)} target, not a shape",
+                         fix="wang2020 forms goal sets: e.g. --then shape:letter-u")
+    return g
+
+
 class Wang2020:
     """Wang & Rubenstein 2020's shape formation by local task swapping (registry name
     ``wang2020``): grid waypoints, Alg. 2-4; see the module docstring.
@@ -1059,6 +1080,9 @@ class Wang2020:
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
                         more=(("shape:square-9", 9, (0, 1, 2)),), explore_max_examples=100,
                         explore_cost=44)
+    #: simulate's ``--then`` becomes ``params.extra["then"]`` (Fig. 9's "N" then "U"): in the run's
+    #: parameters, so counterexample files, replay and campaigns carry it.
+    options = ("then",)
 
     def __init__(self, then=()) -> None:
         if then is None:
@@ -1125,9 +1149,53 @@ class Wang2020:
     def controller(self, robot_id, params: Params, target, rng) -> Wang2020Controller:
         self._need_shape(target)
         l = float(params.extra.get("grid_spacing", 1.0))
-        shapes = (goal_cells(target, l),) + tuple(goal_cells(g, l) for g in self.then)
-        self._goals = shapes[0]           # metrics(): the centralized optimum toward the run's target
+        shapes = (goal_cells(target, l),) + tuple(goal_cells(g, l) for g in self.next_shapes(params, target))
+        self._shapes = shapes             # metrics(): the centralized optimum, shape after shape
         return self.controller_class(robot_id, params, shapes, rng)
+
+    def next_shapes(self, params: Params | None, target) -> tuple:
+        """The goal sets formed after ``target``, in order (Fig. 9): the constructor's ``then``, or
+        ``params.extra["then"]`` (``simulate --then``: names or files, a comma-separated string or
+        a sequence), each named one resolved as a shape and scaled to the team, ``|Q| = |A| =
+        len(target.cells)`` (Sec. II-C, V-A).
+
+        Raises
+        ------
+        UsageError
+            A name that is no shape, or ``then`` given both ways.
+
+        >>> from swarmproof.models.targets import resolve_target
+        >>> n = Wang2020.scale_target(resolve_target("shape:letter-n"), 16)
+        >>> [(g.name, len(g.cells)) for g in Wang2020().next_shapes(Params(range=0.6,
+        ...     extra={"then": "shape:letter-u,letter-l"}), n)]
+        [('letter-u', 16), ('letter-l', 16)]
+        """
+        from swarmproof.models.errors import UsageError
+
+        raw = dict(getattr(params, "extra", None) or {}).get("then", ())
+        items = [x for x in (raw.split(",") if isinstance(raw, str) else
+                             (raw if isinstance(raw, (list, tuple)) else [raw])) if str(x).strip()]
+        if not items:
+            return self.then
+        if self.then:
+            raise UsageError(f"then={raw!r} is given in params.extra and to Wang2020(then=...) both",
+                             fix="give the next shapes one way: --then (params) or the constructor")
+        n = len(getattr(target, "cells", ()) or ())
+        out = []
+        for item in items:
+            g = item if getattr(item, "cells", None) is not None else _then_shape(str(item).strip())
+            out.append(self.scale_target(g, n))
+        return tuple(out)
+
+    def check_params(self, params: Params, n: int, target) -> None:
+        """Before a run (the engine calls it): every ``then`` shape resolves (exit 2 naming it)."""
+        self.next_shapes(params, target)
+
+    def judging_target(self, target, n_start: int, params=None):
+        """The shape a run ends in: the last of ``then`` (Fig. 9: "U" after "N"), scaled to the
+        team, or the run's target itself (``formation`` judges the final configuration)."""
+        shapes = self.next_shapes(params, target) if getattr(target, "cells", None) is not None else ()
+        return shapes[-1] if shapes else target
 
     # -- hooks of the checkers: the target and the start of a run (004 Sec. V-A) ----------------
 
@@ -1221,7 +1289,8 @@ class Wang2020:
         * ``J1``, ``J2``: the final values (:func:`J1`, :func:`J2`; both 0 once the shape formed);
         * ``optimal_distance``: the centralized optimum, the distance-optimal assignment of the
           start waypoints to the run's goal set (:func:`swarmproof.models.assignment.optimal_assignment`),
-          in metres (cells x grid length);
+          in metres (cells x grid length); with next shapes (``then``) plus, for each, the optimum
+          from the shape before it;
         * ``distance_ratio``: ``total_distance / optimal_distance`` (Sec. V-A: "only around 20%
           more"); None when the optimum is 0;
         * ``constraint_violations``: how many recorded steps broke Constraint III-A.1 or III-A.2
@@ -1239,10 +1308,11 @@ class Wang2020:
         j1 = J1([p for p, _ in live], [s for _, s in live], l) if live else None
         j2 = J2([s for _, s in live]) if live else None
         starts = [(int(round(x / l)), int(round(y / l))) for x, y in np.asarray(trace.poses[0])[:, :2].tolist()]
-        goals = list(getattr(self, "_goals", ()) or ())
+        legs = [list(s) for s in getattr(self, "_shapes", ()) or ()]
         opt = ratio = None
-        if goals and len(goals) == len(starts):
-            opt = float(optimal_assignment(starts, goals, spacing=l).total)
+        if legs and all(len(g) == len(starts) for g in legs):
+            # start -> first shape, then shape -> next shape (--then): each leg's optimum
+            opt = float(sum(optimal_assignment(a, b, spacing=l).total for a, b in zip([starts] + legs, legs)))
             ratio = None if opt == 0 else float(total_distance(trace)) / opt
         checks = {inv.name: inv for inv in make_invariants()}
         vertex, edge = checks["constraint_vertex"].check, checks["constraint_edge"].check

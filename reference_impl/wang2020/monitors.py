@@ -25,13 +25,15 @@ from swarmproof.invariants.result import InvariantResult, state_value
 from swarmproof.models.sensing import INCLUSIVE_SLACK
 
 __all__ = ["grid_claims_distinct", "grid_priorities_distinct", "grid_spacing_bound", "grid_spacing_of_trace",
-           "grid_waited_window", "grid_heard_neighbours", "GridHeard"]
+           "SPEED_BOUND", "grid_waited_window", "grid_heard_neighbours", "GridHeard"]
 
 #: Cites of the grid monitors: the lemmas of :mod:`swarmproof.reference_impl.wang2020.lemmas`.
 _GRID_CITES = {
     "claims": "wang2020_separation_equal_speeds, wang2020_theorem_iv_a_2 (004 Thms. IV-A.1/IV-A.2, Constraints III-A.1/2)",
     "priorities": "wang2020_planner_vertex_one_moment, wang2020_lemma_iv_a_1 (004 Alg. 2 line 28, Sec. II-B)",
-    "spacing": "wang2020_separation_equal_speeds, wang2020_planner_vertex_one_moment (004 Sec. III-A: 2 sqrt(2) r <= l <= R/2)",
+    "spacing": "wang2020_separation_equal_speeds, wang2020_planner_vertex_one_moment (004 Sec. III-A: 2 sqrt(2) r <= l "
+               "<= R/2); wang2020_separation_speeds where speeds differ (004 Sec. V-B3: l >= 2 r sqrt(v_max^2 + "
+               "v_min^2) / v_min)",
     "waited": "wang2020_lemma_iv_a_1 (004 Alg. 2 line 30: waited longer than Delta t)",
     "heard": "wang2020_lemma_iv_a_1 (004 Sec. II-A c, e: every robot within R throughout the window heard)",
 }
@@ -167,19 +169,32 @@ def grid_priorities_distinct(trace, phi: float, v: float = 0.0, dt: float = 1.0)
                            applicable=checked > 0, detail={"checked": checked})
 
 
-def grid_spacing_bound(l: float, r: float, R: float) -> InvariantResult:
+#: Sec. V-B3's bound on the grid length for agents of different speeds, as the witness names it.
+SPEED_BOUND = "l >= 2 r sqrt(v_max^2 + v_min^2) / v_min"
+
+
+def grid_spacing_bound(l: float, r: float, R: float, v_min: float | None = None,
+                       v_max: float | None = None) -> InvariantResult:
     """``2 sqrt(2) r <= l <= R / 2`` (004 Sec. III-A), the grid-length premise of
     ``wang2020_separation_equal_speeds`` (lower bound) and of the planner lemmas (upper bound:
-    agents that can conflict, at most ``2l`` apart, hear each other).  Sec. V's values pass:
+    agents that can conflict, at most ``2l`` apart, hear each other); and where the agents' speeds
+    differ (``v_min < v_max``), Sec. V-B3's ``l >= 2 r sqrt(v_max^2 + v_min^2) / v_min``
+    (:func:`~swarmproof.reference_impl.wang2020.algorithm.speed_buffer_bound`), the premise of
+    ``wang2020_separation_speeds``.  The upper bound is not relaxed by V-B3; at equal speeds V-B3's
+    bound is Sec. III-A's lower one and is not checked twice.  Sec. V's values pass:
 
     >>> grid_spacing_bound(0.20, 0.05, 0.6).status
     'held'
     >>> grid_spacing_bound(0.14, 0.05, 0.6).witness["bound"]
     'l >= 2 sqrt(2) r'
+    >>> slow = grid_spacing_bound(0.20, 0.05, 0.6, v_min=0.025, v_max=0.05)
+    >>> slow.status, slow.witness["bound"], round(slow.witness["need"], 6)
+    ('violated', 'l >= 2 r sqrt(v_max^2 + v_min^2) / v_min', 0.223607)
     """
     name, cites = "premise:grid_spacing", _GRID_CITES["spacing"]
     vals = {"l": l, "r": r, "R": R}
-    for key, val in vals.items():
+    speeds = {} if v_min is None or v_max is None else {"v_min": v_min, "v_max": v_max}
+    for key, val in {**vals, **speeds}.items():
         if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
             return InvariantResult(name, "inconclusive", cites, None, f"{key}={val!r} is not a positive number")
     low = 2 * math.sqrt(2) * r
@@ -189,7 +204,22 @@ def grid_spacing_bound(l: float, r: float, R: float) -> InvariantResult:
                                    {"step": 0, **vals, "bound": bound, "lemma": "wang2020_separation_equal_speeds"
                                     if bound.startswith("l >=") else "wang2020_planner_vertex_one_moment"},
                                    f"grid length l={l!r} breaks {bound} (r={r!r}, R={R!r})")
-    return InvariantResult(name, "held", cites, None, f"2 sqrt(2) r = {low:.6g} <= l = {l:g} <= R/2 = {R / 2:g}")
+    held = f"2 sqrt(2) r = {low:.6g} <= l = {l:g} <= R/2 = {R / 2:g}"
+    if speeds and v_min != v_max:
+        from swarmproof.reference_impl.protocol import Params
+
+        from .algorithm import speed_buffer_bound
+
+        need = speed_buffer_bound(Params(range=R, extra={"robot_radius": r, "speed_min": min(v_min, v_max),
+                                                         "speed_max": max(v_min, v_max)}))
+        if l < need - 1e-12:
+            return InvariantResult(name, "violated", cites,
+                                   {"step": 0, **vals, **speeds, "bound": SPEED_BOUND, "need": need,
+                                    "lemma": "wang2020_separation_speeds"},
+                                   f"grid length l={l!r} breaks Sec. V-B3's {SPEED_BOUND} = {need:.6g} for speeds "
+                                   f"in [{v_min:g}, {v_max:g}] (r={r!r})")
+        held += f"; Sec. V-B3 at speeds [{v_min:g}, {v_max:g}]: l >= {need:.6g}"
+    return InvariantResult(name, "held", cites, None, held)
 
 
 def _grid_params(trace, phi: float):
@@ -202,14 +232,31 @@ def _grid_params(trace, phi: float):
     return l, r
 
 
+def _run_speeds(trace):
+    """``(v_min, v_max)`` of the run's agents: the slowest and fastest of the speeds the engine drew
+    (``meta["speeds"]["speed"]``, recorded only when they differ), else ``params.extra``'s
+    ``speed_min`` / ``speed_max`` when both are given; ``(None, None)`` for one common speed."""
+    meta = getattr(trace, "meta", None) or {}
+    drawn = (meta.get("speeds") or {}).get("speed")
+    if drawn:
+        return float(min(drawn)), float(max(drawn))
+    extra = (meta.get("params") or {}).get("extra") or {}
+    lo, hi = extra.get("speed_min"), extra.get("speed_max")
+    return (None, None) if lo is None or hi is None else (float(lo), float(hi))
+
+
 def grid_spacing_of_trace(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
     """:func:`grid_spacing_bound` with ``l`` and ``r`` from ``trace.meta`` (``inconclusive``,
-    never held, when the trace does not record them, e.g. a one-step streaming window)."""
+    never held, when the trace does not record them, e.g. a one-step streaming window), and, where
+    the run's agents had different speeds, Sec. V-B3's bound at the slowest and fastest of them
+    (:func:`_run_speeds`: the speeds drawn, which the premise of ``wang2020_separation_speeds`` is
+    about, not the range they were drawn from, which the ``speed_buffer`` assumption checks)."""
     l, r = _grid_params(trace, phi)
     if l is None or r is None:
         return InvariantResult("premise:grid_spacing", "inconclusive", _GRID_CITES["spacing"], None,
                                "the trace records no grid_spacing and robot_radius (params.extra)")
-    return grid_spacing_bound(float(l), float(r), phi)
+    v_min, v_max = _run_speeds(trace)
+    return grid_spacing_bound(float(l), float(r), phi, v_min, v_max)
 
 
 def _claim_of(state, row):

@@ -56,7 +56,10 @@ def add_arguments(p) -> None:
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="algorithm parameter (Params.extra), repeatable; numbers are parsed")
     p.add_argument("--min-separation", type=float, metavar="D",
-                   help="minimum separation of the random start (default range/4)")
+                   help="minimum separation of the random connected start of continuous robots (default "
+                        "range/4); refused (exit 2) where no start would keep it: with --initial, for grid "
+                        "robots (distinct waypoints, grid_spacing apart) and for an algorithm's own start "
+                        "(wang2020's arena)")
     p.add_argument("--allow-violations", action="store_true",
                    help="run even when a paper assumption is broken (reported)")
     p.add_argument("--strict", action="store_true",
@@ -67,8 +70,10 @@ def add_arguments(p) -> None:
     p.add_argument("--gif", metavar="GIF", help="write an animation of the run (every recorded step, at most "
                                                f"{GIF_FRAMES} frames)")
     p.add_argument("--then", action="append", default=[], metavar="PATTERN",
-                   help="switch to PATTERN once the present one stands (repeatable; algorithms that switch "
-                        "patterns, e.g. 003's: --param then=...)")
+                   help="switch to PATTERN once the present one stands (repeatable, in order; --param then=...): "
+                        "003's leechong-* a line pattern, e.g. --then circle; wang2020 a shape, scaled to "
+                        "--robots and formed once the one before is detected complete (004 Fig. 9), e.g. "
+                        "--target shape:letter-n --then shape:letter-u")
     p.add_argument("--fail", action="append", default=[], metavar="ROBOT@STEP",
                    help="robot ROBOT fails at step STEP (003's algorithms: an allocated ID or 'leader'; "
                         "repeatable: --param fail=...)")
@@ -90,7 +95,8 @@ GIF_FRAMES = 120
 
 def _extra_with_options(args, spec) -> dict:
     """``--param`` values, plus ``--then`` / ``--fail`` for the algorithms that take them (their class
-    lists ``then`` / ``fail`` in ``options``); for any other algorithm they are a usage error."""
+    lists ``then`` / ``fail`` in ``options``: 003's leechong-*, and wang2020's ``then``); for any other
+    algorithm they are a usage error."""
     extra = _parse_extra(getattr(args, "param", []) or [])
     takes = tuple(getattr(spec.factory, "options", ()) or ())
     for flag, key in (("--then", "then"), ("--fail", "fail")):
@@ -99,7 +105,8 @@ def _extra_with_options(args, spec) -> dict:
             continue
         if key not in takes:
             raise UsageError(f"{flag} {values[0]!r}: algorithm={spec.label!r} does not take {flag}",
-                             fix="drop it (003's leechong-* algorithms switch patterns and take failures)")
+                             fix="drop it (003's leechong-* algorithms switch patterns and take failures; "
+                                 "wang2020 forms shapes one after another with --then)")
         extra[key] = ",".join(str(v) for v in values)
     return extra
 
@@ -343,7 +350,7 @@ def plot_run(trace, lattice, roles, path, phi) -> str:
     from swarmproof.invariants.result import state_value
 
     fig, ax = new_figure()
-    present = trace.present_at(trace.steps)
+    present = trace.present_at(-1)
     ids = trace.ids.tolist()
     slot = {rid: k for k, rid in enumerate(ids)}
     for k in range(trace.n):

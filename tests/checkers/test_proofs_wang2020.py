@@ -263,6 +263,52 @@ def test_spacing_bound_at_sec_v_values_and_just_outside():
     assert grid.grid_spacing_of_trace(tr, 0.6).status == "held"
 
 
+def test_spacing_bound_adds_sec_v_b3_where_the_speeds_differ():
+    """Sec. III-A's bounds stay; with speeds in [v_min, v_max], v_min < v_max, Sec. V-B3's
+    l >= 2 r sqrt(v_max^2 + v_min^2) / v_min too (r = 0.05, l = 0.2: held for v_min / v_max >=
+    1 / sqrt 3); equal speeds check Sec. III-A only (V-B3's bound is then 2 sqrt(2) r)."""
+    at_bound = 0.05 / math.sqrt(3)
+    ok = grid.grid_spacing_bound(0.20, 0.05, 0.6, v_min=at_bound * 1.001, v_max=0.05)
+    assert ok.status == "held" and "Sec. V-B3" in ok.message
+    slow = grid.grid_spacing_bound(0.20, 0.05, 0.6, v_min=at_bound * 0.99, v_max=0.05)
+    assert slow.status == "violated" and slow.witness["bound"] == grid.SPEED_BOUND == (
+        "l >= 2 r sqrt(v_max^2 + v_min^2) / v_min")
+    assert slow.witness["lemma"] == "wang2020_separation_speeds" and slow.witness["need"] > 0.20
+    same = grid.grid_spacing_bound(0.20, 0.05, 0.6, v_min=0.05, v_max=0.05)
+    assert same.status == "held" and "V-B3" not in same.message
+    # Sec. III-A's bounds come first and are not relaxed by V-B3
+    assert grid.grid_spacing_bound(0.31, 0.05, 0.6, v_min=0.04, v_max=0.05).witness["bound"] == "l <= R/2"
+    assert grid.grid_spacing_bound(0.20, 0.05, 0.6, v_min=0.0, v_max=0.05).status == "inconclusive"
+
+
+@pytest.mark.parametrize("speed_min, status", [(0.01, "violated"), (0.02, "held"), (0.04, "held"), (None, "held")],
+                         ids=["below-v-b3", "range-below-drawn-within", "within-v-b3", "one-speed"])
+def test_spacing_monitor_reads_the_run_speeds(speed_min, status):
+    """On a run's trace: the speeds the engine drew (``meta["speeds"]``), only when they differ. The
+    premise is about the run's agents: with speed_min = 0.02 the range [0.02, 0.05] breaks V-B3's
+    bound (0.269 m; the ``speed_buffer`` assumption says so), the five speeds drawn (0.024-0.035)
+    do not (0.180 m). With 0.01 the drawn 0.0148-0.0305 need 0.228 m > l = 0.2."""
+    from swarmproof.models.targets import resolve_target
+    from swarmproof.reference_impl.engine import simulate
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, default_params
+
+    import dataclasses
+
+    alg, p = Wang2020(), default_params()
+    if speed_min is not None:
+        p = dataclasses.replace(p, extra={**p.extra, "speed_min": speed_min, "speed_max": 0.05})
+    goals = resolve_target("shape:letter-l")
+    r = simulate(alg, goals, alg.initial(5, 0, p, goals), p, seed=0, max_steps=2, allow_violations=True)
+    drawn = (r.trace.meta.get("speeds") or {}).get("speed")
+    assert (drawn is None) == (speed_min is None)
+    res = grid.grid_spacing_of_trace(r.trace, 0.6)
+    assert res.status == status, res.message
+    assert ("speed_buffer" in r.broken_assumptions) == (speed_min is not None and speed_min < 0.05 / math.sqrt(3))
+    if status == "violated":
+        assert res.witness["v_min"] == min(drawn) and res.witness["v_max"] == max(drawn)
+        assert res.witness["bound"] == grid.SPEED_BOUND
+
+
 def _timing_trace(waited, heard_by_1, lead=0):
     """GOOD with ``lead`` more waiting frames first (robots 1 and 2 then set off in step ``lead``)."""
     rows = [GOOD[0]] * lead + GOOD

@@ -92,12 +92,24 @@ BAD = [
      "--param 'gap' must be KEY=VALUE"),
     ("assumption", ["example-gather", "--lattice", "square", "--robots", "2", "--seed", "0", "--v", "5"],
      "assumption 'v_dt_below_range' broken"),
+    # --min-separation is honoured by the random connected start of continuous robots only
+    ("min-separation-grid", ["example-grid-goals", "--shape", "letter-l", "--robots", "3", "--seed", "0",
+                             "--min-separation", "0.5"],
+     "min_separation=0.5 (--min-separation) is not used: algorithm 'example-grid-goals' moves on a grid: its "
+     "random connected start puts robots on distinct waypoints, at least grid_spacing=0.2 apart; fix: drop "
+     "--min-separation, or give the poses yourself (--initial FILE)"),
+    ("min-separation-initial", ["example-gather", "--lattice", "square", "--initial", "INITIAL", "--seed", "0",
+                                "--min-separation", "0.3"],
+     "min_separation=0.3 (--min-separation) is not used with an initial file: the file gives the poses; fix: "
+     "drop --min-separation, or drop --initial"),
 ]
 
 
 @pytest.mark.parametrize("argv,match", [b[1:] for b in BAD], ids=[b[0] for b in BAD])
-def test_bad_input_exit_2_without_traceback(capsys, argv, match):
-    code, out, err = run(capsys, *argv)
+def test_bad_input_exit_2_without_traceback(capsys, tmp_path, argv, match):
+    start = tmp_path / "s.yaml"
+    start.write_text("format: swarmproof-initial/1\nrobots:\n  - {id: 0, pose: [0, 0, 0]}\n")
+    code, out, err = run(capsys, *[str(start) if a == "INITIAL" else a for a in argv])
     assert code == 2 and out == ""
     assert match in err and "Traceback" not in err
 
@@ -149,3 +161,13 @@ def test_the_progress_line_is_erased_before_the_report_on_a_terminal(monkeypatch
     shown = term.lines()
     assert not any("simulate: step" in ln for ln in shown), shown   # ... and erased
     assert shown[0] == "song2016 on square: 4 robots, seed 0, range 1.2"
+
+
+def test_min_separation_is_honoured_by_the_random_connected_start(capsys, tmp_path):
+    import numpy as np
+
+    code, out, _ = run(capsys, "example-gather", "--lattice", "square", "--robots", "8", "--seed", "3",
+                       "--min-separation", "0.6", "--max-steps", "1", "--json", "--trace", str(tmp_path / "t.json"))
+    xy = Trace.load(json.loads(out)["trace"]).poses[0][:, :2]
+    d = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+    assert d[np.triu_indices(8, 1)].min() >= 0.6

@@ -136,12 +136,25 @@ BAD = [
      r"loss_repeats=1"),
     (lambda tp: ["--shape", "letter-l", "--robots", "5", "--param", "arena=big"],
      r"arena='big' is not an arena size; fix: give --param arena=SIDE"),
+    (lambda tp: ["--shape", "letter-l", "--robots", "5", "--min-separation", "0.5"],
+     r"min_separation=0.5 \(--min-separation\) is not used: algorithm 'wang2020' draws its own start \(its "
+     r"initial hook: distinct grid waypoints, at least grid_spacing=0.2 apart\); fix: drop --min-separation "
+     r"\(a sparser start: a larger arena, --param arena=SIDE\), or give the poses yourself \(--initial FILE\)"),
+    (lambda tp: ["--shape", "letter-n", "--then", "letter-v", "--robots", "8"],
+     r"then='letter-v': no such file and no bundled shape target of that name; did you mean 'letter-u'\?"
+     r".*; fix: give a file path or one of the bundled shape names"),
+    (lambda tp: ["--shape", "letter-n", "--then", "lines:wedge", "--robots", "8"],
+     r"then='lines:wedge' is a lines target, not a shape; fix: wang2020 forms goal sets"),
+    (lambda tp: ["--shape", "letter-n", "--then", *_disconnected(tp), "--robots", "8"],
+     r"two\.txt': the shape is not connected"),
 ]
 
 
 @pytest.mark.parametrize("argv, match", BAD, ids=["disconnected-txt", "png-no-filled-cell", "more-than-arena",
                                                   "more-than-small-arena", "grid-spacing-too-small",
-                                                  "window-below-bound", "bad-arena"])
+                                                  "window-below-bound", "bad-arena", "min-separation",
+                                                  "then-unknown-shape",
+                                                  "then-not-a-shape", "then-disconnected-txt"])
 def test_bad_input_exits_2_naming_the_value_and_the_fix(capsys, tmp_path, argv, match):
     code, out, _ = run(capsys, *argv(tmp_path), "--seed", "0", "--json")
     doc = json.loads(out)
@@ -198,3 +211,54 @@ def test_termination_names_the_last_step_of_a_sparse_trace(capsys):
         msgs.append(doc["termination"]["message"])
         assert f"after {doc['steps']} steps" in doc["termination"]["message"] and doc["steps"] > 100
     assert msgs[0] == msgs[1]
+
+
+def test_the_trace_of_8_agents_is_about_a_megabyte_not_five(capsys, tmp_path):
+    """The review of issue 15 found an 8-agent dense trace of 5 MB: the indented JSON, not what it
+    holds (docs/performance.md, "Trace size"). Every state of every step is still there."""
+    path = tmp_path / "t.json"
+    code, out, _ = run(capsys, "--target", "shape:letter-l", "--robots", "8", "--seed", "0", "--json",
+                       "--trace", str(path))
+    doc = json.loads(out)
+    assert code == 0 and doc["steps"] == 424
+    assert path.stat().st_size < 1_300_000                       # 5,054,476 bytes indented, 1,140,219 now
+    t = Trace.load(path)
+    assert t.frames == 425 and len(t.states) == 425 and dict(t.states[-1][0])["done"]
+
+
+def test_then_forms_n_then_u_from_the_command_line(capsys, tmp_path):
+    """004 Fig. 9's "N" then "U" (issue 15 review): ``--then`` becomes ``params.extra["then"]``, the
+    next shape is scaled to the team, and the run is judged on the last shape. The trace shows both
+    formed: every goal of N held when the first agent detects it complete, every goal of U at the
+    end, every agent's ``completed`` 2."""
+    code, out, _ = run(capsys, "--target", "shape:letter-n", "--then", "shape:letter-u", "--robots", "8",
+                       "--seed", "0", "--json", "--trace", str(tmp_path / "t.json"))
+    doc = json.loads(out)
+    assert code == 0 and doc["status"] == "finished" and doc["satisfied"] is True, doc
+    assert doc["target"]["name"] == "letter-n" and doc["target"]["judged_as"]["name"] == "letter-u"
+    t = Trace.load(doc["trace"])
+    assert t.meta["params"]["extra"]["then"] == "shape:letter-u"
+    n_cells, u_cells = (set(map(tuple, shape_for(s, 8).cells)) for s in ("letter-n", "letter-u"))
+    assert n_cells != u_cells
+
+    def held(i):
+        xy = t.poses[i][:, :2] / 0.2
+        return {tuple(c) for c in np.rint(xy).astype(int).tolist()} if np.allclose(xy, np.rint(xy)) else set()
+
+    completed = [[dict(s)["completed"] for s in row] for row in t.states]
+    first = next(i for i, row in enumerate(completed) if max(row) >= 1)
+    assert n_cells <= held(first) and held(t.frames - 1) == u_cells and completed[-1] == [2] * 8
+    # the optimum is the two legs': start -> N, then N -> U (metres)
+    assert doc["metrics"]["distance_ratio"] >= 1.0
+
+
+def test_then_runs_on_the_vectorised_path_and_in_the_help(capsys, tmp_path):
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    for path, extra in ((a, ()), (b, ("--vectorised",))):
+        code, _, _ = run(capsys, "--shape", "letter-n", "--then", "letter-u", "--robots", "6", "--seed", "1",
+                         "--trace", str(path), *extra)
+        assert code == 0
+    assert a.read_bytes() == b.read_bytes()
+    capsys.readouterr()
+    assert main(["simulate", "--help"]) == 0
+    assert "--target shape:letter-n --then shape:letter-u" in " ".join(capsys.readouterr().out.split())

@@ -29,7 +29,7 @@ def _trace(far_until, *, heard=(), window=2.0, depart=4, frames=6, extra=None):
 
 def _old_monitor_flags(trace, phi):
     """The monitor before issue 15's analysis: every robot within R at the departure frame unheard."""
-    for t in range(trace.steps):
+    for t in range(trace.frames - 1):
         for k in range(trace.n):
             if dict(trace.states[t][k])["moving"] or not dict(trace.states[t + 1][k])["moving"]:
                 continue
@@ -102,7 +102,7 @@ def test_streaming_form_keeps_its_own_frames_and_agrees():
     tr = _trace(2)
     mon = PremisesMonitor(["grid_heard"], 0.6, 0.05, 1.0)
     mon.start(tr.ids)
-    for t in range(tr.steps + 1):
+    for t in range(tr.frames):
         mon.observe(t, tr.poses[t], tr.states[t], np.ones(2, dtype=bool))
     (_, r), = mon.results()
     assert r.status == "violated" and r.witness == grid_heard_neighbours(tr, 0.6).witness

@@ -86,7 +86,7 @@ def test_relocate_monitor_fires_when_the_root_moves_or_the_robot_leaves_range():
     assert ok.status == "held"
     # Find a step where the relocate robot's parent is the root.
     slot = {int(i): k for k, i in enumerate(trace.ids.tolist())}
-    t, k = next((t, k) for t in range(trace.steps) for k in range(trace.n)
+    t, k = next((t, k) for t in range(trace.frames - 1) for k in range(trace.n)
                 if dict(trace.states[t + 1][k])["relocate"]
                 and dict(trace.states[t + 1][k])["parent"] == dict(trace.states[t + 1][k])["root_id"])
     root = slot[dict(trace.states[t + 1][k])["root_id"]]

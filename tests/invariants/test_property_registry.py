@@ -27,7 +27,7 @@ USER_MODULE = textwrap.dedent('''
     def tight_swarm(trace, ctx):
         """Every two robots stay within half the range of each other."""
         limit = 0.5 * ctx.phi
-        for t in range(trace.steps + 1):
+        for t in range(trace.frames):
             xy = trace.poses[t][:, :2]
             d = np.sqrt(((xy[:, None, :] - xy[None, :, :]) ** 2).sum(-1))
             if d.max() > limit:

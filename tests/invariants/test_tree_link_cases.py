@@ -60,7 +60,7 @@ def test_streaming_premises_judge_like_the_whole_trace(square_n20_seed1):
     trace = c.result.trace
     mon = PremisesMonitor(trace.meta["premise_monitors"], PHI, V, 1.0)
     mon.start(trace.ids)
-    for t in range(trace.steps + 1):
+    for t in range(trace.frames):
         mon.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
     streamed = dict(mon.results())["tree_link_cases"]
     whole = tree_links_in_proved_cases(trace, PHI, V, 1.0)

@@ -54,6 +54,23 @@ def test_npz_header_is_utf8_bytes_and_old_string_headers_still_load(tmp_path):
     assert Trace.load(tmp_path / "old.npz").to_json() == t.to_json()
 
 
+def test_a_trace_file_is_one_frame_a_line_and_indented_files_still_load(tmp_path):
+    """No indentation inside a frame (an 8-robot wang2020 trace was 5 MB, 4.4x its values; issue
+    15 review): a top-level key a line, a list element (a frame, an event) a line, no spaces."""
+    t = _trace()
+    with open(t.save(tmp_path / "t.json"), encoding="utf-8") as f:
+        text = f.read()
+    lines = text.splitlines()
+    assert lines[0] == "{" and lines[-1] == "}" and '"format": "swarmproof-trace/1",' in lines
+    states = lines.index('"states": [')
+    assert lines[states + 1:states + 3] == ['[null,[["parent",5]]],', '[null,[["parent",5]]]']
+    assert lines[lines.index('"poses": [') + 1] == "[[0.0,1.0,2.0],[3.0,4.0,5.0]],"
+    assert json.loads(text) == json.loads(json.dumps(t.as_dict()))
+    # a file written with the former 2-space indentation reads back as the same trace
+    (tmp_path / "old.json").write_text(json.dumps(t.as_dict(), sort_keys=True, indent=2) + "\n")
+    assert Trace.load(tmp_path / "old.json").to_json() == t.to_json()
+
+
 BAD = [
     ("not-json", "{", r"t\.json:1: not valid JSON"),
     ("wrong-format", json.dumps({"format": "swarmproof-trace/9", "ids": [], "poses": [], "states": []}),

@@ -284,3 +284,30 @@ def test_every_property_judges_a_sparse_run_as_the_dense_one(algorithm_name, tar
         a = prop.judge(sparse.trace, PropertyContext(algo, lattice, p, sparse, {}))
         b = prop.judge(dense.trace, PropertyContext(algo, lattice, p, dense, {}))
         assert (a.status, a.witness) == (b.status, b.witness), prop.name
+
+
+def test_a_sparse_trace_counts_steps_not_frames(recorder, tmp_path):
+    """``Trace.steps`` is the last step run, ``frames`` what was kept (issue 15 review): every
+    reader of a sparse trace indexes frames and names steps."""
+    from swarmproof.checkers.plotting import animate_trace
+    from swarmproof.invariants.connectivity import first_disconnection
+    from swarmproof.invariants.properties import collision
+
+    faults = FaultModel(crashes={12: []}, additions={13: [(9, [0.0, 0.9, 0.0])]})
+    r = _run(recorder, 5, steps=21, faults=faults)
+    dense = _run(recorder, 1, steps=21, faults=faults)
+    tr = r.trace
+    assert tr.present is not None and tr.times == [0, 5, 10, 14, 15, 20, 21]
+    assert (tr.steps, tr.frames, r.steps) == (21, 7, 21) and (dense.trace.steps, dense.trace.frames) == (21, 22)
+    assert Trace.from_json(tr.to_json()).steps == 21
+    # the last frame's robots (the addition included), not the frame numbered like the last step
+    assert tr.final_ids().tolist() == dense.trace.final_ids().tolist() == [0, 1, 9]
+    assert r.final_states == dense.final_states
+    assert (tr.frame_of(14), tr.frame_of(13), tr.frame_of(22)) == (3, None, None)
+    # the whole-trace forms index frames and name engine steps
+    assert collision(tr, 0.3).witness["step"] == 0
+    apart = Trace(ids=[0, 1], poses=np.array([[[0, 0, 0], [0.5, 0, 0]]] * 2 + [[[0, 0, 0], [2.0, 0, 0]]], float),
+                  states=[(None, None)] * 3, times=[0, 5, 9])
+    assert first_disconnection(apart, 1.0) == (9, [[0], [1]])
+    # an animation of the kept frames, the violation at a step it did not keep left unmarked
+    assert animate_trace(tr, str(tmp_path / "run.gif"), phi=1.0, mark_step=8, max_frames=10).endswith("run.gif")
