@@ -424,6 +424,10 @@ class Algorithm(Protocol):
     # paper : str
     #     The seed key of its paper (``"001"``, docs/references.md); a user's class has none,
     #     and its unclaimed properties are then "not claimed by the algorithm".
+    # departs_from : tuple of str
+    #     Assumptions of its paper this reading does not keep (a registered variant that adds what
+    #     the paper assumes away, e.g. wang2020-broadcast-handshake's latency: 004 Sec. II-A e);
+    #     ``swarmproof list`` names them.  Empty or absent: it keeps the paper's model.
     # knows_start : bool
     #     The paper gives every robot the robot set and all initial positions as input
     #     (002 Sec. III-A, Alg. 1 "Input"); needs ``sensing="global"``.  The engine then

@@ -1351,9 +1351,9 @@ class Wang2020:
 
 
 class Wang2020BroadcastHandshake(Wang2020):
-    """``wang2020`` with the 2-way handshake carried by the broadcasts
-    (:class:`BroadcastHandshakeController`): reading "1" of ``wang2020``, its default up to
-    swarmproof 0.2.0, kept as a registered variant (issue 30).
+    """``wang2020`` with the 2-way handshake carried by the broadcasts: reading "1" of
+    ``wang2020``, its default up to swarmproof 0.2.0, kept as a registered variant (issue 30;
+    :class:`BroadcastHandshakeController`).
 
     It breaks 004 Sec. II-A e) ("the communication latency is negligible"): each direction of
     the handshake waits for the sender's next broadcast, so a server can take a request whose

@@ -64,8 +64,12 @@ def list_algorithms() -> list[dict]:
         paper = paper if isinstance(paper, str) and paper else None
         claims = {k: v for k, v in dict(getattr(factory, "claims", None) or {}).items()}
         model = getattr(factory, "model", None)
-        out.append(_entry(name, _first_line(getattr(factory, "__doc__", "")), PAPERS.get(paper) if paper else None,
-                          ref=ALGORITHMS[name], paper=paper, claims=claims,
+        departs = [str(x) for x in (getattr(factory, "departs_from", None) or ())]
+        desc = _first_line(getattr(factory, "__doc__", ""))
+        if departs:
+            desc += " Departs from " + "; ".join(departs) + "."
+        out.append(_entry(name, desc, PAPERS.get(paper) if paper else None,
+                          ref=ALGORITHMS[name], paper=paper, claims=claims, departs_from=departs,
                           model=None if model is None else {k: getattr(model, k) for k in
                                                            ("sensing", "communication", "motion", "clocks")}))
     return out

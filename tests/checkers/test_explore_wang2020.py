@@ -148,3 +148,58 @@ GRID_MULTIPLE = scenario_strategy((2, 8), ["shape:square-9"], {"shape:square-9":
 @given(GRID_MULTIPLE)
 def test_the_grid_branch_honours_team_multiple(scn):
     assert scn.n in (3, 6) and len({(round(x / 0.2), round(y / 0.2)) for x, y, _ in scn.poses}) == scn.n
+
+
+def _pair_run(cls, seed, faults=None):
+    from swarmproof.invariants.algorithm_invariants import InvariantsMonitor, invariants_of
+    from swarmproof.models.targets import GoalSet
+    from swarmproof.models.trace import InitialConfiguration
+    from swarmproof.reference_impl.engine import simulate
+
+    pair = GoalSet.from_bitmap("pair", ["##"], spacing=0.2, range=0.6)
+    init = InitialConfiguration([1, 2], [[0.0, 0.4, 0.0], [0.2, 0.4, 0.0]])
+    alg = cls()
+    mon = InvariantsMonitor(invariants_of(alg, ("pairwise_swap",)))
+    simulate(alg, pair, init, alg.default_params(0.6, 2), seed=seed, faults=faults, allow_violations=True,
+             observers=(mon,), max_steps=2000)
+    return mon.first.get("pairwise_swap")
+
+
+def test_no_half_swap_on_the_default_until_a_late_ack_makes_one():
+    """Sec. III-A under II-A e: the default's swaps are pairwise on a two-agent pair over 12 seeds;
+    with every delivery up to 30 steps late (past the client's 3 Delta t = 12), a half swap."""
+    from swarmproof.reference_impl.engine import FaultModel
+
+    assert all(_pair_run(Wang2020, seed) is None for seed in range(12))
+    found = [_pair_run(Wang2020, seed, FaultModel(message_delay=30)) for seed in range(12)]
+    assert any(f is not None and "half swap" in f[1] for f in found)
+
+
+def test_explore_finds_the_broadcast_handshakes_half_swap_without_faults():
+    rep = explore("wang2020-broadcast-handshake", ["invariants"], budget=None, max_examples=100, robots=(3, 8),
+                  seed=0, options={"invariants": ("pairwise_swap",)})
+    v = rep.properties["invariants"]
+    assert v.status == "violated" and "half swap" in v.message and len(v.counterexample.robots) == 3
+
+
+@pytest.mark.slow
+def test_explore_given_a_latency_fault_finds_the_defaults_half_swap_and_replays_it(tmp_path, capsys):
+    """Issue 30: the explorer, given the latency fault, finds the default's half swap itself
+    (about 30 s here with a 1,000-step cap: most latency runs would reach the 21,000-step cap)."""
+    rep = explore("wang2020", ["invariants"], budget=None, max_examples=200, robots=(3, 8), seed=1,
+                  draw_faults=("latency",), max_steps=1000, options={"invariants": ("pairwise_swap",)},
+                  out_dir=tmp_path)
+    v = rep.properties["invariants"]
+    assert v.status == "violated" and "half swap" in v.message and len(v.counterexample.robots) == 3
+    assert "timely_messages" in rep.broken_assumptions
+    from swarmproof.cli import main
+
+    assert main(["replay", v.counterexample_path, "--json"]) == 1
+    assert json.loads(capsys.readouterr().out)["reproduced"] is True
+
+
+def test_an_invariant_the_algorithm_does_not_declare_is_a_usage_error():
+    from swarmproof.models.errors import UsageError
+
+    with pytest.raises(UsageError, match=r"invariant='j_monotone' is not an invariant of wang2020.*j2_monotone"):
+        explore("wang2020", ["invariants"], budget=None, max_examples=1, options={"invariants": ("j_monotone",)})

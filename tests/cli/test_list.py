@@ -83,6 +83,10 @@ def test_json_is_one_document_with_the_fields(capsys):
                              "clocks": "sync"}
     gather = next(e for e in doc["algorithms"] if e["name"] == "example-gather")
     assert gather["paper"] is None and gather["citation"] is None
+    # a variant that adds what its paper assumes away says so; the default keeps the paper's model
+    bh = next(e for e in doc["algorithms"] if e["name"] == "wang2020-broadcast-handshake")
+    assert bh["departs_from"] and "Sec. II-A e)" in bh["departs_from"][0] and "Departs from" in bh["description"]
+    assert next(e for e in doc["algorithms"] if e["name"] == "wang2020")["departs_from"] == []
     conn = next(e for e in doc["properties"] if e["name"] == "connectivity")
     assert conn["needs"] == ["range_graph"] and conn["kind"] == "safety"
     lemma = doc["lemmas"][0]

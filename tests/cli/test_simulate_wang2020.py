@@ -220,10 +220,10 @@ def test_the_trace_of_8_agents_is_about_a_megabyte_not_five(capsys, tmp_path):
     code, out, _ = run(capsys, "--target", "shape:letter-l", "--robots", "8", "--seed", "0", "--json",
                        "--trace", str(path))
     doc = json.loads(out)
-    assert code == 0 and doc["steps"] == 424
+    assert code == 0 and doc["steps"] == 380
     assert path.stat().st_size < 1_300_000                       # 5,054,476 bytes indented, 1,140,219 now
     t = Trace.load(path)
-    assert t.frames == 425 and len(t.states) == 425 and dict(t.states[-1][0])["done"]
+    assert t.frames == 381 and len(t.states) == 381 and dict(t.states[-1][0])["done"]
 
 
 def test_then_forms_n_then_u_from_the_command_line(capsys, tmp_path):
