@@ -1,13 +1,15 @@
 """004 Sec. III-B's shape-complete detection as the ``completion_sound`` property (issue 30):
 scripted declarations on hand-made states (violated, held, vacuous, later declarations not
 judged), real runs (a formed shape, the 4-agent false completion, two shapes in a row), the
-vectorised path's ``completed`` column, and not applicable where robots detect no completion."""
+streaming form in simulate's checked run (dense and sparse), the vectorised path's ``completed``
+column, and not applicable where robots detect no completion."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from swarmproof.checkers.runs import run_and_check
 from swarmproof.invariants.registry import PropertyContext, get_property
 from swarmproof.models.targets import GoalSet, resolve_target
 from swarmproof.models.trace import InitialConfiguration, Trace
@@ -132,6 +134,19 @@ def test_two_shapes_in_a_row_are_each_judged_once(seed, verdict):
         before = [dict(s) for s in r.trace.states[126]]
         assert sorted(d["goal"] for d in before) == sorted(alg._shapes[0])       # J2 = 0 the step before
         assert [d["cell"] for d in before if d["goal"] in ((1, 0), (2, 0))] == [(-1, 0), (-2, 0)]
+
+
+@pytest.mark.parametrize("record_every", [1, 7], ids=["dense", "sparse"])
+def test_run_and_check_judges_it_on_every_step_dense_or_sparse(record_every):
+    """simulate's checked run: the registry's check on a dense trace, its streaming monitor on a
+    sparse one (the declaration's step need not be recorded); claimed, so it decides the exit code."""
+    init = InitialConfiguration([0, 1, 2, 3], [[L * (k - 1), -L, 0] for k in range(4)])
+    checked = run_and_check("wang2020", resolve_target("shape:letter-l"), seed=0, initial=init,
+                            record_every=record_every)
+    res = checked.completion_sound
+    assert res.violated and res.witness["step"] == 39 and checked.exit_code == 1
+    assert checked.doc["completion_sound"]["status"] == "violated" and "completion_sound" in checked.doc["judged"]
+    assert checked.doc["claims"]["completion_sound"].startswith("004 Sec. III-B")
 
 
 def test_the_vectorised_column_of_completed_is_the_states_and_the_verdict_the_same():
