@@ -122,7 +122,8 @@ class _Completion:
         rid = [int(i) for i in np.asarray(ids).tolist()]
         who = [k for k, n in enumerate(counts) if n > c]
         hops = sorted({sts[k].get("hop") for k in who if sts[k] is not None and sts[k].get("hop") is not None})
-        names = ", ".join(str(rid[k]) for k in who)
+        names = ", ".join(str(rid[k]) for k in who[:_SHOWN]) + (f" (and {len(who) - _SHOWN} more)"
+                                                                  if len(who) > _SHOWN else "")
         hop = (f"hop-count {', '.join(map(str, hops))} > |A| = {len(goals)}" if hops
                else f"hop-count > |A| = {len(goals)}")
         gset = {tuple(g) for g in goals}

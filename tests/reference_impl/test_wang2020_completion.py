@@ -52,6 +52,16 @@ def test_an_agent_at_rest_off_the_shape_is_named():
     assert r.violated and r.message.endswith("(2, 0) (nobody's goal); robot 3 at rest on (5, 5), off the shape")
 
 
+def test_long_lists_are_cut_after_six():
+    """144 agents declaring at once (beta = 0.01, docs/wang2020.md) must not print 144 IDs."""
+    goals = tuple((k, 0) for k in range(8))
+    start = [((k, 1), 0, None) for k in range(8)]
+    r = _judge([start, [((k, 1), 1, 9) for k in range(8)]], shapes=(goals,))
+    assert r.violated and "robots 1, 2, 3, 4, 5, 6 (and 2 more) declared shape 0 complete" in r.message
+    assert "(5, 0) (nobody's goal) (and 2 more); robot 1 at rest on (0, 1), off the shape" in r.message
+    assert r.message.endswith("robot 6 at rest on (5, 1), off the shape (and 2 more)")
+
+
 def test_a_declaration_with_every_goal_held_holds():
     frames = [[((0, 0), 0, None), ((1, 0), 0, None), ((2, 0), 0, None)],
               [((0, 0), 1, 4), ((1, 0), 1, 4), ((2, 0), 0, 3)]]
