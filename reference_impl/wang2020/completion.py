@@ -69,6 +69,15 @@ CITES = "004 Sec. III-B"
 _SHOWN = 6
 
 
+def _completed(state):
+    """``state_value(state, "completed")``, first at its place in the controller's state (index 7,
+    as ``Wang2020.finished`` reads ``done`` at 8): the monitor reads it for every agent every step."""
+    e = state[7] if type(state) is tuple and len(state) > 7 else None
+    if type(e) is tuple and e[0] == "completed":
+        return e[1]
+    return state_value(state, "completed")
+
+
 class _Completion:
     """The state of one run's check: the highest ``completed`` count seen, declarations judged."""
 
@@ -86,7 +95,7 @@ class _Completion:
         # one key per step, as a column where the states offer one (the vectorised path's
         # ``values_of``); whole states only at a declaration
         column = getattr(states, "values_of", None)
-        counts = column("completed") if callable(column) else [state_value(s, "completed") for s in states]
+        counts = column("completed") if callable(column) else [_completed(s) for s in states]
         counts = [int(c or 0) for c in counts]
         top = max(counts, default=0)
         if top <= self.declared:
