@@ -5,7 +5,9 @@ Shared by ``swarmproof simulate`` and the algorithm rows of
 against the target (a lattice: 001 Def. 2; any kind of
 :mod:`swarmproof.models.targets`), connectivity at every step (001 Lemma 11),
 the spanning-tree links, the algorithm's own termination bound when it offers
-one (001 Theorem 13), and the metrics of 001 Sec. III-C and 000 Eq. 3.
+one (001 Theorem 13), its completion detection at every step when it has one
+(``completion_sound``, judged by the property registry), and the metrics of
+001 Sec. III-C and 000 Eq. 3.
 
 Every property is judged and reported, but the exit code follows the properties the
 algorithm *claims* (its class's ``claims``: property -> citation, None or absent = not
@@ -46,9 +48,10 @@ class CheckedRun:
         The engine's result (with its trace).
     lattice, algorithm, params, initial
         What was run (``lattice`` is the target, whatever its kind).
-    satisfaction, connectivity, tree_links, termination
+    satisfaction, connectivity, tree_links, termination, completion_sound
         The invariant results (termination is None when the algorithm offers neither a
-        ``termination_bound`` nor an ``own_end``);
+        ``termination_bound`` nor an ``own_end``; completion_sound is None when the algorithm's
+        robots detect no completion: not applicable);
         ``satisfaction`` is a lattice's
         :class:`~swarmproof.models.satisfaction.SatisfactionResult` or another target's
         :class:`~swarmproof.models.targets.TargetCheck`.
@@ -75,6 +78,7 @@ class CheckedRun:
     metrics: dict = dataclasses.field(default_factory=dict)
     claims: dict = dataclasses.field(default_factory=dict)
     not_applicable: dict = dataclasses.field(default_factory=dict)
+    completion_sound: Any = None
 
 
 #: The largest team a seeded start is drawn for (memory and time bounded on any input; 004's runs
@@ -281,6 +285,30 @@ def _judge_links(algorithm, result, phi: float, link_mode: str, streamed: bool):
     return judge_connectivity(result.trace, phi, algorithm), tree_links_survive(result.trace, phi, mode=link_mode)
 
 
+#: The properties of :data:`RUN_PROPERTIES` that :func:`run_and_check` judges by the property registry
+#: (the property's check on a dense trace, its streaming monitor on a sparse one) rather than by code of
+#: its own.
+REGISTRY_RUN_PROPERTIES = ("completion_sound",)
+
+
+def _registry_observers(algorithm, params, na: dict, record_every: int) -> tuple:
+    """The streaming monitors of the applicable :data:`REGISTRY_RUN_PROPERTIES` for a sparse trace
+    (a dense one is judged step by step afterwards, the same verdict)."""
+    from swarmproof.invariants.registry import get_property
+
+    if record_every == 1:
+        return ()
+    return tuple(get_property(p).stream(algorithm, params, {}) for p in REGISTRY_RUN_PROPERTIES if p not in na)
+
+
+def _judge_registry(algorithm, lattice, params, result, na: dict) -> dict:
+    """Property -> its registry verdict on the run (None where not applicable)."""
+    from swarmproof.invariants.registry import PropertyContext, get_property
+
+    ctx = PropertyContext(algorithm, lattice, params, result, {})
+    return {p: None if p in na else get_property(p).judge(result.trace, ctx) for p in REGISTRY_RUN_PROPERTIES}
+
+
 def _judge_termination(algorithm, result, params):
     """The algorithm's own termination bound or end (001 Thm. 13) judged on the run; None when it
     offers neither."""
@@ -340,9 +368,11 @@ def not_applicable_properties(algorithm, target=None) -> dict[str, str]:
 
     >>> from swarmproof.reference_impl.registry import algorithm_factory
     >>> sorted(not_applicable_properties(algorithm_factory("jiang")))
-    ['connectivity', 'tree_links']
+    ['completion_sound', 'connectivity', 'tree_links']
     >>> not_applicable_properties(algorithm_factory("song2016"))
-    {}
+    {'completion_sound': 'its robots do not detect completion (no completion_invariants)'}
+    >>> not_applicable_properties(algorithm_factory("wang2020"))
+    {'tree_links': "no 'parent' field in its controller states (state_fields=())"}
     """
     from swarmproof.invariants.registry import get_property
 
@@ -354,11 +384,12 @@ def not_applicable_properties(algorithm, target=None) -> dict[str, str]:
     return out
 
 
-def _exit_code(result, sat, conn, links, term, claims=None, na=None) -> int:
+def _exit_code(result, sat, conn, links, term, claims=None, na=None, more=None) -> int:
     """The run's verdict (module docstring): a crash, or a claimed property violated (a broken
-    link, lost connectivity, a violated termination bound, the formation), first; then the step
-    cap; then a claimed property inconclusive.  ``claims`` None judges every property (as before
-    claims decided); unclaimed and not-applicable properties never decide it."""
+    link, lost connectivity, a violated termination bound, the formation, unsound completion), first;
+    then the step cap; then a claimed property inconclusive.  ``claims`` None judges every property
+    (as before claims decided); unclaimed and not-applicable properties never decide it.  ``more``:
+    property -> result of the :data:`REGISTRY_RUN_PROPERTIES`."""
     na = na or {}
 
     def judged(prop: str) -> bool:
@@ -366,7 +397,7 @@ def _exit_code(result, sat, conn, links, term, claims=None, na=None) -> int:
 
     if result.crash is not None:
         return EXIT_VIOLATED
-    verdicts = {"connectivity": conn, "tree_links": links, "termination": term, "formation": sat}
+    verdicts = {"connectivity": conn, "tree_links": links, "termination": term, "formation": sat, **(more or {})}
     if any(judged(p) and r is not None and r.violated for p, r in verdicts.items()):
         return EXIT_VIOLATED
     if result.status == "step_cap":
@@ -451,12 +482,15 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     elif min_separation is not None:
         raise _unused_min_separation(algorithm, params, min_separation, initial_file=True)
     link_mode = tree_link_mode_of(algorithm, {"tree_link_mode": tree_link_mode})
+    na = not_applicable_properties(algorithm, lattice)
     observers = _streaming_monitors(algorithm, phi, link_mode) if record_every != 1 else ()
+    observers += _registry_observers(algorithm, params, na, record_every)
     result = _engine(algorithm, vectorised)(
         algorithm, lattice, initial, params, seed=seed, max_steps=max_steps, allow_violations=allow_violations,
         progress=progress, record_every=record_every, observers=observers)
     formation = _judge_formation(algorithm, result, lattice, kind, params, phi)
     conn, links = _judge_links(algorithm, result, phi, link_mode, streamed=bool(observers))
+    more = _judge_registry(algorithm, lattice, params, result, na)
     doc = _simulate_document(algorithm, lattice, kind, initial, seed, phi, params, result, formation, conn, links,
                              record_every=record_every, warnings=warnings, vectorised=vectorised)
     term = _judge_termination(algorithm, result, params)
@@ -465,18 +499,21 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     if result.crash is not None:
         doc["crash"] = dict(result.crash)
     claims = dict(spec.claims)
-    na = not_applicable_properties(algorithm, lattice)
-    for prop, res in (("connectivity", conn), ("tree_links", links)):
+    for prop, res in more.items():
+        doc[prop] = res.as_dict() if res is not None else None
+    for prop in ("connectivity", "tree_links") + REGISTRY_RUN_PROPERTIES:
         if prop in na:
             doc[prop] = _na_document(prop, na[prop])
     if "connectivity" in na:
         doc["connected_throughout"] = None
     doc.update(_claims_document(claims, na, {"termination": term is not None, "formation": True,
-                                             "connectivity": True, "tree_links": True}))
-    code = _exit_code(result, formation.sat, conn, links, term, claims, na)
+                                             "connectivity": True, "tree_links": True,
+                                             **{p: True for p in REGISTRY_RUN_PROPERTIES}}))
+    code = _exit_code(result, formation.sat, conn, links, term, claims, na, more)
     doc["exit_code"] = code
     return CheckedRun(doc, code, result, lattice, algorithm, params, initial, formation.sat, conn, links, term,
-                      formation.metrics, {p: claims.get(p) for p in RUN_PROPERTIES}, na)
+                      formation.metrics, {p: claims.get(p) for p in RUN_PROPERTIES}, na,
+                      completion_sound=more.get("completion_sound"))
 
 
 # ---------------------------------------------------------------------------
@@ -486,7 +523,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
 
 #: The registered properties :func:`run_and_check` judges of every run (verify's ``algorithms``
 #: rows and campaigns' simulate tasks, in this order).
-RUN_PROPERTIES = ("termination", "formation", "connectivity", "tree_links")
+RUN_PROPERTIES = ("termination", "formation", "connectivity", "tree_links") + REGISTRY_RUN_PROPERTIES
 
 
 def run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
@@ -513,6 +550,10 @@ def run_property_verdicts(checked) -> dict[str, tuple[Verdict, str]]:
     out["connectivity"] = (Verdict(conn.status), conn.message)
     links = checked.tree_links
     out["tree_links"] = (Verdict(links.status), links.message)
+    for prop in REGISTRY_RUN_PROPERTIES:
+        res = getattr(checked, prop, None)
+        if res is not None:
+            out[prop] = (Verdict(res.status), res.message)
     for prop, why in (getattr(checked, "not_applicable", None) or {}).items():
         out[prop] = (NOT_APPLICABLE, f"not applicable: {why}")     # no verdict (never inconclusive)
     return out

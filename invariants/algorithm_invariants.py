@@ -10,6 +10,13 @@ The ``invariants`` property (registered in :mod:`swarmproof.invariants.registry`
 runs them on every step the engine makes (streaming, whatever is recorded),
 and is inconclusive for an algorithm that declares none.
 
+The same machinery judges other properties an algorithm declares as invariants
+under another attribute (``completion_sound``: its ``completion_invariants``,
+"whenever a robot declares the formation complete, it is formed"): the monitor
+takes the property's name.  An invariant of the form "whenever X, then Y" may
+count its X (``judged``); a run in which no invariant had anything to judge is
+inconclusive (vacuous), never held.
+
 Examples
 --------
 >>> import numpy as np
@@ -34,7 +41,8 @@ import numpy as np
 
 from .result import InvariantResult
 
-__all__ = ["Invariant", "invariants_of", "InvariantsMonitor", "check_invariants", "CITE_INVARIANTS"]
+__all__ = ["Invariant", "invariants_of", "InvariantsMonitor", "check_invariants", "CITE_INVARIANTS",
+           "run_invariants"]
 
 CITE_INVARIANTS = "the algorithm's own runtime invariants (its invariants attribute, each citing its paper)"
 
@@ -45,13 +53,20 @@ class Invariant:
 
     ``check(t, ids, poses, states)`` sees the IDs, poses and controller states
     of the robots present after step ``t`` (``t = 0``: the start) and returns
-    None while the invariant holds, else a message.
+    None while the invariant holds, else a message.  ``states`` is a sequence
+    valid during the call (a vectorised path's may build each state on first
+    access and offer ``values_of(key)``, one key of every state).
+
+    ``judged`` (optional), for an invariant of the form "whenever X, then Y":
+    how many times X occurred so far in the run (the checks that had something
+    to judge).  Without it every step counts.
     """
 
     name: str
     statement: str
     cites: str
     check: Callable[[int, Any, np.ndarray, tuple], str | None]
+    judged: Callable[[], int] | None = None
 
 
 def invariants_of(algorithm, only=None) -> tuple:
@@ -78,12 +93,15 @@ def invariants_of(algorithm, only=None) -> tuple:
 
 
 class InvariantsMonitor:
-    """Streaming form of the ``invariants`` property: every step the engine makes."""
+    """Streaming form of the ``invariants`` property: every step the engine makes.
 
-    name = "invariants"
+    ``name`` and ``cites`` are those of the property it judges (default ``invariants``);
+    ``declared`` says what the algorithm declares them as, for the vacuous verdict."""
 
-    def __init__(self, invariants) -> None:
+    def __init__(self, invariants, *, name: str = "invariants", cites: str = CITE_INVARIANTS,
+                 declared: str = "runtime invariants") -> None:
         self.invariants = tuple(invariants)
+        self.name, self.cites, self.declared = name, cites, declared
         self.steps = 0
         self.first: dict = {}           # invariant name -> (step, message)
 
@@ -95,7 +113,9 @@ class InvariantsMonitor:
         mask = np.asarray(present, dtype=bool)
         ids = self.ids[mask]
         pos = np.asarray(poses)[mask]
-        sts = tuple(s for s, p in zip(states, mask) if p)
+        # every robot present: the engine's states as they are (a vectorised path's lazy sequence
+        # stays lazy, and an invariant may read one key as a column, ``values_of``)
+        sts = states if mask.all() else tuple(s for s, p in zip(states, mask) if p)
         for inv in self.invariants:
             if inv.name in self.first:
                 continue
@@ -105,18 +125,27 @@ class InvariantsMonitor:
 
     def result(self) -> InvariantResult:
         if not self.invariants:
-            return InvariantResult("invariants", "inconclusive", CITE_INVARIANTS, None,
-                                   "vacuous: the algorithm declares no runtime invariants", applicable=False)
+            return InvariantResult(self.name, "inconclusive", self.cites, None,
+                                   f"vacuous: the algorithm declares no {self.declared}", applicable=False)
         if self.first:
             name, (step, msg) = min(self.first.items(), key=lambda kv: (kv[1][0], kv[0]))
             inv = next(i for i in self.invariants if i.name == name)
-            return InvariantResult("invariants", "violated", inv.cites,
+            return InvariantResult(self.name, "violated", inv.cites,
                                    {"invariant": name, "step": step, "statement": inv.statement},
                                    f"{name} ({inv.cites}) broke in step {step}: {msg}")
         names = ", ".join(i.name for i in self.invariants)
-        return InvariantResult("invariants", "held", "; ".join(i.cites for i in self.invariants), None,
-                               f"{names} held at every one of {self.steps} observed steps",
-                               detail={"invariants": [i.name for i in self.invariants]})
+        cites = "; ".join(i.cites for i in self.invariants)
+        counts = {i.name: int(i.judged()) for i in self.invariants if i.judged is not None}
+        if counts and len(counts) == len(self.invariants) and not any(counts.values()):
+            return InvariantResult(self.name, "inconclusive", cites, None,
+                                   f"vacuous: {names} had nothing to judge in {self.steps} observed steps",
+                                   applicable=False, detail={"invariants": [i.name for i in self.invariants],
+                                                             "judged": counts})
+        judged = "".join(f", {k} judged {v} time{'s' if v != 1 else ''}" for k, v in counts.items())
+        return InvariantResult(self.name, "held", cites, None,
+                               f"{names} held at every one of {self.steps} observed steps{judged}",
+                               detail={"invariants": [i.name for i in self.invariants],
+                                       **({"judged": counts} if counts else {})})
 
 
 class InvariantsStop:
@@ -129,8 +158,8 @@ class InvariantsStop:
     (a fault adds one) is not stopped.  ``step`` is where it fired.
     """
 
-    def __init__(self, invariants) -> None:
-        self.monitor = InvariantsMonitor(invariants)
+    def __init__(self, invariants, **monitor) -> None:
+        self.monitor = InvariantsMonitor(invariants, **monitor)
         self.step: int | None = None
 
     def start(self, ids) -> None:
@@ -149,7 +178,13 @@ class InvariantsStop:
 def check_invariants(trace, algorithm, only=None) -> InvariantResult:
     """Run the algorithm's invariants (``only``: those named) over every recorded step of ``trace``
     (the non-streaming form; a sparse trace is judged on what it kept -- the explorer streams)."""
-    mon = InvariantsMonitor(invariants_of(algorithm, only))
+    return run_invariants(trace, invariants_of(algorithm, only))
+
+
+def run_invariants(trace, invariants, **monitor) -> InvariantResult:
+    """:class:`InvariantsMonitor` (``monitor``: its name, cites, declared) over every recorded step
+    of ``trace``: the non-streaming form of a property judged by invariants."""
+    mon = InvariantsMonitor(invariants, **monitor)
     mon.start(trace.ids)
     present = getattr(trace, "present", None)
     for k in range(len(trace.poses)):

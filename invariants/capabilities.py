@@ -21,6 +21,9 @@ need                      an algorithm gives it when
                           gives it the bundled lattices)
 ``premise_monitors``      it declares lemma premise monitors (class attribute ``premise_monitors``)
 ``invariants``            it declares runtime invariants (class attribute ``invariants``)
+``completion``            its robots detect that the formation is complete and say so: it
+                          declares the invariants that judge that detection (class attribute
+                          ``completion_invariants``)
 ========================  ====================================================================
 
 An algorithm that does not declare ``state_fields`` at all leaves ``parent`` undecided: the
@@ -90,6 +93,11 @@ def _invariants(algorithm, target) -> tuple[bool | None, str]:
     return bool(getattr(algorithm, "invariants", None)), "it declares no runtime invariants (invariants)"
 
 
+def _completion(algorithm, target) -> tuple[bool | None, str]:
+    return (bool(getattr(algorithm, "completion_invariants", None)),
+            "its robots do not detect completion (no completion_invariants)")
+
+
 #: Every need a property may declare -> ``(algorithm, target) -> (gives: bool | None, why not)``
 #: (None: the algorithm does not say; the property then runs).
 NEEDS: dict[str, Callable[[Any, Any], tuple[bool | None, str]]] = {
@@ -99,6 +107,7 @@ NEEDS: dict[str, Callable[[Any, Any], tuple[bool | None, str]]] = {
     "lattice_target": _lattice_target,
     "premise_monitors": _premise_monitors,
     "invariants": _invariants,
+    "completion": _completion,
 }
 
 

@@ -20,7 +20,7 @@ Examples
 >>> get_property("no-such")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'invariants', 'no_crash'], or module:name of a property you registered
+swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'invariants', 'no_crash', 'completion_sound'], or module:name of a property you registered
 """
 
 from __future__ import annotations
@@ -484,6 +484,24 @@ def _invariants_stream(algorithm, params, options):
     return InvariantsMonitor(invariants_of(algorithm, dict(options or {}).get("invariants")))
 
 
+#: What ``completion_sound`` judges (the statement; each algorithm's invariant cites its paper).
+CITE_COMPLETION = ("the algorithm's own completion detection is sound: whenever a robot declares the formation "
+                   "complete, it is formed (its completion_invariants)")
+_COMPLETION = dict(name="completion_sound", cites=CITE_COMPLETION, declared="completion detection")
+
+
+def _completion_sound(trace, ctx):
+    from .algorithm_invariants import run_invariants
+
+    return run_invariants(trace, tuple(getattr(ctx.algorithm, "completion_invariants", None) or ()), **_COMPLETION)
+
+
+def _completion_stream(algorithm, params, options):
+    from .algorithm_invariants import InvariantsMonitor
+
+    return InvariantsMonitor(tuple(getattr(algorithm, "completion_invariants", None) or ()), **_COMPLETION)
+
+
 def _no_crash(trace, ctx):
     crash = getattr(ctx.result, "crash", None)
     if crash is None:
@@ -533,6 +551,12 @@ for _p in (
     Property("no_crash", "safety", _no_crash, ("exceptions the algorithm's code raised",),
              "exceptions only: a controller that loops forever is stopped by the time budget, not found",
              CITE_NO_CRASH),
+    # no early-stop monitor: its runs are plain runs, shared with the properties explored before it
+    Property("completion_sound", "safety", _completion_sound,
+             ("poses", "states", "the algorithm's completion_invariants"),
+             "only what the algorithm's completion invariants read of its states (when a robot declares, "
+             "what 'formed' means); a run in which no robot declared completion is inconclusive (vacuous)",
+             CITE_COMPLETION, stream=_completion_stream, every_step=True, needs=("completion",)),
 ):
     register_property(_p)
 del _p

@@ -1065,6 +1065,8 @@ class Wang2020:
         "formation": "004 Theorem IV-B.1 (J1, J2 -> 0 almost surely; exploration: held over what it ran)",
         "termination": "004 Theorem IV-B.1 with Sec. III-B shape-complete detection (almost surely)",
         "deadlock": "004 Sec. II-C, Lemma IV-B.4 (deadlock-free)",
+        "completion_sound": "004 Sec. III-B: an agent whose hop-count exceeds |A| declares the shape complete "
+                            "(no anchor left), and the news spreads",
     }
     own_end = "every agent knows the last shape complete: hop-count > |A| (004 Sec. III-B)"
     explore_targets = ("shape:letter-l", "shape:square-9")
@@ -1110,6 +1112,14 @@ class Wang2020:
         """Fresh runtime invariants (every access: a new J memory)."""
         return make_invariants()
 
+    @property
+    def completion_invariants(self) -> tuple:
+        """The ``completion_sound`` property's invariant (Sec. III-B), fresh on every access
+        (:mod:`.completion`; it reads the goal sets :meth:`controller` keeps)."""
+        from .completion import completion_invariant
+
+        return (completion_invariant(self),)
+
     @staticmethod
     def progress_measure(ids, poses, states) -> float:
         """The omniscient observer's goal measure for the ``oscillation`` property's no-progress rule
@@ -1150,7 +1160,9 @@ class Wang2020:
         self._need_shape(target)
         l = float(params.extra.get("grid_spacing", 1.0))
         shapes = (goal_cells(target, l),) + tuple(goal_cells(g, l) for g in self.next_shapes(params, target))
-        self._shapes = shapes             # metrics(): the centralized optimum, shape after shape
+        # metrics(): the centralized optimum, shape after shape; completion_invariants: the goal sets
+        # a declaration is judged by
+        self._shapes = shapes
         return self.controller_class(robot_id, params, shapes, rng)
 
     def next_shapes(self, params: Params | None, target) -> tuple:

@@ -166,9 +166,12 @@ class _States(Sequence):
     def values_of(self, key: str) -> list:
         """Every agent's ``state_value(state, key)`` of this step; a key the states do not have
         (``parent``: wang2020 keeps no tree) from the first agent's state alone (every agent's state
-        has the same keys, :meth:`_Run.state`)."""
+        has the same keys, :meth:`_Run.state`); ``completed`` (read every step by the
+        ``completion_sound`` monitor) from its array while the run is at this step."""
         from swarmproof.invariants.result import state_value
 
+        if key == "completed" and not self._frozen and self._run.t == self._step:
+            return self._run.completed.tolist()
         if self._run.n == 0 or all(k != key for k, _ in self[0]):
             return [None] * self._run.n
 

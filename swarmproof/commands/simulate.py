@@ -6,8 +6,9 @@ from a random connected start of ``--robots`` robots (seeded; or
 kind (lattice, lines, shape, pattern; ``--lattice``, ``--shape`` and ``--pattern`` are
 aliases fixing the kind) -- then checks the final formation against the
 target (a lattice: 001 Def. 2), connectivity at every step (001 Lemma 11), the
-spanning-tree links and termination, and reports the target's metrics (a lattice:
-001 Sec. III-C / 000 Eq. 3).
+spanning-tree links and termination, the robots' own completion detection at every
+step when they have one (004 Sec. III-B: ``completion_sound``), and reports the target's
+metrics (a lattice: 001 Sec. III-C / 000 Eq. 3).
 
 Every property is reported; the exit code follows the ones the algorithm claims (its class's
 ``claims``), and a property it does not claim is marked ``*``: a finding, not judged.  A
@@ -256,6 +257,9 @@ def _report_lines(args, checked) -> list:
                  + ("n/a" if doc["min_separation"] is None else f"{doc['min_separation']:.6g}"))
     if term is not None:
         lines.append(f"  termination: {judged('termination', term)}")
+    completion = getattr(checked, "completion_sound", None)
+    if completion is not None:          # only algorithms whose robots detect completion
+        lines.append(f"  completion detection: {judged('completion_sound', completion)}")
     if result.crash is not None:
         c = result.crash
         who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
@@ -268,7 +272,8 @@ def _report_lines(args, checked) -> list:
         lines.append(f"  plot: {doc['plot']}")
     if args.gif is not None:
         lines.append(f"  animation: {doc['gif']}")
-    shown = {"formation": sat, "connectivity": conn, "tree_links": links, "termination": term}
+    shown = {"formation": sat, "connectivity": conn, "tree_links": links, "termination": term,
+             "completion_sound": completion}
     unclaimed = [p for p, r in shown.items() if r is not None and p not in na and claims.get(p) is None]
     if unclaimed:
         paper = getattr(checked.algorithm, "paper", None)

@@ -9,7 +9,7 @@ import json
 
 from swarmproof.checkers.replay import replay_file
 from swarmproof.checkers.report import section_algorithms
-from swarmproof.models.verdict import Verdict
+from swarmproof.models.verdict import NOT_APPLICABLE, Verdict
 from swarmproof.reference_impl import registry
 
 
@@ -58,7 +58,9 @@ def test_the_subtree_clock_reading_is_judged_beside_the_default(monkeypatch):
     assert plan.runs()[0] == ("square", 10, (0, 1, 2))
     _only(monkeypatch, "song2016-subtree-clock", VerifyPlan(targets=("square",), robots=10, seeds=(0,)))
     rows = {r.property: r for r in section_algorithms()}
-    assert set(rows) == {"termination", "formation", "connectivity", "tree_links"}
+    assert set(rows) == {"termination", "formation", "connectivity", "tree_links", "completion_sound"}
+    # 001's robots detect no completion: no verdict (an n/a row, not claimed)
+    assert rows.pop("completion_sound").verdict is NOT_APPLICABLE
     for r in rows.values():
         assert r.subject == "song2016-subtree-clock square n=10" and r.claimed
         assert r.verdict is Verdict.HELD, r.detail

@@ -34,11 +34,14 @@ def test_properties_exact_line_with_citation(capsys):
     code, out, _ = run(capsys, "properties")
     lines = out.splitlines()
     assert code == 0
-    assert lines[0] == "properties (10):"
-    assert lines[1] == ("  connectivity  safety; reads poses, presence, range "
+    assert lines[0] == "properties (11):"
+    assert lines[1] == ("  connectivity      safety; reads poses, presence, range "
                         "[Song & O'Kane 2016, Lemma 11 (connectivity is preserved)]")
-    assert "  no_crash      safety; reads exceptions the algorithm's code raised [swarmproof: the algorithm " \
+    assert "  no_crash          safety; reads exceptions the algorithm's code raised [swarmproof: the algorithm " \
            "under test raises no exception (a crash is a finding)]" in lines
+    assert lines[-1] == ("  completion_sound  safety; reads poses, states, the algorithm's completion_invariants "
+                         "[the algorithm's own completion detection is sound: whenever a robot declares the "
+                         "formation complete, it is formed (its completion_invariants)]")
 
 
 def test_targets_patterns_shapes_lines(capsys):
@@ -105,7 +108,7 @@ def test_a_registered_property_is_listed(capsys):
     register_property(Property("my_prop", "liveness", lambda t, c: None, ("poses",), cites="mine"))
     try:
         code, out, _ = run(capsys, "properties")
-        assert "  my_prop       liveness; reads poses [mine]" in out.splitlines()
+        assert "  my_prop           liveness; reads poses [mine]" in out.splitlines()
     finally:
         unregister_property("my_prop")
 

@@ -41,7 +41,8 @@ def test_wang2020_connected_start_that_splits_is_reported_not_judged(capsys, spl
     assert doc["connectivity"]["message"].startswith("the communication graph splits after step 29 into 2")
     # ... but 004 does not claim connectivity: the exit code follows what it claims, which held
     assert doc["claims"]["connectivity"] is None and doc["claims"]["formation"] is not None
-    assert doc["judged"] == ["termination", "formation"] and doc["satisfied"] is True
+    assert doc["judged"] == ["termination", "formation", "completion_sound"] and doc["satisfied"] is True
+    assert doc["completion_sound"]["status"] == "held"
     assert code == 0 and doc["exit_code"] == 0
     # no parent field: tree links are not applicable, not inconclusive
     assert doc["tree_links"]["status"] == "not_applicable"
@@ -115,7 +116,8 @@ def test_song2016_still_exits_1_when_its_claimed_tree_links_break(capsys):
     code, out, _ = run(capsys, "song2016", "--lattice", "square", "--robots", "20", "--seed", "1", "--json")
     doc = json.loads(out)
     assert doc["tree_links"]["status"] == "violated" and doc["claims"]["tree_links"].startswith("001 Lemma 11")
-    assert "tree_links" in doc["judged"] and doc["not_applicable"] == {}
+    assert "tree_links" in doc["judged"]
+    assert doc["not_applicable"] == {"completion_sound": "its robots do not detect completion (no completion_invariants)"}
     assert code == 1 and doc["exit_code"] == 1
 
 

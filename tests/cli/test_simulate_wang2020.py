@@ -103,6 +103,13 @@ def test_finding_the_run_ends_with_a_robot_off_the_shape(capsys, tmp_path):
     doc = json.loads(out)
     assert code == 1 and doc["status"] == "finished" and doc["satisfied"] is False
     assert "is on no goal cell" in doc["satisfaction"]["message"]
+    # the run ended by Sec. III-B's detection with a goal free: completion_sound names it (claimed)
+    assert doc["completion_sound"]["status"] == "violated" and doc["completion_sound"]["witness"]["step"] == 39
+    code, out, _ = run(capsys, "--shape", "letter-l", "--initial", str(init), "--seed", "0")
+    assert code == 1 and ("  completion detection: violated - completion_sound (Wang & Rubenstein 2020, Sec. III-B) "
+                          "broke in step 39: robots 0, 2, 3 declared shape 0 complete in step 39 (hop-count 5 > "
+                          "|A| = 4) while 1 of its 4 goals held no agent at rest: (0, 1) (robot 0's goal); robot 0 "
+                          "at rest on (0, -1), off the shape") in out.splitlines()
 
 
 def _disconnected(tmp_path):

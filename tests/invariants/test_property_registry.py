@@ -116,3 +116,54 @@ def test_the_command_line_explores_a_users_property_by_module_name(user_property
                  "--robots", "2..4", "--seed", "1", "--budget", "none", "--json"])
     doc = json.loads(capsys.readouterr().out)
     assert code == 1 and doc["properties"][user_property]["status"] == "violated"
+
+
+def test_completion_sound_runs_the_completion_invariants_an_algorithm_declares():
+    """completion_sound is the invariants machinery under another name: whatever invariants an
+    algorithm declares as ``completion_invariants``, streamed or on the trace; an invariant that
+    counts what it judged (``judged``) and judged nothing leaves the run inconclusive, never held;
+    an algorithm that declares none gets no verdict (not applicable)."""
+    import numpy as np
+
+    from swarmproof.invariants.algorithm_invariants import Invariant
+    from swarmproof.invariants.registry import PropertyContext
+    from swarmproof.models.trace import Trace
+
+    class Count:
+        """'whenever a robot says done, every robot is at x >= 1'."""
+
+        def __init__(self):
+            self.n = 0
+
+        def __call__(self, t, ids, poses, states):
+            if not any(dict(s)["done"] for s in states):
+                return None
+            self.n += 1
+            return None if (np.asarray(poses)[:, 0] >= 1).all() else f"done in step {t} short of x = 1"
+
+    def algorithm():
+        check = Count()
+        return type("Alg", (), {"completion_invariants": (Invariant("done_sound", "done only at x >= 1", "toy",
+                                                                     check, judged=lambda: check.n),)})()
+
+    prop = get_property("completion_sound")
+    assert prop.kind == "safety" and prop.every_step and prop.needs == ("completion",) and prop.run_monitor is None
+    assert prop.not_applicable_to(type("Plain", (), {})) == \
+        "its robots do not detect completion (no completion_invariants)"
+    xs, done = [0.0, 0.5, 1.0], [False, False, True]
+    trace = Trace(ids=[7], poses=np.array([[[x, 0, 0]] for x in xs]), states=[((("done", d),),) for d in done])
+    r = prop.check(trace, PropertyContext(algorithm(), None, None, None))
+    assert r.status == "held" and r.message == ("done_sound held at every one of 3 observed steps, done_sound "
+                                                "judged 1 time")
+    early = Trace(ids=[7], poses=trace.poses, states=[((("done", d),),) for d in (False, True, True)])
+    r = prop.check(early, PropertyContext(algorithm(), None, None, None))
+    assert r.status == "violated" and r.name == "completion_sound" and r.witness["step"] == 1
+    assert r.message == "done_sound (toy) broke in step 1: done in step 1 short of x = 1"
+    never = Trace(ids=[7], poses=trace.poses, states=[((("done", False),),)] * 3)
+    r = prop.check(never, PropertyContext(algorithm(), None, None, None))
+    assert r.status == "inconclusive" and r.message == "vacuous: done_sound had nothing to judge in 3 observed steps"
+    mon = prop.stream(algorithm(), None, {})              # the streaming form: the same verdict
+    mon.start([7])
+    for t in range(3):
+        mon.observe(t, early.poses[t], early.states[t], np.array([True]))
+    assert mon.name == "completion_sound" and mon.result().witness["step"] == 1

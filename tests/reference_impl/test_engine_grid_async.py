@@ -145,5 +145,5 @@ def test_grid_example_explore_replay_and_verify(cli, tmp_path, monkeypatch):
     plans = dict(registry.verify_plans())
     monkeypatch.setattr(registry, "verify_plans", lambda: [("example-grid-goals", plans["example-grid-goals"])])
     rows = section_algorithms()
-    assert {r.property for r in rows} == {"termination", "formation", "connectivity", "tree_links"}
+    assert {r.property for r in rows} == {"termination", "formation", "connectivity", "tree_links", "completion_sound"}
     assert all(not r.claimed and r.subject == "example-grid-goals shape:letter-l n=5" for r in rows)

@@ -69,5 +69,5 @@ def test_verify_has_its_rows_beside_the_papers(monkeypatch):
     rows = section_algorithms()
     got = {r.property: r.verdict.value for r in rows}
     assert got == {"termination": "held", "formation": "held", "connectivity": "held",
-                   "tree_links": "n/a"}
+                   "tree_links": "n/a", "completion_sound": "n/a"}
     assert all(r.subject == "example-anonymous-line lines:line n=6" and not r.claimed for r in rows)
