@@ -320,23 +320,12 @@ class Command:
         one of ``(1, 0), (-1, 0), (0, 1), (0, -1)`` -- or None to wait.  The
         crossing takes ``grid_spacing / v`` time; a command given while the
         robot is on an edge is ignored until it arrives.
-    requests : tuple of (int, object)
-        Point-to-point exchanges begun this step: ``((peer_id, payload), ...)``.  Each is
-        delivered to the robot ``peer_id`` if it is a neighbor now (the model's audience), and
-        answered **within the step** (negligible latency, e.g. 004 Sec. II-A e): the engine calls
-        the peer's ``answer(sender_id, payload, clock)``; a reply that is not None comes back to
-        this robot's ``on_reply(peer_id, payload, reply, clock)`` in the same step.  Both run
-        after every robot of the step decided, in (sender slot, request) order, whatever the
-        peer's clock.  The fault model's loss and delay apply to each direction (a late answer
-        arrives in a later step).  Robots without IDs cannot address one (``ProtocolError``).
-        Messages recorded (``record_messages``): every exchange is an ``exchange`` event.
     """
 
     message: Any = None
     turn: float = 0.0
     forward: float = 0.0
     move: tuple | None = None
-    requests: tuple = ()
 
 
 @runtime_checkable
@@ -355,15 +344,22 @@ class Controller(Protocol):
         change whenever the controller's future behaviour may change."""
         ...
 
-    # Optional, for point-to-point exchanges (``Command.requests``):
+    # Optional, for point-to-point exchanges answered within the step (negligible latency, e.g.
+    # 004 Sec. II-A e; docs/engine.md, "Point-to-point exchanges"):
     #
+    # def requests(self, obs: Observation) -> tuple:
+    #     """The first part of the step: ``((peer_id, payload), ...)`` to send now.  When any
+    #     controller defines it, the engine calls it for every acting robot, then delivers each
+    #     request to its addressee if it is a neighbor now and answers it, then calls every
+    #     acting robot's ``step`` with the same Observation."""
     # def answer(self, sender_id: int, payload, clock: float):
     #     """A request addressed to this robot arrived: return the reply (None: no answer)."""
     # def on_reply(self, peer_id: int, payload, reply, clock: float) -> None:
     #     """The reply to this robot's request ``payload`` to ``peer_id`` arrived."""
     #
     # ``clock`` is the robot's local clock in the step (``Observation.clock``; the step number
-    # when synchronous).
+    # when synchronous).  The fault model's loss and delay apply to each direction (a late reply
+    # arrives in a later step's exchange).
 
 
 @runtime_checkable

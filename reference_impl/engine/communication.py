@@ -206,7 +206,7 @@ class Delivery:
 
 
 class Exchanges:
-    """Point-to-point exchanges (``Command.requests``): a request and its answer within the step.
+    """Point-to-point exchanges (``Controller.requests``): a request and its answer within the step.
 
     A request goes to a robot the sender can hear from now (the model's audience); the fault
     model's loss (``drop_message``, ``message_loss``) and delay (``message_delay``) apply to
@@ -251,17 +251,17 @@ class Exchanges:
         self.seq += 1
 
     def send(self, t: int, k: int, my_id, requests, audience) -> None:
-        """The requests of the robot in slot ``k`` (``Command.requests``) to the robots it can
+        """The requests of the robot in slot ``k`` (``Controller.requests``) to the robots it can
         hear from now (``audience``: their IDs; None: every present robot)."""
         from swarmproof.models.errors import ProtocolError
 
         if self.anonymous or my_id is None:
-            raise ProtocolError(f"a robot without an ID returned Command.requests={requests!r} at step {t}: "
+            raise ProtocolError(f"a robot without an ID returned requests()={requests!r} at step {t}: "
                                 "an exchange needs the robots' IDs (RobotModel.sensing != 'anonymous')")
         try:
             pairs = [(int(peer), payload) for peer, payload in requests]
         except (TypeError, ValueError):
-            raise ProtocolError(f"controller of robot {my_id!r} returned Command.requests={requests!r} at step "
+            raise ProtocolError(f"controller of robot {my_id!r} returned requests()={requests!r} at step "
                                 f"{t}; expected ((peer_id, payload), ...)") from None
         heard = None if audience is None else set(int(i) for i in audience)
         for peer, payload in pairs:

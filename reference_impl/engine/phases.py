@@ -6,8 +6,7 @@ step, calls::
     apply_faults(run, step)   # 1. robots crash or join
     activate(run, step)       # 1. which robots act: the schedule, the clocks
     sense(run, step)          # 2. what every present robot senses (vectorised)
-    decide(run, step)         # 3.-4. message delivery and every acting robot's decision
-    exchange(run, step)       # 4b. point-to-point requests answered within the step
+    decide(run, step)         # 3.-4. message delivery, exchanges, every acting robot's decision
     move(run, step)           # 5. motion (vectorised), then the step count advances
     record(run, step)         # 6. the trace, the monitors, quiet steps
     stop_test(run, step)      # finished, static, or stopped by a monitor
@@ -105,6 +104,7 @@ class RunState:
     delivery: Any = None
     exchanges: Any = None               # point-to-point exchanges (communication.Exchanges)
     record_exchanges: bool = False      # messages recorded: every exchange is an event
+    two_phase: bool = False             # some controller offers requests(obs): two-phase steps
     controllers: list = field(default_factory=list)
     states: tuple | None = None
     # -- the loop's state --
@@ -189,6 +189,7 @@ def apply_faults(run: RunState, step: StepView) -> None:
         run.controllers[slot] = run.algorithm.controller(None if run.hide_ids else ids_list[slot], run.params,
                                                          run.lattice, _robot_rng(run.seed, slot))
         run.calling = None
+        run.two_phase = run.two_phase or callable(getattr(run.controllers[slot], "requests", None))
         events.append(Event(t, "add", (ids_list[slot],)))
 
 
@@ -291,20 +292,24 @@ def _decide_general(run: RunState, step: StepView) -> None:
 
     A robot whose asynchronous clock does not tick keeps what it receives now for its next tick;
     the delivery's ``drop`` and ``late_delivery`` events are recorded once every robot has
-    decided (a crash while deciding records none); with asynchronous clocks a robot broadcasts
-    its last decided message when its clock passes a broadcast instant."""
+    received (a crash while deciding records none); with asynchronous clocks a robot broadcasts
+    its last decided message when its clock passes a broadcast instant.  When a controller
+    offers ``requests`` (``run.two_phase``) the step has two phases: every acting robot's
+    ``requests(obs)``, the exchanges (:func:`exchange`), then every acting robot's ``step(obs)``."""
     t, m, idx_l, pres_ids_l, act_l = step.t, step.m, step.idx_l, step.pres_ids_l, step.act_l
     nb_ids, nb_slots, nb_rel = step.nb_ids, step.nb_slots, step.nb_rel
     async_clocks, anonymous, global_sensing = run.async_clocks, run.anonymous, run.global_sensing
-    grid, mover, controllers, delivery, last_msgs = run.grid, run.mover, run.controllers, run.delivery, run.last_msgs
-    turns = run.turns = [0.0] * m
-    fwds = run.fwds = [0.0] * m
-    moves = step.moves = [None] * m
+    controllers, delivery, last_msgs = run.controllers, run.delivery, run.last_msgs
+    run.turns = [0.0] * m
+    run.fwds = [0.0] * m
+    step.moves = [None] * m
     new_msgs = step.new_msgs = [None] * run.n_total
     # every present robot broadcast last step (the usual case): no None to filter
     silent = delivery.comm == "neighbors" and any(last_msgs[s] is None for s in idx_l)
     delivery.begin(last_msgs, idx_l, silent)
     direct, get_msg = delivery.direct, last_msgs.__getitem__
+    two_phase = run.two_phase
+    acting = [] if two_phase else None
     for a in range(m):
         if not act_l[a]:
             if async_clocks and not step.ticked_l[a]:
@@ -331,25 +336,44 @@ def _decide_general(run: RunState, step: StepView) -> None:
         if async_clocks:
             obs.__dict__["clock"] = float(step.tau0[a])
         run.calling = k
+        if two_phase:
+            # the first part of the step: its requests, answered before anyone's step (exchange)
+            ask = getattr(controllers[k], "requests", None)
+            reqs = ask(obs) if callable(ask) else ()
+            if reqs:
+                run.exchanges.send(t, k, my_id, reqs, None if delivery.comm == "all" else nb_ids[a])
+            run.calling = None
+            acting.append((a, k, my_id, obs))
+            continue
         cmd = controllers[k].step(obs)
         run.calling = None
-        if grid:
-            moves[a] = mover.command(cmd, my_id, t)
-        else:
-            turns[a], fwds[a] = _command_values(cmd, my_id, t)
-        if async_clocks:
-            run.outbox[k] = cmd.message
-        else:
-            new_msgs[k] = cmd.message
-        if cmd.requests:
-            run.calling = k
-            run.exchanges.send(t, k, my_id, cmd.requests, None if run.delivery.comm == "all" else nb_ids[a])
-            run.calling = None
+        _take_command(run, step, a, k, my_id, cmd)
     delivery.end(t, run.events)
+    if two_phase:
+        exchange(run, step)
+        for a, k, my_id, obs in acting:
+            run.calling = k
+            cmd = controllers[k].step(obs)
+            run.calling = None
+            _take_command(run, step, a, k, my_id, cmd)
     if async_clocks:
         for a, k in enumerate(idx_l):
             if step.bcast[a]:
                 new_msgs[k] = run.outbox[k]
+
+
+def _take_command(run: RunState, step: StepView, a: int, k: int, my_id, cmd) -> None:
+    """A deciding robot's command: checked, its motion to ``run.turns``, ``run.fwds`` (or
+    ``step.moves``), its broadcast to the outbox (asynchronous clocks) or ``step.new_msgs``."""
+    t = step.t
+    if run.grid:
+        step.moves[a] = run.mover.command(cmd, my_id, t)
+    else:
+        run.turns[a], run.fwds[a] = _command_values(cmd, my_id, t)
+    if run.async_clocks:
+        run.outbox[k] = cmd.message
+    else:
+        step.new_msgs[k] = cmd.message
 
 
 def _same_observation(run: RunState, step: StepView) -> list | None:
@@ -408,19 +432,15 @@ def _decide_repeating(run: RunState, step: StepView) -> None:
             turns[a], fwds[a] = _command_values(cmd, pres_ids_l[a], t)
             new_msgs[k] = cmd.message
             last_cmds[k] = cmd
-            if cmd.requests:
-                run.calling = k
-                run.exchanges.send(t, k, pres_ids_l[a], cmd.requests, nb_ids[a])
-                run.calling = None
         run.calling = k
         hold[a] = t + 1 if horizons[k] is None else horizons[k](t)
         run.calling = None
 
 
 def exchange(run: RunState, step: StepView) -> None:
-    """4b. The point-to-point exchanges due now (``Command.requests``; :class:`.communication.Exchanges`).
+    """4b. The point-to-point exchanges due now (``Controller.requests``; :class:`.communication.Exchanges`).
 
-    After every robot decided: each request due is answered by its addressee's ``answer``, and
+    Between the two phases of a two-phase step (:func:`_decide_general`): each request due is answered by its addressee's ``answer``, and
     each answer due is read by the asker's ``on_reply``, oldest first (due step, then sending
     order); an answer due in this step (no delay) is read in this step.  Each robot is passed its
     local clock in the step.  A robot gone by then loses what was due to it.  With messages
@@ -434,7 +454,8 @@ def exchange(run: RunState, step: StepView) -> None:
         This step's values.
     """
     ex = run.exchanges
-    if not ex.queue and not ex.dropped and not ex.late_log:
+    if not ex.queue:
+        ex.end(step.t, run.events)
         return
     t, controllers, present, ids_list = step.t, run.controllers, run.present, run.ids_list
     clocks = run.clocks if run.async_clocks else None

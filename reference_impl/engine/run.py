@@ -38,11 +38,11 @@ each phase's model lives in a module of its own:
    so the engine does not ask (nor reads its state, nor calls ``finished``
    while no state changed).  Sensing itself is reused when no present robot
    moved.
-4b. *Exchanges* (:class:`.communication.Exchanges`): the point-to-point
-   requests of the step's commands (``Command.requests``) go to the addressed
-   neighbors, whose ``answer`` replies, and the replies come back to the
-   askers' ``on_reply``, all within the step (negligible latency) unless the
-   fault model loses or delays a direction.
+4b. *Exchanges* (:class:`.communication.Exchanges`): when a controller offers
+   ``requests(obs)``, the step has two phases: every acting robot's requests
+   go to the addressed neighbors, whose ``answer`` replies, and the replies
+   come back to the askers' ``on_reply`` (negligible latency, unless the fault
+   model loses or delays a direction); then every acting robot's ``step``.
 5. *Motion* (:mod:`.motion`, vectorized): differential drive, turn in place
    then drive straight: ``|turn|`` is clamped to ``omega*dt`` and ``forward``
    to ``[0, v*(dt - |turn|/omega)]`` (docs/decisions.md "Model and
@@ -100,7 +100,7 @@ from .common import PROGRESS_EVERY, _ro, _robot_rng
 from .communication import Delivery, Exchanges
 from .faults import DropSet, FaultModel, TableSchedule
 from .motion import motion_model
-from .phases import RunState, StepView, activate, apply_faults, decide, exchange, move, record, sense, stop_test
+from .phases import RunState, StepView, activate, apply_faults, decide, move, record, sense, stop_test
 from .parameters import check_extra, check_motion, check_target_kind
 
 __all__ = [
@@ -548,7 +548,8 @@ def _plan_shortcuts(run: RunState) -> None:
     run.repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
                      and not faults.drops_messages and not faults.noisy and faults.schedule is None
                      and not faults.late_messages and not run.grid and not run.async_clocks
-                     and not run.any_presence_change and all(callable(f) for f in run.repeaters))
+                     and not run.any_presence_change and not run.two_phase
+                     and all(callable(f) for f in run.repeaters))
     run.horizons = [getattr(c, "repeat_horizon", None) for c in run.controllers]
     run.hold = [0] * n_total
     run.last_cmds = [None] * n_total
@@ -581,6 +582,7 @@ def _start(run: RunState, initial: InitialConfiguration, stop_when_static, recor
     run.states = _first_states(run)
     run.rec.states.append(run.states)
     run.last_msgs = [None] * run.n_total
+    run.two_phase = any(callable(getattr(c, "requests", None)) for c in run.controllers if c is not None)
     _plan_shortcuts(run)
     run.phi = float(run.params.range)
     run.global_sensing = model.sensing == "global"
@@ -726,8 +728,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             apply_faults(run, step)     # 1. robots crash or join
             activate(run, step)         # 1. who acts: the schedule, the clocks
             sense(run, step)            # 2.
-            decide(run, step)           # 3.-4. message delivery and decisions
-            exchange(run, step)         # 4b. point-to-point requests, answered within the step
+            decide(run, step)           # 3.-4. message delivery, exchanges and decisions
             move(run, step)             # 5.
             record(run, step)           # 6. the trace and the monitors
             stop_test(run, step)

@@ -24,9 +24,12 @@ clock tick:
   request once and waits for the ACK; server: waits for its intended peer's
   request, takes the client's goal on receiving it and answers with an ACK
   carrying its old goal; anyone else's request gets a negative ACK).  The
-  request is a point-to-point exchange of its own (``Command.requests``),
-  answered within the tick as Sec. II-A c) and e) assume (lossless links,
-  negligible latency), so a swap is atomic.  Reading "1", where request and
+  request is a point-to-point exchange of its own, answered within the tick
+  as Sec. II-A c) and e) assume (lossless links, negligible latency): the
+  tick has two phases, the goal manager (:meth:`Wang2020Controller.requests`)
+  and, after the engine's exchanges, Algorithm 2 and the broadcast
+  (:meth:`Wang2020Controller.step`), so a swap is atomic and done before
+  either agent moves on it.  Reading "1", where request and
   ACK ride in the broadcasts, is :class:`Wang2020BroadcastHandshake`.
 * **Shape complete** (Sec. III-B): an agent whose hop-count exceeds the
   number of agents knows no anchor is left; it says so in its messages,
@@ -162,7 +165,8 @@ class Wang2020Controller:
         self._heard_cache: tuple | None = ()
         self.hs: _Handshake | None = None
         self.seq = 0
-        self._send: int | None = None    # the request number to send at the end of this tick
+        self._send: int | None = None    # the request number to send in this tick's exchange
+        self._prepared = None            # the Observation requests() ran the first part of the tick for
         self.ack: tuple | None = None    # (client, seq, old goal, until)
         self.answered: set = set()       # (client, seq) requests this server has answered
         self.moving = False
@@ -209,7 +213,28 @@ class Wang2020Controller:
 
     # -- the tick -----------------------------------------------------------------------
 
+    def requests(self, obs: Observation) -> tuple:
+        """The first part of the tick (the engine's two-phase step, ``Controller.requests``): the
+        arrival, the timeouts and the goal manager on every message received (Alg. 4); returns
+        the client's request if a handshake began (Sec. III-A), which the engine answers before
+        any agent's :meth:`step` -- the goal manager's handshake completes before the main
+        component acts, as negligible latency (Sec. II-A e) has it."""
+        self._tick_messages(obs)
+        self._prepared = obs
+        return self._requests()
+
     def step(self, obs: Observation) -> Command:
+        """The tick: :meth:`requests`' part unless the engine ran it for ``obs`` already (called
+        alone, a handshake's request is never sent), then Algorithm 2 and the broadcast."""
+        if self._prepared is not obs:
+            self._tick_messages(obs)
+            self._send = None
+        self._prepared = None
+        now = self.now
+        move = None if self.moving else self._main(now)
+        return Command(message=self.message(), move=move)
+
+    def _tick_messages(self, obs: Observation) -> None:
         clock = obs.clock
         now = float(clock) if clock is not None else float(obs.step)
         self.now = now
@@ -260,8 +285,6 @@ class Wang2020Controller:
             else:
                 del senders[s]
                 self._heard_cache = None
-        move = None if self.moving else self._main(now)
-        return Command(message=self.message(), move=move, requests=self._requests())
 
     # -- Algorithm 2 ----------------------------------------------------------------------
 
@@ -388,8 +411,8 @@ class Wang2020Controller:
         return self._random_goal()
 
     def _begin_handshake(self, now: float, peer: int, m: WangMsg) -> None:
-        """Sec. III-A: client when the peer is lexically larger (it sends its request once, at the
-        end of this tick), else server (it waits for its peer's request until its timeout)."""
+        """Sec. III-A: client when the peer is lexically larger (it sends its request once, in this
+        tick's exchange), else server (it waits for its peer's request until its timeout)."""
         if lex_greater(m.p, self.p):
             self.seq += 1
             self.hs = _Handshake("client", int(peer), self.seq, now + self.timeout, self.T)
@@ -400,9 +423,9 @@ class Wang2020Controller:
     # -- the 2-way handshake as an exchange of its own (Sec. III-A, II-A c and e) -------------
 
     def _requests(self) -> tuple:
-        """The client's request, sent once, point to point (``Command.requests``): ``(server,
-        (seq, the client's goal))``; nothing when no handshake began this tick or it already
-        ended (a shape switch later in the tick)."""
+        """The client's request, sent once, point to point: ``((server, (seq, the client's
+        goal)),)``; nothing when no handshake began this tick or it already ended (a shape
+        switch later in the goal manager)."""
         seq, self._send = self._send, None
         hs = self.hs
         if seq is None or hs is None or hs.role != "client" or hs.seq != seq:
@@ -492,6 +515,9 @@ class BroadcastHandshakeController(Wang2020Controller):
     has already taken it (a "half swap": J2 rises, Lemma IV-B.2's premise of an atomic swap is
     gone).
     """
+
+    #: one-phase ticks: the engine never asks this controller for exchanges
+    requests = None
 
     def _requests(self) -> tuple:
         self._send = None

@@ -404,11 +404,11 @@ class _Run:
         return I, np.stack((self.px, self.py))
 
     def exchange(self, now) -> None:
-        """The engine's exchange phase (engine/phases.py ``exchange``) for the handshakes begun this
-        tick: every client's request, in slot order, answered by its server
-        (``Wang2020Controller.answer``), then every answer read by its client (``on_reply``), in
-        the same order -- the engine's queue order; each peer is a neighbour (its message was
-        just received)."""
+        """The engine's exchange phase (engine/phases.py ``exchange``, between every agent's
+        ``requests`` and every agent's ``step``) for the handshakes begun this tick: every
+        client's request, in slot order, answered by its server (``Wang2020Controller.answer``),
+        then every answer read by its client (``on_reply``), in the same order -- the engine's
+        queue order; each peer is a neighbour (its message was just received)."""
         ks = np.flatnonzero(self.send).tolist()
         if not ks:
             return
@@ -472,6 +472,7 @@ class _Run:
         self.prev_blocks, self.blocks = self.blocks, kept
         self.prev_cutoff, self.cutoff = self.cutoff, cutoff
         self._prev_heard, self._heard = self._heard, None
+        self.exchange(now)                                        # the handshakes, before Alg. 2 (engine: 4b)
         return self._mains(now, cutoff)
 
     def _receipts(self, poses, phi, last_valid):
@@ -765,7 +766,6 @@ def _ticks(run, mover, clocks, rec, events, phi, max_steps, window, observers, p
             raise AssertionError("a rate-1 clock skipped a tick")   # unsupported() rules this out
         movers, dx, dy = run.tick(poses, tau0, last_msgs, last_valid, phi)   # 2.-4.
         new_outbox = run.outbox()
-        run.exchange(tau0)                                         # 4b. the handshakes' requests
         same_poses = _grid_motion(mover, poses, movers, dx, dy, events, ids, t)   # 5. motion
         t += 1
         run.t = t

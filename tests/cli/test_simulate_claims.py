@@ -22,7 +22,7 @@ def run(capsys, *argv):
 @pytest.fixture
 def split_start(tmp_path):
     """A connected start of 5 agents on the grid (seeded, 004's R = 0.6 m, l = 0.2 m) from which
-    wang2020's run toward letter-l splits the communication graph after step 29."""
+    wang2020's run toward letter-l splits the communication graph after step 36."""
     from swarmproof.reference_impl.initial import random_grid_connected
 
     init = random_grid_connected(5, 4, range=0.6, spacing=0.2)
@@ -38,7 +38,7 @@ def test_wang2020_connected_start_that_splits_is_reported_not_judged(capsys, spl
     doc = json.loads(out)
     # the finding is in the document ...
     assert doc["connectivity"]["status"] == "violated" and doc["connected_throughout"] is False
-    assert doc["connectivity"]["message"].startswith("the communication graph splits after step 29 into 2")
+    assert doc["connectivity"]["message"].startswith("the communication graph splits after step 36 into 2")
     # ... but 004 does not claim connectivity: the exit code follows what it claims, which held
     assert doc["claims"]["connectivity"] is None and doc["claims"]["formation"] is not None
     assert doc["judged"] == ["termination", "formation", "completion_sound"] and doc["satisfied"] is True
@@ -50,7 +50,7 @@ def test_wang2020_connected_start_that_splits_is_reported_not_judged(capsys, spl
     code, out, _ = run(capsys, "wang2020", "--shape", "letter-l", "--initial", split_start, "--seed", "5")
     lines = out.splitlines()
     assert code == 0
-    assert any(line.startswith("  connectivity: violated* - the communication graph splits after step 29")
+    assert any(line.startswith("  connectivity: violated* - the communication graph splits after step 36")
                for line in lines)
     assert "  tree links: not applicable - no 'parent' field in its controller states (state_fields=())" in lines
     assert "  * not claimed by the paper: reported, not judged for the exit code" in lines

@@ -90,25 +90,27 @@ def test_shape_files(capsys, tmp_path, suffix):
 
 
 def test_finding_the_run_ends_with_a_robot_off_the_shape(capsys, tmp_path):
-    """A finding (docs/wang2020.md; the explorer's 4-robot counterexample, seed 0): four agents in a
-    row below letter-l's goals end the run (every agent takes the shape as complete) with one of
-    them still off the shape.  (An earlier 6-robot example on a 2 x 3 bar came from robots exactly
-    R apart not hearing each other -- a rounding error fixed in the engine: that bar now forms.)"""
+    """A finding (docs/wang2020.md, "False completion"; the explorer's 3-robot counterexample, seed
+    0): three agents in a row below letter-l's goals end the run (every agent takes the shape as
+    complete, Sec. III-B) with one of them still off the shape.  (Until 0.3.0 the example was a row
+    of four, which the default's handshake now forms; an earlier 6-robot example on a 2 x 3 bar
+    came from robots exactly R apart not hearing each other -- a rounding error fixed in the
+    engine: that bar now forms.)"""
     import json as _json
 
     init = tmp_path / "row.json"
     init.write_text(_json.dumps({"format": "swarmproof-initial/1", "angle_unit": "rad", "robots": [
-        {"id": k, "pose": [0.2 * (k - 1), -0.2, 0.0]} for k in range(4)]}))
+        {"id": k, "pose": [x, -0.2, 0.0]} for k, x in ((1, -0.2), (2, 0.0), (0, 0.2))]}))
     code, out, _ = run(capsys, "--shape", "letter-l", "--initial", str(init), "--seed", "0", "--json")
     doc = json.loads(out)
     assert code == 1 and doc["status"] == "finished" and doc["satisfied"] is False
     assert "is on no goal cell" in doc["satisfaction"]["message"]
     # the run ended by Sec. III-B's detection with a goal free: completion_sound names it (claimed)
-    assert doc["completion_sound"]["status"] == "violated" and doc["completion_sound"]["witness"]["step"] == 39
+    assert doc["completion_sound"]["status"] == "violated" and doc["completion_sound"]["witness"]["step"] == 31
     code, out, _ = run(capsys, "--shape", "letter-l", "--initial", str(init), "--seed", "0")
     assert code == 1 and ("  completion detection: violated - completion_sound (Wang & Rubenstein 2020, Sec. III-B) "
-                          "broke in step 39: robots 0, 2, 3 declared shape 0 complete in step 39 (hop-count 5 > "
-                          "|A| = 4) while 1 of its 4 goals held no agent at rest: (0, 1) (robot 0's goal); robot 0 "
+                          "broke in step 31: robots 1, 2, 0 declared shape 0 complete in step 31 (hop-count 4 > "
+                          "|A| = 3) while 1 of its 3 goals held no agent at rest: (0, 1) (robot 2's goal); robot 1 "
                           "at rest on (0, -1), off the shape") in out.splitlines()
 
 
@@ -227,10 +229,10 @@ def test_the_trace_of_8_agents_is_about_a_megabyte_not_five(capsys, tmp_path):
     code, out, _ = run(capsys, "--target", "shape:letter-l", "--robots", "8", "--seed", "0", "--json",
                        "--trace", str(path))
     doc = json.loads(out)
-    assert code == 0 and doc["steps"] == 380
+    assert code == 0 and doc["steps"] == 444
     assert path.stat().st_size < 1_300_000                       # 5,054,476 bytes indented, 1,140,219 now
     t = Trace.load(path)
-    assert t.frames == 381 and len(t.states) == 381 and dict(t.states[-1][0])["done"]
+    assert t.frames == 445 and len(t.states) == 445 and dict(t.states[-1][0])["done"]
 
 
 def test_then_forms_n_then_u_from_the_command_line(capsys, tmp_path):

@@ -1,6 +1,7 @@
-"""The engine's point-to-point exchanges (``Command.requests``, issue 30): a request and its answer
-within the step, the fault model's loss and delay on each direction, recorded exchanges, and the
-refusals (docs/engine.md, "Point-to-point exchanges")."""
+"""The engine's point-to-point exchanges (``Controller.requests``, issue 30): a request and its
+answer within the step, between every robot's ``requests`` and every robot's ``step``; the fault
+model's loss and delay on each direction, recorded exchanges, and the refusals (docs/engine.md,
+"Point-to-point exchanges")."""
 
 from __future__ import annotations
 
@@ -20,10 +21,13 @@ class _PingCtl:
         self.got: list = []
         self.asked: list = []
 
-    def step(self, obs):
+    def requests(self, obs):
         ids = obs.neighbor_ids if obs.neighbor_ids is not None else range(len(obs.neighbor_poses))
-        reqs = tuple((int(n), (self.id, obs.step)) for n in ids) if obs.step < 3 else ()
-        return Command(requests=reqs)
+        return tuple((int(n), (self.id, obs.step)) for n in ids) if obs.step < 3 else ()
+
+    def step(self, obs):
+        # the second phase: every answer of this step is in already (the broadcast says how many)
+        return Command(message=len(self.got))
 
     def answer(self, sender, payload, clock):
         self.asked.append((int(sender), tuple(payload), float(clock)))
@@ -63,7 +67,9 @@ def _state(r, step, rid):
 
 
 def test_a_request_is_answered_and_the_answer_read_within_the_step_it_was_sent():
-    r = _run()
+    r = _run(record_messages=True)
+    # the answer is read before the asker's step: its broadcast of step 0 counts it
+    assert r.trace.messages[0] == {0: 1, 1: 1, 2: 0}
     # after step 0 (frame 1): robots 0 and 1 asked each other in step 0 and both have the answer
     assert _state(r, 1, 0)["got"] == ((1, (0, 0), ("pong", 1, 0), 0.0),)
     assert _state(r, 1, 1)["asked"] == ((0, (0, 0), 0.0),)
@@ -71,13 +77,13 @@ def test_a_request_is_answered_and_the_answer_read_within_the_step_it_was_sent()
     # robot 2 is out of range (3 m): it neither asks nor is asked; three rounds, then nothing
     assert _state(r, 8, 2) == {"got": (), "asked": ()}
     assert [g[1][1] for g in _state(r, 8, 0)["got"]] == [0, 1, 2]
-    assert not any(e.kind in ("drop", "late_delivery", "exchange") for e in r.trace.events)
+    assert not any(e.kind in ("drop", "late_delivery") for e in r.trace.events)
 
 
 def test_recorded_messages_show_every_exchange_and_a_request_to_a_robot_out_of_range_is_lost():
     class Far(_PingCtl):
-        def step(self, obs):
-            return Command(requests=((2, (self.id, obs.step)),) if obs.step == 0 and self.id == 0 else ())
+        def requests(self, obs):
+            return ((2, (self.id, obs.step)),) if obs.step == 0 and self.id == 0 else ()
 
     alg = _Ping()
     alg.controller = lambda rid, p, lat, rng: Far(rid)
@@ -129,10 +135,10 @@ def test_robots_without_ids_cannot_address_an_exchange():
 
 def test_malformed_requests_are_a_protocol_error():
     class Bad(_PingCtl):
-        def step(self, obs):
-            return Command(requests=(7,))
+        def requests(self, obs):
+            return (7,)
 
     alg = _Ping()
     alg.controller = lambda rid, p, lat, rng: Bad(rid)
-    with pytest.raises(ProtocolError, match=r"Command.requests=\(7,\)"):
+    with pytest.raises(ProtocolError, match=r"requests\(\)=\(7,\)"):
         _run(alg)

@@ -146,25 +146,35 @@ def _swap_pair(cls=Wang2020Controller):
 
 def test_line_11_cost_reducing_swap_runs_the_two_way_handshake_as_one_exchange_within_the_tick():
     """The default (Sec. III-A under II-A c, e): the client sends its request once, point to point
-    (``Command.requests``), never in its broadcast; the server answers within the tick; both commit
-    there, so no step sees two agents on one goal."""
+    (``requests``, the first phase of the tick), never in its broadcast; the server answers within
+    the tick; both commit there, before either's Algorithm 2 runs (``step``, the second phase), so
+    no step sees two agents on one goal."""
     client, server = _swap_pair()
-    cmd = _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    o_client = _obs(client, 1.0, client.cell, [(2, _msg((0, 2), T=(0, 0)))])
+    assert client.requests(o_client) == ((2, (1, (0, 2))),)                           # sent once ...
     assert client.hs.role == "client" and client.T == (0, 2)
-    assert cmd.requests == ((2, (1, (0, 2))),) and cmd.message.request is None        # sent once
-    assert _tick(client, 2.0).requests == ()                                          # ... only once
-    m_server = _tick(server, 1.0, [(1, _msg((0, 0), T=(0, 2)))])
-    assert server.hs.role == "server" and m_server.requests == () and server.T == (0, 0)
+    o_server = _obs(server, 1.0, server.cell, [(1, _msg((0, 0), T=(0, 2)))])
+    assert server.requests(o_server) == () and server.hs.role == "server" and server.T == (0, 0)
     reply = server.answer(1, (1, (0, 2)), 1.0)                     # the server commits on the request
     assert reply == ("ack", 1, (0, 0)) and server.T == (0, 2) and server.hs is None and server.swaps == 1
     client.on_reply(2, (1, (0, 2)), reply, 1.0)                    # the client commits on the ACK
     assert client.T == (0, 0) and client.hs is None and client.last_check == 1.0 and client.swaps == 1
     assert J2([client.state(), server.state()]) == 0
+    # then Algorithm 2 with the new goals: the timer was reset, nobody moves this tick
+    cmd_c, cmd_s = client.step(o_client), server.step(o_server)
+    assert cmd_c.message.request is None and cmd_c.message.T == (0, 0) and cmd_c.move is None
+    assert cmd_s.message.T == (0, 2) and cmd_s.move is None
+    o2 = _obs(client, 2.0, client.cell)
+    assert client.requests(o2) == ()                                                   # ... only once
+    # a tick driven by step() alone (no engine exchange) never sends a request
+    lone, _ = _swap_pair()
+    _tick(lone, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    assert lone.hs.role == "client" and lone.requests(_obs(lone, 2.0, lone.cell)) == ()
 
 
 def test_a_server_nacks_anyone_but_its_intended_peer_and_a_nack_releases_the_client_at_once():
     client, server = _swap_pair()
-    _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
+    client.requests(_obs(client, 1.0, client.cell, [(2, _msg((0, 2), T=(0, 0)))]))
     assert server.answer(1, (1, (0, 2)), 1.0) == ("nack", 1)       # the server never intended this swap
     assert server.T == (0, 0)
     client.on_reply(2, (1, (0, 2)), ("nack", 1), 1.0)
@@ -183,7 +193,7 @@ def test_the_broadcast_handshake_variant_is_not_atomic_the_server_commits_a_broa
     client whose timeout ends first never takes the server's goal (a half swap)."""
     client, server = _swap_pair(BroadcastHandshakeController)
     cmd = _tick(client, 1.0, [(2, _msg((0, 2), T=(0, 0)))])
-    assert client.hs.role == "client" and cmd.message.request == (2, 1, (0, 2)) and cmd.requests == ()
+    assert client.hs.role == "client" and cmd.message.request == (2, 1, (0, 2)) and client.requests is None
     m_server = _tick(server, 1.0, [(1, _msg((0, 0), T=(0, 2)))]).message
     assert server.hs.role == "server" and m_server.request is None and server.T == (0, 0)
     m_server = _tick(server, 2.0, [(1, cmd.message)]).message       # the request: server updates first
@@ -336,16 +346,15 @@ def test_the_broadcast_handshake_lets_j2_rise_the_default_keeps_lemma_iv_b2_on_t
     assert r.status == "finished" and "j2_monotone" not in mon.first
 
 
-def test_the_default_finding_a_server_moves_on_while_it_waits_and_the_swap_raises_j1():
-    """Lemma IV-B.2's J1 half fails on the default (a finding about the paper, docs/wang2020.md):
-    the server agreed to an equal-cost swap from its waypoint; Alg. 2 is not blocked by the
-    handshake, so it departed toward its old goal in the tick the request came, and the swap it
-    then committed (Sec. III-A, no second cost test) raised J1 by 2."""
-    r, mon, _ = _monitored(Wang2020(), 2, n=5, target="shape:letter-l")
-    step, msg = mon.first["j1_monotone"]
-    assert msg.startswith("J1 rose from 6 to 8 while J2 = 0") and "handshake ('server'" in msg
-    server = dict(zip(r.trace.ids.tolist(), r.trace.states[step]))[0]
-    assert dict(server)["moving"] and dict(server)["goal"] == (0, 0) != dict(server)["wp"]
+@pytest.mark.parametrize("seed", range(4))
+def test_the_default_keeps_lemma_iv_b2_and_pairwise_swaps_on_nine_agents(seed):
+    """Under II-A c, e a swap is atomic and completes before Algorithm 2 acts (the two-phase tick):
+    J2 never rises, J1 never rises while J2 = 0, no half swap (Lemma IV-B.2, Sec. III-A), on runs
+    that complete handshakes."""
+    r, mon, col = _monitored(Wang2020(), seed)
+    assert r.status == "finished" and not mon.first and col.status == "held"
+    took = {dict(s)["took"] for frame in r.trace.states for s in frame if dict(s)["took"]}
+    assert {t[0] for t in took} == {"client", "server"} and len(took) >= 4
 
 
 def test_two_agents_through_the_engine_each_swap_is_one_exchange_event_and_j2_never_rises():

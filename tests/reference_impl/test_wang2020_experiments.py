@@ -135,9 +135,9 @@ PINNED = {
     (16, 2, True, False): ("finished", 869, "01f2a1acef6502ef8f99ae77cd56cc3f1d4e188f870159a4f9860a3c68a05229"),
 }
 PINNED_DEFAULT = {
-    (12, 0, True, True): ("finished", 417, "647fb6f12a990bb5b487049a74c97de6f98eb6792588bb084f1ed0bb694270f5"),
-    (20, 1, False, False): ("finished", 327, "3f64b59625e16b39d49986ef7608a7ceffb7b43196dbcda2e061f80f5683a68a"),
-    (16, 2, True, False): ("finished", 635, "ada0f2095121006c531635d5065ae490338f85ff8e96b945030265000cec743c"),
+    (12, 0, True, True): ("finished", 505, "7f332908ec13a49dfe998616538dc20fa0110482f1724b6e0bc4b3dcc129413d"),
+    (20, 1, False, False): ("finished", 276, "590a11acb4516bdbcb2b21c4644916ef80c59affd83dbb85e389a074bc964dfd"),
+    (16, 2, True, False): ("finished", 462, "40ee76257b3c5ca9fd4be84ccad818379d5f32507ce0d5f0306662dffa2348d7"),
 }
 
 
