@@ -337,8 +337,9 @@ def draw_fault_model(draw, ids: Sequence[int], kinds: Sequence[str], *, poses: S
       (``FaultModel.message_delay``), in order or not (``message_reorder`` drawn); the
       delays come from the engine's fault generator (exact replay);
     * ``latency``: every delivery (broadcasts and point-to-point exchanges) arrives 0..K steps
-      late, in order, K drawn in 6..40: latencies that outlast timeouts (a link whose latency
-      is not negligible, 004 Sec. II-A e); with ``delays`` too, K is the latency's.
+      late, K drawn in 6..40: latencies that outlast timeouts (a link whose latency is not
+      negligible, 004 Sec. II-A e); in order unless ``delays`` is drawn too (its reordering),
+      and then K is the latency's.
 
     ``poses`` are the starting poses of the robots ``ids`` (same order), ``phi``
     the range; both are needed for ``additions`` only.
@@ -1502,6 +1503,9 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
     if options and options.get("invariants") is not None:
         from swarmproof.invariants.algorithm_invariants import invariants_of
 
+        if "invariants" not in props:
+            raise UsageError(f"invariant={list(options['invariants'])!r} applies to the invariants property only "
+                             f"(properties asked: {list(props)!r})", fix="add --property invariants, or drop --invariant")
         invariants_of(algo, options["invariants"])      # a name it does not declare: exit 2 up front
     draw_faults = _check_draw_faults(draw_faults, fault_model)
     broken = _with_fault_assumptions(broken, algo, fault_model, draw_faults)

@@ -83,12 +83,18 @@ def invariants_of(algorithm, only=None) -> tuple:
         return invs
     names = (only,) if isinstance(only, str) else tuple(only)
     known = [i.name for i in invs]
+    who = getattr(algorithm, "name", "the algorithm")
     for name in names:
         if name not in known:
             from swarmproof.models.errors import UsageError, did_you_mean
 
-            raise UsageError(f"invariant={name!r} is not an invariant of {getattr(algorithm, 'name', 'the algorithm')}"
-                             f"{did_you_mean(name, known)}", fix=f"use some of {known!r}")
+            if not known:
+                raise UsageError(f"invariant={name!r}: {who} declares no runtime invariants",
+                                 fix="drop --invariant (the invariants property is not applicable to it)")
+            hint = did_you_mean(name, known)
+            if name == "j_monotone" and not hint:
+                hint = "; it became j2_monotone and j1_monotone in swarmproof 0.3.0 (one per statement of Lemma IV-B.2)"
+            raise UsageError(f"invariant={name!r} is not an invariant of {who}{hint}", fix=f"use some of {known!r}")
     return tuple(i for i in invs if i.name in names)
 
 

@@ -286,9 +286,16 @@ class Exchanges:
         return None
 
     def forget(self, slot: int) -> None:
-        """A crashed robot: what it would still receive is lost."""
-        self.queue = [e for e in self.queue if not ((e[2] == "request" and e[4] == slot)
-                                                    or (e[2] == "reply" and e[3] == slot))]
+        """A crashed robot: what it would still receive is lost (a ``drop``)."""
+        ids = {s: r for r, s in self.slot_of.items()}
+        keep = []
+        for e in self.queue:
+            to, frm = (e[4], e[3]) if e[2] == "request" else (e[3], e[4])
+            if to == slot:
+                self.dropped.append((ids[frm], ids[to]))
+            else:
+                keep.append(e)
+        self.queue = keep
         heapq.heapify(self.queue)
 
     def end(self, t: int, events: list) -> None:

@@ -29,7 +29,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from swarmproof.models.errors import UsageError
+from swarmproof.models.errors import ProtocolError, UsageError
 from swarmproof.models.se2 import wrap_angle
 from swarmproof.models.trace import Event
 
@@ -38,7 +38,8 @@ from .motion import _command_values
 from .sensing import _new_observation
 from .sensing import sense as _sense
 
-__all__ = ["RunState", "StepView", "apply_faults", "activate", "sense", "decide", "exchange", "move", "record", "stop_test"]
+__all__ = ["RunState", "StepView", "apply_faults", "activate", "sense", "decide", "exchange", "move", "record",
+           "stop_test"]
 
 
 @dataclass(slots=True, eq=False)
@@ -465,15 +466,22 @@ def exchange(run: RunState, step: StepView) -> None:
         if e is None:
             break
         _, _, kind, a, b, payload, reply = e
-        to = b if kind == "request" else a
+        to, frm = (b, a) if kind == "request" else (a, b)
         if not present[to] or controllers[to] is None:
+            ex.dropped.append((ids_list[frm], ids_list[to]))      # gone: lost
             continue
         clock = float(clocks.phase[to] + clocks.rate[to] * t) if clocks is not None else float(t)
+        fn = getattr(controllers[to], "answer" if kind == "request" else "on_reply", None)
+        if not callable(fn):
+            need = "answer(sender_id, payload, clock)" if kind == "request" else "on_reply(peer_id, payload, reply, clock)"
+            raise ProtocolError(f"robot {ids_list[to]!r} received a {kind} in step {t} but its controller has no "
+                                f"{need}: a controller that takes part in exchanges (requests) defines answer and "
+                                "on_reply")
         run.calling = to
         if kind == "request":
-            reply = controllers[b].answer(ids_list[a], payload, clock)
+            reply = fn(ids_list[a], payload, clock)
         else:
-            controllers[a].on_reply(ids_list[b], payload, reply, clock)
+            fn(ids_list[b], payload, reply, clock)
         run.calling = None
         touched.append(to)
         if run.record_exchanges:

@@ -600,13 +600,19 @@ PARAMETERS = (
     ParamSpec("p_random", float, 0.1, low=0, high=1, meaning="the probability of choosing a goal at random"),
     ParamSpec("delta_t", float, None, **_POS, meaning="Delta t, local time units; default 2/f_comm (Alg. 2 line 6)"),
     ParamSpec("handshake_timeout", float, None, **_POS, meaning="a handshake's timeout; default 3 Delta t"),
-    ParamSpec("ack_hold", float, None, low=0, meaning="how long a server holds its acknowledgement; default Delta t"),
     ParamSpec("loss_repeats", int, 1, low=1, meaning="m, times a message is sent so every neighbour hears it "
               "(Sec. V-B3)"),
     ParamSpec("arena", object, "32x32", meaning="the arena starts are drawn in: SIDE or WxH waypoints (Sec. V-A)"),
     ParamSpec("then", object, (), meaning="shapes to form next, in order, each once the one before is detected "
               "complete: names or files, comma-separated, each scaled to the team (Fig. 9: N then U; "
               "simulate --then)"),
+)
+
+#: ``wang2020-broadcast-handshake`` reads one more: the default's ACK is an answer within the tick
+#: and is held nowhere, so ``ack_hold`` on ``wang2020`` exits 2 (an undeclared key), not silently.
+BROADCAST_HANDSHAKE_PARAMETERS = PARAMETERS + (
+    ParamSpec("ack_hold", float, None, low=0, meaning="how long a server keeps its ACK in its broadcasts; "
+              "default Delta t"),
 )
 
 
@@ -1390,8 +1396,9 @@ class Wang2020:
 
 class Wang2020BroadcastHandshake(Wang2020):
     """``wang2020`` with the 2-way handshake carried by the broadcasts: reading "1" of
-    ``wang2020``, its default up to swarmproof 0.2.0, kept as a registered variant (issue 30;
-    :class:`BroadcastHandshakeController`).
+    ``wang2020``, its default up to swarmproof 0.2.0, kept as a registered variant (issue 30).
+    Its controller is :class:`BroadcastHandshakeController`; it runs on the per-robot reference
+    only (the vectorised path copies the default).
 
     It breaks 004 Sec. II-A e) ("the communication latency is negligible"): each direction of
     the handshake waits for the sender's next broadcast, so a server can take a request whose
@@ -1405,5 +1412,6 @@ class Wang2020BroadcastHandshake(Wang2020):
     departs_from = ("004 Sec. II-A e) \"The communication latency is negligible\": the handshake's request "
                     "and ACK ride in the broadcasts, one broadcast interval each way",)
     controller_class = BroadcastHandshakeController
+    parameters = BROADCAST_HANDSHAKE_PARAMETERS
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=31,
                         explore_max_examples=100, explore_cost=44)

@@ -40,10 +40,13 @@ def _first_line(text: str | None) -> str:
     "004's algorithm (registry name wang2020)."
     >>> _first_line("Fixed IDs (labels 0..n-1; label 0 leads).")
     'Fixed IDs (labels 0..n-1; label 0 leads).'
+    >>> _first_line("Its controller is :class:`BroadcastHandshakeController`.")
+    'Its controller is BroadcastHandshakeController.'
     """
     import re
 
     para = " ".join((text or "").strip().split("\n\n", 1)[0].split()).replace("``", "")
+    para = re.sub(r":(?:class|func|meth|mod|attr):`~?([^`]+)`", r"\1", para)
     para = re.sub(r"[;.]?\s*[Ss]ee the module docstring\.?", ".", para)
     return re.sub(r"\.\.(?=\s|$)", ".", para)      # a sentence's stop doubled, not a range "0..n-1"
 

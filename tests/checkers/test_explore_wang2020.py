@@ -203,3 +203,12 @@ def test_an_invariant_the_algorithm_does_not_declare_is_a_usage_error():
 
     with pytest.raises(UsageError, match=r"invariant='j_monotone' is not an invariant of wang2020.*j2_monotone"):
         explore("wang2020", ["invariants"], budget=None, max_examples=1, options={"invariants": ("j_monotone",)})
+
+
+def test_invariant_names_without_the_invariants_property_or_on_an_algorithm_without_any_are_usage_errors():
+    from swarmproof.models.errors import UsageError
+
+    with pytest.raises(UsageError, match=r"applies to the invariants property only"):
+        explore("wang2020", ["termination"], budget=None, max_examples=1, options={"invariants": ("pairwise_swap",)})
+    with pytest.raises(UsageError, match=r"song2014 declares no runtime invariants"):
+        explore("song2014", ["invariants"], budget=None, max_examples=1, options={"invariants": ("x",)})

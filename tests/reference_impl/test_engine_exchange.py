@@ -142,3 +142,23 @@ def test_malformed_requests_are_a_protocol_error():
     alg.controller = lambda rid, p, lat, rng: Bad(rid)
     with pytest.raises(ProtocolError, match=r"requests\(\)=\(7,\)"):
         _run(alg)
+
+
+def test_a_controller_that_asks_but_cannot_answer_is_a_protocol_error():
+    class Mute(_PingCtl):
+        answer = None
+
+    alg = _Ping()
+    alg.controller = lambda rid, p, lat, rng: Mute(rid)
+    with pytest.raises(ProtocolError, match=r"robot 1 received a request in step 0 but its controller has no answer"):
+        _run(alg)
+
+
+def test_what_was_due_to_a_crashed_robot_is_a_drop_event():
+    for seed in range(6):
+        r = _run(faults=FaultModel(message_delay=3, crashes={1: [1]}), seed=seed)
+        drops = [d for e in r.trace.events if e.kind == "drop" for d in dict(e.detail).get("exchanges", ())]
+        if drops:
+            assert all(1 in d for d in drops)           # to or from the crashed robot 1
+            return
+    raise AssertionError("no seed delayed an exchange past robot 1's crash")
