@@ -91,9 +91,8 @@ def invariants_of(algorithm, only=None) -> tuple:
             if not known:
                 raise UsageError(f"invariant={name!r}: {who} declares no runtime invariants",
                                  fix="drop --invariant (the invariants property is not applicable to it)")
-            hint = did_you_mean(name, known)
-            if name == "j_monotone" and not hint:
-                hint = "; it became j2_monotone and j1_monotone in swarmproof 0.3.0 (one per statement of Lemma IV-B.2)"
+            renamed = dict(getattr(algorithm, "invariant_renames", None) or {})
+            hint = f"; it became {renamed[name]}" if name in renamed else did_you_mean(name, known)
             raise UsageError(f"invariant={name!r} is not an invariant of {who}{hint}", fix=f"use some of {known!r}")
     return tuple(i for i in invs if i.name in names)
 

@@ -424,6 +424,8 @@ class Algorithm(Protocol):
     #     Assumptions of its paper this reading does not keep (a registered variant that adds what
     #     the paper assumes away, e.g. wang2020-broadcast-handshake's latency: 004 Sec. II-A e);
     #     ``swarmproof list`` names them.  Empty or absent: it keeps the paper's model.
+    # invariant_renames : mapping of str to str
+    #     Old names of its runtime invariants -> what they became (``explore --invariant OLD`` says so).
     # knows_start : bool
     #     The paper gives every robot the robot set and all initial positions as input
     #     (002 Sec. III-A, Alg. 1 "Input"); needs ``sensing="global"``.  The engine then

@@ -1082,6 +1082,9 @@ class Wang2020:
     reading = "2"
     #: Assumptions of the paper this reading does not keep (none: it is the paper's model).
     departs_from = ()
+    #: Invariant names of older swarmproofs (``explore --invariant`` says what they became).
+    invariant_renames = {"j_monotone": "j2_monotone and j1_monotone in swarmproof 0.3.0 (one per statement of "
+                                       "Lemma IV-B.2)"}
     model = RobotModel(sensing="global", communication="neighbors", motion="grid", clocks="async",
                        neighbor_rule="inclusive")
     assumptions = ASSUMPTIONS
