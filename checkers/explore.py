@@ -1464,8 +1464,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
         it applies to any algorithm with a ``progress_measure``), ``progress_eps``.
     draw_faults : sequence of str
         Fault kinds Hypothesis draws per scenario (:data:`FAULT_KINDS`: ``schedule``, ``crashes``,
-        ``drops``, ``additions``, ``noise``, ``delays``, ``latency``; see :func:`draw_fault_model`); they break
-        robot-model assumptions, which the report names.  Not together with ``fault_model``.
+        ``drops``, ``additions``, ``noise``, ``delays``, ``latency``; see :func:`draw_fault_model`);
+        they break robot-model assumptions, which the report names.  Not together with ``fault_model``.
     database_dir : path, optional
         Keep Hypothesis's example database in this folder, so a rerun tries known failures first
         (found at once).  Default None: no database, which the determinism guarantee assumes (a
@@ -1505,7 +1505,8 @@ def explore(algorithm, properties: Sequence[str] | None = None, *, budget: float
 
         if "invariants" not in props:
             raise UsageError(f"invariant={list(options['invariants'])!r} applies to the invariants property only "
-                             f"(properties asked: {list(props)!r})", fix="add --property invariants, or drop --invariant")
+                             f"(properties asked: {list(props)!r})",
+                             fix="add --property invariants, or drop --invariant")
         invariants_of(algo, options["invariants"])      # a name it does not declare: exit 2 up front
     draw_faults = _check_draw_faults(draw_faults, fault_model)
     broken = _with_fault_assumptions(broken, algo, fault_model, draw_faults)

@@ -36,6 +36,10 @@ class SyncClocks:
     def ticks(self, t: int, idx):
         return None
 
+    def clock_of(self, k: int, t: int) -> float:
+        """Robot slot ``k``'s clock in step ``t``: the step."""
+        return float(t)
+
     def describe(self) -> dict:
         return {}
 
@@ -57,6 +61,10 @@ class AsyncClocks:
         decide = np.floor(tau1) > np.floor(tau0)
         bcast = np.floor((tau1 + 0.5) / self.every) > np.floor((tau0 + 0.5) / self.every)
         return decide, bcast, tau0
+
+    def clock_of(self, k: int, t: int) -> float:
+        """Robot slot ``k``'s local clock in step ``t`` (the ``tau0`` of :meth:`ticks`)."""
+        return float(self.phase[k] + self.rate[k] * t)
 
     def describe(self) -> dict:
         """The recorded clocks (``trace.meta["clocks"]``)."""

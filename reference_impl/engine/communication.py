@@ -46,6 +46,14 @@ class _AllBut(_MappingABC):
         return repr(dict(self.items()))
 
 
+def _lost(faults, rng, t: int, from_id, to_id) -> bool:
+    """Whether the fault model loses a delivery from ``from_id`` to ``to_id`` sent in step ``t``:
+    its ``drop_message`` hook, then ``message_loss`` (a draw from the fault generator)."""
+    if faults.drop_message is not None and faults.drop_message(t, from_id, to_id, rng):
+        return True
+    return faults.message_loss > 0 and rng.random() < faults.message_loss
+
+
 def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple:
     """The deliveries due at step ``t`` for receiver slot ``k`` (removed from ``pending``):
     ``((sender slot, message), ...)`` in delivery order.
@@ -165,10 +173,7 @@ class Delivery:
             msg = last_msgs[s]
             if msg is None:
                 continue
-            if faults.drop_message is not None and faults.drop_message(t, sid, my_id, rng):
-                self.dropped.append((sid, my_id))
-                continue
-            if faults.message_loss > 0 and rng.random() < faults.message_loss:
+            if _lost(faults, rng, t, sid, my_id):
                 self.dropped.append((sid, my_id))
                 continue
             if late:
@@ -224,8 +229,8 @@ class Exchanges:
         self.comm = model.communication
         self.anonymous = model.sensing == "anonymous"
         self.faults, self.rng = faults, rng
-        self.drops = faults.drops_messages
         self.max_delay = int(faults.message_delay)
+        self.ids_list = ids_list
         self.slot_of = {int(r): s for s, r in enumerate(ids_list)}
         self.queue: list = []       # heap of (due step, seq, kind, from slot, to slot, payload, reply)
         self.seq = 0
@@ -234,11 +239,7 @@ class Exchanges:
 
     def _fate(self, t: int, from_id: int, to_id: int):
         """None (lost) or the step a delivery from ``from_id`` to ``to_id`` sent at ``t`` arrives."""
-        f = self.faults
-        if f.drop_message is not None and f.drop_message(t, from_id, to_id, self.rng):
-            self.dropped.append((from_id, to_id))
-            return None
-        if f.message_loss > 0 and self.rng.random() < f.message_loss:
+        if _lost(self.faults, self.rng, t, from_id, to_id):
             self.dropped.append((from_id, to_id))
             return None
         d = int(self.rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
@@ -287,7 +288,7 @@ class Exchanges:
 
     def forget(self, slot: int) -> None:
         """A crashed robot: what it would still receive is lost (a ``drop``)."""
-        ids = {s: r for r, s in self.slot_of.items()}
+        ids = self.ids_list
         keep = []
         for e in self.queue:
             to, frm = (e[4], e[3]) if e[2] == "request" else (e[3], e[4])

@@ -441,8 +441,9 @@ def _decide_repeating(run: RunState, step: StepView) -> None:
 def exchange(run: RunState, step: StepView) -> None:
     """4b. The point-to-point exchanges due now (``Controller.requests``; :class:`.communication.Exchanges`).
 
-    Between the two phases of a two-phase step (:func:`_decide_general`): each request due is answered by its addressee's ``answer``, and
-    each answer due is read by the asker's ``on_reply``, oldest first (due step, then sending
+    Between the two phases of a two-phase step (:func:`_decide_general`, which lets every
+    controller's state change: ``step.stepped`` stays None): each request due is answered by its
+    addressee's ``answer``, and each answer due is read by the asker's ``on_reply``, oldest first (due step, then sending
     order); an answer due in this step (no delay) is read in this step.  Each robot is passed its
     local clock in the step.  A robot gone by then loses what was due to it.  With messages
     recorded, every delivery is an ``exchange`` event.
@@ -459,8 +460,6 @@ def exchange(run: RunState, step: StepView) -> None:
         ex.end(step.t, run.events)
         return
     t, controllers, present, ids_list = step.t, run.controllers, run.present, run.ids_list
-    clocks = run.clocks if run.async_clocks else None
-    touched = []
     while True:
         e = ex.due(t)
         if e is None:
@@ -470,7 +469,7 @@ def exchange(run: RunState, step: StepView) -> None:
         if not present[to] or controllers[to] is None:
             ex.dropped.append((ids_list[frm], ids_list[to]))      # gone: lost
             continue
-        clock = float(clocks.phase[to] + clocks.rate[to] * t) if clocks is not None else float(t)
+        clock = run.clocks.clock_of(to, t)
         fn = getattr(controllers[to], "answer" if kind == "request" else "on_reply", None)
         if not callable(fn):
             need = "answer(sender_id, payload, clock)" if kind == "request" else "on_reply(peer_id, payload, reply, clock)"
@@ -483,7 +482,6 @@ def exchange(run: RunState, step: StepView) -> None:
         else:
             fn(ids_list[b], payload, reply, clock)
         run.calling = None
-        touched.append(to)
         if run.record_exchanges:
             run.events.append(Event(t, "exchange", (ids_list[a], ids_list[b]) if kind == "request" else
                                     (ids_list[b], ids_list[a]),
@@ -491,8 +489,6 @@ def exchange(run: RunState, step: StepView) -> None:
         if kind == "request" and reply is not None:
             ex.answered(t, a, b, ids_list[a], ids_list[b], payload, reply)
     ex.end(t, run.events)
-    if step.stepped is not None:
-        step.stepped.extend(k for k in touched if k not in step.stepped)
 
 
 def move(run: RunState, step: StepView) -> None:

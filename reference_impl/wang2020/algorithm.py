@@ -65,8 +65,8 @@ from swarmproof.invariants.algorithm_invariants import Invariant
 from swarmproof.reference_impl.protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel,
                                                VerifyPlan)
 
-__all__ = ["Wang2020", "Wang2020Controller", "Wang2020BroadcastHandshake", "BroadcastHandshakeController", "WangMsg", "manhattan", "lex_greater", "default_params",
-           "J1", "J2", "INVARIANT_NAMES", "window_bound", "speed_range", "speed_buffer_bound"]
+__all__ = ["Wang2020", "Wang2020Controller", "Wang2020BroadcastHandshake", "BroadcastHandshakeController", "WangMsg",
+           "manhattan", "lex_greater", "default_params", "J1", "J2", "INVARIANT_NAMES", "window_bound", "speed_range", "speed_buffer_bound"]
 
 #: Alg. 2 lines 9 and 11: the surroundings in the printed order (x - l, y), (x, y - l), (x + l, y), (x, y + l).
 SURROUNDINGS = ((-1, 0), (0, -1), (1, 0), (0, 1))
@@ -155,7 +155,6 @@ class Wang2020Controller:
         self.beta = float(ex.get("beta", 0.5))
         self.p_random = float(ex.get("p_random", 0.1))
         self.timeout = float(ex.get("handshake_timeout", 3.0 * self.delta_t))
-        self.ack_hold = float(ex.get("ack_hold", self.delta_t))
         self._last = len(self.shapes) - 1
         self.completed = 0
         self.shape = 0                   # index of the shape being formed (the last once all are complete)
@@ -167,8 +166,7 @@ class Wang2020Controller:
         self.seq = 0
         self._send: int | None = None    # the request number to send in this tick's exchange
         self._prepared = None            # the Observation requests() ran the first part of the tick for
-        self.ack: tuple | None = None    # (client, seq, old goal, until)
-        self.answered: set = set()       # (client, seq) requests this server has answered
+        self.ack: tuple | None = None    # (client, seq, old goal, until): the variant's ACK in its broadcasts
         self.moving = False
         self.p = (0.0, 0.0)
         self.cell = self.wp = self.next_step = None     # set by the first tick (Alg. 2 lines 1, 5)
@@ -516,12 +514,14 @@ class BroadcastHandshakeController(Wang2020Controller):
     gone).
     """
 
-    #: one-phase ticks: the engine never asks this controller for exchanges
+    #: one-phase ticks: the engine never asks this controller for exchanges (``step`` alone drops
+    #: the request number a client's handshake set: its request rides in :meth:`message`)
     requests = None
 
-    def _requests(self) -> tuple:
-        self._send = None
-        return ()
+    def __init__(self, robot_id: int, params: Params, shapes, rng: np.random.Generator) -> None:
+        super().__init__(robot_id, params, shapes, rng)
+        self.ack_hold = float(params.extra.get("ack_hold", self.delta_t))
+        self.answered: set = set()       # (client, seq) requests this server has answered
 
     def _goal_manager(self, now: float, sender: int, m: WangMsg) -> None:
         """The request or ACK addressed to this agent first, then 004 Alg. 4."""
@@ -987,7 +987,6 @@ class _Checks:
         """Lemma IV-B.2, second statement: J1 never rises while J2 = 0 (before and after the step)."""
         return self._monotone(t, ids, poses, states)[1]
 
-
     def pairwise(self, t, ids, poses, states):
         """Sec. III-A: "Only the pair of who successfully handshake with each other can swap the
         goal": a server that took its client's goal (state ``took``) is matched by the client taking
@@ -1016,7 +1015,8 @@ class _Checks:
         return None
 
 
-INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone", "j1_monotone", "pairwise_swap")
+INVARIANT_NAMES = ("constraint_vertex", "constraint_edge", "j_bounded", "j2_monotone", "j1_monotone",
+                   "pairwise_swap")
 
 
 def make_invariants() -> tuple:

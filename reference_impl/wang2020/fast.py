@@ -250,7 +250,7 @@ class _Run:
         self.role, self.peer, self.hseq, self.hgx, self.hgy = i64(), i64(), i64(), i64(), i64()
         self.deadline = np.zeros(n)
         self.seq = i64()
-        self.send = np.zeros(n, dtype=bool)     # a client's request to send at the end of the tick
+        self.send = np.zeros(n, dtype=bool)     # a client's request to send in this tick's exchange
         self.slot_of = {r: k for k, r in enumerate(self.ids_l)}
         self.swaps = i64()
         self.took_role, self.took_peer, self.took_seq = i64(), i64(), i64()   # state "took" (0: None)
