@@ -54,7 +54,7 @@ import z3
 from swarmproof.invariants.lemmas import Encoding, Lemma, add, dist2, scale, sub
 
 __all__ = ["TOL", "Real", "Point", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq", "And", "Or",
-           "Not", "Implies", "If", "sub", "add", "scale", "dist2", "cross_check"]
+           "Not", "Implies", "If", "sub", "add", "scale", "dist2", "constant", "cross_check"]
 
 #: The default tolerance of a float judgment, in the lemma's normalised units (``phi = 1``): the
 #: engine's monitors compare positions with ``1e-9 * phi`` (swarmproof.invariants.premises).
@@ -163,6 +163,13 @@ def If(cond, a, b):
     return a if _truth(cond, True, 0.0) else b
 
 
+def constant(x, like):
+    """The number ``x`` as the kind of ``like``: ``z3.RealVal(x)`` when ``like`` is a z3 term, else
+    a float.  Only needed to keep a term exactly as a hand-written encoding built it (z3 orients
+    ``term <= RealVal(1)`` as ``1 >= term``, which can change its search, not its answer)."""
+    return z3.RealVal(x) if _is_z3(like) else float(x)
+
+
 def _as_z3(x):
     if isinstance(x, bool):
         return z3.BoolVal(x)
@@ -235,14 +242,26 @@ class Point:
 @dataclass(frozen=True)
 class Judgment:
     """A float judgment of one instance: each premise's truth (strict) and the conclusion's
-    (lenient)."""
+    (lenient).  A lemma with cases also has each case's extra premises (``cases``: case name ->
+    {premise: truth}); its premises hold when the common ones do and every extra premise of
+    some case does.  A lemma with parts has each conjunct's truth (``parts``); the conclusion is
+    their conjunction."""
 
     premises: dict
     conclusion: bool
+    cases: dict = field(default_factory=dict)
+    parts: dict = field(default_factory=dict)
 
     @property
     def premises_hold(self) -> bool:
-        return all(self.premises.values())
+        if not all(self.premises.values()):
+            return False
+        return not self.cases or any(all(c.values()) for c in self.cases.values())
+
+    @property
+    def case(self) -> str | None:
+        """The first case whose extra premises hold (None: no case, or the lemma has none)."""
+        return next((name for name, c in self.cases.items() if all(c.values())), None)
 
     @property
     def transfer_failure(self) -> bool:
@@ -254,13 +273,20 @@ class Judgment:
 class LemmaSpec:
     """A lemma declared once (module docstring).  ``premises`` and ``control_premises`` are
     ``(name, function)`` pairs; each function takes the variables as attributes of one argument
-    (``v.s``, ``v.p_i_0``) and returns a formula of this module's helpers."""
+    (``v.s``, ``v.p_i_0``) and returns a formula of this module's helpers.
+
+    ``cases`` (optional) splits the lemma into cases, ``(case name, ((premise name, function),
+    ...))``: the lemma holds iff it holds in every case (the common premises plus the case's),
+    as the prover proves it (:class:`~swarmproof.invariants.lemmas.Encoding`).  ``parts``
+    (optional) names the conjuncts of the conclusion, ``(part name, function)``, each proved on
+    its own; the conclusion is then their conjunction (give ``conclusion=None``).
+    ``control_cases`` are the negative control's cases (default: the lemma's)."""
 
     id: str
     statement: str
     variables: tuple
     premises: tuple
-    conclusion: Callable
+    conclusion: Callable | None
     cites: tuple
     control_note: str
     #: the negative control's premises (the lemma's, one weakened); the conclusion is the lemma's
@@ -272,15 +298,29 @@ class LemmaSpec:
     rlimit: int | None = None
     tol: float = TOL
     extra: dict = field(default_factory=dict)
+    cases: tuple = ()
+    parts: tuple = ()
+    control_cases: tuple | None = None
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
 
+        if (self.conclusion is None) == (not self.parts):
+            raise UsageError(f"lemma {self.id!r}: give either a conclusion or parts (its named conjuncts)",
+                             fix="conclusion=lambda v: ..., or parts=((\"name\", lambda v: ...), ...) and "
+                                 "conclusion=None")
+        for case in tuple(self.cases) + tuple(self.control_cases or ()):
+            if not (isinstance(case, tuple) and len(case) == 2 and isinstance(case[0], str)):
+                raise UsageError(f"lemma {self.id!r}: cases entry={case!r} is not (name, premises)",
+                                 fix="write each case as (\"name\", ((\"premise\", lambda v: ...), ...))")
         if not self.control_premises:
             raise UsageError(f"lemma {self.id!r} declares no control_premises (its negative control)",
                              fix="give control_premises: the premises with one weakened, which z3 must "
                                  "refute with a counterexample (docs/proofs.md)")
-        for label, pairs in (("premises", self.premises), ("control_premises", self.control_premises)):
+        groups = [("premises", self.premises), ("control_premises", self.control_premises),
+                  ("parts", self.parts)]
+        groups += [(f"cases[{name}]", prem) for name, prem in tuple(self.cases) + tuple(self.control_cases or ())]
+        for label, pairs in groups:
             for pair in pairs:
                 if not (isinstance(pair, tuple) and len(pair) == 2 and isinstance(pair[0], str)
                         and callable(pair[1])):
@@ -290,24 +330,27 @@ class LemmaSpec:
     def _namespace(self, make) -> SimpleNamespace:
         return SimpleNamespace(**{var.name: make(var) for var in self.variables})
 
-    def _encoding(self, premises) -> Encoding:
+    def _encoding(self, premises, cases) -> Encoding:
         token = _Z3.set(True)
         try:
             v = self._namespace(lambda var: var.z3())
             prem = [(name, _as_z3(fn(v))) for name, fn in premises]
-            concl = _as_z3(self.conclusion(v))
+            case_terms = [(case, [(name, _as_z3(fn(v))) for name, fn in extra]) for case, extra in cases]
+            parts = [(name, _as_z3(fn(v))) for name, fn in self.parts]
+            concl = z3.And([t for _, t in parts]) if parts else _as_z3(self.conclusion(v))
         finally:
             _Z3.reset(token)
         flat = [t for var in self.variables for t in (var.z3() if isinstance(var, Point) else (var.z3(),))]
-        return Encoding(premises=prem, conclusion=concl, variables=flat)
+        return Encoding(premises=prem, conclusion=concl, variables=flat, cases=case_terms, parts=parts)
 
     def build(self) -> Encoding:
         """The z3 encoding of the lemma."""
-        return self._encoding(self.premises)
+        return self._encoding(self.premises, self.cases)
 
     def control(self) -> Encoding:
         """The z3 encoding of the negative control."""
-        return self._encoding(self.control_premises)
+        return self._encoding(self.control_premises,
+                              self.cases if self.control_cases is None else self.control_cases)
 
     def lemma(self) -> Lemma:
         """The :class:`~swarmproof.invariants.lemmas.Lemma` the prover proves."""
@@ -329,7 +372,11 @@ class LemmaSpec:
         tol = self.tol if tol is None else tol
         v = self._namespace(lambda var: var.value(values))
         prem = {name: _truth(fn(v), True, tol) for name, fn in self.premises}
-        return Judgment(prem, _truth(self.conclusion(v), False, tol))
+        cases = {case: {name: _truth(fn(v), True, tol) for name, fn in extra} for case, extra in self.cases}
+        if self.parts:
+            parts = {name: _truth(fn(v), False, tol) for name, fn in self.parts}
+            return Judgment(prem, all(parts.values()), cases, parts)
+        return Judgment(prem, _truth(self.conclusion(v), False, tol), cases)
 
 
 # ------------------------------------------------------------------ the concrete cross-check
@@ -398,23 +445,25 @@ def _found(spec: LemmaSpec, values: dict, held: int) -> dict:
 
 
 def _z3_models(spec: LemmaSpec, count: int = 8) -> list:
-    """Up to ``count`` z3 models of the premises (each excluded from the next), as floats."""
+    """Up to ``count`` z3 models of the premises (each excluded from the next), as floats; for a
+    lemma with cases, up to ``count`` for each case."""
     enc = spec.build()
-    s = z3.Solver()
-    s.set("rlimit", 20_000_000)
-    for _, term in enc.premises:
-        s.add(term)
     out = []
-    for _ in range(count):
-        if s.check() != z3.sat:
-            break
-        m = s.model()
-        vals = {}
-        for var in enc.variables:
-            val = m.eval(var, model_completion=True)
-            vals[str(var)] = _float(val)
-        out.append(vals)
-        s.add(z3.Or([var != m.eval(var, model_completion=True) for var in enc.variables]))
+    for _, extra in (enc.cases or [("", [])]):
+        s = z3.Solver()
+        s.set("rlimit", 20_000_000)
+        for _, term in list(enc.premises) + list(extra):
+            s.add(term)
+        for _ in range(count):
+            if s.check() != z3.sat:
+                break
+            m = s.model()
+            vals = {}
+            for var in enc.variables:
+                val = m.eval(var, model_completion=True)
+                vals[str(var)] = _float(val)
+            out.append(vals)
+            s.add(z3.Or([var != m.eval(var, model_completion=True) for var in enc.variables]))
     return out
 
 

@@ -31,7 +31,7 @@ from typing import Callable
 
 import z3
 
-from swarmproof.invariants.lemma_api import And, Ge, Le, LemmaSpec, Point, Real
+from swarmproof.invariants.lemma_api import And, Eq, Ge, Gt, Le, LemmaSpec, Lt, Point, Real, constant
 from swarmproof.invariants.lemmas import (ORIGIN as _ORIGIN, Encoding, Lemma, add as _add, dist2, eq as _eq,
                                           point as _pt, scale as _scale, sub as _sub, variables as _vars)
 
@@ -46,58 +46,98 @@ def _step_range(s) -> tuple:
     return ("step_below_range", z3.And(s > 0, s < 1))
 
 
+_S_NORM = "scale: phi = 1, s = v*dt/phi in (0, 1) (scale_invariance)"
+
+
+def _t(what: str) -> str:
+    return f"translation: {what} at the origin (translation_invariance)"
+
+
 # ---------------------------------------------------- the safety lemmas
 
-def bounded_range(range_radius_factor: str = "phi_minus_vdt", strict: bool = False,
-                  open_range: bool = False) -> Encoding:
+def _step(v):
+    """``0 < s < 1``: ``s = v*dt/phi``; the papers assume ``v*dt < phi`` (a premise function)."""
+    return And(Gt(v.s, 0), Lt(v.s, 1))
+
+
+_STEP = ("step_below_range", _step)
+
+
+def _bounded_radius2(v, radius: str):
+    """The squared radius of Def. 8's bounded range, ``(phi - v dt)^2``, or ``phi^2`` (a control)."""
+    return (1 - v.s) * (1 - v.s) if radius == "phi_minus_vdt" else constant(1, v.s)
+
+
+def _bounded_range_premises(radius: str = "phi_minus_vdt", strict: bool = False, open_range: bool = False) -> tuple:
+    near = Lt if strict else Le
+    within = Lt if open_range else Le
+    return (
+        _STEP,
+        ("neighbours_at_t", lambda v: near(dist2(v.p_i_0), 1)),
+        ("child_moves_at_most_v_dt", lambda v: Le(dist2(v.p_i_1, v.p_i_0), v.s * v.s)),
+        ("parent_moves_at_most_v_dt", lambda v: Le(dist2(v.p_p_1), v.s * v.s)),
+        ("child_in_parent_bounded_range", lambda v: within(dist2(v.p_i_1), _bounded_radius2(v, radius))),
+    )
+
+
+def _bounded_range_spec(lemma_id: str, statement: str, cites: tuple, strict: bool, open_range: bool,
+                        control: tuple, control_note: str, kind: str = "auxiliary") -> LemmaSpec:
     """000 Lemma 7 / 001 Lemma 7, normalised: ``p_p(t) = 0``, ``phi = 1``, ``s = v dt/phi``.
 
     Premises: ``||p_i(t)|| <= 1`` (neighbours; ``< 1`` if ``strict``),
     ``||p_i(t+dt) - p_i(t)|| <= s``, ``||p_p(t+dt)|| <= s``,
     ``||p_i(t+dt)|| <= 1 - s`` (``< 1 - s`` if ``open_range``).
     Conclusion: ``||p_i(t+dt) - p_p(t+dt)|| <= 1`` (``< 1`` if ``strict``).
-    The control uses the radius ``phi`` (1) instead of ``phi - v dt``."""
-    s = z3.Real("s")
-    pi0, pi1, pp1 = _pt("p_i_0"), _pt("p_i_1"), _pt("p_p_1")
-    rad2 = (1 - s) * (1 - s) if range_radius_factor == "phi_minus_vdt" else z3.RealVal(1)
-    near = (lambda d: d < 1) if strict else (lambda d: d <= 1)
-    in_range = dist2(pi1) < rad2 if open_range else dist2(pi1) <= rad2
-    prem = [
-        _step_range(s),
-        ("neighbours_at_t", near(dist2(pi0))),
-        ("child_moves_at_most_v_dt", dist2(pi1, pi0) <= s * s),
-        ("parent_moves_at_most_v_dt", dist2(pp1) <= s * s),
-        ("child_in_parent_bounded_range", in_range),
-    ]
-    return Encoding(premises=prem, conclusion=near(dist2(pi1, pp1)),
-                    variables=_vars(s, pi0, pi1, pp1))
+    ``control``: the arguments of :func:`_bounded_range_premises` for the negative control."""
+    near = Lt if strict else Le
+    return LemmaSpec(
+        id=lemma_id, statement=statement, kind=kind, cites=cites,
+        variables=(Real("s", 0.0, 1.0), Point("p_i_0"), Point("p_i_1"), Point("p_p_1")),
+        premises=_bounded_range_premises("phi_minus_vdt", strict, open_range),
+        conclusion=lambda v: near(dist2(v.p_i_1, v.p_p_1), 1),
+        control_premises=_bounded_range_premises(*control),
+        normalisations=(_t("p_p(t)"), _S_NORM), control_note=control_note)
 
 
-def nclb_link_kept(radius: str = "phi_minus_vdt") -> Encoding:
+def _nclb_premises(radius: str) -> tuple:
+    return (
+        _STEP,
+        ("link_at_t", lambda v: Le(dist2(v.p_p_0), 1)),
+        ("parent_moves_at_most_v_dt", lambda v: Le(dist2(v.p_p_1, v.p_p_0), v.s * v.s)),
+        ("parent_in_child_bounded_range", lambda v: Le(dist2(v.p_p_1), _bounded_radius2(v, radius))),
+        ("child_moves_at_most_v_dt", lambda v: Le(dist2(v.p_c_1), v.s * v.s)),
+    )
+
+
+_LINK_VARIABLES = (Real("s", 0.0, 1.0), Point("p_p_0"), Point("p_p_1"), Point("p_c_1"))
+
+
+def _link_kept(v):
+    return Le(dist2(v.p_p_1, v.p_c_1), 1)
+
+
+def _nclb_spec() -> LemmaSpec:
     """001 Sec. V-C (NCLB) for one parent-child link, normalised: ``p_c(t) = 0``.
 
     Premises: the link holds at ``t`` (``||p_p(t)|| <= 1``), the parent moves at
     most ``s`` and ends in the child's bounded range (Def. 8:
     ``||p_p(t+dt)|| <= 1 - s``), the child moves at most ``s``.
-    Conclusion: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``."""
-    s = z3.Real("s")
-    pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
-    rad2 = (1 - s) * (1 - s) if radius == "phi_minus_vdt" else z3.RealVal(1)
-    prem = [
-        _step_range(s),
-        ("link_at_t", dist2(pp0) <= 1),
-        ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
-        ("parent_in_child_bounded_range", dist2(pp1) <= rad2),
-        ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
-    ]
-    return Encoding(premises=prem, conclusion=dist2(pp1, pc1) <= 1,
-                    variables=_vars(s, pp0, pp1, pc1))
+    Conclusion: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``.  The control: radius ``phi``."""
+    return LemmaSpec(
+        id="nclb_link_kept",
+        statement="A parent that moves at most v dt into the bounded range (Def. 8: disc of "
+                  "radius phi - v dt around p_c(t)) of a child that moves at most v dt stays "
+                  "within phi of that child: ||p_p(t+dt) - p_c(t+dt)|| <= phi.",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C (NCLB), Def. 8, Lemma 7",),
+        normalisations=(_t("p_c(t)"), _S_NORM),
+        variables=_LINK_VARIABLES, premises=_nclb_premises("phi_minus_vdt"), conclusion=_link_kept,
+        control_premises=_nclb_premises("phi"),
+        control_note="parent anywhere within phi of the child's old position")
 
 
-def tree_link_kept() -> Encoding:
-    """One link of the spanning tree in the cases of 001 Sec. V-C's motion strategy that
-    :func:`swarmproof.invariants.premises.tree_links_in_proved_cases` checks at run time;
-    normalised: ``p_c(t) = 0``.
+def _tree_link_spec() -> LemmaSpec:
+    """One link of the spanning tree in the cases of 001 Sec. V-C's motion strategy that the
+    run-time monitor ``tree_link_cases`` checks; normalised: ``p_c(t) = 0``.
 
     * ``nclb``: the parent moves inside the child's bounded range, the child
       moves at most ``s`` (the premises of ``nclb_link_kept``);
@@ -106,29 +146,64 @@ def tree_link_kept() -> Encoding:
       will only move toward the robot" when a safe region is empty).
 
     In each case the link is kept: ``||p_p(t+dt) - p_c(t+dt)|| <= 1``.  Not covered
-    (``Lemma.not_proved``): links a child chose in the step, the relocate robot heading for
-    its vacancy, the relocate robot's nearest-safe-point move toward a non-root parent."""
-    s = z3.Real("s")
-    pp0, pp1, pc1 = _pt("p_p_0"), _pt("p_p_1"), _pt("p_c_1")
-    common = [_step_range(s), ("link_at_t", dist2(pp0) <= 1)]
-    cases = [
-        ("nclb", [
-            ("parent_moves_at_most_v_dt", dist2(pp1, pp0) <= s * s),
-            ("parent_in_child_bounded_range", dist2(pp1) <= (1 - s) * (1 - s)),
-            ("child_moves_at_most_v_dt", dist2(pc1) <= s * s),
-        ]),
-        ("child_not_farther_from_still_parent", [
-            ("parent_still", _eq(pp1, pp0)),
-            ("child_not_farther", dist2(pc1, pp0) <= dist2(pp0)),
-        ]),
-    ]
-    return Encoding(premises=common, conclusion=dist2(pp1, pc1) <= 1,
-                    variables=_vars(s, pp0, pp1, pc1), cases=cases)
+    (``not_proved``): links a child chose in the step, the relocate robot heading for
+    its vacancy, the relocate robot's nearest-safe-point move toward a non-root parent.
+    The control: the ``nclb`` case with radius ``phi``, no other case."""
+    nclb = _nclb_premises("phi_minus_vdt")
+    return LemmaSpec(
+        id="spanning_tree_kept",
+        statement="One link of the spanning tree, in the two cases of the motion strategy the "
+                  "run-time monitor tree_link_cases checks (the parent moves inside the child's "
+                  "bounded range and the child moves at most v dt; the parent stays still and the "
+                  "child ends no farther from it): the link is kept, ||p_p(t+dt) - p_c(t+dt)|| <= phi. "
+                  "One link only, not Lemma 11: the composition over the tree's links is argued on "
+                  "paper (docs/proofs.md), and the cases listed as not proved are not covered.",
+        cites=("001_7a4e517b856331bc.txt Lemma 11's proof, Sec. V-C (one link; Lemma 11 itself is not proved)",),
+        normalisations=(_t("p_c(t)"), _S_NORM),
+        variables=_LINK_VARIABLES, premises=nclb[:2], conclusion=_link_kept,
+        cases=(("nclb", nclb[2:]),
+               ("child_not_farther_from_still_parent", (
+                   ("parent_still", lambda v: And(Eq(v.p_p_1[0], v.p_p_0[0]), Eq(v.p_p_1[1], v.p_p_0[1]))),
+                   ("child_not_farther", lambda v: Le(dist2(v.p_c_1, v.p_p_0), dist2(v.p_p_0))),
+               ))),
+        control_premises=_nclb_premises("phi"), control_cases=(),
+        control_note="nclb case with the parent anywhere within phi of the child",
+        not_proved=(
+            "links a child chose in the step: the parent moves without counting it among its "
+            "children (messages take one step), so no NCLB premise holds for them -- swarmproof "
+            "finds them breaking (song2016, square n=20 seed 1, step 344)",
+            "the relocate robot heading for its vacancy while its parent is the root: its link "
+            "is checked at run time only (monitor tree_link_cases, case relocate_in_root_range_monitored)",
+            "the relocate robot moving toward a parent that is not the root by the nearest safe "
+            "point (Fig. 11's intermediate goal): it can move away from that parent, and a "
+            "crafted state breaks the link",
+            "the composition of the per-link cases into Lemma 11 (the tree at t+dt spans the "
+            "communication graph): argued on paper in docs/proofs.md, not by z3",
+        ))
+
+
+def bounded_range(range_radius_factor: str = "phi_minus_vdt", strict: bool = False,
+                  open_range: bool = False) -> Encoding:
+    """000 Lemma 7 / 001 Lemma 7 as z3 terms (:func:`_bounded_range_spec`); the arguments pick
+    the radius (``"phi"``: the control's), strict neighbours and the open bounded range."""
+    spec = _bounded_range_spec("bounded_range", "", ("",), strict, open_range,
+                               (range_radius_factor, strict, open_range), "")
+    return spec.control()
+
+
+def nclb_link_kept(radius: str = "phi_minus_vdt") -> Encoding:
+    """:data:`NCLB_LINK_KEPT` as z3 terms (``radius="phi"``: its negative control)."""
+    return NCLB_LINK_KEPT.build() if radius == "phi_minus_vdt" else NCLB_LINK_KEPT.control()
+
+
+def tree_link_kept() -> Encoding:
+    """:data:`SPANNING_TREE_KEPT` as z3 terms."""
+    return SPANNING_TREE_KEPT.build()
 
 
 def tree_link_kept_control() -> Encoding:
     """Control of ``spanning_tree_kept``: the ``nclb`` case with radius ``phi``."""
-    return nclb_link_kept(radius="phi")
+    return SPANNING_TREE_KEPT.control()
 
 
 def _relocate_spec(endpoint_radius2: int) -> LemmaSpec:
@@ -165,41 +240,82 @@ def relocate_stays_in_range(endpoint_radius2: int = 1) -> Encoding:
     return _relocate_spec(endpoint_radius2).build()
 
 
-def safe_region_nonempty(children: int = 3, ds_bound: str = "phi_minus_vdt") -> Encoding:
+def _safe_region_premises(children: int, ds_bound: str) -> tuple:
+    def within(k):
+        return (f"child_{k}_within_d_s", lambda v: Le(dist2(getattr(v, f"c{k}_0")), v.d_s * v.d_s))
+
+    bound = (lambda v: 1 - v.s) if ds_bound == "phi_minus_vdt" else (lambda v: constant(1, v.s))
+    return (_STEP, ("safe_distance", lambda v: And(Gt(v.d_s, 0), Lt(v.d_s, bound(v))))) + tuple(
+        within(k) for k in range(children))
+
+
+def _safe_region_spec(children: int = 3) -> LemmaSpec:
     """001 Sec. V-C: every child within ``d_s < phi - v dt`` of its parent puts the
     parent's own position in every child's bounded range.  Normalised: the
     parent at the origin.  Stated for ``children`` children at once (each
     conjunct uses only its own child's premise).  The control allows
     ``d_s < phi``."""
-    s, ds = z3.Reals("s d_s")
-    cs = [_pt(f"c{k}_0") for k in range(children)]
-    bound = 1 - s if ds_bound == "phi_minus_vdt" else z3.RealVal(1)
-    prem = [_step_range(s), ("safe_distance", z3.And(ds > 0, ds < bound))]
-    prem += [(f"child_{k}_within_d_s", dist2(c) <= ds * ds) for k, c in enumerate(cs)]
-    concl = z3.And([dist2(_ORIGIN, c) <= (1 - s) * (1 - s) for c in cs])
-    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, ds, *cs))
+    return LemmaSpec(
+        id="safe_region_nonempty",
+        statement="If every child is within d_s < phi - v dt of its parent, the parent's own "
+                  "position lies in every child's bounded range, so the safe region (their "
+                  "intersection) is not empty (stated for 3 children).",
+        cites=("001_7a4e517b856331bc.txt Sec. V-C (safe distance d_s), Def. 8",),
+        normalisations=(_t("p_p(t)"), _S_NORM),
+        variables=(Real("s", 0.0, 1.0), Real("d_s", 0.0, 1.0)) + tuple(Point(f"c{k}_0") for k in range(children)),
+        premises=_safe_region_premises(children, "phi_minus_vdt"),
+        conclusion=lambda v: And(*[Le(dist2((0, 0), getattr(v, f"c{k}_0")), (1 - v.s) * (1 - v.s))
+                                   for k in range(children)]),
+        control_premises=_safe_region_premises(children, "phi"),
+        control_note="d_s < phi instead of d_s < phi - v dt",
+        not_proved=("that the children do come within d_s (Sec. V-C's 'the safe region will "
+                    "eventually be non-empty' is a liveness claim; this is one moment of it)",))
+
+
+def safe_region_nonempty(children: int = 3, ds_bound: str = "phi_minus_vdt") -> Encoding:
+    """:func:`_safe_region_spec` as z3 terms (``ds_bound="phi"``: its negative control)."""
+    spec = _safe_region_spec(children)
+    return spec.build() if ds_bound == "phi_minus_vdt" else spec.control()
+
+
+def _intermediate_goal_premises(neighbour_radius2: int) -> tuple:
+    return (_STEP, ("neighbours_at_t", lambda v: Le(dist2(v.p_i_0), neighbour_radius2)))
+
+
+def _witness(v):
+    """``(1 - s) p_i(t)``: a point of ``P_i & P_p``."""
+    return _scale(1 - v.s, v.p_i_0)
+
+
+#: 000 Sec. IV-C, Fig. 6: ``P_i & P_p`` (discs of radius ``v dt`` around ``p_i(t)`` and
+#: ``phi - v dt`` around ``p_p(t)``) is not empty when the robots are neighbours: the point
+#: ``(1 - s) p_i(t)`` lies in both.  Normalised: ``p_p(t) = 0``.  (That a goal chosen in
+#: ``P_i & P_p`` and reached at ``t+dt`` meets the premises of ``bounded_range`` is the
+#: definition of the two discs, not a fact for z3: the two conclusion parts that said so
+#: repeated the premises and were removed, issue 19.)  The control lets the robots be up to
+#: ``2 phi`` apart.
+INTERMEDIATE_GOAL_IN_REGION = LemmaSpec(
+    id="intermediate_goal_in_region",
+    statement="P_i & P_p (discs of radius v dt around p_i(t) and phi - v dt around p_p(t)) is "
+              "not empty when the robots are neighbours: (1 - s) p_i(t) lies in both. (A goal "
+              "chosen there and reached at t+dt meets bounded_range's premises by definition.)",
+    cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C steps 1-3, Fig. 6, Lemma 7",),
+    normalisations=(_t("p_p(t)"), _S_NORM),
+    variables=(Real("s", 0.0, 1.0), Point("p_i_0")),
+    premises=_intermediate_goal_premises(1), conclusion=None,
+    parts=(("witness_in_P_i", lambda v: Le(dist2(_witness(v), v.p_i_0), v.s * v.s)),
+           ("witness_in_P_p", lambda v: Le(dist2(_witness(v)), (1 - v.s) * (1 - v.s)))),
+    control_premises=_intermediate_goal_premises(4),
+    control_note="the robots up to 2 phi apart instead of phi",
+    not_proved=("that the robot reaches its goal within the step: it may not "
+                "(intermediate_goal_partial_progress, a counterexample)",))
 
 
 def intermediate_goal_in_region(neighbour_radius2: int = 1) -> Encoding:
-    """000 Sec. IV-C, Fig. 6: ``P_i & P_p`` (discs of radius ``v dt`` around ``p_i(t)`` and
-    ``phi - v dt`` around ``p_p(t)``) is not empty when the robots are neighbours: the point
-    ``(1 - s) p_i(t)`` lies in both.  Normalised: ``p_p(t) = 0``.
-
-    (That a goal chosen in ``P_i & P_p`` and reached at ``t+dt`` meets the premises of
-    ``bounded_range`` is the definition of the two discs, not a fact for z3: the two
-    conclusion parts that said so repeated the premises and were removed, issue 19.)
-    The control lets the robots be up to ``2 phi`` apart."""
-    s = z3.Real("s")
-    pi0 = _pt("p_i_0")
-    w = _scale(1 - s, pi0)
-    prem = [
-        _step_range(s),
-        ("neighbours_at_t", dist2(pi0) <= neighbour_radius2),
-    ]
-    parts = [("witness_in_P_i", dist2(w, pi0) <= s * s),
-             ("witness_in_P_p", dist2(w) <= (1 - s) * (1 - s))]
-    return Encoding(premises=prem, conclusion=z3.And([t for _, t in parts]), variables=_vars(s, pi0),
-                    parts=parts)
+    """:data:`INTERMEDIATE_GOAL_IN_REGION` as z3 terms (``neighbour_radius2=4``: its negative
+    control)."""
+    spec = INTERMEDIATE_GOAL_IN_REGION
+    return spec.build() if neighbour_radius2 == 1 else spec.control()
 
 
 # -------------------------------------------- findings and hard lemmas
@@ -244,110 +360,53 @@ def nclb_three_children_direct() -> Encoding:
 
 # ------------------------------------------------------------- the suite
 
-_S_NORM = "scale: phi = 1, s = v*dt/phi in (0, 1) (scale_invariance)"
-
-
-def _t(what: str) -> str:
-    return f"translation: {what} at the origin (translation_invariance)"
 
 
 #: ``relocate_stays_in_range`` declared once (the proof and float judgments read it).
 RELOCATE_STAYS_IN_RANGE = _relocate_spec(1)
 
+#: 000 Lemma 7 / 001 Lemma 7 declared once (the proof and float judgments read it).
+BOUNDED_RANGE = _bounded_range_spec(
+    "bounded_range",
+    "If r_i and r_p are neighbours at t (||p_i(t) - p_p(t)|| <= phi), each moves "
+    "at most v dt, and ||p_i(t+dt) - p_p(t)|| <= phi - v dt, then "
+    "||p_i(t+dt) - p_p(t+dt)|| <= phi.",
+    ("000_3ad33c5b62f11d5f.txt Lemma 7, Eqs. 5-7", "001_7a4e517b856331bc.txt Lemma 7"),
+    strict=False, open_range=False, control=("phi", False, False),
+    control_note="bounded range of radius phi instead of phi - v dt", kind="paper lemma")
+
+BOUNDED_RANGE_STRICT = _bounded_range_spec(
+    "bounded_range_strict",
+    "With neighbours strictly closer than phi (docs/decisions.md, Model and "
+    "geometry) Lemma 7 needs the open bounded range: if ||p_i(t) - p_p(t)|| < phi, "
+    "each moves at most v dt and ||p_i(t+dt) - p_p(t)|| < phi - v dt, then "
+    "||p_i(t+dt) - p_p(t+dt)|| < phi.",
+    ("000_3ad33c5b62f11d5f.txt Lemma 7", "001_7a4e517b856331bc.txt Lemma 7, Def. 4"),
+    strict=True, open_range=True, control=("phi_minus_vdt", True, False),
+    control_note="closed bounded range (<= phi - v dt) with strict neighbours: "
+                 "a pair can end exactly phi apart")
+
+BOUNDED_RANGE_STRICT_CLOSED = _bounded_range_spec(
+    "bounded_range_strict_closed",
+    "FINDING (expected counterexample): with neighbours strictly closer than phi "
+    "and the closed bounded range of Def. 8, a pair can end exactly phi apart.",
+    ("001_7a4e517b856331bc.txt Lemma 7, Def. 8",),
+    strict=True, open_range=False, control=("phi", True, False),
+    control_note="bounded range of radius phi")
+
+NCLB_LINK_KEPT = _nclb_spec()
+SPANNING_TREE_KEPT = _tree_link_spec()
+SAFE_REGION_NONEMPTY = _safe_region_spec(3)
+
+#: The song2016 lemmas declared as :class:`LemmaSpec` (issue 32), by id.
+SPECS: dict = {spec.id: spec for spec in (BOUNDED_RANGE, BOUNDED_RANGE_STRICT, NCLB_LINK_KEPT, SPANNING_TREE_KEPT,
+                                          RELOCATE_STAYS_IN_RANGE, SAFE_REGION_NONEMPTY,
+                                          INTERMEDIATE_GOAL_IN_REGION, BOUNDED_RANGE_STRICT_CLOSED)}
+
 #: The suite's lemmas of these papers, in order (``swarmproof prove`` runs them after the
 #: normalisation lemmas).
-_LEMMA_LIST = [
-    Lemma(
-        id="bounded_range",
-        statement="If r_i and r_p are neighbours at t (||p_i(t) - p_p(t)|| <= phi), each moves "
-                  "at most v dt, and ||p_i(t+dt) - p_p(t)|| <= phi - v dt, then "
-                  "||p_i(t+dt) - p_p(t+dt)|| <= phi.",
-        cites=("000_3ad33c5b62f11d5f.txt Lemma 7, Eqs. 5-7",
-               "001_7a4e517b856331bc.txt Lemma 7"),
-        normalisations=(_t("p_p(t)"), _S_NORM),
-        build=bounded_range,
-        control=lambda: bounded_range(range_radius_factor="phi"),
-        control_note="bounded range of radius phi instead of phi - v dt",
-        kind="paper lemma",
-    ),
-    Lemma(
-        id="bounded_range_strict",
-        statement="With neighbours strictly closer than phi (docs/decisions.md, Model and "
-                  "geometry) Lemma 7 needs the open bounded range: if ||p_i(t) - p_p(t)|| < phi, "
-                  "each moves at most v dt and ||p_i(t+dt) - p_p(t)|| < phi - v dt, then "
-                  "||p_i(t+dt) - p_p(t+dt)|| < phi.",
-        cites=("000_3ad33c5b62f11d5f.txt Lemma 7", "001_7a4e517b856331bc.txt Lemma 7, Def. 4"),
-        normalisations=(_t("p_p(t)"), _S_NORM),
-        build=lambda: bounded_range(strict=True, open_range=True),
-        control=lambda: bounded_range(strict=True, open_range=False),
-        control_note="closed bounded range (<= phi - v dt) with strict neighbours: "
-                     "a pair can end exactly phi apart",
-    ),
-    Lemma(
-        id="nclb_link_kept",
-        statement="A parent that moves at most v dt into the bounded range (Def. 8: disc of "
-                  "radius phi - v dt around p_c(t)) of a child that moves at most v dt stays "
-                  "within phi of that child: ||p_p(t+dt) - p_c(t+dt)|| <= phi.",
-        cites=("001_7a4e517b856331bc.txt Sec. V-C (NCLB), Def. 8, Lemma 7",),
-        normalisations=(_t("p_c(t)"), _S_NORM),
-        build=nclb_link_kept,
-        control=lambda: nclb_link_kept(radius="phi"),
-        control_note="parent anywhere within phi of the child's old position",
-    ),
-    Lemma(
-        id="spanning_tree_kept",
-        statement="One link of the spanning tree, in the two cases of the motion strategy the "
-                  "run-time monitor tree_link_cases checks (the parent moves inside the child's "
-                  "bounded range and the child moves at most v dt; the parent stays still and the "
-                  "child ends no farther from it): the link is kept, ||p_p(t+dt) - p_c(t+dt)|| <= phi. "
-                  "One link only, not Lemma 11: the composition over the tree's links is argued on "
-                  "paper (docs/proofs.md), and the cases listed as not proved are not covered.",
-        cites=("001_7a4e517b856331bc.txt Lemma 11's proof, Sec. V-C (one link; Lemma 11 itself is not proved)",),
-        normalisations=(_t("p_c(t)"), _S_NORM),
-        build=tree_link_kept,
-        control=tree_link_kept_control,
-        control_note="nclb case with the parent anywhere within phi of the child",
-        not_proved=(
-            "links a child chose in the step: the parent moves without counting it among its "
-            "children (messages take one step), so no NCLB premise holds for them -- swarmproof "
-            "finds them breaking (song2016, square n=20 seed 1, step 344)",
-            "the relocate robot heading for its vacancy while its parent is the root: its link "
-            "is checked at run time only (monitor tree_link_cases, case relocate_in_root_range_monitored)",
-            "the relocate robot moving toward a parent that is not the root by the nearest safe "
-            "point (Fig. 11's intermediate goal): it can move away from that parent, and a "
-            "crafted state breaks the link",
-            "the composition of the per-link cases into Lemma 11 (the tree at t+dt spans the "
-            "communication graph): argued on paper in docs/proofs.md, not by z3",
-        ),
-    ),
-    RELOCATE_STAYS_IN_RANGE.lemma(),
-    Lemma(
-        id="safe_region_nonempty",
-        statement="If every child is within d_s < phi - v dt of its parent, the parent's own "
-                  "position lies in every child's bounded range, so the safe region (their "
-                  "intersection) is not empty (stated for 3 children).",
-        cites=("001_7a4e517b856331bc.txt Sec. V-C (safe distance d_s), Def. 8",),
-        normalisations=(_t("p_p(t)"), _S_NORM),
-        build=safe_region_nonempty,
-        control=lambda: safe_region_nonempty(ds_bound="phi"),
-        control_note="d_s < phi instead of d_s < phi - v dt",
-        not_proved=("that the children do come within d_s (Sec. V-C's 'the safe region will "
-                    "eventually be non-empty' is a liveness claim; this is one moment of it)",),
-    ),
-    Lemma(
-        id="intermediate_goal_in_region",
-        statement="P_i & P_p (discs of radius v dt around p_i(t) and phi - v dt around p_p(t)) is "
-                  "not empty when the robots are neighbours: (1 - s) p_i(t) lies in both. (A goal "
-                  "chosen there and reached at t+dt meets bounded_range's premises by definition.)",
-        cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C steps 1-3, Fig. 6, Lemma 7",),
-        normalisations=(_t("p_p(t)"), _S_NORM),
-        build=intermediate_goal_in_region,
-        control=lambda: intermediate_goal_in_region(neighbour_radius2=4),
-        control_note="the robots up to 2 phi apart instead of phi",
-        not_proved=("that the robot reaches its goal within the step: it may not "
-                    "(intermediate_goal_partial_progress, a counterexample)",),
-    ),
-]
+_LEMMA_LIST = [spec.lemma() for spec in (BOUNDED_RANGE, BOUNDED_RANGE_STRICT, NCLB_LINK_KEPT, SPANNING_TREE_KEPT,
+                                         RELOCATE_STAYS_IN_RANGE, SAFE_REGION_NONEMPTY, INTERMEDIATE_GOAL_IN_REGION)]
 
 #: These papers' lemmas by id, in order (:mod:`swarmproof.checkers.proofs` puts them in its suite).
 LEMMAS: dict = {lem.id: lem for lem in _LEMMA_LIST}
@@ -355,16 +414,7 @@ LEMMAS: dict = {lem.id: lem for lem in _LEMMA_LIST}
 #: Lemmas run only when named: known-false variants (findings) and a true
 #: lemma too hard for z3 (the honest timeout).
 EXTRA_LEMMAS: dict = {
-    "bounded_range_strict_closed": Lemma(
-        id="bounded_range_strict_closed",
-        statement="FINDING (expected counterexample): with neighbours strictly closer than phi "
-                  "and the closed bounded range of Def. 8, a pair can end exactly phi apart.",
-        cites=("001_7a4e517b856331bc.txt Lemma 7, Def. 8",),
-        normalisations=(_t("p_p(t)"), _S_NORM),
-        build=lambda: bounded_range(strict=True, open_range=False),
-        control=lambda: bounded_range(strict=True, range_radius_factor="phi"),
-        control_note="bounded range of radius phi",
-    ),
+    "bounded_range_strict_closed": BOUNDED_RANGE_STRICT_CLOSED.lemma(),
     "intermediate_goal_partial_progress": Lemma(
         id="intermediate_goal_partial_progress",
         statement="FINDING (expected counterexample): a robot that covers only part of the way "
