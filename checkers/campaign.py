@@ -190,7 +190,8 @@ def _check_run_inputs(spec) -> None:
     """What every task will run, checked before any task starts, with the same checks and messages as
     ``explore`` and ``simulate`` (issue 29), each error located at its field: team sizes the explorer
     can draw and the algorithm runs, targets of a kind the algorithm forms, ``params`` and ``speeds``
-    (declared parameters in their ranges, motion that moves a robot)."""
+    (declared parameters in their ranges, motion that moves a robot); an experiment cell's
+    ``options`` (declared, in range) and ``robots`` (the experiment's sizes and its own check)."""
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
     from swarmproof.checkers.explore import _load_targets, check_explore_robots, check_run_params
     from swarmproof.checkers.runs import check_robots
