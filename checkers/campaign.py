@@ -4,7 +4,8 @@ A campaign (:mod:`swarmproof.models.campaign_spec`) is split into *tasks*,
 each fully determined by the spec (an explorer task: one algorithm, one
 property, one Hypothesis seed, ``max_examples`` and no wall clock; an
 experiment task: one seeded run of one algorithm on one target with one team
-size), so the results are the same on 1, 2 or 100 workers.  Tasks run on
+size; a paper-experiment task: one seeded trial ``fn(n, seed, **options)`` of an experiment the
+algorithm declares), so the results are the same on 1, 2 or 100 workers.  Tasks run on
 ``dask.distributed``: an embedded ``LocalCluster`` (processes, one per core)
 by default, or an existing cluster by its scheduler address.  The client
 alone writes the results store ``DIR/results.sqlite`` (SQLite, one row per
@@ -38,9 +39,15 @@ from typing import Any, Callable
 from swarmproof.models.errors import UsageError
 from swarmproof.models.verdict import Verdict
 
-__all__ = ["Task", "plan_tasks", "run_task", "ResultsStore", "run_campaign", "CampaignResult", "STORE_FORMAT"]
+__all__ = ["Task", "plan_tasks", "run_task", "ResultsStore", "run_campaign", "CampaignResult", "STORE_FORMAT",
+           "MEASURED", "resolve_experiment", "experiment_options"]
 
 STORE_FORMAT = "swarmproof-campaign-results/1"
+
+#: The verdict of a paper-experiment task that ran: it measured figures and judged nothing (no claim,
+#: so never "held"); counted apart, like n/a, but it is what the task was asked to do
+#: (docs/decisions.md, "Campaigns: experiment cells").
+MEASURED = "measured"
 
 #: How long ``--scheduler ADDRESS`` is tried before it is reported as unreachable (seconds): Dask's
 #: client retries a refused connection until then.
@@ -53,11 +60,83 @@ class Task:
 
     key: str
     cell: str
-    kind: str            # "explore" | "simulate"
+    kind: str            # "explore" | "simulate" | "experiment"
     args: dict
 
     def as_dict(self) -> dict:
         return {"key": self.key, "cell": self.cell, "kind": self.kind, "args": dict(self.args)}
+
+
+def resolve_experiment(algorithm: str, name: str) -> tuple:
+    """``(ref, function, declaration)`` of experiment ``name`` of ``algorithm`` (a registry name or
+    module:qualname): ``ref`` is the ``module:qualname`` the algorithm's class attribute
+    ``experiments`` gives, ``declaration`` the function's :class:`~swarmproof.reference_impl.protocol.Experiment`
+    (an undeclared function: no options, no bounds of its own).
+
+    Only the class (or factory) that declares ``experiments`` in its own body has them: a
+    subclass runs other code, so it inherits none (an experiment function runs the reading its
+    author wrote it for).
+
+    Raises
+    ------
+    UsageError
+        An unknown algorithm; an experiment the algorithm does not declare (listing those it
+        does); a reference that cannot be imported.
+    """
+    import importlib
+
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+    from swarmproof.models.errors import did_you_mean
+    from swarmproof.reference_impl.protocol import Experiment
+
+    spec = resolve_algorithm(algorithm)
+    factory = spec.factory
+    own = getattr(factory, "__dict__", {}).get("experiments") or {}
+    if name not in own:
+        inherited = getattr(factory, "experiments", None) or {}
+        if own:
+            fix = f"use one of {sorted(own)!r}"
+        elif inherited:
+            fix = ("its base class declares " + repr(sorted(inherited)) + ", which run the base class's reading, "
+                   "not this one: use the base class, or declare experiments on this class")
+        else:
+            fix = "use an algorithm that declares experiments (its class attribute experiments), e.g. `swarmproof list algorithms`"
+        raise UsageError(f"experiment={name!r} is not an experiment of algorithm {spec.label!r}"
+                         f"{did_you_mean(name, own) if own else ''} (it declares {sorted(own) or 'none'})", fix=fix)
+    ref = own[name]
+    modname, _, qual = str(ref).partition(":")
+    try:
+        fn = importlib.import_module(modname)
+        for part in qual.split("."):
+            fn = getattr(fn, part)
+    except Exception as exc:  # noqa: BLE001 - ImportError, AttributeError, or the module's own error
+        raise UsageError(f"experiment {name!r} of algorithm {spec.label!r} names {ref!r}, which cannot be imported "
+                         f"({type(exc).__name__}: {exc})", fix="fix the algorithm's experiments entry "
+                         "(module:qualname of a module-level function)") from None
+    if not callable(fn):
+        raise UsageError(f"experiment {name!r} of algorithm {spec.label!r} names {ref!r}, which is not a function",
+                         fix="point the algorithm's experiments entry at a function (n, seed, **options)")
+    decl = getattr(fn, "experiment", None)
+    return ref, fn, decl if isinstance(decl, Experiment) else Experiment()
+
+
+def experiment_options(decl, given: dict) -> tuple[dict, str | None, str | None]:
+    """The options of one trial: ``given`` checked against the experiment's declared options and
+    completed with their defaults.  Returns ``(options, bad key, error)``: the key and message
+    (``name=value`` and what is wrong) of the first problem, or None.  The fix is in the message's
+    caller (:func:`_check_run_inputs`)."""
+    from swarmproof.models.errors import did_you_mean
+
+    declared = {s.name: s for s in decl.options}
+    for k, v in given.items():
+        s = declared.get(k)
+        if s is None:
+            return {}, k, (f"option {k}={v!r} is not an option of this experiment{did_you_mean(k, declared)}; "
+                           f"its options: {sorted(declared) or 'none'}")
+        why = s.problem(v)
+        if why is not None:
+            return {}, k, f"option {why}"
+    return {**{s.name: s.default for s in decl.options}, **given}, None, None
 
 
 def _check_names(spec) -> None:
@@ -96,13 +175,23 @@ def _check_names(spec) -> None:
             except UsageError as exc:
                 raise spec.error(cell.path + ("targets", k), f"targets={name!r}: {exc.message}",
                                  exc.fix or "use a bundled name") from None
+    for cell in getattr(spec, "experiment", ()):
+        try:
+            resolve_algorithm(cell.algorithm)
+        except UsageError as exc:
+            raise spec.error(cell.path + ("algorithm",), exc.message, exc.fix or "use a registry name") from None
+        try:
+            resolve_experiment(cell.algorithm, cell.experiment)
+        except UsageError as exc:
+            raise spec.error(cell.path + ("experiment",), exc.message, exc.fix or "see docs/campaigns.md") from None
 
 
 def _check_run_inputs(spec) -> None:
     """What every task will run, checked before any task starts, with the same checks and messages as
     ``explore`` and ``simulate`` (issue 29), each error located at its field: team sizes the explorer
     can draw and the algorithm runs, targets of a kind the algorithm forms, ``params`` and ``speeds``
-    (declared parameters in their ranges, motion that moves a robot)."""
+    (declared parameters in their ranges, motion that moves a robot); an experiment cell's
+    ``options`` (declared, in range) and ``robots`` (the experiment's sizes and its own check)."""
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
     from swarmproof.checkers.explore import _load_targets, check_explore_robots, check_run_params
     from swarmproof.checkers.runs import check_robots
@@ -136,6 +225,26 @@ def _check_run_inputs(spec) -> None:
             located(cell.path + ("robots", k), check_team_size, algo, n)
         for k, name in enumerate(cell.targets):
             located(cell.path + ("targets", k), check_target_kind, factory, resolve_target(name, prefer="lattice"))
+    for cell in getattr(spec, "experiment", ()):
+        _, _, decl = resolve_experiment(cell.algorithm, cell.experiment)
+        options, key, why = experiment_options(decl, cell.options)
+        if why is not None:
+            declared = {s.name: s for s in decl.options}
+            fix = (f"give {key} a value in {declared[key].range_text()}" if key in declared
+                   else f"use only {sorted(declared)!r}" if declared else "drop options: (this experiment takes none)")
+            raise spec.error(cell.path + ("options", key), f"{_label(cell)}: {why}", fix)
+        lo, hi = decl.robots
+        for k, n in enumerate(cell.robots):
+            if n < lo or (hi is not None and n > hi):
+                raise spec.error(cell.path + ("robots", k),
+                                 f"{_label(cell)}: robots={n} is outside the team sizes it takes, {lo}..{hi or 'any'}",
+                                 f"give team sizes in {lo}..{hi or 'any'}")
+            if decl.check is not None:
+                located(cell.path + ("robots", k), lambda: decl.check(n, **options))
+
+
+def _label(cell) -> str:
+    return f"experiment {cell.experiment!r} of {cell.algorithm!r}"
 
 
 def plan_tasks(spec) -> list[Task]:
@@ -164,6 +273,15 @@ def plan_tasks(spec) -> list[Task]:
                     if cell.start is not None:      # only when given: older stores' task args stay as they were
                         args["start"] = dict(cell.start)
                     tasks.append(Task(f"simulate[{cell.index}]/{target}/n{n}/seed{seed}", cell.label, "simulate", args))
+    for cell in getattr(spec, "experiment", ()):
+        ref, _, decl = resolve_experiment(cell.algorithm, cell.experiment)
+        options, _, _ = experiment_options(decl, cell.options)
+        for n in cell.robots:
+            for seed in cell.seeds:
+                args = {"algorithm": cell.algorithm, "experiment": cell.experiment, "function": ref, "robots": n,
+                        "seed": seed, "options": dict(options)}
+                tasks.append(Task(f"experiment[{cell.index}]/{cell.experiment}/n{n}/seed{seed}", cell.label,
+                                  "experiment", args))
     return tasks
 
 
@@ -225,6 +343,38 @@ def _simulate_task(a: dict) -> dict:
     return {"verdict": verdict.value, "figures": figures, "counterexample": cx, "first_failure_seconds": None}
 
 
+def check_figures(figures) -> dict:
+    """An experiment's figures as the store keeps them: a dict of names to numbers, texts,
+    true/false or None (finite numbers only); TypeError/ValueError naming the first that is not."""
+    import math
+
+    if not isinstance(figures, dict):
+        raise TypeError(f"the experiment returned {type(figures).__name__}, not a dict of figures")
+    out = {}
+    for k, v in figures.items():
+        if not isinstance(k, str):
+            raise TypeError(f"figure name {k!r} is not a text")
+        if hasattr(v, "item") and not isinstance(v, (str, bytes)):     # numpy scalars
+            v = v.item()
+        if not (v is None or isinstance(v, (bool, int, float, str))):
+            raise TypeError(f"figure {k}={v!r} is not a number, a text, true/false or None")
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"figure {k}={v!r} is not finite")
+        out[k] = v
+    return out
+
+
+def _experiment_task(a: dict) -> dict:
+    """One trial of a paper experiment: ``fn(n, seed, **options)``, its figures, verdict
+    :data:`MEASURED` (no claim is judged)."""
+    _, fn, _ = resolve_experiment(a["algorithm"], a["experiment"])
+    figures = check_figures(fn(a["robots"], a["seed"], **a["options"]))
+    return {"verdict": MEASURED, "figures": figures, "counterexample": None, "first_failure_seconds": None}
+
+
+_TASKS = {"explore": "_explore_task", "simulate": "_simulate_task", "experiment": "_experiment_task"}
+
+
 @contextlib.contextmanager
 def worker_warnings():
     """Inside a task on a Dask worker: silence Hypothesis's warning about the `random` module.
@@ -247,7 +397,7 @@ def run_task(task: dict) -> dict:
     t0 = time.perf_counter()
     try:
         with worker_warnings():
-            out = (_explore_task if task["kind"] == "explore" else _simulate_task)(task["args"])
+            out = globals()[_TASKS[task["kind"]]](task["args"])
     except Exception as exc:  # noqa: BLE001 - one task's failure must not stop the campaign
         out = {"verdict": "inconclusive", "counterexample": None, "first_failure_seconds": None,
                "figures": {"error": f"{type(exc).__name__}: {exc}"[:500]}}
@@ -374,7 +524,10 @@ class CampaignResult:
             return EXIT_INCONCLUSIVE
         if self.tasks and all(v == "not_applicable" for v in verdicts):
             return EXIT_INCONCLUSIVE     # nothing asked for applied: nothing was checked (never a pass)
-        return EXIT_OK                   # n/a tasks are no verdict: the others decide
+        # n/a tasks are no verdict: the others decide.  Measured tasks (experiment trials that ran)
+        # did what they were asked -- measure, judge nothing -- so a campaign of them exits 0 once
+        # every one finished (docs/decisions.md, "Campaigns: experiment cells")
+        return EXIT_OK
 
     def cells(self) -> list[dict]:
         """Per cell: the verdict over its tasks, counts, first-failure figures and the smallest
@@ -382,7 +535,8 @@ class CampaignResult:
         out: dict[str, dict] = {}
         for t in self.tasks:
             c = out.setdefault(t.cell, {"cell": t.cell, "kind": t.kind, "tasks": 0, "finished": 0,
-                                        "counts": {"held": 0, "violated": 0, "inconclusive": 0, "n/a": 0},
+                                        "counts": {"held": 0, "violated": 0, "inconclusive": 0, "n/a": 0,
+                                                   MEASURED: 0},
                                         "smallest_counterexample": None, "first_failure_scenarios": None})
             c["tasks"] += 1
             r = self.results.get(t.key)
@@ -405,9 +559,10 @@ class CampaignResult:
         for c in out.values():
             n = c["counts"]
             # n/a (not applicable) is no verdict: a cell of n/a tasks only is "n/a", never held
+            # measured (a cell of experiment trials): figures, no verdict on any claim
             c["verdict"] = ("violated" if n["violated"] else
                             "inconclusive" if n["inconclusive"] or c["finished"] < c["tasks"] else
-                            "held" if n["held"] else "n/a")
+                            "held" if n["held"] else MEASURED if n[MEASURED] else "n/a")
         return list(out.values())
 
     def to_json(self) -> dict:

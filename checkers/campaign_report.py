@@ -6,7 +6,9 @@ smallest counterexample), then, for each experiment cell, its figures by
 target and team size (mean ± sample standard deviation over seeds: execution
 steps, total distance, fulfillment ratio; runs that ended, satisfied
 the target, violated a claimed property) and a plot of execution steps and
-fulfillment ratio against team size.
+fulfillment ratio against team size; for each paper-experiment cell, the
+table its experiment declares by team size (medians, ranges, counts over the
+trials) and a plot of its declared figures against team size.
 Deterministic: no wall-clock figure (the timings stay in the store's
 ``timings`` table).
 """
@@ -15,14 +17,17 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["format_summary", "markdown", "write_report", "plot_experiment", "mean_sd"]
+__all__ = ["format_summary", "markdown", "write_report", "plot_experiment", "plot_paper_experiment", "mean_sd",
+           "paper_experiment_table"]
 
 
 def _counts(c: dict) -> str:
     n = c["counts"]
     na = n.get("n/a", 0)
+    measured = n.get("measured", 0)
     return (f"{n['held']} held, {n['violated']} violated, {n['inconclusive']} inconclusive"
-            + (f", {na} n/a (not applicable)" if na else ""))
+            + (f", {na} n/a (not applicable)" if na else "")
+            + (f", {measured} measured (experiment trials: no claim judged)" if measured else ""))
 
 
 def format_summary(result) -> list[str]:
@@ -42,6 +47,8 @@ def format_summary(result) -> list[str]:
             extra += f"; {unfinished} task(s) not finished"
         lines.append(readable(f"{c['cell']:<{w}}  {c['verdict']:<12}  {_counts(c)}{extra}"))
     word = {0: "HELD", 1: "VIOLATED", 3: "INCONCLUSIVE"}.get(result.exit_code, "?")
+    if result.exit_code == 0 and not any(c["counts"]["held"] for c in cells):
+        word = "MEASURED"          # experiment trials only: every one ran, nothing was judged
     cut = " (cut short: --resume continues it)" if result.cut_short else ""
     lines.append(f"campaign {result.spec.name}: {word}: {len(result.results)}/{len(result.tasks)} tasks finished, "
                  f"{result.ran} run now{cut}")
@@ -158,15 +165,16 @@ def markdown(result, plots: dict | None = None) -> str:
     lines = [f"# Campaign {result.spec.name}", "",
              f"{len(result.results)} of {len(result.tasks)} tasks finished; exit code {result.exit_code}"
              + (" (cut short: `--resume` continues it)" if result.cut_short else "") + ".", "",
-             "| cell | verdict | finished | held | violated | inconclusive | n/a | scenarios before the first failure | "
-             "smallest counterexample |", "|---|---|---:|---:|---:|---:|---:|---:|---|"]
+             "| cell | verdict | finished | held | violated | inconclusive | n/a | measured | "
+             "scenarios before the first failure | smallest counterexample |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     for c in result.cells():
         n = c["counts"]
         small = c["smallest_counterexample"]
         cx = f"{small['robots']} robots: `{small['path']}`" if small else ""
         ffs = "" if c["first_failure_scenarios"] is None else str(c["first_failure_scenarios"])
         lines.append(f"| {c['cell']} | {c['verdict']} | {c['finished']}/{c['tasks']} | {n['held']} | {n['violated']} | {n['inconclusive']} | {n.get('n/a', 0)} | "
-                     f"{ffs} | {cx} |")
+                     f"{n.get('measured', 0)} | {ffs} | {cx} |")
     for c in result.cells():
         if c["kind"] != "simulate":
             continue
@@ -192,7 +200,130 @@ def markdown(result, plots: dict | None = None) -> str:
                          f"{_claimed_violations(fs)} |")
         if c["cell"] in plots:
             lines += ["", f"![{c['cell']}]({plots[c['cell']]})"]
+    for c in result.cells():
+        if c["kind"] == "experiment":
+            lines += ["", f"## {c['cell']}", ""] + paper_experiment_table(result, c["cell"])
+            if c["cell"] in plots:
+                lines += ["", f"![{c['cell']}]({plots[c['cell']]})"]
     return readable("\n".join(lines) + "\n")
+
+
+# -- paper-experiment cells ----------------------------------------------------------------------
+
+def _trials(result, cell_label: str) -> tuple:
+    """``({n: [figures of the measured trials]}, declaration)`` of one experiment cell."""
+    from swarmproof.checkers.campaign import MEASURED, resolve_experiment
+
+    by_n: dict = {}
+    decl = None
+    for t in result.tasks:
+        if t.cell != cell_label:
+            continue
+        if decl is None:
+            try:
+                decl = resolve_experiment(t.args["algorithm"], t.args["experiment"])[2]
+            except Exception:  # noqa: BLE001 - a report of stored results: show every figure instead
+                decl = False
+        r = result.results.get(t.key)
+        if r is not None and r["verdict"] == MEASURED:
+            by_n.setdefault(t.args["robots"], []).append(r["figures"])
+    return by_n, decl or None
+
+
+def _columns_of(decl, by_n: dict) -> tuple:
+    """The declared columns, or every number figure as median (min-max)."""
+    from swarmproof.reference_impl.protocol import ExperimentColumn
+
+    if decl is not None and decl.columns:
+        return decl.columns
+    keys = sorted({k for fs in by_n.values() for f in fs for k, v in f.items()
+                   if isinstance(v, (int, float)) and not isinstance(v, bool)})
+    return tuple(ExperimentColumn(k, k) for k in keys)
+
+
+def _g(x: float) -> str:
+    """Three significant digits, without an exponent (1234.5 -> '1234')."""
+    s = f"{x:.3g}"
+    return f"{x:.0f}" if "e" in s else s
+
+
+def _stat(col, fs: list) -> str:
+    import statistics
+
+    if col.only_if is not None:
+        fs = [f for f in fs if _numbers([f.get(col.only_if)])]
+    xs = _numbers(f.get(col.figure) for f in fs)
+    if col.stat == "count":
+        return f"{len(xs)}/{len(fs)}"
+    if not xs:
+        return ""
+    if col.stat == "mean_sd":
+        return mean_sd(xs)
+    med = _g(statistics.median(xs))
+    return med if col.stat == "median" else f"{med} ({_g(min(xs))}-{_g(max(xs))})"
+
+
+def paper_experiment_table(result, cell_label: str) -> list[str]:
+    """The lines of one experiment cell's table by team size: the trials that ran, then the
+    columns its experiment declares (:class:`~swarmproof.reference_impl.protocol.ExperimentColumn`)."""
+    by_n, decl = _trials(result, cell_label)
+    if not by_n:
+        return ["No trial of this cell has finished yet."]
+    cols = _columns_of(decl, by_n)
+    about = f" ({decl.cites})" if decl is not None and decl.cites else ""
+    stats = {"count": "how many trials have the figure", "median": "median",
+             "median_range": "median (min-max)", "mean_sd": "mean ± sample standard deviation"}
+    used = ", ".join(dict.fromkeys(stats[c.stat] for c in cols))
+    only = "; ".join(f"*{c.header}* over the trials with `{c.only_if}`" for c in cols if c.only_if)
+    lines = [f"Measured trials{about}, no claim judged: per team size, over its trials with the figure: {used}"
+             + (f"; {only}" if only else "") + ". Seconds of tasks are in the store's `timings` table, not here.", "",
+             "| robots | trials | " + " | ".join(c.header for c in cols) + " |",
+             "|---:|---:|" + "---:|" * len(cols)]
+    for n in sorted(by_n):
+        fs = by_n[n]
+        lines.append(f"| {n} | {len(fs)} | " + " | ".join(_stat(c, fs) for c in cols) + " |")
+    return lines
+
+
+def plot_paper_experiment(result, cell_label: str, path: str) -> str | None:
+    """The experiment's plotted figures against team size: the median over the trials, bars from
+    the smallest to the largest; None when no trial finished or nothing is to be plotted."""
+    import statistics
+
+    from swarmproof.checkers.plotting import new_figure, save_png
+
+    by_n, decl = _trials(result, cell_label)
+    if not by_n:
+        return None
+    cols = {c.figure: c for c in _columns_of(decl, by_n)}
+    keys = tuple(decl.plot) if decl is not None and decl.plot else tuple(
+        k for k, c in cols.items() if c.stat != "count")[:2]
+    if not keys:
+        return None
+    fig, ax = new_figure(6.5, 4.2)
+    ax.set_aspect("auto")
+    ns = sorted(by_n)
+    for j, key in enumerate(keys):
+        col = cols.get(key)
+        xs_n, med, lo, hi = [], [], [], []
+        for n in ns:
+            fs = by_n[n]
+            if col is not None and col.only_if is not None:
+                fs = [f for f in fs if _numbers([f.get(col.only_if)])]
+            xs = _numbers(f.get(key) for f in fs)
+            if xs:
+                m = statistics.median(xs)
+                xs_n.append(n)
+                med.append(m)
+                lo.append(m - min(xs))
+                hi.append(max(xs) - m)
+        ax.errorbar(xs_n, med, yerr=[lo, hi], fmt="o-", capsize=3,
+                    label=col.header if col is not None else key)
+    ax.set_xlabel("robots")
+    ax.set_ylabel("median over trials (bars: min-max)")
+    ax.legend(fontsize=8)
+    ax.set_title(cell_label, fontsize=10)
+    return save_png(fig, path)
 
 
 def write_report(result) -> str:
@@ -205,5 +336,13 @@ def write_report(result) -> str:
             rel = os.path.join("plots", f"simulate-{len(plots)}.png")
             os.makedirs(os.path.join(result.out_dir, "plots"), exist_ok=True)
             if plot_experiment(result, c["cell"], os.path.join(result.out_dir, rel)):
+                plots[c["cell"]] = rel
+    k = 0
+    for c in result.cells():
+        if c["kind"] == "experiment":
+            rel = os.path.join("plots", f"experiment-{k}.png")
+            k += 1
+            os.makedirs(os.path.join(result.out_dir, "plots"), exist_ok=True)
+            if plot_paper_experiment(result, c["cell"], os.path.join(result.out_dir, rel)):
                 plots[c["cell"]] = rel
     return atomic_write_text(os.path.join(result.out_dir, "report.md"), markdown(result, plots))

@@ -21,10 +21,16 @@ YAML (or JSON, a subset of YAML)::
         seeds: [0, 1, 2]              # or  seeds: {count: 20}  (seeds 0..19)
         max_steps: 20000              # optional
         start: {uniform: 15.0, separation: 0.14}   # optional: uniform starts in a square (default: connected)
+    experiment:                       # a paper experiment's seeded trials
+      - algorithm: wang2020           # a registry name or module:qualname
+        experiment: fig10             # an experiment the algorithm declares (its ``experiments``)
+        robots: [16, 64]              # team sizes: one task per size and seed
+        seeds: {count: 200}
+        options: {arena: 32}          # the experiment's own options (checked against its declaration)
 
 Every problem is an :class:`~swarmproof.models.errors.InputFileError` naming
 the file, the line and the field (``explore[0].robots``) and how to fix it.
-This module checks the form; names (algorithms, properties, targets) are
+This module checks the form; names (algorithms, properties, targets, experiments and their options) are
 checked against the registries by :mod:`swarmproof.checkers.campaign`, with
 the same locations (:meth:`CampaignSpec.error`).
 
@@ -61,7 +67,8 @@ import yaml
 from swarmproof.models.errors import InputFileError
 from swarmproof.models.lattice_io import _field   # one field-path notation for every input file
 
-__all__ = ["CAMPAIGN_FORMAT", "CampaignSpec", "ExploreCell", "SimulateCell", "loads_campaign", "load_campaign_file"]
+__all__ = ["CAMPAIGN_FORMAT", "CampaignSpec", "ExploreCell", "SimulateCell", "ExperimentCell", "loads_campaign",
+           "load_campaign_file"]
 
 CAMPAIGN_FORMAT = "swarmproof-campaign/1"
 
@@ -71,10 +78,11 @@ MAX_SEEDS = 100_000
 MAX_TASKS = 1_000_000
 MAX_ROBOTS = 100_000
 
-_TOP = ("format", "name", "explore", "simulate", "description")
+_TOP = ("format", "name", "explore", "simulate", "experiment", "description")
 _EXPLORE = ("algorithm", "properties", "robots", "seeds", "max_examples", "lattices", "draw_faults", "speeds",
             "max_steps", "params", "allow_violations")
 _SIMULATE = ("algorithm", "targets", "robots", "seeds", "max_steps", "start")
+_EXPERIMENT = ("algorithm", "experiment", "robots", "seeds", "options")
 
 
 @dataclass(frozen=True)
@@ -127,6 +135,29 @@ class SimulateCell:
         return f"simulate[{self.index}] {self.algorithm}"
 
 
+@dataclass(frozen=True)
+class ExperimentCell:
+    """One paper-experiment cell: the experiment's trial ``fn(n, seed, **options)`` for each team
+    size and seed (the function is the one the algorithm declares under ``experiment``)."""
+
+    index: int
+    algorithm: str
+    experiment: str
+    robots: tuple[int, ...]
+    seeds: tuple[int, ...]
+    #: the options as written (the checker adds the defaults of the others)
+    options: dict = field(default_factory=dict)
+
+    @property
+    def path(self) -> tuple:
+        return ("experiment", self.index)
+
+    @property
+    def label(self) -> str:
+        opts = "".join(f" {k}={v}" for k, v in sorted(self.options.items()))
+        return f"experiment[{self.index}] {self.algorithm} {self.experiment}{opts}"
+
+
 @dataclass
 class CampaignSpec:
     """A checked campaign file."""
@@ -137,6 +168,7 @@ class CampaignSpec:
     document: dict
     source: str = "<string>"
     lines: dict = field(default_factory=dict, repr=False)
+    experiment: list[ExperimentCell] = field(default_factory=list)
 
     @property
     def digest(self) -> str:
@@ -306,6 +338,40 @@ def _simulate_cell(c: _Check, i: int, d) -> SimulateCell:
     return SimulateCell(i, algo, targets, sizes, seeds, max_steps, start)
 
 
+def _robots_list(c: _Check, p: tuple, d) -> tuple[int, ...]:
+    """A cell's team sizes: a list (or one number), each 1..MAX_ROBOTS."""
+    sizes = d.get("robots")
+    if isinstance(sizes, int) and not isinstance(sizes, bool):
+        sizes = [sizes]
+    if not isinstance(sizes, list) or not sizes:
+        c.fail(p + ("robots",), f"{_field(p + ('robots',))}={sizes!r} must be a list of team sizes",
+               "e.g. robots: [10, 20]")
+    out = tuple(c.int_(p + ("robots", k), n, 1, MAX_ROBOTS, "robots: [10, 20]") for k, n in enumerate(sizes))
+    if len(set(out)) != len(out):
+        c.fail(p + ("robots",), f"{_field(p + ('robots',))}={sizes!r} repeats a team size", "list each size once")
+    return out
+
+
+def _experiment_cell(c: _Check, i: int, d) -> ExperimentCell:
+    p = ("experiment", i)
+    algo = c.cell_head(p, d, _EXPERIMENT)
+    name = d.get("experiment")
+    if not isinstance(name, str) or not name:
+        c.fail(p + ("experiment",), f"experiment[{i}].experiment={name!r} must be the name of an experiment the "
+                                    "algorithm declares", "e.g. experiment: fig10")
+    sizes = _robots_list(c, p, d)
+    seeds = c.seeds(p + ("seeds",), d.get("seeds", [0]))
+    options = d.get("options") or {}
+    if not isinstance(options, dict):
+        c.fail(p + ("options",), f"experiment[{i}].options={options!r} must be a mapping (name: value)",
+               "e.g. options: {arena: 32}")
+    for k, v in options.items():
+        if not isinstance(k, str) or not (v is None or isinstance(v, (bool, int, float, str))):
+            c.fail(p + ("options", k), f"experiment[{i}].options.{k}={v!r} must be a number, a text or true/false",
+                   "e.g. options: {arena: 32}")
+    return ExperimentCell(i, algo, name, sizes, seeds, dict(options))
+
+
 def loads_campaign(text: str, source: str = "<string>") -> CampaignSpec:
     """Parse and check a campaign document (YAML or JSON).
 
@@ -326,19 +392,20 @@ def loads_campaign(text: str, source: str = "<string>") -> CampaignSpec:
     if not isinstance(name, str) or not name.strip() or len(name) > 100:
         c.fail(("name",), f"name={name!r} must be a short non-empty text", "e.g. name: small")
     cells: dict[str, list] = {}
-    for part, build in (("explore", _explore_cell), ("simulate", _simulate_cell)):
+    for part, build in (("explore", _explore_cell), ("simulate", _simulate_cell), ("experiment", _experiment_cell)):
         items = data.get(part) or []
         if not isinstance(items, list):
             c.fail((part,), f"{part}={items!r} must be a list of cells", f"write each cell as '- algorithm: ...'")
         cells[part] = [build(c, i, d) for i, d in enumerate(items)]
-    if not cells["explore"] and not cells["simulate"]:
-        c.fail((), "the campaign has no cells (neither explore nor simulate)",
-               "add an explore: or simulate: list (docs/campaigns.md)")
+    if not cells["explore"] and not cells["simulate"] and not cells["experiment"]:
+        c.fail((), "the campaign has no cells (neither explore, simulate nor experiment)",
+               "add an explore:, simulate: or experiment: list (docs/campaigns.md)")
     n_tasks = (sum(len(x.seeds) * len(x.properties or (0,) * 8) for x in cells["explore"])
-               + sum(len(x.targets) * len(x.robots) * len(x.seeds) for x in cells["simulate"]))
+               + sum(len(x.targets) * len(x.robots) * len(x.seeds) for x in cells["simulate"])
+               + sum(len(x.robots) * len(x.seeds) for x in cells["experiment"]))
     if n_tasks > MAX_TASKS:
         c.fail((), f"the campaign has {n_tasks} tasks (more than {MAX_TASKS})", "split it into several campaigns")
-    spec = CampaignSpec(name.strip(), cells["explore"], cells["simulate"], data, source, lines)
+    spec = CampaignSpec(name.strip(), cells["explore"], cells["simulate"], data, source, lines, cells["experiment"])
     return spec
 
 

@@ -50,6 +50,7 @@ import numpy as np
 __all__ = [
     "Assumption", "RobotModel", "Params", "ParamSpec", "VerifyPlan", "Observation", "Command", "Controller",
     "Algorithm", "DEFAULT_READING", "reading_of", "steer_toward", "connected_start",
+    "Experiment", "ExperimentColumn", "experiment",
 ]
 
 #: The reading of an algorithm that declares none, and of a counterexample file or baseline that
@@ -500,6 +501,114 @@ class VerifyPlan:
         """``(target, robots, seeds)`` of every ``algorithms`` row group, in report order."""
         return tuple((t, self.robots, tuple(self.seeds)) for t in self.targets) + tuple(
             (t, int(n), tuple(seeds)) for t, n, seeds in self.more)
+
+
+@dataclass(frozen=True)
+class ExperimentColumn:
+    """One column of an experiment's table in a campaign report (by team size).
+
+    Attributes
+    ----------
+    figure : str
+        The figure (a key of the dict the experiment returns).
+    header : str
+        The column's header.
+    stat : str
+        ``"count"`` (trials whose figure is a number), ``"median"``, ``"median_range"`` (median
+        (min-max)) or ``"mean_sd"`` (mean ± sample standard deviation), over the trials whose
+        figure is a number.
+    only_if : str, optional
+        Only the trials whose figure ``only_if`` is a number count (e.g. a ratio over the
+        trials that formed the shape).
+    """
+
+    figure: str
+    header: str
+    stat: str = "median_range"
+    only_if: str | None = None
+
+    STATS = ("count", "median", "median_range", "mean_sd")
+
+    def __post_init__(self) -> None:
+        from swarmproof.models.errors import UsageError
+
+        if self.stat not in self.STATS:
+            raise UsageError(f"ExperimentColumn stat={self.stat!r} is not one of {list(self.STATS)!r}")
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """What an experiment function declares (:func:`experiment`): a paper's experiment as seeded
+    trials ``fn(n, seed, **options) -> dict of figures`` that a campaign's ``experiment:`` cell
+    runs (docs/campaigns.md).
+
+    Attributes
+    ----------
+    options : tuple of ParamSpec
+        Its keyword options, with defaults and ranges: a campaign refuses any other option and a
+        value out of range before any task runs.
+    robots : (int, int or None)
+        The team sizes it takes, ``[MIN, MAX]`` (None: no bound of its own).
+    check : callable ``(n, **options) -> None``, optional
+        Raises :class:`~swarmproof.models.errors.UsageError` for a team size the options cannot
+        hold (e.g. more robots than the arena's cells).
+    columns : tuple of ExperimentColumn
+        The report's table by team size (empty: every number figure, median (min-max)).
+    plot : tuple of str
+        Figures the report plots against team size (median and min-max range).
+    cites : str
+        The paper's experiment it reproduces, e.g. ``"004 Sec. V-A, Fig. 10"``.
+    """
+
+    options: tuple = ()
+    robots: tuple = (1, None)
+    check: Callable | None = field(default=None, compare=False)
+    columns: tuple = ()
+    plot: tuple = ()
+    cites: str = ""
+
+
+def experiment(*, options=(), robots=(1, None), check=None, columns=(), plot=(), cites: str = ""):
+    """Declare ``fn(n, seed, **options) -> dict`` an experiment (its attribute ``experiment``, an
+    :class:`Experiment`).  An algorithm lists its experiments in its class attribute
+    ``experiments``: name -> ``"module:qualname"`` of such a function.
+
+    The function must be deterministic in its arguments (every random draw seeded from ``n`` and
+    ``seed``) and return figures that are numbers, texts, true/false or None: no wall clock and
+    no CPU time (a campaign keeps those in its ``timings`` table).  Every declared option must be
+    a keyword parameter of the function with the same default.
+
+    Examples
+    --------
+    >>> @experiment(options=(ParamSpec("side", int, 8, low=1, meaning="arena side"),), robots=(1, 64))
+    ... def trial(n, seed, side=8):
+    ...     return {"n": n, "side": side}
+    >>> trial.experiment.robots, [s.name for s in trial.experiment.options]
+    ((1, 64), ['side'])
+    >>> experiment(options=(ParamSpec("side", int, 9),))(trial)
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: experiment trial declares option side=9 but its parameter's default is 8; fix: give the option the function's default
+    """
+    import inspect
+
+    from swarmproof.models.errors import UsageError
+
+    def wrap(fn):
+        sig = inspect.signature(fn)
+        for s in options:
+            p = sig.parameters.get(s.name)
+            if p is None or p.kind not in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD):
+                raise UsageError(f"experiment {fn.__qualname__} declares option {s.name!r} that is not one of "
+                                 "its keyword parameters", fix="add the parameter, or drop the option")
+            if p.default != s.default:
+                raise UsageError(f"experiment {fn.__qualname__} declares option {s.name}={s.default!r} but its "
+                                 f"parameter's default is {p.default!r}", fix="give the option the function's default")
+        lo, hi = robots
+        fn.experiment = Experiment(tuple(options), (int(lo), None if hi is None else int(hi)), check,
+                                   tuple(columns), tuple(plot), cites)
+        return fn
+    return wrap
 
 
 def reading_of(algorithm) -> str:

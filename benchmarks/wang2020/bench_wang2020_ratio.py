@@ -48,7 +48,8 @@ from swarmproof.models.assignment import optimal_assignment
 from swarmproof.reference_impl.wang2020 import algorithm as W
 from swarmproof.reference_impl.protocol import Command
 from swarmproof.reference_impl.wang2020.algorithm import manhattan as md
-from swarmproof.reference_impl.wang2020.experiments import ARENA, ProgressObserver, experiment_params
+from swarmproof.reference_impl.wang2020.experiments import (ARENA, ProgressObserver, experiment_params,
+                                                            random_assignment_cells)
 from swarmproof.reference_impl.wang2020.experiments import fig10_instance as instance
 
 R_CELLS = 3.0    # R / l = 0.6 m / 0.2 m (004 Sec. V-A, V-B3)
@@ -57,8 +58,7 @@ R_CELLS = 3.0    # R / l = 0.6 m / 0.2 m (004 Sec. V-A, V-B3)
 def costs(starts, goals) -> tuple:
     """``(optimum, random assignment's expected cost)`` in grid edges: the distance-optimal
     assignment (the centralized method's total, Fig. 10) and n times the mean start-goal distance."""
-    S, G = np.asarray(starts), np.asarray(goals)
-    return int(optimal_assignment(starts, goals).cells), float(np.abs(S[:, None, :] - G[None, :, :]).sum(-1).mean() * len(S))
+    return int(optimal_assignment(starts, goals).cells), random_assignment_cells(starts, goals)
 
 
 # -- the instrumented controller --------------------------------------------------------------

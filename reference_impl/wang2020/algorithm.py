@@ -1120,6 +1120,11 @@ class Wang2020:
     #: simulate's ``--then`` becomes ``params.extra["then"]`` (Fig. 9's "N" then "U"): in the run's
     #: parameters, so counterexample files, replay and campaigns carry it.
     options = ("then",)
+    #: Its paper's experiments as seeded trials, for a campaign's ``experiment:`` cell
+    #: (docs/campaigns.md): name -> ``module:qualname`` of an experiment function.  They run this
+    #: class's default reading; a campaign takes experiments from the class that declares them only
+    #: (a subclass, e.g. ``Wang2020BroadcastHandshake``, declares its own or has none).
+    experiments = {"fig10": "swarmproof.reference_impl.wang2020.experiments:fig10_task"}
 
     def __init__(self, then=()) -> None:
         if then is None:

@@ -429,3 +429,97 @@ def wang_trial(goals, starts, seed: int, *, params=None, then=(), stop_when_form
     return {"status": r.status, "steps": r.steps, "formed_step": res["formed_step"],
             "formed_s": None if res["formed_step"] is None else res["formed_step"] * params.dt,
             "distance_m": res["distance"], "series": res["series"], "dt": params.dt, "result": r}
+
+
+# -- Fig. 10 as a campaign experiment (004 Sec. V-A) --------------------------------------------
+
+def _experiment_constants() -> tuple:
+    """``(l, l / v)`` of the experiments: wang2020's grid length (004 Sec. V-B3, 0.2 m) and one
+    centralized step, one grid edge at Sec. V-A's v = 0.05 m/s (4 s), read from
+    :func:`experiment_params` (never restated)."""
+    p = experiment_params(1)
+    l = float(p.extra["grid_spacing"])
+    return l, l / p.v
+
+
+#: The grid length l in metres (004 Sec. V-B3) and one centralized step l / v in seconds.
+GRID_LENGTH, EDGE_S = _experiment_constants()
+
+__all__ += ["GRID_LENGTH", "EDGE_S", "random_assignment_cells", "fig10_task"]
+
+
+def random_assignment_cells(starts, goals) -> float:
+    """The expected total distance, in grid edges, of a uniformly random assignment of the agents
+    to the goals: n times the mean start-goal Manhattan distance (every agent is equally likely
+    to get each goal).  The baseline beside the optimum for Fig. 10's ratio (docs/wang2020.md,
+    "Why the distance ratio grows with n").
+
+    >>> random_assignment_cells([(0, 0), (2, 0)], [(0, 0), (1, 0)])
+    2.0
+    """
+    S, G = np.asarray(starts, dtype=np.int64), np.asarray(goals, dtype=np.int64)
+    return float(np.abs(S[:, None, :] - G[None, :, :]).sum(-1).mean() * len(S))
+
+
+def _fig10_fits(n: int, arena: int = ARENA) -> None:
+    """n distinct start cells need an arena of at least n cells (:func:`start_cells`)."""
+    if n > arena * arena:
+        raise UsageError(f"robots={n} is more than the arena={arena}x{arena} holds ({arena * arena} start cells)",
+                         fix=f"give at most {arena * arena} robots, or a larger arena "
+                             f"(options: {{arena: {math.isqrt(n - 1) + 1}}})")
+
+
+def _fig10_declaration():
+    from swarmproof.reference_impl.protocol import ExperimentColumn as C, ParamSpec, experiment
+
+    return experiment(
+        options=(ParamSpec("arena", int, ARENA, low=1, high=1024,
+                           meaning="the side of the square arena the starts are drawn in, in waypoints, centred "
+                                   "on the shape (004 Sec. V-A: fixed-size, not given; 32 here)"),),
+        # the paper's swarms are 16..529 (Fig. 10) and 1,024 (Fig. 9); a 4,096-agent trial already
+        # takes hours here (docs/performance.md)
+        robots=(1, 4096), check=_fig10_fits,
+        columns=(C("formed_s", "formed", "count"), C("formed_s", "formed (s)", "median"),
+                 C("central_s", "centralized (s)", "median"),
+                 C("ratio", "distance ratio", "median_range", only_if="formed_s"),
+                 C("random_ratio", "random-assignment ratio", "median")),
+        plot=("ratio", "random_ratio"), cites="004 Sec. V-A, Fig. 10")
+
+
+@_fig10_declaration()
+def fig10_task(n: int, seed: int, arena: int = ARENA) -> dict:
+    """One trial of 004 Fig. 10 (Sec. V-A): the figures of the decentralized run to formation and of
+    the centralized method [12] on the same instance, for a campaign's ``experiment:`` cell
+    (``wang2020``'s experiment ``fig10``).
+
+    The instance is :func:`fig10_instance` ``(n, seed, arena)``: a random connected shape of n
+    cells and n starts uniform in an ``arena x arena`` square.  Deterministic: no wall clock, no
+    CPU time (a campaign keeps those apart).
+
+    Returns
+    -------
+    dict
+        ``status`` and ``steps`` of the run (stopped once formed), ``formed_s`` (simulated seconds
+        until every goal is occupied, None if never), ``distance_m`` (all agents), the centralized
+        method's ``central_distance_m`` (the optimum), ``central_s`` (its makespan, one edge per
+        l / v = 4 s) and ``central_bound_s`` ([12]'s bound), ``ratio`` = distance_m /
+        central_distance_m (Fig. 10's y axis), ``random_assignment_m`` (the expected cost of a
+        uniformly random assignment, :func:`random_assignment_cells` times l) and
+        ``random_ratio`` = random_assignment_m / central_distance_m (ratios None when the optimum
+        is 0).
+
+    References
+    ----------
+    004 Sec. V-A, Fig. 10 ("200 trials" per swarm size, distance compared with the centralized
+    method [12]).
+    """
+    goals, starts = fig10_instance(n, seed, arena)
+    w = wang_trial(goals, starts, seed)
+    cells = sorted(goals.cells)
+    c = centralized_schedule(starts, cells)
+    central_m = c.total_cells * GRID_LENGTH
+    random_m = random_assignment_cells(starts, cells) * GRID_LENGTH
+    return {"status": w["status"], "formed_s": w["formed_s"], "steps": w["steps"], "distance_m": w["distance_m"],
+            "central_distance_m": central_m, "central_s": c.steps * EDGE_S, "central_bound_s": c.bound_steps * EDGE_S,
+            "ratio": w["distance_m"] / central_m if c.total_cells else None,
+            "random_assignment_m": random_m, "random_ratio": random_m / central_m if c.total_cells else None}

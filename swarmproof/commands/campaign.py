@@ -7,7 +7,8 @@ cluster (``--scheduler tcp://HOST:PORT``); results stream into
 ``campaign-NAME``), and ``DIR/report.md`` sums them up.  ``--resume`` runs
 only the unfinished tasks of a campaign that was cut short.
 
-Exit codes: 0 every task held; 1 a task found a violation (with a
+Exit codes: 0 every task held (or, for a paper experiment's trials, was
+measured: figures, no claim judged); 1 a task found a violation (with a
 counterexample); 2 a bad spec, an unreachable scheduler, an unusable --out
 folder or a full disk (with the cause and the fix; what finished is kept);
 3 inconclusive or cut short; 130 stopped by Ctrl-C (no report.md is written; what

@@ -137,7 +137,8 @@ def test_two_workers_json_report_and_resume(tmp_path, capsys):
     assert "seconds" not in json.dumps(da)
     cells = {c["cell"]: c for c in da["cells"]}
     assert cells["explore[0] song2014 n=3..6"]["verdict"] == "violated"
-    assert cells["simulate[0] song2016"]["counts"] == {"held": 2, "violated": 0, "inconclusive": 0, "n/a": 0}
+    assert cells["simulate[0] song2016"]["counts"] == {"held": 2, "violated": 0, "inconclusive": 0, "n/a": 0,
+                                                       "measured": 0}
     # a second run into the same folder needs --resume, which then runs nothing
     spec = str(tmp_path / "small.yaml")
     assert main(["campaign", spec, "--out", a]) == 2
@@ -342,7 +343,8 @@ def test_a_killed_worker_loses_nothing(tmp_path):
     assert results_table(tmp_path / "remote") == results_table(tmp_path / "full")
 
 
-@pytest.mark.parametrize("name, tasks", [("song2014-oscillation.yaml", 24), ("paper-statistics.yaml", 1710)])
+@pytest.mark.parametrize("name, tasks", [("song2014-oscillation.yaml", 24), ("paper-statistics.yaml", 1710),
+                                         ("wang2020-fig10.yaml", 1200)])
 def test_shipped_campaigns_load_and_plan(name, tasks):
     from swarmproof.models.campaign_spec import load_campaign_file
 
@@ -548,7 +550,7 @@ def test_not_applicable_tasks_are_no_verdict_counted_apart():
                          out_dir="o")
     cells = {c["cell"]: c for c in res.cells()}
     assert cells["cell-a"]["verdict"] == "n/a" and cells["cell-a"]["counts"] == {
-        "held": 0, "violated": 0, "inconclusive": 0, "n/a": 1}
+        "held": 0, "violated": 0, "inconclusive": 0, "n/a": 1, "measured": 0}
     assert cells["cell-b"]["verdict"] == "held"
     assert res.exit_code == 0
     assert any("0 inconclusive, 1 n/a (not applicable)" in line for line in format_summary(res))

@@ -203,3 +203,42 @@ def test_bench_fig9_draws_a_run_whose_n_never_formed_on_ns_goals(tmp_path):
     assert 0 < held < len(gN)
     # an agent between two cells holds none; one on a goal holds it
     assert bench._goals_held([[gN[0][0] * 0.2, gN[0][1] * 0.2], [gN[1][0] * 0.2 + 0.1, gN[1][1] * 0.2]], gN) == 1
+
+
+def test_fig10_task_gives_the_bench_trial_s_figures_and_the_random_assignment_baseline():
+    """fig10_task (a campaign's experiment ``fig10``) is the benchmark's Fig. 10 trial, without
+    its timing fields, plus the arena's random-assignment baseline (bench_wang2020_ratio.costs)."""
+    from testkit import load_benchmark
+
+    from swarmproof.reference_impl.wang2020.experiments import EDGE_S, GRID_LENGTH, fig10_instance, fig10_task
+
+    bench = load_benchmark("wang2020/bench_wang2020")
+    assert (GRID_LENGTH, EDGE_S) == (bench.L, bench.EDGE_S)
+    got = fig10_task(16, 0)
+    want = bench.fig10_trial(16, 0)
+    shared = ("status", "formed_s", "steps", "distance_m", "central_distance_m", "central_s", "central_bound_s",
+              "ratio")
+    assert {k: got[k] for k in shared} == {k: want[k] for k in shared}
+    assert got["formed_s"] is not None and got["ratio"] > 1
+    goals, starts = fig10_instance(16, 0)
+    opt, rand = load_benchmark("wang2020/bench_wang2020_ratio").costs(starts, sorted(goals.cells))
+    assert got["central_distance_m"] == opt * GRID_LENGTH
+    assert got["random_assignment_m"] == rand * GRID_LENGTH
+    assert got["random_ratio"] == got["random_assignment_m"] / got["central_distance_m"]
+    assert set(got) == set(shared) | {"random_assignment_m", "random_ratio"}
+    assert all(v is None or isinstance(v, (int, float, str)) for v in got.values())
+
+
+def test_fig10_task_declares_its_option_and_sizes():
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020, Wang2020BroadcastHandshake
+    from swarmproof.reference_impl.wang2020.experiments import fig10_task
+
+    decl = fig10_task.experiment
+    assert [(s.name, s.default, s.low, s.high) for s in decl.options] == [("arena", 32, 1, 1024)]
+    assert decl.robots == (1, 4096) and decl.plot == ("ratio", "random_ratio")
+    decl.check(1024, arena=32)
+    with pytest.raises(UsageError, match=r"robots=1025 is more than the arena=32x32 holds \(1024 start cells\); "
+                                         r"fix: give at most 1024 robots, or a larger arena \(options: \{arena: 33\}\)"):
+        decl.check(1025, arena=32)
+    assert Wang2020.experiments == {"fig10": "swarmproof.reference_impl.wang2020.experiments:fig10_task"}
+    assert "experiments" not in vars(Wang2020BroadcastHandshake)     # runs the default reading: not its own
