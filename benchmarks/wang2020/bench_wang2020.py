@@ -30,12 +30,11 @@ import time
 import numpy as np
 
 from swarmproof.models.shapes import random_shape, shape_for
-from swarmproof.reference_impl.wang2020.experiments import (centralized_schedule, experiment_params,
-                                                            fig10_instance, start_cells, wang_trial)
+from swarmproof.reference_impl.wang2020.experiments import (EDGE_S, GRID_LENGTH, centralized_schedule,
+                                                            experiment_params, fig10_instance, fig10_task,
+                                                            random_assignment_cells, start_cells, wang_trial)
 
-L = 0.2          # grid length (004 Sec. V-B3)
-V = 0.05         # speed (004 Sec. V-A)
-EDGE_S = L / V   # one centralized step
+L = GRID_LENGTH  # grid length l (004 Sec. V-B3); EDGE_S = l / v, one centralized step
 
 
 def _peak_mib() -> float:
@@ -65,7 +64,8 @@ def fig9_run(n: int = 1024, seed: int = 0, arena: int = 48, max_steps: int | Non
             pass
 
         def observe(self, t, poses, states, present):
-            if "N" not in snap and states and dict(states[0])["shape"] == 1:
+            # the first step in which some agent detected "N" complete (Sec. III-B) and switched
+            if "N" not in snap and len(states) and max(states.values_of("completed")) >= 1:
                 snap["N"] = (t, np.array(poses[:, :2]))
 
         def result(self):
@@ -105,18 +105,22 @@ def fig9_run(n: int = 1024, seed: int = 0, arena: int = 48, max_steps: int | Non
             "_goals": (sorted(N.cells), sorted(U.cells))}
 
 
-def fig10_trial(n: int, seed: int, arena: int = 32) -> dict:
-    """One Fig. 10 trial: a random connected shape of n cells, n random starts in the arena; the
-    decentralized run to formation and the centralized schedule from the same starts."""
+def _random_baseline(n: int, seed: int, arena: int, optimum_m: float) -> dict:
+    """The arena's random-assignment baseline of trial ``(n, seed)`` (as ``fig10_task`` gives it),
+    for trials recorded before the columns existed."""
     goals, starts = fig10_instance(n, seed, arena)
+    rand = random_assignment_cells(starts, sorted(goals.cells)) * L
+    return {"random_assignment_m": rand, "random_ratio": rand / optimum_m if optimum_m else None}
+
+
+def fig10_trial(n: int, seed: int, arena: int = 32) -> dict:
+    """One Fig. 10 trial (``fig10_task``: a random connected shape of n cells, n random starts in
+    the arena; the decentralized run to formation and the centralized schedule from the same
+    starts), with the machine's wall and CPU time for it."""
     t0, c0 = time.perf_counter(), time.process_time()
-    w = wang_trial(goals, starts, seed)
+    out = fig10_task(n, seed, arena)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    c = centralized_schedule(starts, sorted(goals.cells))
-    return {"n": n, "seed": seed, "status": w["status"], "formed_s": w["formed_s"], "steps": w["steps"],
-            "distance_m": w["distance_m"], "central_distance_m": c.total_cells * L,
-            "central_s": c.steps * EDGE_S, "central_bound_s": c.bound_steps * EDGE_S,
-            "ratio": w["distance_m"] / (c.total_cells * L) if c.total_cells else None, "wall_s": wall, "cpu_s": cpu,
+    return {"n": n, "seed": seed, "arena": arena, **out, "wall_s": wall, "cpu_s": cpu,
             "load_avg": list(__import__("os").getloadavg())}
 
 
@@ -143,7 +147,7 @@ def _box(ax, data, pos, color):
 
 
 def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None, jsonl: str | None = None,
-          run: bool = True) -> dict:
+          run: bool = True, arena: int = 32, large_from: int = 200) -> dict:
     done = {}
     if jsonl:
         try:
@@ -151,18 +155,23 @@ def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None,
                 for line in f:
                     if line.strip():
                         tr = json.loads(line)
+                        if tr.get("arena", 32) != arena:
+                            raise SystemExit(f"{jsonl}: holds a trial of arena {tr.get('arena', 32)}, not {arena}: "
+                                             "use one file per arena")
+                        if "random_ratio" not in tr:   # trials written before the column: the same instance's
+                            tr.update(_random_baseline(tr["n"], tr["seed"], arena, tr["central_distance_m"]))
                         done[(tr["n"], tr["seed"])] = tr
         except FileNotFoundError:
             pass
     rows = []
     for n in sizes:
-        for s in range(trials if trials_large is None or n < 200 else trials_large):
+        for s in range(trials if trials_large is None or n < large_from else trials_large):
             if (n, s) in done:
                 rows.append(done[(n, s)])
                 continue
             if not run:
                 continue
-            tr = fig10_trial(n, s)
+            tr = fig10_trial(n, s, arena)
             rows.append(tr)
             if jsonl:
                 with open(jsonl, "a") as f:
@@ -171,8 +180,10 @@ def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None,
                   f"bound {tr['central_bound_s']:.0f} s), distance {tr['distance_m']:.1f} m vs {tr['central_distance_m']:.1f} m "
                   f"(ratio {tr['ratio']:.3f}); {tr['wall_s']:.1f} s wall, {tr['cpu_s']:.1f} s CPU", flush=True)
     sizes = [n for n in sizes if any(r["n"] == n for r in rows)]
-    print("\n| n | trials | formed | time, ours (s) | time, centralized (s) | [12] bound (s) | distance per robot, ours (m) | centralized (m) | ratio |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print(f"\n{arena} x {arena} arena\n")
+    print("| n | trials | formed | time, ours (s) | time, centralized (s) | [12] bound (s) | distance per robot, ours (m) | "
+          "centralized (m) | ratio | random assignment / optimum | CPU a trial (s, mean) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     summary = []
     for n in sizes:
         rs = [r for r in rows if r["n"] == n]
@@ -186,10 +197,14 @@ def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None,
                "bound": med("central_bound_s", rs), "dist": med("distance_m") / n,
                "cdist": med("central_distance_m", rs) / n, "ratio": med("ratio"),
                "ratio_min": min((r["ratio"] for r in ok), default=float("nan")),
-               "ratio_max": max((r["ratio"] for r in ok), default=float("nan"))}
+               "ratio_max": max((r["ratio"] for r in ok), default=float("nan")),
+               "random": med("random_ratio", rs),
+               "random_min": min(r["random_ratio"] for r in rs), "random_max": max(r["random_ratio"] for r in rs),
+               "cpu": statistics.mean(r["cpu_s"] for r in rs)}
         summary.append(row)
         print(f"| {n} | {row['trials']} | {row['formed']} | {row['time']:.0f} | {row['central']:.0f} | {row['bound']:.0f} | "
-              f"{row['dist']:.2f} | {row['cdist']:.2f} | {row['ratio']:.2f} ({row['ratio_min']:.2f}-{row['ratio_max']:.2f}) |")
+              f"{row['dist']:.2f} | {row['cdist']:.2f} | {row['ratio']:.2f} ({row['ratio_min']:.2f}-{row['ratio_max']:.2f}) | "
+              f"{row['random']:.2f} ({row['random_min']:.2f}-{row['random_max']:.2f}) | {row['cpu']:.1f} |")
     if plot:
         import matplotlib.pyplot as plt
 
@@ -202,7 +217,10 @@ def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None,
         _box(axes[1], [[r["distance_m"] / n for r in by[n]] for n in sizes], x - 0.2, "red")
         _box(axes[1], [[r["central_distance_m"] / n for r in by[n]] for n in sizes], x + 0.2, "blue")
         axes[1].set_ylabel("distance travelled per robot (m)")
-        _box(axes[2], [[r["ratio"] for r in by[n] if r["ratio"] is not None] for n in sizes], x, "red")
+        _box(axes[2], [[r["ratio"] for r in by[n] if r["ratio"] is not None] for n in sizes], x - 0.2, "red")
+        _box(axes[2], [[r["random_ratio"] for r in by[n]] for n in sizes], x + 0.2, "0.6")
+        axes[2].plot([], [], color="red", lw=6, alpha=0.5, label="ours / optimum")
+        axes[2].plot([], [], color="0.6", lw=6, alpha=0.5, label="random assignment / optimum")
         axes[2].axhline(1.2, color="gray", ls="--", lw=1, label="paper: about 1.2")
         axes[2].set_ylabel("distance ratio, ours / centralized")
         axes[2].legend()
@@ -211,7 +229,7 @@ def fig10(sizes, trials: int, plot: str | None, trials_large: int | None = None,
             ax.set_xticklabels([str(n) for n in sizes])
             ax.set_xlabel("number of agents")
         fig.suptitle(f"004 Fig. 10 reproduced: wang2020 (red) vs centralized [12] (blue), "
-                     f"{'/'.join(str(len(by[n])) for n in sizes)} trials, 32 x 32 arena")
+                     f"{'/'.join(str(len(by[n])) for n in sizes)} trials, {arena} x {arena} arena")
         fig.tight_layout()
         fig.savefig(plot, dpi=90)
         print(f"wrote {plot}")
@@ -321,13 +339,26 @@ def fig11(n: int, shapes: int, runs: int, plot: str | None, max_steps: int | Non
     return summary
 
 
-def fig12(n: int, shapes: int, plot: str | None) -> dict:
-    """004 Fig. 12 at reduced scale: ours vs centralized over time."""
+def _largest_drop(runs, n) -> dict:
+    """How far the mean "goals occupied" curve of ``runs`` falls below its running maximum (% of n),
+    the time of its lowest point after t = 0 and its value there (Sec. V-B4: in the paper's
+    simulations the curve "monotonically increase[s] over time")."""
+    horizon = max(s[-1][0] for s in runs)
+    t, m, _ = _mean_band(runs, horizon, 10, 1)
+    pct = m * 100.0 / n
+    drop = np.maximum.accumulate(pct) - pct
+    low = int(np.argmin(pct))
+    return {"start_pct": float(pct[0]), "largest_drop_pct": float(drop.max()), "lowest_pct": float(pct[low]),
+            "lowest_at_s": float(t[low] * 0.1), "monotone": bool(drop.max() == 0.0)}
+
+
+def fig12(n: int, shapes: int, plot: str | None, arena: int = 32) -> dict:
+    """004 Fig. 12 at reduced scale: ours vs centralized over time (starts in an ``arena`` square)."""
     ours, cent = [], []
     for k in range(shapes):
         rng = np.random.default_rng([12, n, k])
         goals = random_shape(n, rng)
-        starts = start_cells(goals.cells, n, rng)
+        starts = start_cells(goals.cells, n, rng, arena=arena)
         w = wang_trial(goals, starts, k)
         c = centralized_schedule(starts, sorted(goals.cells))
         ours.append(w["series"])
@@ -347,11 +378,16 @@ def fig12(n: int, shapes: int, plot: str | None) -> dict:
         for ax in axes:
             ax.set_xlabel("time (s)")
             ax.legend()
-        fig.suptitle(f"004 Fig. 12 at reduced scale: {n} agents, {shapes} random shapes (mean, 2 sigma)")
+        fig.suptitle(f"004 Fig. 12 at reduced scale: {n} agents, {shapes} random shapes, {arena} x {arena} arena "
+                     f"(mean, 2 sigma)")
         fig.tight_layout()
         fig.savefig(plot, dpi=90)
         print(f"wrote {plot}")
-    return {"ours_formed_s": [s[-1][0] * 0.1 for s in ours], "central_s": [s[-1][0] * 0.1 for s in cent]}
+    out = {"arena": arena, "ours_formed_s": [s[-1][0] * 0.1 for s in ours], "central_s": [s[-1][0] * 0.1 for s in cent],
+           "ours_distance_m": [s[-1][2] for s in ours], "central_distance_m": [s[-1][2] for s in cent],
+           "ours_curve": _largest_drop(ours, n), "central_curve": _largest_drop(cent, n)}
+    print(out)
+    return out
 
 
 def main(argv=None) -> int:
@@ -366,6 +402,8 @@ def main(argv=None) -> int:
     p.add_argument("--trials-large", type=int, default=None, help="trials for n >= 200 (default: --trials)")
     p.add_argument("--jsonl", default=None, help="append each trial here; trials already there are not re-run")
     p.add_argument("--no-run", action="store_true", help="only table and plot the trials in --jsonl")
+    p.add_argument("--arena", type=int, default=32, help="side of the start arena (one --jsonl file per arena)")
+    p.add_argument("--large-from", type=int, default=200, help="sizes from this on run --trials-large trials")
     p = sub.add_parser("fig9")
     p.add_argument("--robots", type=int, default=1024)
     p.add_argument("--seed", type=int, default=0)
@@ -379,6 +417,7 @@ def main(argv=None) -> int:
     p = sub.add_parser("fig12")
     p.add_argument("--robots", type=int, default=100)
     p.add_argument("--shapes", type=int, default=6)
+    p.add_argument("--arena", type=int, default=32, help="side of the start arena, centred on the shape")
     for q in sub.choices.values():
         q.add_argument("--json", default=None)
         q.add_argument("--plot", default=None)
@@ -386,13 +425,14 @@ def main(argv=None) -> int:
     if a.cmd == "perf":
         out = perf(a.robots, a.trial_robots)
     elif a.cmd == "fig10":
-        out = fig10([int(x) for x in a.sizes.split(",")], a.trials, a.plot, a.trials_large, a.jsonl, not a.no_run)
+        out = fig10([int(x) for x in a.sizes.split(",")], a.trials, a.plot, a.trials_large, a.jsonl, not a.no_run, a.arena,
+                    a.large_from)
     elif a.cmd == "fig9":
         out = fig9(a.robots, a.seed, a.plot, a.max_steps, a.arena)
     elif a.cmd == "fig11":
         out = fig11(a.robots, a.shapes, a.runs, a.plot, a.max_steps)
     else:
-        out = fig12(a.robots, a.shapes, a.plot)
+        out = fig12(a.robots, a.shapes, a.plot, a.arena)
     if a.json:
         with open(a.json, "w") as f:
             json.dump(out, f, indent=1, default=lambda o: None)

@@ -185,6 +185,20 @@ def test_bench_script_tables_and_plots_a_tiny_fig10_and_fig12(tmp_path, capsys):
     assert "| 4 | 1 |" in capsys.readouterr().out        # n, trials (this 4-agent trial ends unformed: the early-detection finding)
     res = bench.fig12(5, 1, str(tmp_path / "f12.png"))
     assert len(res["ours_formed_s"]) == 1 and (tmp_path / "f12.png").stat().st_size > 0
+    # the centralized schedule's curve never falls; its start is the share of agents starting on goals
+    assert res["central_curve"]["monotone"] and res["central_curve"]["largest_drop_pct"] == 0.0
+    assert res["ours_curve"]["start_pct"] == res["central_curve"]["start_pct"]
+    # a trial recorded before the random-assignment columns gets them from its instance on reading
+    old_row = dict(out["rows"][1])
+    for k in ("random_assignment_m", "random_ratio", "arena"):
+        old_row.pop(k)
+    log.write_text(json.dumps(old_row) + "\n")
+    back = bench.fig10([6], 1, None, jsonl=str(log), run=False)["rows"][0]
+    assert back["random_ratio"] == out["rows"][1]["random_ratio"]
+    other = tmp_path / "a64.jsonl"
+    other.write_text(json.dumps(dict(out["rows"][1], arena=64)) + "\n")
+    with pytest.raises(SystemExit, match="use one file per arena"):
+        bench.fig10([6], 1, None, jsonl=str(other), run=False)
 
 
 def test_bench_fig9_draws_a_run_whose_n_never_formed_on_ns_goals(tmp_path):
@@ -206,8 +220,13 @@ def test_bench_fig9_draws_a_run_whose_n_never_formed_on_ns_goals(tmp_path):
 
 
 def test_fig10_task_gives_the_bench_trial_s_figures_and_the_random_assignment_baseline():
-    """fig10_task (a campaign's experiment ``fig10``) is the benchmark's Fig. 10 trial, without
-    its timing fields, plus the arena's random-assignment baseline (bench_wang2020_ratio.costs)."""
+    """fig10_task (a campaign's experiment ``fig10``) gives the figures the benchmark recorded for
+    the same trial (benchmarks/wang2020/results/fig10-default.jsonl, n = 16, seed 0), plus the
+    arena's random-assignment baseline (bench_wang2020_ratio.costs); the benchmark's trial is it
+    with the timing fields."""
+    import json
+    import pathlib
+
     from testkit import load_benchmark
 
     from swarmproof.reference_impl.wang2020.experiments import EDGE_S, GRID_LENGTH, fig10_instance, fig10_task
@@ -215,7 +234,8 @@ def test_fig10_task_gives_the_bench_trial_s_figures_and_the_random_assignment_ba
     bench = load_benchmark("wang2020/bench_wang2020")
     assert (GRID_LENGTH, EDGE_S) == (bench.L, bench.EDGE_S)
     got = fig10_task(16, 0)
-    want = bench.fig10_trial(16, 0)
+    jsonl = pathlib.Path(__file__).resolve().parents[2] / "benchmarks/wang2020/results/fig10-default.jsonl"
+    want = next(r for r in map(json.loads, jsonl.read_text().splitlines()) if (r["n"], r["seed"]) == (16, 0))
     shared = ("status", "formed_s", "steps", "distance_m", "central_distance_m", "central_s", "central_bound_s",
               "ratio")
     assert {k: got[k] for k in shared} == {k: want[k] for k in shared}
