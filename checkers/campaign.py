@@ -98,10 +98,11 @@ def resolve_experiment(algorithm: str, name: str) -> tuple:
             fix = f"use one of {sorted(own)!r}"
         elif inherited:
             fix = ("its base class declares " + repr(sorted(inherited)) + ", which run the base class's reading, "
-                   "not this one: use the base class, or declare experiments on this class")
+                   "not this one (an experiment function builds the algorithm it was written for): use the base class")
         else:
-            fix = "use an algorithm that declares experiments (its class attribute experiments), e.g. `swarmproof list algorithms`"
-        raise UsageError(f"experiment={name!r} is not an experiment of algorithm {spec.label!r}"
+            fix = ("use an algorithm that declares experiments (its class attribute experiments): "
+                   "`swarmproof list algorithms` names them")
+        raise UsageError(f"experiment={name!r} is not an experiment of algorithm {algorithm!r}"
                          f"{did_you_mean(name, own) if own else ''} (it declares {sorted(own) or 'none'})", fix=fix)
     ref = own[name]
     modname, _, qual = str(ref).partition(":")
@@ -110,11 +111,11 @@ def resolve_experiment(algorithm: str, name: str) -> tuple:
         for part in qual.split("."):
             fn = getattr(fn, part)
     except Exception as exc:  # noqa: BLE001 - ImportError, AttributeError, or the module's own error
-        raise UsageError(f"experiment {name!r} of algorithm {spec.label!r} names {ref!r}, which cannot be imported "
+        raise UsageError(f"experiment {name!r} of algorithm {algorithm!r} names {ref!r}, which cannot be imported "
                          f"({type(exc).__name__}: {exc})", fix="fix the algorithm's experiments entry "
                          "(module:qualname of a module-level function)") from None
     if not callable(fn):
-        raise UsageError(f"experiment {name!r} of algorithm {spec.label!r} names {ref!r}, which is not a function",
+        raise UsageError(f"experiment {name!r} of algorithm {algorithm!r} names {ref!r}, which is not a function",
                          fix="point the algorithm's experiments entry at a function (n, seed, **options)")
     decl = getattr(fn, "experiment", None)
     return ref, fn, decl if isinstance(decl, Experiment) else Experiment()
@@ -136,6 +137,8 @@ def experiment_options(decl, given: dict) -> tuple[dict, str | None, str | None]
         why = s.problem(v)
         if why is not None:
             return {}, k, f"option {why}"
+    # a whole-number option given as 32.0 is the whole number 32 (ParamSpec accepts it as one)
+    given = {k: (int(v) if declared[k].type is int else v) for k, v in given.items()}
     return {**{s.name: s.default for s in decl.options}, **given}, None, None
 
 

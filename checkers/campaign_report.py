@@ -210,8 +210,10 @@ def markdown(result, plots: dict | None = None) -> str:
 
 # -- paper-experiment cells ----------------------------------------------------------------------
 
-def _trials(result, cell_label: str) -> tuple:
-    """``({n: [figures of the measured trials]}, declaration)`` of one experiment cell."""
+def _trials(result, cell_label: str, failed: dict | None = None) -> tuple:
+    """``({n: [figures of the measured trials]}, declaration)`` of one experiment cell; ``failed``
+    (if given) gets ``{task key: (n, error)}`` of its finished tasks that were not measured (a
+    trial that raised: inconclusive)."""
     from swarmproof.checkers.campaign import MEASURED, resolve_experiment
 
     by_n: dict = {}
@@ -227,6 +229,9 @@ def _trials(result, cell_label: str) -> tuple:
         r = result.results.get(t.key)
         if r is not None and r["verdict"] == MEASURED:
             by_n.setdefault(t.args["robots"], []).append(r["figures"])
+        elif r is not None and failed is not None:
+            err = (r.get("figures") or {}).get("error") or f"verdict {r['verdict']}"
+            failed[t.key] = (t.args["robots"], str(err))
     return by_n, decl or None
 
 
@@ -266,8 +271,9 @@ def _stat(col, fs: list) -> str:
 def paper_experiment_table(result, cell_label: str) -> list[str]:
     """The lines of one experiment cell's table by team size: the trials that ran, then the
     columns its experiment declares (:class:`~swarmproof.reference_impl.protocol.ExperimentColumn`)."""
-    by_n, decl = _trials(result, cell_label)
-    if not by_n:
+    failed: dict = {}
+    by_n, decl = _trials(result, cell_label, failed)
+    if not by_n and not failed:
         return ["No trial of this cell has finished yet."]
     cols = _columns_of(decl, by_n)
     about = f" ({decl.cites})" if decl is not None and decl.cites else ""
@@ -277,11 +283,20 @@ def paper_experiment_table(result, cell_label: str) -> list[str]:
     only = "; ".join(f"*{c.header}* over the trials with `{c.only_if}`" for c in cols if c.only_if)
     lines = [f"Measured trials{about}, no claim judged: per team size, over its trials with the figure: {used}"
              + (f"; {only}" if only else "") + ". Seconds of tasks are in the store's `timings` table, not here.", "",
-             "| robots | trials | " + " | ".join(c.header for c in cols) + " |",
-             "|---:|---:|" + "---:|" * len(cols)]
-    for n in sorted(by_n):
-        fs = by_n[n]
-        lines.append(f"| {n} | {len(fs)} | " + " | ".join(_stat(c, fs) for c in cols) + " |")
+             "| robots | trials | " + ("failed | " if failed else "") + " | ".join(c.header for c in cols) + " |",
+             "|---:|---:|" + ("---:|" if failed else "") + "---:|" * len(cols)]
+    fails_n: dict = {}
+    for n, _ in failed.values():
+        fails_n[n] = fails_n.get(n, 0) + 1
+    for n in sorted(set(by_n) | set(fails_n)):
+        fs = by_n.get(n, [])
+        lines.append(f"| {n} | {len(fs)} | " + (f"{fails_n.get(n, 0)} | " if failed else "")
+                     + " | ".join(_stat(c, fs) if fs else "" for c in cols) + " |")
+    if failed:
+        lines += ["", f"{len(failed)} trial(s) did not run to the end (inconclusive; not in the figures above):", ""]
+        lines += [f"- `{key}`: {err}" for key, (_, err) in sorted(failed.items())[:20]]
+        if len(failed) > 20:
+            lines.append(f"- ... and {len(failed) - 20} more (`swarmproof campaign ... --json` lists every one)")
     return lines
 
 
@@ -319,6 +334,7 @@ def plot_paper_experiment(result, cell_label: str, path: str) -> str | None:
                 hi.append(max(xs) - m)
         ax.errorbar(xs_n, med, yerr=[lo, hi], fmt="o-", capsize=3,
                     label=col.header if col is not None else key)
+    ax.set_xticks(ns)                    # team sizes, not fractions of a robot
     ax.set_xlabel("robots")
     ax.set_ylabel("median over trials (bars: min-max)")
     ax.legend(fontsize=8)

@@ -257,9 +257,12 @@ class _Check:
         if not isinstance(d, dict):
             self.fail(path, f"{_field(path) or 'the document'}={d!r} must be a mapping (key: value)",
                       "see docs/campaigns.md for the layout")
+        from swarmproof.models.errors import did_you_mean
+
         for k in d:
             if k not in allowed:
-                self.fail(path + (k,), f"key {k!r} is not known here", f"use only {list(allowed)!r}")
+                self.fail(path + (k,), f"key {k!r} is not known here{did_you_mean(str(k), allowed)}",
+                          f"use only {list(allowed)!r}")
 
     def cell_head(self, p: tuple, d, allowed) -> str:
         """Check a cell's keys and return its algorithm."""

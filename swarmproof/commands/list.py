@@ -68,11 +68,17 @@ def list_algorithms() -> list[dict]:
         claims = {k: v for k, v in dict(getattr(factory, "claims", None) or {}).items()}
         model = getattr(factory, "model", None)
         departs = [str(x) for x in (getattr(factory, "departs_from", None) or ())]
+        # only the experiments its own class body declares (a campaign's experiment: cells; a
+        # subclass inherits none, swarmproof.checkers.campaign.resolve_experiment)
+        experiments = sorted(getattr(factory, "__dict__", {}).get("experiments") or {})
         desc = _first_line(getattr(factory, "__doc__", ""))
         if departs:
             desc += " Departs from " + "; ".join(departs) + "."
+        if experiments:
+            desc += " Experiments (campaign experiment: cells): " + ", ".join(experiments) + "."
         out.append(_entry(name, desc, PAPERS.get(paper) if paper else None,
                           ref=ALGORITHMS[name], paper=paper, claims=claims, departs_from=departs,
+                          experiments=experiments,
                           model=None if model is None else {k: getattr(model, k) for k in
                                                            ("sensing", "communication", "motion", "clocks")}))
     return out

@@ -14,6 +14,7 @@ import pytest
 from swarmproof.checkers.campaign import CampaignResult, Task, check_figures, plan_tasks
 from swarmproof.cli import main
 from swarmproof.models.campaign_spec import loads_campaign
+from swarmproof.models.errors import UsageError
 
 TINY = """\
 format: swarmproof-campaign/1
@@ -191,6 +192,39 @@ def test_the_report_table_is_the_experiment_s_declared_columns():
     assert "| 16 | 3 | 2/3 | 110 | 100 | 1.5 (1.25-1.75) | 1.6 |" in md, md
     assert "*distance ratio* over the trials with `formed_s`" in md
     assert "No trial of this cell has finished yet." in markdown(_result({}, planned=1))
+
+
+def test_the_report_shows_trials_that_failed_with_their_error():
+    """A trial that raised is inconclusive: the table counts it apart (column failed) and the
+    report lists it with its error, also when no trial of the cell was measured."""
+    from swarmproof.checkers.campaign_report import markdown
+
+    boom = {"error": "UsageError: width=32.0 must be int"}
+    md = markdown(_result({0: ("measured", {"formed_s": 100.0, "central_s": 90.0, "ratio": 1.25, "random_ratio": 1.5}),
+                           1: ("inconclusive", boom)}))
+    assert "| robots | trials | failed |" in md and "| 16 | 1 | 1 |" in md, md
+    assert "- `experiment[0]/fig10/n16/seed1`: UsageError: width=32.0 must be int" in md
+    only_failed = markdown(_result({0: ("inconclusive", boom)}))
+    assert "No trial of this cell has finished yet." not in only_failed
+    assert "| 16 | 0 | 1 |" in only_failed and "1 trial(s) did not run to the end" in only_failed
+
+
+def test_a_whole_number_option_written_as_a_float_is_the_whole_number():
+    from swarmproof.checkers.campaign import experiment_options, resolve_experiment
+
+    decl = resolve_experiment("wang2020", "fig10")[2]
+    opts, bad, err = experiment_options(decl, {"arena": 32.0})
+    assert (bad, err) == (None, None) and opts == {"arena": 32} and type(opts["arena"]) is int
+    assert experiment_options(decl, {"arena": 32.5})[0] == {}
+
+
+def test_a_variant_does_not_inherit_its_base_class_experiments_nor_is_told_to_declare_them():
+    from swarmproof.checkers.campaign import resolve_experiment
+
+    with pytest.raises(UsageError) as e:
+        resolve_experiment("wang2020-broadcast-handshake", "fig10")
+    assert "which run the base class's reading" in e.value.fix and "use the base class" in e.value.fix
+    assert "declare experiments on this class" not in e.value.fix
 
 
 @pytest.mark.parametrize("figures, match", [

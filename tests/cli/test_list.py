@@ -90,6 +90,9 @@ def test_json_is_one_document_with_the_fields(capsys):
     bh = next(e for e in doc["algorithms"] if e["name"] == "wang2020-broadcast-handshake")
     assert bh["departs_from"] and "Sec. II-A e)" in bh["departs_from"][0] and "Departs from" in bh["description"]
     assert next(e for e in doc["algorithms"] if e["name"] == "wang2020")["departs_from"] == []
+    # the experiments a campaign's experiment: cell can run are listed; a variant inherits none
+    assert next(e for e in doc["algorithms"] if e["name"] == "wang2020")["experiments"] == ["fig10"]
+    assert bh["experiments"] == [] and song["experiments"] == []
     conn = next(e for e in doc["properties"] if e["name"] == "connectivity")
     assert conn["needs"] == ["range_graph"] and conn["kind"] == "safety"
     lemma = doc["lemmas"][0]
