@@ -201,6 +201,50 @@ def lookup(ids: Iterable[str] | None = None) -> list:
     return out
 
 
+def algorithm_lemmas(algorithm: str) -> list:
+    """The lemma ids an algorithm declares (its class attribute ``lemmas``): what ``swarmproof
+    prove --algorithm REF`` proves.  ``algorithm`` is a registry name or ``module:qualname``.
+
+    Raises
+    ------
+    UsageError
+        An unknown algorithm; one that declares no lemmas (naming those that do); a declared
+        id that is not in the suite.
+    """
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+
+    spec = resolve_algorithm(algorithm)
+    ids = list(getattr(spec.factory, "lemmas", None) or ())
+    if not ids:
+        having = sorted(name for name, declared in lemma_algorithms_by_name().items() if declared)
+        raise UsageError(f"algorithm={algorithm!r} declares no lemmas (its class attribute lemmas)",
+                         fix=f"name lemma ids instead, or use an algorithm that declares some: {', '.join(having)} "
+                             "(`swarmproof list lemmas` names each lemma's algorithms)")
+    for i in ids:
+        if i not in LEMMAS and i not in EXTRA_LEMMAS:
+            raise UsageError(f"algorithm {algorithm!r} declares lemma={i!r}, which is not in the suite"
+                             f"{did_you_mean(i, [*LEMMAS, *EXTRA_LEMMAS])}",
+                             fix="fix the algorithm's lemmas attribute (ids of `swarmproof list lemmas`)")
+    return ids
+
+
+def lemma_algorithms_by_name() -> dict:
+    """``{registry name: [lemma ids it declares]}`` of every registered algorithm."""
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names
+
+    return {name: list(getattr(algorithm_factory(name), "lemmas", None) or ()) for name in algorithm_names()}
+
+
+def algorithms_of_lemmas() -> dict:
+    """``{lemma id: [registry names of the algorithms that declare it]}`` (empty lists for lemmas
+    no algorithm declares, e.g. the normalisation lemmas every other one relies on)."""
+    out: dict = {i: [] for i in [*LEMMAS, *EXTRA_LEMMAS]}
+    for name, ids in lemma_algorithms_by_name().items():
+        for i in ids:
+            out.setdefault(i, []).append(name)
+    return out
+
+
 # ------------------------------------------------------------- solving
 
 def _configure() -> None:

@@ -34,7 +34,7 @@ Examples
 ...     cites=("example",), control_note="x up to 4",
 ...     control_premises=(("x_in_unit", lambda v: And(Ge(v.x, 0), Le(v.x, 4))),))
 >>> spec.judge({"x": 0.5})
-Judgment(premises={'x_in_unit': True}, conclusion=True)
+Judgment(premises={'x_in_unit': True}, conclusion=True, cases={}, parts={})
 >>> spec.judge({"x": 1.0}).premises       # at the boundary: not a premise that held (tolerance)
 {'x_in_unit': False}
 >>> str(spec.lemma().build().conclusion)

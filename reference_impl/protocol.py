@@ -402,6 +402,11 @@ class Algorithm(Protocol):
     # premise_monitors : tuple of str
     #     The lemma-premise monitors (invariants/premises.py ``MONITORS``) its
     #     proof rests on; the ``premises`` property checks exactly these.
+    # lemmas : tuple of str
+    #     The ids of ``swarmproof prove``'s lemmas about it (its paper's, or a user's own
+    #     registered in the suite): ``swarmproof prove --algorithm NAME`` proves exactly these,
+    #     ``swarmproof list lemmas`` names the algorithms of each lemma, and the pytest
+    #     plugin's ``assert_proved(NAME)`` fails unless every one is proved.
     # verify : VerifyPlan
     #     What ``swarmproof verify`` runs of it; without one it has no rows.
     # parameters : tuple of ParamSpec

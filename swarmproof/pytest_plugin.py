@@ -29,6 +29,14 @@ Loaded automatically once swarmproof is installed.  It offers
   (relative to pytest's rootdir) unless ``baseline=`` is passed; a failure
   prints each regressed row with its counterexample steps and replay command;
   counterexample files go where ``swarmproof_explore`` puts them;
+* ``assert_proved(REF)`` (``from swarmproof.pytest_plugin import assert_proved``): proves the
+  lemmas an algorithm declares (its class attribute ``lemmas``; ``swarmproof prove --algorithm
+  REF``) and fails unless every one is proved, naming each lemma that was not, its status and
+  why; returns the proof results::
+
+      def test_my_lemmas_are_proved():
+          assert_proved("mypkg.algo:MyAlgorithm")
+
 * at the end of the session, the property table ("proof-of-property run"):
   every algorithm and property explored in the session -- through the fixture
   or by calling :func:`~swarmproof.checkers.explore.explore` directly -- with its verdict
@@ -53,6 +61,36 @@ _VERIFY_KEY = pytest.StashKey[list]()
 _LISTENER_KEY = pytest.StashKey[object]()
 
 TABLE_TITLE = "swarmproof property table (explored, not proved; lemmas proved by z3)"
+
+
+def assert_proved(algorithm, *, rlimit: int | None = None, timeout_s: float | None = None) -> list:
+    """Prove the lemmas ``algorithm`` declares (a registry name or ``module:qualname``; its class
+    attribute ``lemmas``) as ``swarmproof prove --algorithm`` does, and fail the test unless every
+    one is *proved*: a counterexample, an inconclusive proof (budget spent, z3 unknown, vacuous
+    premises, a negative control not refuted) each fail it, named with the reason.  Returns the
+    results (:class:`swarmproof.checkers.proofs.LemmaResult`).
+
+    Raises
+    ------
+    AssertionError
+        Some lemma was not proved.
+    swarmproof.models.errors.UsageError
+        An unknown algorithm, or one that declares no lemmas.
+    """
+    from swarmproof.checkers.proofs import DEFAULT_TIMEOUT_S, algorithm_lemmas, run_suite
+
+    results = run_suite(algorithm_lemmas(str(algorithm)),
+                        timeout_s=DEFAULT_TIMEOUT_S if timeout_s is None else timeout_s, rlimit=rlimit)
+    bad = [r for r in results if r.status != "proved"]
+    if bad:
+        lines = [f"{len(bad)} of {len(results)} lemmas of {algorithm} not proved:"]
+        for r in bad:
+            lines.append(f"  {r.id}: {r.status}" + (f" ({r.reason})" if r.reason else ""))
+            if r.status == "counterexample":
+                lines += [f"    {k} = {v!r}" for k, v in (r.counterexample or {}).items()]
+        lines.append(f"repeat: swarmproof prove --algorithm {algorithm}")
+        raise AssertionError("\n".join(lines))
+    return results
 
 
 def pytest_addoption(parser) -> None:

@@ -704,6 +704,9 @@ class Song2014:
     }
     #: 000 Lemma 7's premises: moves at most v dt, ends in the parent's disc phi - v dt.
     premise_monitors = ("step_bounded", "parent_bounded_range")
+    #: ``swarmproof prove``'s lemmas about it (000's): Lemma 7 and its strict form, the
+    #: intermediate goal of Sec. IV-C (``swarmproof prove --algorithm song2014``).
+    lemmas = ("bounded_range", "bounded_range_strict", "intermediate_goal_in_region")
     #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
     verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=1,
                         explore_cost=44)

@@ -1211,6 +1211,10 @@ class Song2016:
     #: Sec. V-C, the relocate case of Lemma 11, a child moving toward a still parent, and every
     #: link of the decided tree in a proved case (issue 19).
     premise_monitors = ("step_bounded", "nclb", "relocate", "child_toward_parent", "tree_link_cases")
+    #: ``swarmproof prove``'s lemmas about it (001's: Lemma 7, NCLB, one link of Lemma 11's
+    #: proof, the relocate robot's path, the safe region; ``swarmproof prove --algorithm song2016``).
+    lemmas = ("bounded_range", "bounded_range_strict", "nclb_link_kept", "spanning_tree_kept",
+              "relocate_stays_in_range", "safe_region_nonempty")
     #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts; and
     #: square n = 20 from seed 1, where a link chosen in the step breaks (Lemma 11's one-step lag).
     verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=0,

@@ -1112,6 +1112,11 @@ class Wang2020:
     #: ``premises`` property): claims distinct and no swap, distinct priorities within R, waited
     #: longer than the window, every neighbour within R heard (invariants/premises.py).
     premise_monitors = ("grid_claims", "grid_priorities", "grid_waited", "grid_heard")
+    #: ``swarmproof prove``'s lemmas about it (004's Sec. IV-A and V-B3, the lemmas of
+    #: reference_impl/wang2020/lemmas.py; ``swarmproof prove --algorithm wang2020``).
+    lemmas = ("wang2020_time_normalisation", "wang2020_planner_vertex_one_moment",
+              "wang2020_planner_edge_one_moment", "wang2020_lemma_iv_a_1", "wang2020_theorem_iv_a_2",
+              "wang2020_separation_equal_speeds", "wang2020_speed_buffer_v_b3_cases", "wang2020_separation_speeds")
     # exploration rows: 100 examples each (a scenario is hundreds of asynchronous ticks; 300 would
     # add about 4 minutes to `swarmproof verify`, docs/wang2020.md)
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,

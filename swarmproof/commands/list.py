@@ -97,13 +97,17 @@ def list_properties() -> list[dict]:
 
 def list_lemmas() -> list[dict]:
     """Every lemma of ``swarmproof prove`` (``LEMMAS``), then those run only when named (``EXTRA_LEMMAS``)."""
-    from swarmproof.checkers.proofs import EXTRA_LEMMAS, LEMMAS
+    from swarmproof.checkers.proofs import EXTRA_LEMMAS, LEMMAS, algorithms_of_lemmas
 
+    algos = algorithms_of_lemmas()
     out = []
     for table, extra in ((LEMMAS, False), (EXTRA_LEMMAS, True)):
         for lid, lem in table.items():
-            out.append(_entry(lid, " ".join(lem.statement.split()), "; ".join(lem.cites) or None,
-                              kind=lem.kind, only_when_named=extra))
+            desc = " ".join(lem.statement.split())
+            if algos[lid]:
+                desc += f" (algorithms: {', '.join(algos[lid])})"
+            out.append(_entry(lid, desc, "; ".join(lem.cites) or None,
+                              kind=lem.kind, only_when_named=extra, algorithms=algos[lid]))
     return out
 
 

@@ -1,4 +1,4 @@
-"""``swarmproof prove [LEMMA ...] [--json] [--rlimit N] [--timeout S]``: the z3 proof suite.
+"""``swarmproof prove [LEMMA ... | --algorithm REF | --list] [--json] [--rlimit N] [--timeout S]``: the z3 proof suite.
 
 Runs :func:`swarmproof.checkers.proofs.run_suite` (docs/proofs.md).  Every
 lemma is proved by asserting its negation (``unsat``), its premises are shown
@@ -63,6 +63,11 @@ def _rlimit(text: str) -> int:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("lemmas", nargs="*", metavar="LEMMA",
                         help="lemma ids to prove (default: the whole suite)")
+    parser.add_argument("--algorithm", metavar="REF", default=None,
+                        help="prove the lemmas this algorithm declares (its class attribute lemmas): a "
+                             "registry name or module:qualname")
+    parser.add_argument("--list", action="store_true",
+                        help="list every lemma with its algorithms (as `swarmproof list lemmas`) and prove nothing")
     parser.add_argument("--json", action="store_true",
                         help="print one JSON document on stdout and nothing else there")
     parser.add_argument("--rlimit", type=_rlimit, default=None, metavar="N",
@@ -132,11 +137,27 @@ def run(args) -> int:
 
     from swarmproof.checkers.proofs import DEFAULT_TIMEOUT_S, run_suite
     from swarmproof.commands import StatusLine, emit_json, human
+    from swarmproof.models.errors import UsageError
 
+    if args.list:
+        if args.lemmas or args.algorithm:
+            raise UsageError("--list lists every lemma: it takes no LEMMA and no --algorithm",
+                             fix="swarmproof prove --list, or swarmproof list lemmas")
+        from swarmproof.commands import list as list_command
+
+        return list_command.run(argparse.Namespace(kind="lemmas", json=args.json))
+    ids = args.lemmas or None
+    if args.algorithm is not None:
+        from swarmproof.checkers.proofs import algorithm_lemmas
+
+        if args.lemmas:
+            raise UsageError(f"give lemma ids or --algorithm={args.algorithm}, not both",
+                             fix=f"swarmproof prove --algorithm {args.algorithm}")
+        ids = algorithm_lemmas(args.algorithm)
     timeout = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
     progress = StatusLine(sys.stderr, "prove") if sys.stderr.isatty() else None
     try:
-        results = run_suite(args.lemmas or None, timeout_s=timeout, rlimit=args.rlimit, progress=progress)
+        results = run_suite(ids, timeout_s=timeout, rlimit=args.rlimit, progress=progress)
     finally:
         if progress is not None:
             progress.clear()

@@ -159,3 +159,58 @@ def test_progress_on_a_terminal_is_erased_before_the_table(monkeypatch):
 def test_no_progress_when_stderr_is_not_a_terminal(capsys):
     code, out, err = run(capsys, "translation_invariance")
     assert code == 0 and err == ""
+
+
+# -- lemmas per algorithm (issue 32): prove --algorithm, prove --list, assert_proved ------------
+
+def test_prove_algorithm_proves_exactly_the_lemmas_it_declares(capsys):
+    code, out, err = run(capsys, "--algorithm", "song2014", "--json")
+    doc = json.loads(out)
+    assert code == 0, err
+    assert [d["id"] for d in doc["lemmas"]] == ["bounded_range", "bounded_range_strict", "intermediate_goal_in_region"]
+    assert all(d["status"] == "proved" for d in doc["lemmas"])
+
+
+@pytest.mark.parametrize("argv, match", [
+    (("--algorithm", "example-gather"), r"algorithm='example-gather' declares no lemmas .*fix: .*song2014, song2016"),
+    (("--algorithm", "song2014", "bounded_range"), r"give lemma ids or --algorithm=song2014, not both"),
+    (("--algorithm", "nosuch"), r"algorithm='nosuch' is not known"),
+    (("--list", "bounded_range"), r"--list lists every lemma: it takes no LEMMA and no --algorithm"),
+], ids=["no-lemmas", "both", "unknown", "list-with-ids"])
+def test_prove_algorithm_and_list_refuse_bad_input_exit_2(capsys, argv, match):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == "" and re.search(match, err), err
+    assert "Traceback" not in err
+
+
+def test_prove_list_is_list_lemmas_with_each_lemma_s_algorithms(capsys):
+    code, out, _ = run(capsys, "--list", "--json")
+    assert code == 0
+    assert main(["list", "lemmas", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == json.loads(out)
+    by_id = {e["name"]: e for e in json.loads(out)["lemmas"]}
+    assert by_id["nclb_link_kept"]["algorithms"] == ["song2016", "song2016-literal", "song2016-subtree-clock"]
+    assert "song2014" in by_id["bounded_range"]["algorithms"] and "song2016" in by_id["bounded_range"]["algorithms"]
+    assert by_id["wang2020_lemma_iv_a_1"]["algorithms"] == ["wang2020", "wang2020-broadcast-handshake"]
+    assert by_id["translation_invariance"]["algorithms"] == []
+    assert run(capsys, "--list")[1].splitlines()[0] == "lemmas (21):"
+
+
+def test_every_declared_lemma_of_every_algorithm_is_in_the_suite():
+    for name, ids in proofs.lemma_algorithms_by_name().items():
+        if ids:
+            assert proofs.algorithm_lemmas(name) == ids, name
+
+
+def test_assert_proved_passes_for_proved_lemmas_and_names_what_was_not(monkeypatch):
+    from swarmproof.pytest_plugin import assert_proved
+
+    results = assert_proved("song2014")
+    assert [r.id for r in results] == ["bounded_range", "bounded_range_strict", "intermediate_goal_in_region"]
+    # an algorithm whose declared lemma is a finding (a real counterexample) fails the test, named
+    from swarmproof.reference_impl.song2014 import Song2014
+
+    monkeypatch.setattr(Song2014, "lemmas", ("bounded_range_strict_closed",))
+    with pytest.raises(AssertionError, match=r"1 of 1 lemmas of song2014 not proved:\n  "
+                                             r"bounded_range_strict_closed: counterexample"):
+        assert_proved("song2014")
