@@ -341,15 +341,18 @@ def fig11(n: int, shapes: int, runs: int, plot: str | None, max_steps: int | Non
 
 def _largest_drop(runs, n) -> dict:
     """How far the mean "goals occupied" curve of ``runs`` falls below its running maximum (% of n),
-    the time of its lowest point after t = 0 and its value there (Sec. V-B4: in the paper's
-    simulations the curve "monotonically increase[s] over time")."""
+    the time of its lowest point and its value there, and how far it falls after that point (Sec.
+    V-B4: in the paper's simulations the curve "monotonically increase[s] over time")."""
     horizon = max(s[-1][0] for s in runs)
     t, m, _ = _mean_band(runs, horizon, 10, 1)
     pct = m * 100.0 / n
     drop = np.maximum.accumulate(pct) - pct
     low = int(np.argmin(pct))
+    after = pct[low:]
     return {"start_pct": float(pct[0]), "largest_drop_pct": float(drop.max()), "lowest_pct": float(pct[low]),
-            "lowest_at_s": float(t[low] * 0.1), "monotone": bool(drop.max() == 0.0)}
+            "lowest_at_s": float(t[low] * 0.1), "monotone": bool(drop.max() == 0.0),
+            # from its lowest point on: how far it still falls (0: monotone after the first dip)
+            "drop_after_lowest_pct": float((np.maximum.accumulate(after) - after).max())}
 
 
 def fig12(n: int, shapes: int, plot: str | None, arena: int = 32) -> dict:
