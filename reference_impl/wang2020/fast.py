@@ -13,14 +13,17 @@ difference between the two is a bug of this module.
 How the sequential parts stay exact
 -----------------------------------
 * **Algorithm 4 runs per received message, in order** (each may change the goal,
-  start a handshake or draw a random number).  Here a round computes, for every
-  receiver's pending messages at once, whether the message can change anything
-  (a higher shape count, or,
-  outside a handshake, the same goal held by a lexically larger agent, or a swap
-  that does not raise the pairwise cost).  Messages that cannot are no-ops in the
-  reference too; the first that can is processed by a scalar copy of
-  ``_goal_manager`` and the receiver's scan resumes after it.  Every random
-  number is drawn from the agent's own generator, in the reference's order.
+  start a handshake or draw a random number).  Here one vectorised pass classifies,
+  from every receiver's state at the start of the tick, what each message can do
+  (a higher shape count, or, outside a handshake, the same goal held by a
+  lexically larger agent, a swap that lowers the pairwise cost, or one at equal
+  cost); messages that can do nothing are no-ops in the reference too.  One
+  Python pass in receipt order then applies them: a swap starts the handshake
+  (after which only a higher shape count can act), an equal cost draws the
+  agent's number first, and the first message that may change anything else
+  hands that receiver's remaining messages to a scalar copy of
+  ``_goal_manager``.  Every random number is drawn from the agent's own
+  generator, in the reference's order.
 * **msg_buff** (Alg. 2 line 15) is a list of per-tick blocks (every receipt of a
   tick, sorted by receiver then sender ID, as the deque holds them); an entry
   expires by the reference's own float test, ``time < clock() - Delta t``.
@@ -496,61 +499,84 @@ class _Run:
         return R[order], S[order]
 
     def _goal_managers(self, R, S, I, F, now):
-        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module docstring)."""
-        total = len(R)
-        if total == 0:
+        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module docstring).
+
+        Every receipt's effect is classified once, from its receiver's state at the start of the
+        tick (:meth:`_gm_kinds`); then one pass in receipt order applies them.  A receiver's state
+        changes only where a receipt acts on it, so its later kinds stay valid while it has done
+        nothing but draw a number at equal cost and keep its goal (line 16 false); once it begins a
+        handshake (lines 12, 18) only a higher shape count can act on it (a blocked agent returns,
+        as in the reference); a higher shape count or a goal held by a larger agent (kind 1) can
+        change anything, so that receiver's remaining receipts run through the scalar copy
+        :meth:`_gm`, one by one, as the reference does."""
+        if len(R) == 0:
             return
-        n = self.n
-        pos = np.searchsorted(R, np.arange(n))
-        cand = None
-        sid_all = self.ids[S]
+        E, kinds, gt = self._gm_kinds(R, I, F)
+        if not len(E):
+            return
+        RE = R[E]
+        rngs, beta, timeout = self.rngs, self.beta, self.timeout
+        role, peer, hseq, seq, send = self.role, self.peer, self.hseq, self.seq, self.send
+        deadline, Tx, Ty, hgx, hgy = self.deadline, self.Tx, self.Ty, self.hgx, self.hgy
+        sid_e = self.ids[S[E]].tolist()
+        now_l = now.tolist()
+        blocked = scalar = -1
+        for e, k, kind, client, sid in zip(E.tolist(), RE.tolist(), kinds.tolist(), gt.tolist(), sid_e):
+            if k == scalar or (k == blocked and kind != 1):
+                continue
+            if kind == 1:          # the rest of this receiver's receipts, the reference's way
+                end = int(np.searchsorted(R, k, side="right"))
+                ids_s = self.ids[S[e:end]].tolist()
+                rows, frows = I[:, e:end].T.tolist(), F[:, e:end].T.tolist()
+                for sid_j, row, frow in zip(ids_s, rows, frows):
+                    self._gm(k, now_l[k], sid_j, row, frow)
+                scalar = k
+                continue
+            # kind 3: equal cost, the agent's own draw (line 16); kind 2: a lower cost (line 11)
+            if kind == 3 and not rngs[k].random() < beta:
+                continue
+            # _gm's handshake (Sec. III-A): client when the sender is lexically larger
+            if client:
+                seq[k] += 1
+                role[k], hseq[k] = 1, seq[k]
+                send[k] = True
+            else:
+                role[k], hseq[k] = 2, -1
+            peer[k] = sid
+            deadline[k] = now_l[k] + timeout
+            hgx[k], hgy[k] = Tx[k], Ty[k]
+            blocked = k
+
+    def _gm_kinds(self, R, I, F):
+        """What each receipt does to its receiver in :meth:`_gm`, from the receiver's current
+        state: ``(E, kinds, gt)`` for the receipts E that can do anything, sorted (the others are
+        no-ops of the reference too: another shape's message, a blocked receiver, or a swap that
+        would raise the pairwise cost): kind 1 a higher shape count (Sec. III-B) or the
+        receiver's goal held by a lexically larger sender (lines 3-9), 2 a swap that lowers the
+        cost (line 11), 3 one at equal cost (line 16); ``gt``: the sender lexically larger (the
+        handshake's client side)."""
         comp = I[COMP]
-        mTx_all, mTy_all, mx_all, my_all = I[TX], I[TY], I[WPX], I[WPY]
-        mpx_all, mpy_all = F[0], F[1]
-        while True:
-            if cand is None:
-                r, c = R, slice(None)
-            else:
-                r, c = R[cand], cand
-            hs_r = self.role[r]
-            ccomp = comp[c]
-            trig = ccomp > self.completed[r]
-            free = (hs_r == 0) & (np.minimum(ccomp, self.last) == self.shape[r])
-            if cand is None:
-                f, rf = np.flatnonzero(free), R[free]
-            else:
-                f, rf = cand[free], r[free]
-            if len(f):
-                Tx, Ty = self.Tx[rf], self.Ty[rf]
-                mTx, mTy = mTx_all[f], mTy_all[f]
-                mpx, mpy = mpx_all[f], mpy_all[f]
-                px, py = self.px[rf], self.py[rf]
-                same = (mTx == Tx) & (mTy == Ty) & ((mpx > px) | ((mpx == px) & (mpy > py)))
-                wx, wy, mx, my = self.wx[rf], self.wy[rf], mx_all[f], my_all[f]
-                now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
-                swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
-                trig[free] |= same | (swap_c <= now_c)
-            hit = np.flatnonzero(trig) if cand is None else cand[trig]
-            if not len(hit):
-                return
-            rh = R[hit]
-            first = np.ones(len(hit), dtype=bool)
-            first[1:] = rh[1:] != rh[:-1]
-            fe = hit[first]
-            rr = rh[first]
-            rows = zip(rr.tolist(), fe.tolist(), sid_all[fe].tolist(), I[:, fe].T.tolist(), F[:, fe].T.tolist(),
-                       now[rr].tolist())
-            gm = self._gm
-            for k, e, sid_e, row, frow, now_k in rows:
-                gm(k, now_k, sid_e, row, frow)
-            pos[rr] = fe + 1
-            # next round: the receipts after each processed one, of those receivers
-            ends = np.searchsorted(R, rr, side="right")
-            lens = ends - pos[rr]
-            total = int(lens.sum())
-            if total == 0:
-                return
-            cand = np.repeat(pos[rr] - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(total)
+        up = comp > self.completed[R]
+        free = (self.role[R] == 0) & (np.minimum(comp, self.last) == self.shape[R]) & ~up
+        f = np.flatnonzero(free)
+        rf = R[f]
+        Tx, Ty = self.Tx[rf], self.Ty[rf]
+        mTx, mTy = I[TX, f], I[TY, f]
+        mpx, mpy = F[0, f], F[1, f]
+        px = self.px[rf]
+        gt = (mpx > px) | ((mpx == px) & (mpy > self.py[rf]))
+        same = (mTx == Tx) & (mTy == Ty) & gt
+        wx, wy, mx, my = self.wx[rf], self.wy[rf], I[WPX, f], I[WPY, f]
+        now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
+        swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
+        kind = np.where(same, 1, np.where(swap_c < now_c, 2, np.where(swap_c == now_c, 3, 0)))
+        kinds = np.zeros(len(R), dtype=np.int64)
+        kinds[f] = kind
+        kinds[up] = 1
+        g = np.zeros(len(R), dtype=bool)
+        g[f] = gt
+        E = np.flatnonzero(kinds)
+        return E, kinds[E], g[E]
 
     def _aggregate(self, b, sel):
         """What Algorithm 2 reads of block ``b``, per receiver, for the receivers of entries ``sel``
