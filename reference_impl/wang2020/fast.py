@@ -132,16 +132,40 @@ def _bits(dx, dy):
     return _LUT[np.where((np.abs(dx) <= 1) & (np.abs(dy) <= 1), code, 0)]
 
 
+#: relative margin of :func:`_within`'s squared-distance screen (rounding errors are ~1e-16)
+_SCREEN = 1e-9
+
+
+def _within(dx, dy, lim):
+    """``np.hypot(dx, dy) <= lim``, elementwise, computing ``hypot`` (slow) only near ``lim``.
+
+    ``dx * dx + dy * dy`` is within a few ulps of the true squared distance, and ``hypot``
+    within one ulp of the true distance; so a squared sum below ``(lim (1 - 1e-9))**2`` has
+    ``hypot`` below ``lim`` and one above ``(lim (1 + 1e-9))**2`` has it above: only the band
+    between is decided by ``hypot`` itself (grid agents exactly R apart land there)."""
+    d2 = dx * dx + dy * dy
+    lo, hi = (lim * (1 - _SCREEN)) ** 2, (lim * (1 + _SCREEN)) ** 2
+    ok = d2 <= lo
+    band = np.nonzero((d2 > lo) & (d2 <= hi))
+    if len(band[0]):
+        ok[band] = np.hypot(dx[band], dy[band]) <= lim
+    return ok
+
+
 class _Block:
     """One tick's receipts in msg_buff (every receiver's, sorted by receiver then sender ID) and,
     per receiver, what Algorithm 2 reads of them (:meth:`_Run._aggregate`), with the receiver's
-    shape, waypoint and position it was computed from (recomputed when one changed)."""
+    shape, waypoint and position it was computed from (recomputed when one changed).  A receipt's
+    message is its sender's column of the tick's outbox ``(I, F)`` (:meth:`_Run.outbox`), read
+    when needed: most receipts are never read past the goal managers."""
 
-    __slots__ = ("R", "S", "I", "F", "mcc", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
+    __slots__ = ("R", "S", "I", "F", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
                  "kshape", "kwx", "kwy", "kpx", "kpy")
+    #: the per-receiver results of :meth:`_Run._aggregate` and the state they were computed from
+    AGGREGATES = ("ghop", "gqx", "gqy", "held", "wait", "kshape", "kwx", "kwy", "kpx", "kpy")
 
-    def __init__(self, n, R, S, I, F, mcc, now) -> None:
-        self.R, self.S, self.I, self.F, self.mcc = R, S, I, F, mcc
+    def __init__(self, n, R, S, I, F, now) -> None:
+        self.R, self.S, self.I, self.F = R, S, I, F     # I, F: by sender slot (the whole outbox)
         self.btime = now                       # every receiver's clock at receipt (all tick at rate 1)
         self.present = np.bincount(R, minlength=n) > 0
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
@@ -220,7 +244,8 @@ class _Run:
         self.ids = np.asarray(ids, dtype=np.int64)
         self.ids_l = self.ids.tolist()
         self.id_rank = np.empty(n, dtype=np.int64)
-        self.id_rank[np.argsort(self.ids, kind="stable")] = np.arange(n)
+        self.by_rank = np.argsort(self.ids, kind="stable")          # slot of the i-th smallest ID
+        self.id_rank[self.by_rank] = np.arange(n)
         self.rngs = [_robot_rng(seed, k) for k in range(n)]
         self.l = ctrl.l
         self.shapes = ctrl.shapes
@@ -262,6 +287,9 @@ class _Run:
         self.prev_blocks: list = []
         self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
+        self._nb = None                 # the last neighbour pairs: (xy, keys, receivers, senders)
+        self.moved = np.ones(n, dtype=bool)
+        self._last = None               # the last tick's block, messages and broadcast flags
 
     # -- scalar pieces: copies of the reference's methods, on slot k ---------------------
 
@@ -466,10 +494,11 @@ class _Run:
 
         # this tick's receipts: every neighbour within R that broadcast last tick, by sender ID
         R, S = self._receipts(poses, phi, last_valid)
-        I, F = last_msgs[0][:, S], last_msgs[1][:, S]
+        I, F = last_msgs                                          # by sender slot
         self._goal_managers(R, S, I, F, now)
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
-        b = _Block(self.n, R, S, I, F, np.minimum(I[COMP], self.last), now)   # aggregated when read
+        b = _Block(self.n, R, S, I, F, now)                         # aggregated when read
+        self._carry_over(b, last_msgs, last_valid)
         kept = [x for x in self.blocks if (x.present & (x.btime >= cutoff)).any()]
         kept.append(b)
         self.prev_blocks, self.blocks = self.blocks, kept
@@ -478,28 +507,98 @@ class _Run:
         self.exchange(now)                                        # the handshakes, before Alg. 2 (engine: 4b)
         return self._mains(now, cutoff)
 
+    def _carry_over(self, b, msgs, valid) -> None:
+        """Give block ``b`` the previous tick's block's aggregates (:meth:`_aggregate`) for every
+        receiver whose receipts are the same in both: the same senders, in the same order, with
+        the same messages.  A receiver's receipts can differ only if it moved, or one of its
+        senders (in either block) moved, changed its message or its broadcast flag; the others'
+        entries are equal, so what :meth:`_aggregate` computed from them (for the receiver's
+        shape, waypoint and position stored beside it, checked when read) is equal too."""
+        prev, self._last = self._last, (b, msgs, valid)
+        if prev is None:
+            return
+        pb, pmsgs, pvalid = prev
+        senders = (self.moved | (valid != pvalid) | (msgs[0] != pmsgs[0]).any(axis=0)
+                   | (msgs[1] != pmsgs[1]).any(axis=0))
+        dirty = self.moved.copy()
+        dirty[pb.R[senders[pb.S]]] = True
+        dirty[b.R[senders[b.S]]] = True
+        for name in _Block.AGGREGATES:
+            setattr(b, name, getattr(pb, name).copy())
+        b.kshape[dirty] = -1                                     # not computed for these receipts
+
     def _receipts(self, poses, phi, last_valid):
         """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
         sender ID: the engine's neighbours within R (:func:`~swarmproof.models.sensing.neighbor_pairs`,
-        inclusive) that broadcast in the previous tick."""
-        xy = poses[:, :2]
-        if self.n <= _BRUTE_MAX:
-            i, j, _ = neighbor_pairs(xy, phi, True)
-        else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
-            pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
-            i, j = pr[:, 0], pr[:, 1]
-            d = xy[j] - xy[i]
-            ok = np.hypot(d[:, 0], d[:, 1]) <= phi * INCLUSIVE_SLACK
-            i, j = i[ok], j[ok]
-        R = np.concatenate((i, j))
-        S = np.concatenate((j, i))
-        keep = last_valid[S]
-        R, S = R[keep], S[keep]
-        order = np.argsort(R * self.n + self.id_rank[S])   # unique keys
-        return R[order], S[order]
+        inclusive) that broadcast in the previous tick.  Also sets ``self.moved`` (the agents whose
+        position differs from the last call's; every agent at the first).
+
+        The neighbour pairs are kept from the last call (:meth:`_pairs`): only pairs with an agent
+        that moved can differ (grid agents rest on their cells most ticks)."""
+        K, PR, PS = self._pairs(poses[:, :2], phi)
+        keep = last_valid[PS]
+        return PR[keep], PS[keep]
+
+    def _pairs(self, xy, phi):
+        """Every ordered neighbour pair ``(receiver, sender)`` and its sort key
+        ``receiver * n + id_rank[sender]`` (unique), sorted by the key: ``(K, R, S)``.
+
+        The set is :func:`~swarmproof.models.sensing.neighbor_pairs`' (inclusive): every pair
+        whose ``hypot`` distance is at most ``phi * INCLUSIVE_SLACK`` -- its k-d tree only
+        proposes candidates, and its brute-force branch (up to 50 agents) gives the same set.  So
+        after a first full computation, a call where few agents moved drops the pairs of those
+        agents and adds theirs again from the same exact test (:func:`_within`) against every
+        agent (``hypot`` is symmetric in sign, so the distance is the same bits whichever end is
+        subtracted), then sorts the keys again (a stable sort of one sorted run and a short tail);
+        the result is the same arrays as a full computation."""
+        n = self.n
+        prev = self._nb
+        if prev is not None:
+            moved = np.flatnonzero((xy != prev[0]).any(axis=1))
+            if not len(moved):
+                self.moved = np.zeros(n, dtype=bool)
+                return prev[1:]
+        else:
+            moved = np.arange(n)
+        mask = np.zeros(n, dtype=bool)
+        mask[moved] = True
+        self.moved = mask
+        lim = phi * INCLUSIVE_SLACK
+        if prev is None or len(moved) * 4 > n:      # many moved: everything again (the engine's search)
+            if n <= _BRUTE_MAX:
+                i, j, _ = neighbor_pairs(xy, phi, True)
+            else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
+                pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
+                i, j = pr[:, 0], pr[:, 1]
+                d = xy[j] - xy[i]
+                ok = _within(d[:, 0], d[:, 1], lim)
+                i, j = i[ok], j[ok]
+            K = np.sort(np.concatenate((i * n + self.id_rank[j], j * n + self.id_rank[i])))
+            R = K // n
+            S = self.by_rank[K - R * n]
+        else:
+            _, K0, R0, S0 = prev
+            stay = ~(mask[R0] | mask[S0])
+            dx = xy[None, :, 0] - xy[moved, 0][:, None]            # (moved, every agent)
+            dy = xy[None, :, 1] - xy[moved, 1][:, None]
+            near = _within(dx, dy, lim)
+            near[np.arange(len(moved)), moved] = False             # not itself
+            a, j = np.nonzero(near)
+            c = moved[a]
+            # each ordered pair once: (moved, any) from its row; (other, moved) only from the
+            # moved agent's row when the other did not move (else its own row gives it)
+            other = ~mask[j]
+            R = np.concatenate((R0[stay], c, j[other]))
+            S = np.concatenate((S0[stay], j, c[other]))
+            K = np.concatenate((K0[stay], c * n + self.id_rank[j], j[other] * n + self.id_rank[c[other]]))
+            o = np.argsort(K, kind="stable")
+            K, R, S = K[o], R[o], S[o]
+        self._nb = (xy.copy(), K, R, S)
+        return K, R, S
 
     def _goal_managers(self, R, S, I, F, now):
-        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module docstring).
+        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module
+        docstring); the messages are the senders' columns of ``I`` and ``F``.
 
         Every receipt's effect is classified once, from its receiver's state at the start of the
         tick (:meth:`_gm_kinds`); then one pass in receipt order applies them.  A receiver's state
@@ -511,7 +610,7 @@ class _Run:
         :meth:`_gm`, one by one, as the reference does."""
         if len(R) == 0:
             return
-        E, kinds, gt = self._gm_kinds(R, I, F)
+        E, kinds, gt = self._gm_kinds(R, S, I, F)
         if not len(E):
             return
         RE = R[E]
@@ -527,7 +626,7 @@ class _Run:
             if kind == 1:          # the rest of this receiver's receipts, the reference's way
                 end = int(np.searchsorted(R, k, side="right"))
                 ids_s = self.ids[S[e:end]].tolist()
-                rows, frows = I[:, e:end].T.tolist(), F[:, e:end].T.tolist()
+                rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
                 for sid_j, row, frow in zip(ids_s, rows, frows):
                     self._gm(k, now_l[k], sid_j, row, frow)
                 scalar = k
@@ -547,7 +646,7 @@ class _Run:
             hgx[k], hgy[k] = Tx[k], Ty[k]
             blocked = k
 
-    def _gm_kinds(self, R, I, F):
+    def _gm_kinds(self, R, S, I, F):
         """What each receipt does to its receiver in :meth:`_gm`, from the receiver's current
         state: ``(E, kinds, gt)`` for the receipts E that can do anything, sorted (the others are
         no-ops of the reference too: another shape's message, a blocked receiver, or a swap that
@@ -555,18 +654,18 @@ class _Run:
         receiver's goal held by a lexically larger sender (lines 3-9), 2 a swap that lowers the
         cost (line 11), 3 one at equal cost (line 16); ``gt``: the sender lexically larger (the
         handshake's client side)."""
-        comp = I[COMP]
+        comp = I[COMP][S]
         up = comp > self.completed[R]
         free = (self.role[R] == 0) & (np.minimum(comp, self.last) == self.shape[R]) & ~up
         f = np.flatnonzero(free)
-        rf = R[f]
+        rf, sf = R[f], S[f]
         Tx, Ty = self.Tx[rf], self.Ty[rf]
-        mTx, mTy = I[TX, f], I[TY, f]
-        mpx, mpy = F[0, f], F[1, f]
+        mTx, mTy = I[TX][sf], I[TY][sf]
+        mpx, mpy = F[0][sf], F[1][sf]
         px = self.px[rf]
         gt = (mpx > px) | ((mpx == px) & (mpy > self.py[rf]))
         same = (mTx == Tx) & (mTy == Ty) & gt
-        wx, wy, mx, my = self.wx[rf], self.wy[rf], I[WPX, f], I[WPY, f]
+        wx, wy, mx, my = self.wx[rf], self.wy[rf], I[WPX][sf], I[WPY][sf]
         now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
         swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
         kind = np.where(same, 1, np.where(swap_c < now_c, 2, np.where(swap_c == now_c, 3, 0)))
@@ -584,7 +683,8 @@ class _Run:
         gradient's candidate of this block (line 18: the first entry of the smallest hop among
         this shape's entries), the surrounding waypoints it holds as goals (lines 21-22) and the
         ones it claims (line 26: wp) or a lexically larger sender heads for (line 28)."""
-        R, I, F = b.R[sel], b.I[:, sel], b.F[:, sel]
+        R, S = b.R[sel], b.S[sel]
+        I, F = b.I[:, S], b.F[:, S]
         if not len(R):
             return
         starts = np.flatnonzero(np.r_[True, R[1:] != R[:-1]])
@@ -593,7 +693,7 @@ class _Run:
         gt = (F[0] > px) | ((F[0] == px) & (F[1] > self.py[R]))
         wb = _bits(I[WPX] - wx, I[WPY] - wy) | np.where(gt, _bits(I[NSX] - wx, I[NSY] - wy), 0)
         b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
-        sm = b.mcc[sel] == self.shape[R]
+        sm = np.minimum(I[COMP], self.last) == self.shape[R]
         b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX] - wx, I[TY] - wy) & 15, 0), starts)
         hop = np.where(sm, I[HOP], _NONE)
         mins = np.minimum.reduceat(hop, starts)
