@@ -122,14 +122,28 @@ def unsupported(algorithm, params, *, faults=None, record_messages: bool = False
 
 #: no entry of the agent's shape in a block (above INF, so it never wins line 18's minimum)
 _NONE = INF * 2
+#: the surrounding waypoints of Alg. 2 lines 21-24 in their order W, S, E, N, and their bit of ``held``
+_NEAR_DX = np.array([[-1], [0], [1], [0]], dtype=np.int64)
+_NEAR_DY = np.array([[0], [-1], [0], [1]], dtype=np.int64)
+_NEAR_BIT = np.arange(4, dtype=np.int64)[:, None]
 #: bit of a unit offset (dx, dy) from a waypoint: W 1, S 2, E 4, N 8 (Alg. 2 lines 9, 21), the waypoint itself 16
 _LUT = np.array([0, 1, 0, 2, 16, 8, 0, 4, 0], dtype=np.int64)
 
 
+#: :data:`_LUT` on offsets clipped to [-2, 2], at index ``(5 dx + dy) mod 25`` (0 off the 3 x 3 centre)
+_LUT25 = np.zeros(25, dtype=np.int64)
+for _dx in (-1, 0, 1):
+    for _dy in (-1, 0, 1):
+        _LUT25[(5 * _dx + _dy) % 25] = _LUT[(_dx + 1) * 3 + (_dy + 1)]
+
+
 def _bits(dx, dy):
-    """:data:`_LUT` of offsets (0 for anything farther than one step)."""
-    code = (dx + 1) * 3 + (dy + 1)
-    return _LUT[np.where((np.abs(dx) <= 1) & (np.abs(dy) <= 1), code, 0)]
+    """:data:`_LUT` of offsets (0 for anything farther than one step).
+
+    Clipping to [-2, 2] keeps every offset of the 3 x 3 centre and sends the others to the ring
+    around it (0 in :data:`_LUT25`); ``5 dx + dy`` is then in [-12, 12], distinct for distinct
+    clipped offsets, and numpy reads a negative index from the end, i.e. modulo 25."""
+    return _LUT25[np.minimum(np.maximum(dx, -2), 2) * 5 + np.minimum(np.maximum(dy, -2), 2)]
 
 
 #: relative margin of :func:`_within`'s squared-distance screen (rounding errors are ~1e-16)
@@ -266,6 +280,8 @@ class _Run:
             g = np.zeros(tuple(a.max(axis=0) - lo + 1), dtype=bool)
             g[a[:, 0] - lo[0], a[:, 1] - lo[1]] = True
             self.qgrid.append((lo, g))
+        # the same grids with a False border, for lookups clipped into them (_mains, lines 21-24)
+        self.qpad = [(lo, np.pad(g, 1)) for lo, g in self.qgrid]
         i64 = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
         self.started = np.zeros(n, dtype=bool)
         self.completed, self.shape = i64(), i64()
@@ -654,11 +670,23 @@ class _Run:
         receiver's goal held by a lexically larger sender (lines 3-9), 2 a swap that lowers the
         cost (line 11), 3 one at equal cost (line 16); ``gt``: the sender lexically larger (the
         handshake's client side)."""
-        comp = I[COMP][S]
-        up = comp > self.completed[R]
-        free = (self.role[R] == 0) & (np.minimum(comp, self.last) == self.shape[R]) & ~up
-        f = np.flatnonzero(free)
-        rf, sf = R[f], S[f]
+        comp = I[COMP]                                   # by sender slot
+        up = None                                        # a higher shape count: only while one spreads
+        if comp.max() > self.completed.min():
+            up = np.flatnonzero(comp[S] > self.completed[R])
+        mcc = np.minimum(comp, self.last)
+        shape = self.shape
+        if (mcc == shape[0]).all() and (shape == shape[0]).all():
+            free = (self.role == 0)[R]                   # every message is of every receiver's shape
+        else:
+            free = (self.role == 0)[R] & (mcc[S] == shape[R])
+        if up is not None:
+            free[up] = False
+        if free.all():
+            f, rf, sf = None, R, S
+        else:
+            f = np.flatnonzero(free)
+            rf, sf = R[f], S[f]
         Tx, Ty = self.Tx[rf], self.Ty[rf]
         mTx, mTy = I[TX][sf], I[TY][sf]
         mpx, mpy = F[0][sf], F[1][sf]
@@ -666,16 +694,22 @@ class _Run:
         gt = (mpx > px) | ((mpx == px) & (mpy > self.py[rf]))
         same = (mTx == Tx) & (mTy == Ty) & gt
         wx, wy, mx, my = self.wx[rf], self.wy[rf], I[WPX][sf], I[WPY][sf]
-        now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
+        # the cost now is the receiver's distance to its goal plus the sender's to its own: per agent
+        mine = np.abs(self.wx - self.Tx) + np.abs(self.wy - self.Ty)
+        theirs = np.abs(I[WPX] - I[TX]) + np.abs(I[WPY] - I[TY])
+        now_c = mine[rf] + theirs[sf]
         swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
-        kind = np.where(same, 1, np.where(swap_c < now_c, 2, np.where(swap_c == now_c, 3, 0)))
-        kinds = np.zeros(len(R), dtype=np.int64)
-        kinds[f] = kind
-        kinds[up] = 1
-        g = np.zeros(len(R), dtype=bool)
-        g[f] = gt
-        E = np.flatnonzero(kinds)
-        return E, kinds[E], g[E]
+        kind = np.where(swap_c <= now_c, np.where(swap_c == now_c, 3, 2), 0)
+        kind[same] = 1
+        nz = np.flatnonzero(kind)
+        E, kinds, g = (nz if f is None else f[nz]), kind[nz], gt[nz]
+        if up is not None and len(up):                   # merged in receipt order (disjoint from f)
+            E = np.concatenate((E, up))
+            o = np.argsort(E, kind="stable")
+            E = E[o]
+            kinds = np.concatenate((kinds, np.ones(len(up), dtype=kinds.dtype)))[o]
+            g = np.concatenate((g, np.zeros(len(up), dtype=bool)))[o]
+        return E, kinds, g
 
     def _aggregate(self, b, sel):
         """What Algorithm 2 reads of block ``b``, per receiver, for the receivers of entries ``sel``
@@ -684,24 +718,30 @@ class _Run:
         this shape's entries), the surrounding waypoints it holds as goals (lines 21-22) and the
         ones it claims (line 26: wp) or a lexically larger sender heads for (line 28)."""
         R, S = b.R[sel], b.S[sel]
-        I, F = b.I[:, S], b.F[:, S]
-        if not len(R):
+        E = len(R)
+        if not E:
             return
-        starts = np.flatnonzero(np.r_[True, R[1:] != R[:-1]])
+        I, F = b.I, b.F                      # by sender slot: only the fields used are gathered
+        head = np.empty(E, dtype=bool)       # first entry of each receiver's run (R is sorted)
+        head[0] = True
+        np.not_equal(R[1:], R[:-1], out=head[1:])
+        starts = np.flatnonzero(head)
         gR = R[starts]
         wx, wy, px = self.wx[R], self.wy[R], self.px[R]
-        gt = (F[0] > px) | ((F[0] == px) & (F[1] > self.py[R]))
-        wb = _bits(I[WPX] - wx, I[WPY] - wy) | np.where(gt, _bits(I[NSX] - wx, I[NSY] - wy), 0)
+        fx = F[0][S]
+        gt = (fx > px) | ((fx == px) & (F[1][S] > self.py[R]))
+        wb = _bits(I[WPX][S] - wx, I[WPY][S] - wy) | np.where(gt, _bits(I[NSX][S] - wx, I[NSY][S] - wy), 0)
         b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
-        sm = np.minimum(I[COMP], self.last) == self.shape[R]
-        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX] - wx, I[TY] - wy) & 15, 0), starts)
-        hop = np.where(sm, I[HOP], _NONE)
+        sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
+        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX][S] - wx, I[TY][S] - wy) & 15, 0), starts)
+        hop = np.where(sm, I[HOP][S], _NONE)
         mins = np.minimum.reduceat(hop, starts)
-        eq = np.flatnonzero(hop == np.repeat(mins, np.diff(np.r_[starts, len(R)])))
-        g = np.searchsorted(starts, eq, side="right") - 1
-        first = eq[np.r_[True, g[1:] != g[:-1]]]
+        # the first entry of each run holding its minimum: the smallest such position
+        at_min = hop == np.repeat(mins, np.diff(starts, append=E))
+        first = np.minimum.reduceat(np.where(at_min, np.arange(E), E), starts)
         b.ghop[gR] = mins
-        b.gqx[gR], b.gqy[gR] = I[QX, first], I[QY, first]
+        sf = S[first]
+        b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
         b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
         b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
 
@@ -739,23 +779,24 @@ class _Run:
         self.qx = np.where(g, bqx, self.qx)                                                  # line 20
         self.qy = np.where(g, bqy, self.qy)
         if g.any():                                                                          # lines 21-24
-            near = ((wx - 1, wy), (wx, wy - 1), (wx + 1, wy), (wx, wy + 1))
-            done = np.zeros(n, dtype=bool)
-            for d, (cxa, cya) in enumerate(near):
-                q = np.zeros(n, dtype=bool)
-                for si, (lo, grid) in enumerate(self.qgrid):
-                    on = g & ~done & (self.shape == si)
-                    if not on.any():
-                        continue
-                    ix, iy = cxa - lo[0], cya - lo[1]
-                    inside = on & (ix >= 0) & (iy >= 0) & (ix < grid.shape[0]) & (iy < grid.shape[1])
-                    q[inside] = grid[ix[inside], iy[inside]]
-                # the first surrounding waypoint (W, S, E, N) in Q that no entry holds as its goal
-                pick = q & ((held >> d) & 1 == 0)
-                if pick.any():
-                    self.qx[pick], self.qy[pick] = cxa[pick], cya[pick]
-                    self.hop[pick] = 0
-                done |= pick
+            # the four surrounding waypoints at once, rows W, S, E, N (bits 1, 2, 4, 8 of held)
+            cxa, cya = wx + _NEAR_DX, wy + _NEAR_DY
+            q = np.zeros((4, n), dtype=bool)
+            for si, (lo, pad) in enumerate(self.qpad):
+                on = g & (self.shape == si)
+                if not on.any():
+                    continue
+                # clipped into the padded grid: anything outside Q's box reads its False border
+                ix = np.minimum(np.maximum(cxa - (lo[0] - 1), 0), pad.shape[0] - 1)
+                iy = np.minimum(np.maximum(cya - (lo[1] - 1), 0), pad.shape[1] - 1)
+                q |= pad[ix, iy] & on
+            # the first surrounding waypoint (W, S, E, N) in Q that no entry holds as its goal
+            free = q & ((held >> _NEAR_BIT) & 1 == 0)
+            pick = np.flatnonzero(free.any(axis=0))
+            if len(pick):
+                d = free[:, pick].argmax(axis=0)
+                self.qx[pick], self.qy[pick] = cxa[d, pick], cya[d, pick]
+                self.hop[pick] = 0
         # Sec. III-B: hop-count above |A| -> the shape is complete
         qlen = self.qlen[self.shape]
         sw = M & (self.completed < self.nshapes) & (self.hop != INF) & (self.hop > qlen)
