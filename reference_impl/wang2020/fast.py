@@ -137,6 +137,19 @@ for _dx in (-1, 0, 1):
         _LUT25[(5 * _dx + _dy) % 25] = _LUT[(_dx + 1) * 3 + (_dy + 1)]
 
 
+def _cell_codes(x, y):
+    """One integer per cell (x, y), distinct for distinct cells of coordinates below 2**31."""
+    return x * (1 << 32) + y
+
+
+def _member(a, b):
+    """``np.isin(a, b)`` for integer arrays, by sorting ``b`` (np.isin's overhead is ~10x this)."""
+    if not len(b):
+        return np.zeros(len(a), dtype=bool)
+    b = np.sort(b)
+    return b[np.minimum(np.searchsorted(b, a), len(b) - 1)] == a
+
+
 def _bits(dx, dy):
     """:data:`_LUT` of offsets (0 for anything farther than one step).
 
@@ -676,10 +689,18 @@ class _Run:
             up = np.flatnonzero(comp[S] > self.completed[R])
         mcc = np.minimum(comp, self.last)
         shape = self.shape
-        if (mcc == shape[0]).all() and (shape == shape[0]).all():
-            free = (self.role == 0)[R]                   # every message is of every receiver's shape
-        else:
-            free = (self.role == 0)[R] & (mcc[S] == shape[R])
+        # Receipts that cannot act, screened per agent: a receiver in a handshake returns; and
+        # when both ends rest on their goals (waypoint = goal) the cost now is 0 and a swap's is
+        # 2 |w - m|, so only w = m acts -- then both goals are that cell, so a receiver whose goal
+        # is some resting sender's goal is examined whole ("clash").
+        at_goal = (self.wx == self.Tx) & (self.wy == self.Ty)
+        sender_at_goal = (I[WPX] == I[TX]) & (I[WPY] == I[TY])
+        clash = at_goal & _member(_cell_codes(self.Tx, self.Ty),
+                                  _cell_codes(I[TX][sender_at_goal], I[TY][sender_at_goal]))
+        code = np.where(self.role == 0, np.where(at_goal & ~clash, 1, 2), 0)[R]
+        free = (code == 2) | ((code == 1) & ~sender_at_goal[S])
+        if not ((mcc == shape[0]).all() and (shape == shape[0]).all()):
+            free &= mcc[S] == shape[R]                   # another shape's message returns
         if up is not None:
             free[up] = False
         if free.all():
