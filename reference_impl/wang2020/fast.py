@@ -82,6 +82,8 @@ _ROLE = {0: None, 1: "client", 2: "server"}
 #: columns of a message's integer row (Alg. 3's fields); px, py are a float row
 (WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP) = range(10)
 _NI = 10
+#: the integer fields :meth:`_Run._aggregate` reads beside the gradient's (hop, q_u)
+_WAIT_HELD = np.array([WPX, WPY, NSX, NSY, TX, TY, COMP])
 
 
 def trace_json(result) -> str:
@@ -142,12 +144,10 @@ def _cell_codes(x, y):
     return x * (1 << 32) + y
 
 
-def _member(a, b):
-    """``np.isin(a, b)`` for integer arrays, by sorting ``b`` (np.isin's overhead is ~10x this)."""
-    if not len(b):
-        return np.zeros(len(a), dtype=bool)
+def _count(a, b):
+    """How often each element of ``a`` occurs in ``b`` (integer arrays), by sorting ``b``."""
     b = np.sort(b)
-    return b[np.minimum(np.searchsorted(b, a), len(b) - 1)] == a
+    return np.searchsorted(b, a, side="right") - np.searchsorted(b, a, side="left")
 
 
 def _bits(dx, dy):
@@ -187,17 +187,19 @@ class _Block:
     when needed: most receipts are never read past the goal managers."""
 
     __slots__ = ("R", "S", "I", "F", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
-                 "kshape", "kwx", "kwy", "kpx", "kpy")
+                 "kshape", "kwx", "kwy", "kpx", "kpy", "gshape")
     #: the per-receiver results of :meth:`_Run._aggregate` and the state they were computed from
-    AGGREGATES = ("ghop", "gqx", "gqy", "held", "wait", "kshape", "kwx", "kwy", "kpx", "kpy")
+    #: (``gshape``: the shape its gradient part was computed for, :meth:`_Run._gradient`)
+    AGGREGATES = ("ghop", "gqx", "gqy", "held", "wait", "kshape", "kwx", "kwy", "kpx", "kpy", "gshape")
 
-    def __init__(self, n, R, S, I, F, now) -> None:
+    def __init__(self, n, R, S, I, F, now, present=None) -> None:
         self.R, self.S, self.I, self.F = R, S, I, F     # I, F: by sender slot (the whole outbox)
         self.btime = now                       # every receiver's clock at receipt (all tick at rate 1)
-        self.present = np.bincount(R, minlength=n) > 0
+        self.present = np.bincount(R, minlength=n) > 0 if present is None else present
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
         self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
         self.kshape, self.kwx, self.kwy = np.full(n, -1), z(), z()   # shape -1: not computed yet
+        self.gshape = np.full(n, -1)
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
 
 
@@ -526,7 +528,8 @@ class _Run:
         I, F = last_msgs                                          # by sender slot
         self._goal_managers(R, S, I, F, now)
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
-        b = _Block(self.n, R, S, I, F, now)                         # aggregated when read
+        last = self._last[0] if self._last is not None else None
+        b = _Block(self.n, R, S, I, F, now, last.present if last is not None and last.R is R else None)
         self._carry_over(b, last_msgs, last_valid)
         kept = [x for x in self.blocks if (x.present & (x.btime >= cutoff)).any()]
         kept.append(b)
@@ -547,7 +550,8 @@ class _Run:
         if prev is None:
             return
         pb, pmsgs, pvalid = prev
-        senders = (self.moved | (valid != pvalid) | (msgs[0] != pmsgs[0]).any(axis=0)
+        changed = msgs[0] != pmsgs[0]
+        senders = (self.moved | (valid != pvalid) | changed[_WAIT_HELD].any(axis=0)
                    | (msgs[1] != pmsgs[1]).any(axis=0))
         dirty = self.moved.copy()
         dirty[pb.R[senders[pb.S]]] = True
@@ -555,6 +559,11 @@ class _Run:
         for name in _Block.AGGREGATES:
             setattr(b, name, getattr(pb, name).copy())
         b.kshape[dirty] = -1                                     # not computed for these receipts
+        # a sender that changed only its hop or q_u (and did not move) is in both blocks' lists of
+        # the same receivers: their gradient alone is recomputed (_gradient)
+        grad = changed[HOP] | changed[QX] | changed[QY]
+        dirty[b.R[grad[b.S]]] = True
+        b.gshape[dirty] = -1
 
     def _receipts(self, poses, phi, last_valid):
         """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
@@ -565,6 +574,8 @@ class _Run:
         The neighbour pairs are kept from the last call (:meth:`_pairs`): only pairs with an agent
         that moved can differ (grid agents rest on their cells most ticks)."""
         K, PR, PS = self._pairs(poses[:, :2], phi)
+        if last_valid.all():
+            return PR, PS          # the same arrays while the pairs do not change (_Block reuses them)
         keep = last_valid[PS]
         return PR[keep], PS[keep]
 
@@ -614,12 +625,22 @@ class _Run:
             near[np.arange(len(moved)), moved] = False             # not itself
             a, j = np.nonzero(near)
             c = moved[a]
+            NK = c * n + self.id_rank[j]
+            # the moved agents' neighbours as before (their edges are long, their range's border
+            # rarely crossed): every pair is the same, as pairs are symmetric
+            lo, hi = np.searchsorted(R0, moved), np.searchsorted(R0, moved, side="right")
+            cnt = hi - lo
+            if np.array_equal(cnt, np.bincount(a, minlength=len(moved))):
+                at = np.repeat(lo - np.cumsum(cnt) + cnt, cnt) + np.arange(int(cnt.sum()))
+                if np.array_equal(K0[at], np.sort(NK)):
+                    self._nb = (xy.copy(),) + prev[1:]
+                    return prev[1:]
             # each ordered pair once: (moved, any) from its row; (other, moved) only from the
             # moved agent's row when the other did not move (else its own row gives it)
             other = ~mask[j]
             R = np.concatenate((R0[stay], c, j[other]))
             S = np.concatenate((S0[stay], j, c[other]))
-            K = np.concatenate((K0[stay], c * n + self.id_rank[j], j[other] * n + self.id_rank[c[other]]))
+            K = np.concatenate((K0[stay], NK, j[other] * n + self.id_rank[c[other]]))
             o = np.argsort(K, kind="stable")
             K, R, S = K[o], R[o], S[o]
         self._nb = (xy.copy(), K, R, S)
@@ -695,8 +716,10 @@ class _Run:
         # is some resting sender's goal is examined whole ("clash").
         at_goal = (self.wx == self.Tx) & (self.wy == self.Ty)
         sender_at_goal = (I[WPX] == I[TX]) & (I[WPY] == I[TY])
-        clash = at_goal & _member(_cell_codes(self.Tx, self.Ty),
-                                  _cell_codes(I[TX][sender_at_goal], I[TY][sender_at_goal]))
+        mine_c = _cell_codes(self.Tx, self.Ty)
+        held_c = _cell_codes(I[TX], I[TY])
+        # how many resting senders hold my goal, not counting my own message
+        clash = at_goal & (_count(mine_c, held_c[sender_at_goal]) > (sender_at_goal & (held_c == mine_c)))
         code = np.where(self.role == 0, np.where(at_goal & ~clash, 1, 2), 0)[R]
         free = (code == 2) | ((code == 1) & ~sender_at_goal[S])
         if not ((mcc == shape[0]).all() and (shape == shape[0]).all()):
@@ -755,6 +778,23 @@ class _Run:
         b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
         sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
         b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX][S] - wx, I[TY][S] - wy) & 15, 0), starts)
+        b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
+        b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
+        self._gradient(b, R, S, starts, sm)
+
+    def _gradient(self, b, R, S, starts=None, sm=None):
+        """The gradient part of :meth:`_aggregate` alone (line 18: per receiver, the first entry of
+        the smallest hop among this shape's entries), for entries ``R, S`` of whole receivers:
+        it reads only the receiver's shape and the senders' shape count, hop and q_u."""
+        E = len(R)
+        I = b.I
+        if starts is None:
+            head = np.empty(E, dtype=bool)
+            head[0] = True
+            np.not_equal(R[1:], R[:-1], out=head[1:])
+            starts = np.flatnonzero(head)
+            sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
+        gR = R[starts]
         hop = np.where(sm, I[HOP][S], _NONE)
         mins = np.minimum.reduceat(hop, starts)
         # the first entry of each run holding its minimum: the smallest such position
@@ -763,8 +803,7 @@ class _Run:
         b.ghop[gR] = mins
         sf = S[first]
         b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
-        b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
-        b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
+        b.gshape[gR] = self.shape[gR]
 
     def _mains(self, now, cutoff):
         """Algorithm 2 lines 9-35 for every agent at a waypoint; returns (movers, dx, dy)."""
@@ -787,6 +826,10 @@ class _Run:
                            | (b.kpy != self.py))
             if stale.any():
                 self._aggregate(b, np.flatnonzero(stale[b.R]))
+            stale = use & (b.gshape != self.shape)          # only the gradient's senders changed
+            if stale.any():
+                sel = np.flatnonzero(stale[b.R])
+                self._gradient(b, b.R[sel], b.S[sel])
             wait |= np.where(use, b.wait, 0)
             held |= np.where(use, b.held, 0)
             h = np.where(use, b.ghop, _NONE)
