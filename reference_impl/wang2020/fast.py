@@ -664,6 +664,18 @@ class _Run:
         if not len(E):
             return
         RE = R[E]
+        if len(E) > 64:
+            # the pass below skips a receiver's receipts after its first kind 1 or 2 (scalar
+            # path, or blocked in a handshake) but kind 1: drop them here, in bulk
+            nE = len(E)
+            head = np.empty(nE, dtype=bool)
+            head[0] = True
+            np.not_equal(RE[1:], RE[:-1], out=head[1:])
+            starts = np.flatnonzero(head)
+            pos = np.arange(nE)
+            first = np.minimum.reduceat(np.where(kinds <= 2, pos, nE), starts)
+            keep = (pos <= np.repeat(first, np.diff(starts, append=nE))) | (kinds == 1)
+            E, RE, kinds, gt = E[keep], RE[keep], kinds[keep], gt[keep]
         rngs, beta, timeout = self.rngs, self.beta, self.timeout
         role, peer, hseq, seq, send = self.role, self.peer, self.hseq, self.seq, self.send
         deadline, Tx, Ty, hgx, hgy = self.deadline, self.Tx, self.Ty, self.hgx, self.hgy
