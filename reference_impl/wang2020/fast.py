@@ -29,6 +29,12 @@ How the sequential parts stay exact
   expires by the reference's own float test, ``time < clock() - Delta t``.
   Line 18's "first of the smallest hop" is found per block and combined oldest
   first, which is the deque's order.
+* **Kept across ticks** (agents rest on their cells most ticks): the neighbour pairs
+  are recomputed only around agents that moved (:meth:`_Run._pairs`), a tick's block
+  takes the last block's aggregates for every receiver whose receipts did not change
+  (:meth:`_Run._carry_over`), and receipts between two agents resting on their goals
+  are screened out of Algorithm 4 per agent (:meth:`_Run._gm_kinds`); each gives what
+  a fresh computation gives, and the tests compare the traces.
 * The engine's grid motion, sensing (:func:`~swarmproof.models.sensing.neighbor_pairs`),
   clocks (:class:`~swarmproof.reference_impl.engine.clocks.AsyncClocks`), recording
   (:class:`~swarmproof.reference_impl.engine.run.Recording`) and checks before the
