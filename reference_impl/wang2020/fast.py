@@ -320,7 +320,7 @@ class _Run:
         self.swaps = i64()
         self.took_role, self.took_peer, self.took_seq = i64(), i64(), i64()   # state "took" (0: None)
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
-        self._heard = self._heard_R = self._prev_heard = None
+        self._heard = self._prev_heard = None
         self.prev_blocks: list = []
         self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
@@ -435,7 +435,6 @@ class _Run:
             return self._prev_heard
         if self._heard is None:
             self._heard = self._keys(self.blocks, self.cutoff)
-            self._heard_R = self._heard // self.n
         return self._heard
 
     def _keys(self, blocks, cutoff) -> np.ndarray:
@@ -447,9 +446,15 @@ class _Run:
         return np.unique(np.concatenate(parts)) if parts else np.zeros(0, np.int64)
 
     def _heard_of(self, k) -> tuple:
-        keys = self.heard_keys()
-        lo, hi = np.searchsorted(self._heard_R, [k, k + 1])
-        return tuple(sorted(self.ids_l[s] for s in (keys[lo:hi] % self.n).tolist()))
+        """The IDs slot k heard in msg_buff (its part of :meth:`heard_keys`), from its own run of
+        entries in each block: one agent's state costs a few searches, not the whole buffer's
+        keys (an observer may read one agent's state every step)."""
+        heard = set()
+        for b in self.blocks:
+            if b.btime[k] >= self.cutoff[k]:
+                lo, hi = np.searchsorted(b.R, (k, k + 1))
+                heard.update(b.S[lo:hi].tolist())
+        return tuple(sorted(self.ids_l[s] for s in heard))
 
     def signature(self):
         """Everything a state holds but "heard", as arrays (with :meth:`heard_keys`: a step changed
