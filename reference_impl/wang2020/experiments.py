@@ -359,7 +359,11 @@ class ProgressObserver:
         self.goals = np.array(sorted(tuple(c) for c in goal_cells), dtype=np.int64)
         self.l = float(spacing)
         self.every = int(every)
-        self._key = self.goals[:, 0] * 1_000_003 + self.goals[:, 1]
+        # the goals as a boolean grid over their bounding box (occupied() looks cells up in it)
+        self._lo = self.goals.min(axis=0) if len(self.goals) else np.zeros(2, dtype=np.int64)
+        size = (self.goals.max(axis=0) - self._lo + 1) if len(self.goals) else np.zeros(2, dtype=np.int64)
+        self._grid = np.zeros(tuple(int(v) for v in size), dtype=bool)
+        self._grid[tuple((self.goals - self._lo).T)] = True
 
     def start(self, ids) -> None:
         self.prev = None
@@ -369,11 +373,16 @@ class ProgressObserver:
         self.last = None
 
     def occupied(self, poses) -> int:
+        """How many goals have an agent resting on them (each goal counted once)."""
         xy = poses[:, :2] / self.l
         cells = np.rint(xy)
         rest = np.abs(xy - cells).max(axis=1) <= 1e-9
-        c = cells[rest].astype(np.int64)
-        return int(np.isin(self._key, c[:, 0] * 1_000_003 + c[:, 1]).sum())
+        c = cells[rest].astype(np.int64) - self._lo
+        shape = self._grid.shape
+        c = c[(c[:, 0] >= 0) & (c[:, 1] >= 0) & (c[:, 0] < shape[0]) & (c[:, 1] < shape[1])]
+        held = np.zeros(shape, dtype=bool)
+        held[c[:, 0], c[:, 1]] = True
+        return int(np.count_nonzero(held & self._grid))
 
     def observe(self, t, poses, states, present) -> None:
         if self.prev is not None:

@@ -13,19 +13,28 @@ difference between the two is a bug of this module.
 How the sequential parts stay exact
 -----------------------------------
 * **Algorithm 4 runs per received message, in order** (each may change the goal,
-  start a handshake or draw a random number).  Here a round computes, for every
-  receiver's pending messages at once, whether the message can change anything
-  (a higher shape count, or,
-  outside a handshake, the same goal held by a lexically larger agent, or a swap
-  that does not raise the pairwise cost).  Messages that cannot are no-ops in the
-  reference too; the first that can is processed by a scalar copy of
-  ``_goal_manager`` and the receiver's scan resumes after it.  Every random
-  number is drawn from the agent's own generator, in the reference's order.
+  start a handshake or draw a random number).  Here one vectorised pass classifies,
+  from every receiver's state at the start of the tick, what each message can do
+  (a higher shape count, or, outside a handshake, the same goal held by a
+  lexically larger agent, a swap that lowers the pairwise cost, or one at equal
+  cost); messages that can do nothing are no-ops in the reference too.  One
+  Python pass in receipt order then applies them: a swap starts the handshake
+  (after which only a higher shape count can act), an equal cost draws the
+  agent's number first, and the first message that may change anything else
+  hands that receiver's remaining messages to a scalar copy of
+  ``_goal_manager``.  Every random number is drawn from the agent's own
+  generator, in the reference's order.
 * **msg_buff** (Alg. 2 line 15) is a list of per-tick blocks (every receipt of a
   tick, sorted by receiver then sender ID, as the deque holds them); an entry
   expires by the reference's own float test, ``time < clock() - Delta t``.
   Line 18's "first of the smallest hop" is found per block and combined oldest
   first, which is the deque's order.
+* **Kept across ticks** (agents rest on their cells most ticks): the neighbour pairs
+  are recomputed only around agents that moved (:meth:`_Run._pairs`), a tick's block
+  takes the last block's aggregates for every receiver whose receipts did not change
+  (:meth:`_Run._carry_over`), and receipts between two agents resting on their goals
+  are screened out of Algorithm 4 per agent (:meth:`_Run._gm_kinds`); each gives what
+  a fresh computation gives, and the tests compare the traces.
 * The engine's grid motion, sensing (:func:`~swarmproof.models.sensing.neighbor_pairs`),
   clocks (:class:`~swarmproof.reference_impl.engine.clocks.AsyncClocks`), recording
   (:class:`~swarmproof.reference_impl.engine.run.Recording`) and checks before the
@@ -79,6 +88,8 @@ _ROLE = {0: None, 1: "client", 2: "server"}
 #: columns of a message's integer row (Alg. 3's fields); px, py are a float row
 (WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP) = range(10)
 _NI = 10
+#: the integer fields :meth:`_Run._aggregate` reads beside the gradient's (hop, q_u)
+_WAIT_HELD = np.array([WPX, WPY, NSX, NSY, TX, TY, COMP])
 
 
 def trace_json(result) -> str:
@@ -119,31 +130,82 @@ def unsupported(algorithm, params, *, faults=None, record_messages: bool = False
 
 #: no entry of the agent's shape in a block (above INF, so it never wins line 18's minimum)
 _NONE = INF * 2
+#: the surrounding waypoints of Alg. 2 lines 21-24 in their order W, S, E, N, and their bit of ``held``
+_NEAR_DX = np.array([[-1], [0], [1], [0]], dtype=np.int64)
+_NEAR_DY = np.array([[0], [-1], [0], [1]], dtype=np.int64)
+_NEAR_BIT = np.arange(4, dtype=np.int64)[:, None]
 #: bit of a unit offset (dx, dy) from a waypoint: W 1, S 2, E 4, N 8 (Alg. 2 lines 9, 21), the waypoint itself 16
 _LUT = np.array([0, 1, 0, 2, 16, 8, 0, 4, 0], dtype=np.int64)
 
 
+#: :data:`_LUT` on offsets clipped to [-2, 2], at index ``(5 dx + dy) mod 25`` (0 off the 3 x 3 centre)
+_LUT25 = np.zeros(25, dtype=np.int64)
+for _dx in (-1, 0, 1):
+    for _dy in (-1, 0, 1):
+        _LUT25[(5 * _dx + _dy) % 25] = _LUT[(_dx + 1) * 3 + (_dy + 1)]
+
+
+def _cell_codes(x, y):
+    """One integer per cell (x, y), distinct for distinct cells of coordinates below 2**31."""
+    return x * (1 << 32) + y
+
+
+def _count(a, b):
+    """How often each element of ``a`` occurs in ``b`` (integer arrays), by sorting ``b``."""
+    b = np.sort(b)
+    return np.searchsorted(b, a, side="right") - np.searchsorted(b, a, side="left")
+
+
 def _bits(dx, dy):
-    """:data:`_LUT` of offsets (0 for anything farther than one step)."""
-    code = (dx + 1) * 3 + (dy + 1)
-    return _LUT[np.where((np.abs(dx) <= 1) & (np.abs(dy) <= 1), code, 0)]
+    """:data:`_LUT` of offsets (0 for anything farther than one step).
+
+    Clipping to [-2, 2] keeps every offset of the 3 x 3 centre and sends the others to the ring
+    around it (0 in :data:`_LUT25`); ``5 dx + dy`` is then in [-12, 12], distinct for distinct
+    clipped offsets, and numpy reads a negative index from the end, i.e. modulo 25."""
+    return _LUT25[np.minimum(np.maximum(dx, -2), 2) * 5 + np.minimum(np.maximum(dy, -2), 2)]
+
+
+#: relative margin of :func:`_within`'s squared-distance screen (rounding errors are ~1e-16)
+_SCREEN = 1e-9
+
+
+def _within(dx, dy, lim):
+    """``np.hypot(dx, dy) <= lim``, elementwise, computing ``hypot`` (slow) only near ``lim``.
+
+    ``dx * dx + dy * dy`` is within a few ulps of the true squared distance, and ``hypot``
+    within one ulp of the true distance; so a squared sum below ``(lim (1 - 1e-9))**2`` has
+    ``hypot`` below ``lim`` and one above ``(lim (1 + 1e-9))**2`` has it above: only the band
+    between is decided by ``hypot`` itself (grid agents exactly R apart land there)."""
+    d2 = dx * dx + dy * dy
+    lo, hi = (lim * (1 - _SCREEN)) ** 2, (lim * (1 + _SCREEN)) ** 2
+    ok = d2 <= lo
+    band = np.nonzero((d2 > lo) & (d2 <= hi))
+    if len(band[0]):
+        ok[band] = np.hypot(dx[band], dy[band]) <= lim
+    return ok
 
 
 class _Block:
     """One tick's receipts in msg_buff (every receiver's, sorted by receiver then sender ID) and,
     per receiver, what Algorithm 2 reads of them (:meth:`_Run._aggregate`), with the receiver's
-    shape, waypoint and position it was computed from (recomputed when one changed)."""
+    shape, waypoint and position it was computed from (recomputed when one changed).  A receipt's
+    message is its sender's column of the tick's outbox ``(I, F)`` (:meth:`_Run.outbox`), read
+    when needed: most receipts are never read past the goal managers."""
 
-    __slots__ = ("R", "S", "I", "F", "mcc", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
-                 "kshape", "kwx", "kwy", "kpx", "kpy")
+    __slots__ = ("R", "S", "I", "F", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
+                 "kshape", "kwx", "kwy", "kpx", "kpy", "gshape")
+    #: the per-receiver results of :meth:`_Run._aggregate` and the state they were computed from
+    #: (``gshape``: the shape its gradient part was computed for, :meth:`_Run._gradient`)
+    AGGREGATES = ("ghop", "gqx", "gqy", "held", "wait", "kshape", "kwx", "kwy", "kpx", "kpy", "gshape")
 
-    def __init__(self, n, R, S, I, F, mcc, now) -> None:
-        self.R, self.S, self.I, self.F, self.mcc = R, S, I, F, mcc
+    def __init__(self, n, R, S, I, F, now, present=None) -> None:
+        self.R, self.S, self.I, self.F = R, S, I, F     # I, F: by sender slot (the whole outbox)
         self.btime = now                       # every receiver's clock at receipt (all tick at rate 1)
-        self.present = np.bincount(R, minlength=n) > 0
+        self.present = np.bincount(R, minlength=n) > 0 if present is None else present
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
         self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
         self.kshape, self.kwx, self.kwy = np.full(n, -1), z(), z()   # shape -1: not computed yet
+        self.gshape = np.full(n, -1)
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
 
 
@@ -217,7 +279,8 @@ class _Run:
         self.ids = np.asarray(ids, dtype=np.int64)
         self.ids_l = self.ids.tolist()
         self.id_rank = np.empty(n, dtype=np.int64)
-        self.id_rank[np.argsort(self.ids, kind="stable")] = np.arange(n)
+        self.by_rank = np.argsort(self.ids, kind="stable")          # slot of the i-th smallest ID
+        self.id_rank[self.by_rank] = np.arange(n)
         self.rngs = [_robot_rng(seed, k) for k in range(n)]
         self.l = ctrl.l
         self.shapes = ctrl.shapes
@@ -238,6 +301,8 @@ class _Run:
             g = np.zeros(tuple(a.max(axis=0) - lo + 1), dtype=bool)
             g[a[:, 0] - lo[0], a[:, 1] - lo[1]] = True
             self.qgrid.append((lo, g))
+        # the same grids with a False border, for lookups clipped into them (_mains, lines 21-24)
+        self.qpad = [(lo, np.pad(g, 1)) for lo, g in self.qgrid]
         i64 = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
         self.started = np.zeros(n, dtype=bool)
         self.completed, self.shape = i64(), i64()
@@ -255,10 +320,13 @@ class _Run:
         self.swaps = i64()
         self.took_role, self.took_peer, self.took_seq = i64(), i64(), i64()   # state "took" (0: None)
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
-        self._heard = self._heard_R = self._prev_heard = None
+        self._heard = self._prev_heard = None
         self.prev_blocks: list = []
         self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
+        self._nb = None                 # the last neighbour pairs: (xy, keys, receivers, senders)
+        self.moved = np.ones(n, dtype=bool)
+        self._last = None               # the last tick's block, messages and broadcast flags
 
     # -- scalar pieces: copies of the reference's methods, on slot k ---------------------
 
@@ -367,7 +435,6 @@ class _Run:
             return self._prev_heard
         if self._heard is None:
             self._heard = self._keys(self.blocks, self.cutoff)
-            self._heard_R = self._heard // self.n
         return self._heard
 
     def _keys(self, blocks, cutoff) -> np.ndarray:
@@ -379,9 +446,15 @@ class _Run:
         return np.unique(np.concatenate(parts)) if parts else np.zeros(0, np.int64)
 
     def _heard_of(self, k) -> tuple:
-        keys = self.heard_keys()
-        lo, hi = np.searchsorted(self._heard_R, [k, k + 1])
-        return tuple(sorted(self.ids_l[s] for s in (keys[lo:hi] % self.n).tolist()))
+        """The IDs slot k heard in msg_buff (its part of :meth:`heard_keys`), from its own run of
+        entries in each block: one agent's state costs a few searches, not the whole buffer's
+        keys (an observer may read one agent's state every step)."""
+        heard = set()
+        for b in self.blocks:
+            if b.btime[k] >= self.cutoff[k]:
+                lo, hi = np.searchsorted(b.R, (k, k + 1))
+                heard.update(b.S[lo:hi].tolist())
+        return tuple(sorted(self.ids_l[s] for s in heard))
 
     def signature(self):
         """Everything a state holds but "heard", as arrays (with :meth:`heard_keys`: a step changed
@@ -463,10 +536,12 @@ class _Run:
 
         # this tick's receipts: every neighbour within R that broadcast last tick, by sender ID
         R, S = self._receipts(poses, phi, last_valid)
-        I, F = last_msgs[0][:, S], last_msgs[1][:, S]
+        I, F = last_msgs                                          # by sender slot
         self._goal_managers(R, S, I, F, now)
         cutoff = now - self.delta_t                               # msg_buff: since clock() - Delta t
-        b = _Block(self.n, R, S, I, F, np.minimum(I[COMP], self.last), now)   # aggregated when read
+        last = self._last[0] if self._last is not None else None
+        b = _Block(self.n, R, S, I, F, now, last.present if last is not None and last.R is R else None)
+        self._carry_over(b, last_msgs, last_valid)
         kept = [x for x in self.blocks if (x.present & (x.btime >= cutoff)).any()]
         kept.append(b)
         self.prev_blocks, self.blocks = self.blocks, kept
@@ -475,82 +550,234 @@ class _Run:
         self.exchange(now)                                        # the handshakes, before Alg. 2 (engine: 4b)
         return self._mains(now, cutoff)
 
+    def _carry_over(self, b, msgs, valid) -> None:
+        """Give block ``b`` the previous tick's block's aggregates (:meth:`_aggregate`) for every
+        receiver whose receipts are the same in both: the same senders, in the same order, with
+        the same messages.  A receiver's receipts can differ only if it moved, or one of its
+        senders (in either block) moved, changed its message or its broadcast flag; the others'
+        entries are equal, so what :meth:`_aggregate` computed from them (for the receiver's
+        shape, waypoint and position stored beside it, checked when read) is equal too."""
+        prev, self._last = self._last, (b, msgs, valid)
+        if prev is None:
+            return
+        pb, pmsgs, pvalid = prev
+        changed = msgs[0] != pmsgs[0]
+        senders = (self.moved | (valid != pvalid) | changed[_WAIT_HELD].any(axis=0)
+                   | (msgs[1] != pmsgs[1]).any(axis=0))
+        dirty = self.moved.copy()
+        dirty[pb.R[senders[pb.S]]] = True
+        dirty[b.R[senders[b.S]]] = True
+        for name in _Block.AGGREGATES:
+            setattr(b, name, getattr(pb, name).copy())
+        b.kshape[dirty] = -1                                     # not computed for these receipts
+        # a sender that changed only its hop or q_u (and did not move) is in both blocks' lists of
+        # the same receivers: their gradient alone is recomputed (_gradient)
+        grad = changed[HOP] | changed[QX] | changed[QY]
+        dirty[b.R[grad[b.S]]] = True
+        b.gshape[dirty] = -1
+
     def _receipts(self, poses, phi, last_valid):
         """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
         sender ID: the engine's neighbours within R (:func:`~swarmproof.models.sensing.neighbor_pairs`,
-        inclusive) that broadcast in the previous tick."""
-        xy = poses[:, :2]
-        if self.n <= _BRUTE_MAX:
-            i, j, _ = neighbor_pairs(xy, phi, True)
-        else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
-            pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
-            i, j = pr[:, 0], pr[:, 1]
-            d = xy[j] - xy[i]
-            ok = np.hypot(d[:, 0], d[:, 1]) <= phi * INCLUSIVE_SLACK
-            i, j = i[ok], j[ok]
-        R = np.concatenate((i, j))
-        S = np.concatenate((j, i))
-        keep = last_valid[S]
-        R, S = R[keep], S[keep]
-        order = np.argsort(R * self.n + self.id_rank[S])   # unique keys
-        return R[order], S[order]
+        inclusive) that broadcast in the previous tick.  Also sets ``self.moved`` (the agents whose
+        position differs from the last call's; every agent at the first).
+
+        The neighbour pairs are kept from the last call (:meth:`_pairs`): only pairs with an agent
+        that moved can differ (grid agents rest on their cells most ticks)."""
+        K, PR, PS = self._pairs(poses[:, :2], phi)
+        if last_valid.all():
+            return PR, PS          # the same arrays while the pairs do not change (_Block reuses them)
+        keep = last_valid[PS]
+        return PR[keep], PS[keep]
+
+    def _pairs(self, xy, phi):
+        """Every ordered neighbour pair ``(receiver, sender)`` and its sort key
+        ``receiver * n + id_rank[sender]`` (unique), sorted by the key: ``(K, R, S)``.
+
+        The set is :func:`~swarmproof.models.sensing.neighbor_pairs`' (inclusive): every pair
+        whose ``hypot`` distance is at most ``phi * INCLUSIVE_SLACK`` -- its k-d tree only
+        proposes candidates, and its brute-force branch (up to 50 agents) gives the same set.  So
+        after a first full computation, a call where few agents moved drops the pairs of those
+        agents and adds theirs again from the same exact test (:func:`_within`) against every
+        agent (``hypot`` is symmetric in sign, so the distance is the same bits whichever end is
+        subtracted), then sorts the keys again (a stable sort of one sorted run and a short tail);
+        the result is the same arrays as a full computation."""
+        n = self.n
+        prev = self._nb
+        if prev is not None:
+            old = prev[0]           # (column by column: any(axis=1) on two columns is slower)
+            moved = np.flatnonzero((xy[:, 0] != old[:, 0]) | (xy[:, 1] != old[:, 1]))
+            if not len(moved):
+                self.moved = np.zeros(n, dtype=bool)
+                return prev[1:]
+        else:
+            moved = np.arange(n)
+        mask = np.zeros(n, dtype=bool)
+        mask[moved] = True
+        self.moved = mask
+        lim = phi * INCLUSIVE_SLACK
+        if prev is None or len(moved) * 4 > n:      # many moved: everything again (the engine's search)
+            if n <= _BRUTE_MAX:
+                i, j, _ = neighbor_pairs(xy, phi, True)
+            else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
+                pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
+                i, j = pr[:, 0], pr[:, 1]
+                d = xy[j] - xy[i]
+                ok = _within(d[:, 0], d[:, 1], lim)
+                i, j = i[ok], j[ok]
+            K = np.sort(np.concatenate((i * n + self.id_rank[j], j * n + self.id_rank[i])))
+            R = K // n
+            S = self.by_rank[K - R * n]
+        else:
+            _, K0, R0, S0 = prev
+            stay = ~(mask[R0] | mask[S0])
+            dx = xy[None, :, 0] - xy[moved, 0][:, None]            # (moved, every agent)
+            dy = xy[None, :, 1] - xy[moved, 1][:, None]
+            near = _within(dx, dy, lim)
+            near[np.arange(len(moved)), moved] = False             # not itself
+            a, j = np.nonzero(near)
+            c = moved[a]
+            NK = c * n + self.id_rank[j]
+            # the moved agents' neighbours as before (their edges are long, their range's border
+            # rarely crossed): every pair is the same, as pairs are symmetric
+            lo, hi = np.searchsorted(R0, moved), np.searchsorted(R0, moved, side="right")
+            cnt = hi - lo
+            if np.array_equal(cnt, np.bincount(a, minlength=len(moved))):
+                at = np.repeat(lo - np.cumsum(cnt) + cnt, cnt) + np.arange(int(cnt.sum()))
+                if np.array_equal(K0[at], np.sort(NK)):
+                    self._nb = (xy.copy(),) + prev[1:]
+                    return prev[1:]
+            # each ordered pair once: (moved, any) from its row; (other, moved) only from the
+            # moved agent's row when the other did not move (else its own row gives it)
+            other = ~mask[j]
+            R = np.concatenate((R0[stay], c, j[other]))
+            S = np.concatenate((S0[stay], j, c[other]))
+            K = np.concatenate((K0[stay], NK, j[other] * n + self.id_rank[c[other]]))
+            o = np.argsort(K, kind="stable")
+            K, R, S = K[o], R[o], S[o]
+        self._nb = (xy.copy(), K, R, S)
+        return K, R, S
 
     def _goal_managers(self, R, S, I, F, now):
-        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module docstring)."""
-        total = len(R)
-        if total == 0:
+        """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module
+        docstring); the messages are the senders' columns of ``I`` and ``F``.
+
+        Every receipt's effect is classified once, from its receiver's state at the start of the
+        tick (:meth:`_gm_kinds`); then one pass in receipt order applies them.  A receiver's state
+        changes only where a receipt acts on it, so its later kinds stay valid while it has done
+        nothing but draw a number at equal cost and keep its goal (line 16 false); once it begins a
+        handshake (lines 12, 18) only a higher shape count can act on it (a blocked agent returns,
+        as in the reference); a higher shape count or a goal held by a larger agent (kind 1) can
+        change anything, so that receiver's remaining receipts run through the scalar copy
+        :meth:`_gm`, one by one, as the reference does."""
+        if len(R) == 0:
             return
-        n = self.n
-        pos = np.searchsorted(R, np.arange(n))
-        cand = None
-        sid_all = self.ids[S]
-        comp = I[COMP]
-        mTx_all, mTy_all, mx_all, my_all = I[TX], I[TY], I[WPX], I[WPY]
-        mpx_all, mpy_all = F[0], F[1]
-        while True:
-            if cand is None:
-                r, c = R, slice(None)
+        E, kinds, gt = self._gm_kinds(R, S, I, F)
+        if not len(E):
+            return
+        RE = R[E]
+        if len(E) > 64:
+            # the pass below skips a receiver's receipts after its first kind 1 or 2 (scalar
+            # path, or blocked in a handshake) but kind 1: drop them here, in bulk
+            nE = len(E)
+            head = np.empty(nE, dtype=bool)
+            head[0] = True
+            np.not_equal(RE[1:], RE[:-1], out=head[1:])
+            starts = np.flatnonzero(head)
+            pos = np.arange(nE)
+            first = np.minimum.reduceat(np.where(kinds <= 2, pos, nE), starts)
+            keep = (pos <= np.repeat(first, np.diff(starts, append=nE))) | (kinds == 1)
+            E, RE, kinds, gt = E[keep], RE[keep], kinds[keep], gt[keep]
+        rngs, beta, timeout = self.rngs, self.beta, self.timeout
+        role, peer, hseq, seq, send = self.role, self.peer, self.hseq, self.seq, self.send
+        deadline, Tx, Ty, hgx, hgy = self.deadline, self.Tx, self.Ty, self.hgx, self.hgy
+        sid_e = self.ids[S[E]].tolist()
+        now_l = now.tolist()
+        blocked = scalar = -1
+        for e, k, kind, client, sid in zip(E.tolist(), RE.tolist(), kinds.tolist(), gt.tolist(), sid_e):
+            if k == scalar or (k == blocked and kind != 1):
+                continue
+            if kind == 1:          # the rest of this receiver's receipts, the reference's way
+                end = int(np.searchsorted(R, k, side="right"))
+                ids_s = self.ids[S[e:end]].tolist()
+                rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
+                for sid_j, row, frow in zip(ids_s, rows, frows):
+                    self._gm(k, now_l[k], sid_j, row, frow)
+                scalar = k
+                continue
+            # kind 3: equal cost, the agent's own draw (line 16); kind 2: a lower cost (line 11)
+            if kind == 3 and not rngs[k].random() < beta:
+                continue
+            # _gm's handshake (Sec. III-A): client when the sender is lexically larger
+            if client:
+                seq[k] += 1
+                role[k], hseq[k] = 1, seq[k]
+                send[k] = True
             else:
-                r, c = R[cand], cand
-            hs_r = self.role[r]
-            ccomp = comp[c]
-            trig = ccomp > self.completed[r]
-            free = (hs_r == 0) & (np.minimum(ccomp, self.last) == self.shape[r])
-            if cand is None:
-                f, rf = np.flatnonzero(free), R[free]
-            else:
-                f, rf = cand[free], r[free]
-            if len(f):
-                Tx, Ty = self.Tx[rf], self.Ty[rf]
-                mTx, mTy = mTx_all[f], mTy_all[f]
-                mpx, mpy = mpx_all[f], mpy_all[f]
-                px, py = self.px[rf], self.py[rf]
-                same = (mTx == Tx) & (mTy == Ty) & ((mpx > px) | ((mpx == px) & (mpy > py)))
-                wx, wy, mx, my = self.wx[rf], self.wy[rf], mx_all[f], my_all[f]
-                now_c = np.abs(wx - Tx) + np.abs(wy - Ty) + np.abs(mx - mTx) + np.abs(my - mTy)
-                swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
-                trig[free] |= same | (swap_c <= now_c)
-            hit = np.flatnonzero(trig) if cand is None else cand[trig]
-            if not len(hit):
-                return
-            rh = R[hit]
-            first = np.ones(len(hit), dtype=bool)
-            first[1:] = rh[1:] != rh[:-1]
-            fe = hit[first]
-            rr = rh[first]
-            rows = zip(rr.tolist(), fe.tolist(), sid_all[fe].tolist(), I[:, fe].T.tolist(), F[:, fe].T.tolist(),
-                       now[rr].tolist())
-            gm = self._gm
-            for k, e, sid_e, row, frow, now_k in rows:
-                gm(k, now_k, sid_e, row, frow)
-            pos[rr] = fe + 1
-            # next round: the receipts after each processed one, of those receivers
-            ends = np.searchsorted(R, rr, side="right")
-            lens = ends - pos[rr]
-            total = int(lens.sum())
-            if total == 0:
-                return
-            cand = np.repeat(pos[rr] - np.cumsum(np.r_[0, lens[:-1]]), lens) + np.arange(total)
+                role[k], hseq[k] = 2, -1
+            peer[k] = sid
+            deadline[k] = now_l[k] + timeout
+            hgx[k], hgy[k] = Tx[k], Ty[k]
+            blocked = k
+
+    def _gm_kinds(self, R, S, I, F):
+        """What each receipt does to its receiver in :meth:`_gm`, from the receiver's current
+        state: ``(E, kinds, gt)`` for the receipts E that can do anything, sorted (the others are
+        no-ops of the reference too: another shape's message, a blocked receiver, or a swap that
+        would raise the pairwise cost): kind 1 a higher shape count (Sec. III-B) or the
+        receiver's goal held by a lexically larger sender (lines 3-9), 2 a swap that lowers the
+        cost (line 11), 3 one at equal cost (line 16); ``gt``: the sender lexically larger (the
+        handshake's client side)."""
+        comp = I[COMP]                                   # by sender slot
+        up = None                                        # a higher shape count: only while one spreads
+        if comp.max() > self.completed.min():
+            up = np.flatnonzero(comp[S] > self.completed[R])
+        mcc = np.minimum(comp, self.last)
+        shape = self.shape
+        # Receipts that cannot act, screened per agent: a receiver in a handshake returns; and
+        # when both ends rest on their goals (waypoint = goal) the cost now is 0 and a swap's is
+        # 2 |w - m|, so only w = m acts -- then both goals are that cell, so a receiver whose goal
+        # is some resting sender's goal is examined whole ("clash").
+        at_goal = (self.wx == self.Tx) & (self.wy == self.Ty)
+        sender_at_goal = (I[WPX] == I[TX]) & (I[WPY] == I[TY])
+        mine_c = _cell_codes(self.Tx, self.Ty)
+        held_c = _cell_codes(I[TX], I[TY])
+        # how many resting senders hold my goal, not counting my own message
+        clash = at_goal & (_count(mine_c, held_c[sender_at_goal]) > (sender_at_goal & (held_c == mine_c)))
+        code = np.where(self.role == 0, np.where(at_goal & ~clash, 1, 2), 0)[R]
+        free = (code == 2) | ((code == 1) & ~sender_at_goal[S])
+        if not ((mcc == shape[0]).all() and (shape == shape[0]).all()):
+            free &= mcc[S] == shape[R]                   # another shape's message returns
+        if up is not None:
+            free[up] = False
+        if free.all():
+            f, rf, sf = None, R, S
+        else:
+            f = np.flatnonzero(free)
+            rf, sf = R[f], S[f]
+        Tx, Ty = self.Tx[rf], self.Ty[rf]
+        mTx, mTy = I[TX][sf], I[TY][sf]
+        mpx, mpy = F[0][sf], F[1][sf]
+        px = self.px[rf]
+        gt = (mpx > px) | ((mpx == px) & (mpy > self.py[rf]))
+        same = (mTx == Tx) & (mTy == Ty) & gt
+        wx, wy, mx, my = self.wx[rf], self.wy[rf], I[WPX][sf], I[WPY][sf]
+        # the cost now is the receiver's distance to its goal plus the sender's to its own: per agent
+        mine = np.abs(self.wx - self.Tx) + np.abs(self.wy - self.Ty)
+        theirs = np.abs(I[WPX] - I[TX]) + np.abs(I[WPY] - I[TY])
+        now_c = mine[rf] + theirs[sf]
+        swap_c = np.abs(wx - mTx) + np.abs(wy - mTy) + np.abs(mx - Tx) + np.abs(my - Ty)
+        kind = np.where(swap_c <= now_c, np.where(swap_c == now_c, 3, 2), 0)
+        kind[same] = 1
+        nz = np.flatnonzero(kind)
+        E, kinds, g = (nz if f is None else f[nz]), kind[nz], gt[nz]
+        if up is not None and len(up):                   # merged in receipt order (disjoint from f)
+            E = np.concatenate((E, up))
+            o = np.argsort(E, kind="stable")
+            E = E[o]
+            kinds = np.concatenate((kinds, np.ones(len(up), dtype=kinds.dtype)))[o]
+            g = np.concatenate((g, np.zeros(len(up), dtype=bool)))[o]
+        return E, kinds, g
 
     def _aggregate(self, b, sel):
         """What Algorithm 2 reads of block ``b``, per receiver, for the receivers of entries ``sel``
@@ -558,26 +785,49 @@ class _Run:
         gradient's candidate of this block (line 18: the first entry of the smallest hop among
         this shape's entries), the surrounding waypoints it holds as goals (lines 21-22) and the
         ones it claims (line 26: wp) or a lexically larger sender heads for (line 28)."""
-        R, I, F = b.R[sel], b.I[:, sel], b.F[:, sel]
-        if not len(R):
+        R, S = b.R[sel], b.S[sel]
+        E = len(R)
+        if not E:
             return
-        starts = np.flatnonzero(np.r_[True, R[1:] != R[:-1]])
+        I, F = b.I, b.F                      # by sender slot: only the fields used are gathered
+        head = np.empty(E, dtype=bool)       # first entry of each receiver's run (R is sorted)
+        head[0] = True
+        np.not_equal(R[1:], R[:-1], out=head[1:])
+        starts = np.flatnonzero(head)
         gR = R[starts]
         wx, wy, px = self.wx[R], self.wy[R], self.px[R]
-        gt = (F[0] > px) | ((F[0] == px) & (F[1] > self.py[R]))
-        wb = _bits(I[WPX] - wx, I[WPY] - wy) | np.where(gt, _bits(I[NSX] - wx, I[NSY] - wy), 0)
+        fx = F[0][S]
+        gt = (fx > px) | ((fx == px) & (F[1][S] > self.py[R]))
+        wb = _bits(I[WPX][S] - wx, I[WPY][S] - wy) | np.where(gt, _bits(I[NSX][S] - wx, I[NSY][S] - wy), 0)
         b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
-        sm = b.mcc[sel] == self.shape[R]
-        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX] - wx, I[TY] - wy) & 15, 0), starts)
-        hop = np.where(sm, I[HOP], _NONE)
-        mins = np.minimum.reduceat(hop, starts)
-        eq = np.flatnonzero(hop == np.repeat(mins, np.diff(np.r_[starts, len(R)])))
-        g = np.searchsorted(starts, eq, side="right") - 1
-        first = eq[np.r_[True, g[1:] != g[:-1]]]
-        b.ghop[gR] = mins
-        b.gqx[gR], b.gqy[gR] = I[QX, first], I[QY, first]
+        sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
+        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX][S] - wx, I[TY][S] - wy) & 15, 0), starts)
         b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
         b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
+        self._gradient(b, R, S, starts, sm)
+
+    def _gradient(self, b, R, S, starts=None, sm=None):
+        """The gradient part of :meth:`_aggregate` alone (line 18: per receiver, the first entry of
+        the smallest hop among this shape's entries), for entries ``R, S`` of whole receivers:
+        it reads only the receiver's shape and the senders' shape count, hop and q_u."""
+        E = len(R)
+        I = b.I
+        if starts is None:
+            head = np.empty(E, dtype=bool)
+            head[0] = True
+            np.not_equal(R[1:], R[:-1], out=head[1:])
+            starts = np.flatnonzero(head)
+            sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
+        gR = R[starts]
+        hop = np.where(sm, I[HOP][S], _NONE)
+        mins = np.minimum.reduceat(hop, starts)
+        # the first entry of each run holding its minimum: the smallest such position
+        at_min = hop == np.repeat(mins, np.diff(starts, append=E))
+        first = np.minimum.reduceat(np.where(at_min, np.arange(E), E), starts)
+        b.ghop[gR] = mins
+        sf = S[first]
+        b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
+        b.gshape[gR] = self.shape[gR]
 
     def _mains(self, now, cutoff):
         """Algorithm 2 lines 9-35 for every agent at a waypoint; returns (movers, dx, dy)."""
@@ -600,6 +850,10 @@ class _Run:
                            | (b.kpy != self.py))
             if stale.any():
                 self._aggregate(b, np.flatnonzero(stale[b.R]))
+            stale = use & (b.gshape != self.shape)          # only the gradient's senders changed
+            if stale.any():
+                sel = np.flatnonzero(stale[b.R])
+                self._gradient(b, b.R[sel], b.S[sel])
             wait |= np.where(use, b.wait, 0)
             held |= np.where(use, b.held, 0)
             h = np.where(use, b.ghop, _NONE)
@@ -613,23 +867,24 @@ class _Run:
         self.qx = np.where(g, bqx, self.qx)                                                  # line 20
         self.qy = np.where(g, bqy, self.qy)
         if g.any():                                                                          # lines 21-24
-            near = ((wx - 1, wy), (wx, wy - 1), (wx + 1, wy), (wx, wy + 1))
-            done = np.zeros(n, dtype=bool)
-            for d, (cxa, cya) in enumerate(near):
-                q = np.zeros(n, dtype=bool)
-                for si, (lo, grid) in enumerate(self.qgrid):
-                    on = g & ~done & (self.shape == si)
-                    if not on.any():
-                        continue
-                    ix, iy = cxa - lo[0], cya - lo[1]
-                    inside = on & (ix >= 0) & (iy >= 0) & (ix < grid.shape[0]) & (iy < grid.shape[1])
-                    q[inside] = grid[ix[inside], iy[inside]]
-                # the first surrounding waypoint (W, S, E, N) in Q that no entry holds as its goal
-                pick = q & ((held >> d) & 1 == 0)
-                if pick.any():
-                    self.qx[pick], self.qy[pick] = cxa[pick], cya[pick]
-                    self.hop[pick] = 0
-                done |= pick
+            # the four surrounding waypoints at once, rows W, S, E, N (bits 1, 2, 4, 8 of held)
+            cxa, cya = wx + _NEAR_DX, wy + _NEAR_DY
+            q = np.zeros((4, n), dtype=bool)
+            for si, (lo, pad) in enumerate(self.qpad):
+                on = g & (self.shape == si)
+                if not on.any():
+                    continue
+                # clipped into the padded grid: anything outside Q's box reads its False border
+                ix = np.minimum(np.maximum(cxa - (lo[0] - 1), 0), pad.shape[0] - 1)
+                iy = np.minimum(np.maximum(cya - (lo[1] - 1), 0), pad.shape[1] - 1)
+                q |= pad[ix, iy] & on
+            # the first surrounding waypoint (W, S, E, N) in Q that no entry holds as its goal
+            free = q & ((held >> _NEAR_BIT) & 1 == 0)
+            pick = np.flatnonzero(free.any(axis=0))
+            if len(pick):
+                d = free[:, pick].argmax(axis=0)
+                self.qx[pick], self.qy[pick] = cxa[d, pick], cya[d, pick]
+                self.hop[pick] = 0
         # Sec. III-B: hop-count above |A| -> the shape is complete
         qlen = self.qlen[self.shape]
         sw = M & (self.completed < self.nshapes) & (self.hop != INF) & (self.hop > qlen)
@@ -799,7 +1054,7 @@ def _grid_motion(mover, poses, movers, dx, dy, events, ids, t) -> bool:
         frac[st] = 0.0
         if len(st):
             events.append(Event(t, "edge", tuple(ids[st].tolist())))
-    on = np.flatnonzero(edge.any(axis=1))
+    on = np.flatnonzero((edge[:, 0] != 0) | (edge[:, 1] != 0))      # edge.any(axis=1), cheaper
     if len(on):
         f = frac[on] + gstep
         arr = f >= 1.0
