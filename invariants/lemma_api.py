@@ -444,26 +444,36 @@ def _found(spec: LemmaSpec, values: dict, held: int) -> dict:
                        f"(tolerance {spec.tol:g}): the lemma's real-number truth does not survive floats"}
 
 
+#: z3's work budget for one case's models in :func:`cross_check` (resource units, deterministic):
+#: about a second of work on this project's machine; a case whose models cost more yields fewer.
+MODEL_RLIMIT = 5_000_000
+
+
 def _z3_models(spec: LemmaSpec, count: int = 8) -> list:
     """Up to ``count`` z3 models of the premises (each excluded from the next), as floats; for a
-    lemma with cases, up to ``count`` for each case."""
+    lemma with cases, up to ``count`` for each case.
+
+    Each case is solved in a fresh z3 context (the models then do not depend on what the process
+    solved before, as in ``swarmproof.checkers.proofs``), with the nonlinear procedure the prover
+    uses (nlsat; the SMT solver for a lemma whose ``solver_params`` ask for it) and one work budget
+    of :data:`MODEL_RLIMIT` for all its models: deterministic, and bounded on any machine."""
     enc = spec.build()
+    smt = ("solver", "smt") in tuple(spec.solver_params)
     out = []
     for _, extra in (enc.cases or [("", [])]):
-        s = z3.Solver()
-        s.set("rlimit", 20_000_000)
+        ctx = z3.Context()
+        s = z3.Solver(ctx=ctx) if smt else z3.Tactic("qfnra-nlsat", ctx=ctx).solver()
+        s.set("rlimit", MODEL_RLIMIT)          # a fresh context counts from 0: the budget for them all
         for _, term in list(enc.premises) + list(extra):
-            s.add(term)
+            s.add(term.translate(ctx))
+        variables = [var.translate(ctx) for var in enc.variables]
         for _ in range(count):
             if s.check() != z3.sat:
-                break
+                break                           # unsat, or unknown once the budget is spent
             m = s.model()
-            vals = {}
-            for var in enc.variables:
-                val = m.eval(var, model_completion=True)
-                vals[str(var)] = _float(val)
+            vals = {str(var): _float(m.eval(var, model_completion=True)) for var in variables}
             out.append(vals)
-            s.add(z3.Or([var != m.eval(var, model_completion=True) for var in enc.variables]))
+            s.add(z3.Or([var != m.eval(var, model_completion=True) for var in variables]))
     return out
 
 

@@ -219,3 +219,15 @@ def test_cross_check_of_every_song2016_lemma(lemma_id):
     must not fake a finding (z3 reports it, test_proofs.py)."""
     out = cross_check(song_lemmas.SPECS[lemma_id], examples=60)
     assert out["status"] == "held" and out["instances"] > 0, out
+
+
+def test_cross_check_models_do_not_depend_on_what_z3_solved_before():
+    """The z3 models of the premises come from a fresh context with a work budget: the same
+    whatever the process proved before (in z3's main context an earlier proof changed them, and
+    on a fresh clone one plain-solver model search ran for minutes)."""
+    from swarmproof.invariants.lemma_api import _z3_models
+
+    spec = song_lemmas.SPANNING_TREE_KEPT
+    before = _z3_models(spec)
+    prove(LEMMAS["bounded_range"])
+    assert _z3_models(spec) == before and len(before) == 16   # 8 models for each of its two cases
