@@ -60,7 +60,7 @@ from typing import Callable, Iterable, Sequence
 import numpy as np
 import z3
 
-from swarmproof.invariants.lemmas import NORMALISATION_LEMMAS, Encoding, Lemma, dist2, point as _pt
+from swarmproof.invariants.lemmas import NORMALISATION_LEMMAS, Encoding, Lemma, dist2, lemma_solver, point as _pt
 from swarmproof.models.errors import UsageError, check_positive, did_you_mean
 from swarmproof.reference_impl.registry import lemma_sets
 
@@ -256,18 +256,12 @@ def _configure() -> None:
 
 def _solver(timeout_ms: float, params: Sequence = (), ctx: z3.Context | None = None,
             rlimit: int = 0) -> z3.Solver:
-    # Nonlinear real arithmetic: the nlsat procedure directly (measured: the
-    # default combined solver answered `unknown` after 10 s on bounded_range,
-    # nlsat proves it in about 0.15 s).  A lemma in linear real arithmetic with
-    # Boolean structure asks for z3's default SMT solver with the pseudo-parameter
-    # ("solver", "smt") (measured on 004's planner rule: nlsat timed out at 30 s
-    # where the SMT solver's simplex decides in 0.06 s; docs/proofs.md).
-    # ``rlimit`` (0: none) is z3's resource limit for the next check, counted from the context's
-    # count now.  The params come last; prove refuses a lemma whose params set timeout or rlimit
-    # (_check_solver_params).
+    # The solver for the lemma's arithmetic (invariants.lemmas.lemma_solver: nlsat, or the SMT
+    # solver on request).  ``rlimit`` (0: none) is z3's resource limit for the next check, counted
+    # from the context's count now.  The params come last; prove refuses a lemma whose params set
+    # timeout or rlimit (_check_solver_params).
     params = tuple(params)
-    smt = ("solver", "smt") in params
-    s = z3.Solver(ctx=ctx) if smt else z3.Tactic("qfnra-nlsat", ctx=ctx).solver()
+    s = lemma_solver(ctx, params)
     s.set("timeout", max(1, int(timeout_ms)))
     if rlimit:
         s.set("rlimit", int(rlimit))

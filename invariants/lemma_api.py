@@ -51,7 +51,7 @@ from typing import Callable
 
 import z3
 
-from swarmproof.invariants.lemmas import Encoding, Lemma, add, dist2, scale, sub
+from swarmproof.invariants.lemmas import Encoding, Lemma, add, dist2, lemma_solver, scale, sub
 
 __all__ = ["TOL", "Real", "Point", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq", "And", "Or",
            "Not", "Implies", "If", "sub", "add", "scale", "dist2", "constant", "cross_check"]
@@ -458,11 +458,10 @@ def _z3_models(spec: LemmaSpec, count: int = 8) -> list:
     uses (nlsat; the SMT solver for a lemma whose ``solver_params`` ask for it) and one work budget
     of :data:`MODEL_RLIMIT` for all its models: deterministic, and bounded on any machine."""
     enc = spec.build()
-    smt = ("solver", "smt") in tuple(spec.solver_params)
     out = []
     for _, extra in (enc.cases or [("", [])]):
         ctx = z3.Context()
-        s = z3.Solver(ctx=ctx) if smt else z3.Tactic("qfnra-nlsat", ctx=ctx).solver()
+        s = lemma_solver(ctx, spec.solver_params)
         s.set("rlimit", MODEL_RLIMIT)          # a fresh context counts from 0: the budget for them all
         for _, term in list(enc.premises) + list(extra):
             s.add(term.translate(ctx))

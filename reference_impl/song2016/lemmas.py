@@ -26,6 +26,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
@@ -184,11 +185,11 @@ def _tree_link_spec() -> LemmaSpec:
 
 def bounded_range(range_radius_factor: str = "phi_minus_vdt", strict: bool = False,
                   open_range: bool = False) -> Encoding:
-    """000 Lemma 7 / 001 Lemma 7 as z3 terms (:func:`_bounded_range_spec`); the arguments pick
-    the radius (``"phi"``: the control's), strict neighbours and the open bounded range."""
-    spec = _bounded_range_spec("bounded_range", "", ("",), strict, open_range,
-                               (range_radius_factor, strict, open_range), "")
-    return spec.control()
+    """000 Lemma 7 / 001 Lemma 7 as z3 terms (:data:`BOUNDED_RANGE`'s variables); the arguments
+    pick the radius (``"phi"``: the control's), strict neighbours and the open bounded range."""
+    near = Lt if strict else Le
+    return dataclasses.replace(BOUNDED_RANGE, premises=_bounded_range_premises(range_radius_factor, strict, open_range),
+                               conclusion=lambda v: near(dist2(v.p_i_1, v.p_p_1), 1)).build()
 
 
 def nclb_link_kept(radius: str = "phi_minus_vdt") -> Encoding:
