@@ -37,7 +37,7 @@ Examples
 >>> r.status, r.premises_satisfiable, r.negative_control["status"]
 ('proved', True, 'counterexample')
 >>> sorted(LEMMAS)[:3]
-['bounded_range', 'bounded_range_strict', 'intermediate_goal_in_region']
+['bounded_range', 'bounded_range_strict', 'gather_follower_link_kept']
 
 Where the lemmas come from: the types and the normalisation lemmas are in
 :mod:`swarmproof.invariants.lemmas`; each paper's lemmas are in its package and reach this
@@ -185,12 +185,15 @@ def lookup(ids: Iterable[str] | None = None) -> list:
     >>> lookup(["lemma7"])
     Traceback (most recent call last):
     ...
-    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region, wang2020_time_normalisation, wang2020_planner_vertex_one_moment, wang2020_planner_edge_one_moment, wang2020_lemma_iv_a_1, wang2020_theorem_iv_a_2, wang2020_separation_equal_speeds, wang2020_speed_buffer_v_b3_cases, wang2020_separation_speeds (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
+    swarmproof.models.errors.UsageError: lemma='lemma7' is not a known lemma id; fix: use one of: translation_invariance, rotation_invariance, scale_invariance, bounded_range, bounded_range_strict, nclb_link_kept, spanning_tree_kept, relocate_stays_in_range, safe_region_nonempty, intermediate_goal_in_region, wang2020_time_normalisation, wang2020_planner_vertex_one_moment, wang2020_planner_edge_one_moment, wang2020_lemma_iv_a_1, wang2020_theorem_iv_a_2, wang2020_separation_equal_speeds, wang2020_speed_buffer_v_b3_cases, wang2020_separation_speeds, gather_follower_link_kept (run only when named: bounded_range_strict_closed, intermediate_goal_partial_progress, nclb_three_children_direct)
     """
     if ids is None:
         return list(LEMMAS.values())
     out = []
     for i in ids:
+        if not isinstance(i, str):          # a lemma an algorithm declares itself (issue 32)
+            out.append(_own_lemma(i))
+            continue
         lem = LEMMAS.get(i) or EXTRA_LEMMAS.get(i)
         if lem is None:
             raise UsageError(
@@ -201,9 +204,29 @@ def lookup(ids: Iterable[str] | None = None) -> list:
     return out
 
 
+def _own_lemma(entry) -> Lemma:
+    """A lemma an algorithm declares as an object: a :class:`~swarmproof.invariants.lemma_api.LemmaSpec`
+    (its ``lemma()``) or a :class:`Lemma`."""
+    from swarmproof.invariants.lemma_api import LemmaSpec
+
+    if isinstance(entry, LemmaSpec):
+        return entry.lemma()
+    if isinstance(entry, Lemma):
+        return entry
+    raise UsageError(f"lemmas entry={entry!r} is neither a lemma id nor a LemmaSpec",
+                     fix="declare lemma ids of `swarmproof list lemmas`, or LemmaSpec objects "
+                         "(swarmproof.invariants.lemma_api; docs/lemmas.md)")
+
+
+def _lemma_id(entry) -> str:
+    return entry if isinstance(entry, str) else getattr(entry, "id", repr(entry))
+
+
 def algorithm_lemmas(algorithm: str) -> list:
-    """The lemma ids an algorithm declares (its class attribute ``lemmas``): what ``swarmproof
+    """The lemmas an algorithm declares (its class attribute ``lemmas``): what ``swarmproof
     prove --algorithm REF`` proves.  ``algorithm`` is a registry name or ``module:qualname``.
+    Each entry is a suite lemma's id or a lemma of the algorithm's own (a ``LemmaSpec``,
+    docs/lemmas.md), returned as declared.
 
     Raises
     ------
@@ -221,6 +244,9 @@ def algorithm_lemmas(algorithm: str) -> list:
                          fix=f"name lemma ids instead, or use an algorithm that declares some: {', '.join(having)} "
                              "(`swarmproof list lemmas` names each lemma's algorithms)")
     for i in ids:
+        if not isinstance(i, str):
+            _own_lemma(i)                   # a LemmaSpec of its own: proved as declared
+            continue
         if i not in LEMMAS and i not in EXTRA_LEMMAS:
             raise UsageError(f"algorithm {algorithm!r} declares lemma={i!r}, which is not in the suite"
                              f"{did_you_mean(i, [*LEMMAS, *EXTRA_LEMMAS])}",
@@ -232,7 +258,8 @@ def lemma_algorithms_by_name() -> dict:
     """``{registry name: [lemma ids it declares]}`` of every registered algorithm."""
     from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names
 
-    return {name: list(getattr(algorithm_factory(name), "lemmas", None) or ()) for name in algorithm_names()}
+    return {name: [_lemma_id(e) for e in getattr(algorithm_factory(name), "lemmas", None) or ()]
+            for name in algorithm_names()}
 
 
 def algorithms_of_lemmas() -> dict:

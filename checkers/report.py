@@ -476,7 +476,7 @@ def lemma_rows(results) -> list[Row]:
     >>> row.verdict
     <Verdict.PROVED: 'proved'>
     >>> print(row.detail)
-    auxiliary; premises satisfiable, negative control refuted (weakened: the segment's end may be 2 phi away), vacuity controls ok (needed: end_within_range, on_segment, start_within_range); not proved: that the relocate robot's step ends within phi of the root: the run-time monitor checks that end directly (a disc is convex; this lemma only extends the two ends to the path between them)
+    auxiliary; premises satisfiable, negative control refuted (weakened: the segment's end may be 2 phi away), vacuity controls ok (needed: end_within_range, on_segment, root_still, start_within_range); not proved: that the relocate robot's step ends within phi of the root: the run-time monitor checks that end directly (a disc is convex; this lemma only extends the two ends to the path between them)
     """
     rows = []
     for r in results:

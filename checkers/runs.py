@@ -79,6 +79,9 @@ class CheckedRun:
     claims: dict = dataclasses.field(default_factory=dict)
     not_applicable: dict = dataclasses.field(default_factory=dict)
     completion_sound: Any = None
+    #: the lemma premise monitors' verdict, streamed inside the engine on every step (``premises``
+    #: of the property registry; None when not asked for or the algorithm declares none)
+    premises: Any = None
 
 
 #: The largest team a seeded start is drawn for (memory and time bounded on any input; 004's runs
@@ -430,7 +433,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   allow_violations: bool = False,
                   progress: Callable[[int, int], None] | None = None, record_every: int = 1,
                   strict: bool = False, tree_link_mode: str | None = None,
-                  vectorised: bool = False) -> CheckedRun:
+                  vectorised: bool = False, premises: bool = False) -> CheckedRun:
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
@@ -440,6 +443,9 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     (004: distinct random waypoints of an arena).  ``CheckedRun.lattice`` is the target run.
     ``vectorised`` runs the algorithm's optional ``vectorised_simulate`` (``engine.simulate``'s
     signature, the same trace) instead of the engine; an algorithm without one is a usage error.
+    ``premises`` streams the algorithm's lemma premise monitors inside the engine on every step
+    (``simulate`` asks for them): the JSON's ``premises``; "premises held, conclusion false" (the
+    proof does not transfer to the run) makes the exit code 1 whether claimed or not.
 
     The JSON document keeps every field it had for lattices and adds
     ``target{kind, name}``, ``satisfied`` (the target's verdict on the final
@@ -485,11 +491,15 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     na = not_applicable_properties(algorithm, lattice)
     observers = _streaming_monitors(algorithm, phi, link_mode) if record_every != 1 else ()
     observers += _registry_observers(algorithm, params, na, record_every)
+    streamed = bool(observers)         # connectivity and tree links streamed (a sparse trace)
+    prem_monitor = _premises_observer(algorithm, params) if premises else None
+    if prem_monitor is not None:
+        observers += (prem_monitor,)
     result = _engine(algorithm, vectorised)(
         algorithm, lattice, initial, params, seed=seed, max_steps=max_steps, allow_violations=allow_violations,
         progress=progress, record_every=record_every, observers=observers)
     formation = _judge_formation(algorithm, result, lattice, kind, params, phi)
-    conn, links = _judge_links(algorithm, result, phi, link_mode, streamed=bool(observers))
+    conn, links = _judge_links(algorithm, result, phi, link_mode, streamed=streamed)
     more = _judge_registry(algorithm, lattice, params, result, na)
     doc = _simulate_document(algorithm, lattice, kind, initial, seed, phi, params, result, formation, conn, links,
                              record_every=record_every, warnings=warnings, vectorised=vectorised)
@@ -510,10 +520,27 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                                              "connectivity": True, "tree_links": True,
                                              **{p: True for p in REGISTRY_RUN_PROPERTIES}}))
     code = _exit_code(result, formation.sat, conn, links, term, claims, na, more)
+    prem = None
+    if prem_monitor is not None and result.steps > 0:
+        prem = prem_monitor.result()
+        doc["premises"] = prem.as_dict()
+        if prem.violated and prem.witness.get("transfer"):
+            code = EXIT_VIOLATED     # the proof does not transfer to this run: the worst finding
     doc["exit_code"] = code
     return CheckedRun(doc, code, result, lattice, algorithm, params, initial, formation.sat, conn, links, term,
                       formation.metrics, {p: claims.get(p) for p in RUN_PROPERTIES}, na,
-                      completion_sound=more.get("completion_sound"))
+                      completion_sound=more.get("completion_sound"), premises=prem)
+
+
+def _premises_observer(algorithm, params):
+    """The streaming ``premises`` monitor of the algorithm's declared premise monitors (None when
+    it declares none)."""
+    from swarmproof.invariants.premises import premise_monitors_of
+    from swarmproof.invariants.registry import get_property
+
+    if not premise_monitors_of(algorithm):
+        return None
+    return get_property("premises").stream(algorithm, params, {})
 
 
 # ---------------------------------------------------------------------------

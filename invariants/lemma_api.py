@@ -34,7 +34,7 @@ Examples
 ...     cites=("example",), control_note="x up to 4",
 ...     control_premises=(("x_in_unit", lambda v: And(Ge(v.x, 0), Le(v.x, 4))),))
 >>> spec.judge({"x": 0.5})
-Judgment(premises={'x_in_unit': True}, conclusion=True, cases={}, parts={})
+Judgment(premises={'x_in_unit': True}, conclusion=True, cases={}, parts={}, loose={}, loose_cases={})
 >>> spec.judge({"x": 1.0}).premises       # at the boundary: not a premise that held (tolerance)
 {'x_in_unit': False}
 >>> str(spec.lemma().build().conclusion)
@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 from types import SimpleNamespace
 from typing import Callable
 
+import numpy as np
 import z3
 
 from swarmproof.invariants.lemmas import Encoding, Lemma, add, dist2, lemma_solver, scale, sub
@@ -100,6 +101,8 @@ def _cmp(op: str, a, b):
     if _is_z3(a, b):
         return {"le": lambda: a <= b, "lt": lambda: a < b, "ge": lambda: a >= b, "gt": lambda: a > b,
                 "eq": lambda: a == b}[op]()
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):   # a batch of instances (one per entry)
+        return _Cmp(op, np.asarray(a, dtype=float), np.asarray(b, dtype=float))
     return _Cmp(op, float(a), float(b))
 
 
@@ -160,7 +163,10 @@ def If(cond, a, b):
     side."""
     if _is_z3(cond, a, b):
         return z3.If(_as_z3(cond), a, b)
-    return a if _truth(cond, True, 0.0) else b
+    t = _truth(cond, True, 0.0)
+    if isinstance(t, np.ndarray):
+        return np.where(t, a, b)
+    return a if t else b
 
 
 def constant(x, like):
@@ -192,12 +198,24 @@ def _truth(x, strict: bool, tol: float) -> bool:
         return a == b if strict else abs(a - b) <= tol
     if isinstance(x, _Op):
         if x.op == "not":
-            return not _truth(x.args[0], not strict, tol)
-        vals = (_truth(a, strict, tol) for a in x.args)
+            inner = _truth(x.args[0], not strict, tol)
+            return ~inner if isinstance(inner, np.ndarray) else not inner
+        vals = [_truth(a, strict, tol) for a in x.args]
+        if any(isinstance(t, np.ndarray) for t in vals):     # a batch: element by element
+            out = vals[0]
+            for t in vals[1:]:
+                out = (out & t) if x.op == "and" else (out | t)
+            return out
         return all(vals) if x.op == "and" else any(vals)
     raise TypeError(f"formula={x!r} is not a comparison of this module (Le, Lt, Ge, Gt, Eq) or a "
                     "connective of them (And, Or, Not, Implies): a Python comparison such as x <= 1 "
                     "is judged without the tolerances; write it Le(x, 1)")
+
+
+def _number(x):
+    """A variable's float value, or a float array for a batch of instances (a runtime monitor
+    judges every instance of a step at once: the formulas work element by element)."""
+    return np.asarray(x, dtype=float) if isinstance(x, np.ndarray) else float(x)
 
 
 # ------------------------------------------------------------------ declarations
@@ -218,7 +236,7 @@ class Real:
         return z3.Real(self.name)
 
     def value(self, values: dict):
-        return float(values[self.name])
+        return _number(values[self.name])
 
 
 @dataclass(frozen=True)
@@ -236,7 +254,7 @@ class Point:
         return (z3.Real(f"{self.name}_x"), z3.Real(f"{self.name}_y"))
 
     def value(self, values: dict):
-        return (float(values[f"{self.name}_x"]), float(values[f"{self.name}_y"]))
+        return (_number(values[f"{self.name}_x"]), _number(values[f"{self.name}_y"]))
 
 
 @dataclass(frozen=True)
@@ -251,12 +269,36 @@ class Judgment:
     conclusion: bool
     cases: dict = field(default_factory=dict)
     parts: dict = field(default_factory=dict)
+    #: each premise's truth judged *leniently* (the tolerance that makes it easier to satisfy), and
+    #: each case's: a premise false even so failed beyond float noise (a monitor reports it); one
+    #: true leniently and false strictly sits at its boundary (a monitor neither reports it nor
+    #: judges the conclusion there).  Empty when not asked for (:meth:`LemmaSpec.judge` ``loose``).
+    loose: dict = field(default_factory=dict)
+    loose_cases: dict = field(default_factory=dict)
 
     @property
     def premises_hold(self) -> bool:
         if not all(self.premises.values()):
             return False
         return not self.cases or any(all(c.values()) for c in self.cases.values())
+
+    @property
+    def failed(self) -> tuple:
+        """The premises that failed even judged leniently (a real failure, not float noise): the
+        common ones by name; for a lemma with cases, when no case holds leniently, ``"case:NAME"``
+        for every case (then :attr:`failed_in_cases` names each case's failed premises).  Empty
+        when :attr:`loose` was not computed."""
+        bad = tuple(n for n, ok in self.loose.items() if not ok)
+        if bad or not self.loose_cases:
+            return bad
+        if any(all(c.values()) for c in self.loose_cases.values()):
+            return ()
+        return tuple(f"case:{name}" for name in self.loose_cases)
+
+    @property
+    def failed_in_cases(self) -> dict:
+        """``{case: (premise, ...)}``: each case's premises that failed leniently."""
+        return {case: tuple(n for n, ok in c.items() if not ok) for case, c in self.loose_cases.items()}
 
     @property
     def case(self) -> str | None:
@@ -363,20 +405,65 @@ class LemmaSpec:
         """Every float value a judgment needs, in the order a counterexample lists them."""
         return [n for var in self.variables for n in var.names()]
 
-    def judge(self, values: dict, *, tol: float | None = None) -> Judgment:
+    def judge(self, values: dict, *, tol: float | None = None, outcome: dict | None = None,
+              loose: bool = False, only: tuple | None = None, premise_tol: float | None = None) -> Judgment:
         """The premises (strict) and the conclusion (lenient) on float ``values`` keyed by
-        :meth:`names` (a z3 counterexample's dict fits)."""
+        :meth:`names` (a z3 counterexample's dict fits).
+
+        ``outcome`` (optional): values that replace some of ``values`` for the conclusion only
+        (a runtime binding that reads what followed apart from what the premises read).
+        ``loose``: also judge each premise leniently (:attr:`Judgment.loose`).  ``only``: judge
+        just these premises (by name) and not the conclusion (``conclusion`` is then True); the
+        values need only the variables they read.  ``premise_tol``: the tolerance against the
+        premises (default ``tol``; a runtime monitor judges them exactly, 0: docs/decisions.md)."""
+        tol = self.tol if tol is None else tol
+        ptol = tol if premise_tol is None else premise_tol
+        if only is not None:
+            known = {name for name, _ in self.premises} | {n for _, extra in self.cases for n, _ in extra}
+            unknown = [n for n in only if n not in known]
+            if unknown:
+                raise KeyError(f"lemma {self.id!r} has no premise {unknown}; its premises: {sorted(known)}")
+            v = _Partial(self.id, {var.name: var.value(values) for var in self.variables
+                                   if all(n in values for n in var.names())})
+            pairs = [(n, fn) for n, fn in self.premises if n in only]
+            pairs += [(n, fn) for _, extra in self.cases for n, fn in extra if n in only]
+            prem = {n: _truth(fn(v), True, ptol) for n, fn in pairs}
+            lo = {n: _truth(fn(v), False, tol) for n, fn in pairs} if loose else {}
+            return Judgment(prem, True, loose=lo)
         missing = [n for n in self.names() if n not in values]
         if missing:
             raise KeyError(f"lemma {self.id!r} needs values for {missing}")
-        tol = self.tol if tol is None else tol
         v = self._namespace(lambda var: var.value(values))
-        prem = {name: _truth(fn(v), True, tol) for name, fn in self.premises}
-        cases = {case: {name: _truth(fn(v), True, tol) for name, fn in extra} for case, extra in self.cases}
+        prem = {name: _truth(fn(v), True, ptol) for name, fn in self.premises}
+        cases = {case: {name: _truth(fn(v), True, ptol) for name, fn in extra} for case, extra in self.cases}
+        lo, lo_cases = {}, {}
+        if loose:
+            lo = {name: _truth(fn(v), False, tol) for name, fn in self.premises}
+            lo_cases = {case: {name: _truth(fn(v), False, tol) for name, fn in extra}
+                        for case, extra in self.cases}
+        if outcome:
+            w = self._namespace(lambda var: var.value({**values, **outcome}))
+        else:
+            w = v
         if self.parts:
-            parts = {name: _truth(fn(v), False, tol) for name, fn in self.parts}
-            return Judgment(prem, all(parts.values()), cases, parts)
-        return Judgment(prem, _truth(self.conclusion(v), False, tol), cases)
+            parts = {name: _truth(fn(w), False, tol) for name, fn in self.parts}
+            return Judgment(prem, all(parts.values()), cases, parts, lo, lo_cases)
+        return Judgment(prem, _truth(self.conclusion(w), False, tol), cases, loose=lo, loose_cases=lo_cases)
+
+
+class _Partial(SimpleNamespace):
+    """The variables a partial judgment (``judge(only=...)``) was given; reading another is an
+    error that names it."""
+
+    def __init__(self, lemma_id: str, values: dict) -> None:
+        super().__init__(**values)
+        object.__setattr__(self, "_lemma_id", lemma_id)
+
+    def __getattr__(self, name: str):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise KeyError(f"lemma {self._lemma_id!r}: the premises judged read variable={name!r}, "
+                       "which the values do not give")
 
 
 # ------------------------------------------------------------------ the concrete cross-check

@@ -1,33 +1,29 @@
-"""Runtime monitors of the proved lemmas' premises: the shared mechanism (issue 5, second part).
+"""Runtime monitors of the proved lemmas' premises: the shared mechanism (issue 5; issue 32).
 
-The z3 lemmas (:mod:`swarmproof.checkers.proofs`, docs/proofs.md) are about
-mathematics; these pure checks over a trace say whether a run met the
-lemmas' premises at every step, which is what ties the proofs to the code.
-Each failure names its lemma.
+The z3 lemmas (:mod:`swarmproof.checkers.proofs`, docs/proofs.md) are about mathematics; the
+monitors say whether a run met the lemmas' premises at every step, which is what ties the proofs
+to the code.  Each failure names its lemma.  Since issue 32 a monitor is derived from its lemma's
+one definition by a *binding* (:mod:`swarmproof.invariants.lemma_monitor`): the binding reads a
+step's instances, the monitor judges the lemma's own premise and conclusion functions on them.
 
-This module holds what every algorithm shares: the registry of monitors
-(:data:`MONITORS`, :func:`register_monitor`), the one monitor that is not a
-paper's (:func:`step_bounded`: no robot moves more than ``v*dt`` in a step, the
-"moves at most v dt" premise of ``bounded_range``), the loop over moving robots
-and their bounded ranges that the Song & O'Kane monitors share
-(:func:`movers_in_bounded_ranges`), the batch and streaming drivers
-(:func:`check_premises`, :class:`PremisesMonitor`) and the ``premises``
-verdict (:func:`premises`, :func:`combine_premises`).  Each paper's monitors
-live in its package and register themselves when it is imported
-(``swarmproof.reference_impl.song2016.monitors``: ``nclb``, ``relocate``,
-``child_toward_parent``, ``tree_link_cases``; ``...song2014.monitors``:
-``parent_bounded_range``; ``...wang2020.monitors``: the ``grid_*`` monitors).
+This module holds what every algorithm shares: the registry of monitors (:data:`MONITORS`,
+:func:`register_monitor`; a binding registers with
+:func:`swarmproof.invariants.lemma_monitor.register_binding`), the batch and streaming drivers
+(:func:`check_premises`, :class:`PremisesMonitor`) and the ``premises`` verdict
+(:func:`premises`, :func:`combine_premises`).  Each paper's monitors live in its package and
+register themselves when it is imported (``swarmproof.reference_impl.song2016.monitors``:
+``step_bounded``, ``nclb``, ``relocate``, ``child_toward_parent``, ``tree_link_cases``;
+``...song2014.monitors``: ``parent_bounded_range``; ``...wang2020.monitors``: the ``grid_*``
+monitors).
 
-An algorithm's class says which monitors apply to it (``premise_monitors``);
-the engine records them in ``trace.meta["premise_monitors"]`` and
-:func:`check_premises` runs those of the trace.  Positions are compared with
-a tolerance of ``tol * phi`` (default 1e-9) for the engine's floating point.
-Measured findings are in docs/proofs.md, "Premise monitors".
+An algorithm's class says which monitors apply to it (``premise_monitors``: names, or
+:class:`~swarmproof.invariants.lemma_monitor.Binding` objects of its own); the engine records
+them in ``trace.meta["premise_monitors"]`` and :func:`check_premises` runs those of the trace.
 
-Blind spots: poses are sampled at step ends (straight-line motion is assumed
-in between, as the lemmas assume); a state without the keys a monitor reads
-makes it ``inconclusive`` rather than ``held``; the monitors check premises,
-not the paper's case analysis (which link is in which case).
+Blind spots: poses are sampled at step ends (straight-line motion is assumed in between, as the
+lemmas assume); a state without the keys a monitor reads makes it ``inconclusive`` rather than
+``held``; the hand-written monitors that remain (``tree_link_cases``, the ``grid_*`` ones) check
+premises, not derived from a lemma definition yet (docs/proofs.md, "Premise monitors").
 
 References
 ----------
@@ -37,12 +33,12 @@ Sec. V-C (NCLB, relocate robot), Lemma 11.
 Examples
 --------
 >>> import numpy as np
+>>> import swarmproof.reference_impl.song2016      # registers song2016's monitors
 >>> from swarmproof.models.trace import Trace
 >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.2, 0, 0]]], dtype=float)
->>> st = (("children", ()), ("relocate", False))
->>> t = Trace(ids=[1, 2], poses=poses, states=[(st, st)] * 2)
->>> step_bounded(t, v=0.1, dt=1.0).witness
-{'step': 0, 'robot': 2, 'moved': 0.2, 'limit': 0.1, 'lemma': 'bounded_range'}
+>>> t = Trace(ids=[1, 2], poses=poses, states=[((), ())] * 2)
+>>> MONITORS["step_bounded"](t, 1.0, 0.1, 1.0).witness["moved"]
+0.2
 """
 
 from __future__ import annotations
@@ -52,11 +48,12 @@ import math
 import numpy as np
 
 
+from .lemma_monitor import Binding, examined_steps
 from .result import InvariantResult
 
-__all__ = ["step_bounded", "movers_in_bounded_ranges", "check_premises", "params_of", "MONITORS",
+__all__ = ["check_premises", "params_of", "MONITORS",
            "MONITOR_LEMMAS", "register_monitor", "premise_monitors_of", "PremisesMonitor", "premises",
-           "combine_premises", "CITE_PREMISES", "MISSING", "Window", "examined_steps", "present_robot_steps",
+           "combine_premises", "CITE_PREMISES", "register_binding", "BINDINGS", "MISSING", "Window", "examined_steps", "present_robot_steps",
            "slot_of"]
 
 MISSING = object()
@@ -70,15 +67,6 @@ def params_of(trace) -> tuple:
     except (KeyError, TypeError, ValueError):
         raise ValueError("trace.meta['params'] must hold range, v and dt; "
                          "pass phi, v and dt explicitly") from None
-
-
-def examined_steps(trace):
-    """The steps a monitor examines, as the index ``t`` of the frame before each (it reads frames
-    ``t`` and ``t + 1``): every pair of consecutive frames of a trace (on a dense one, every step;
-    a sparse one's frames are further apart, ``trace.times``), or the one step of a
-    :class:`Window` (the streaming form, :class:`PremisesMonitor`)."""
-    r = getattr(trace, "step_range", None)
-    return range(len(trace.poses) - 1) if r is None else r
 
 
 class Window:
@@ -115,59 +103,6 @@ def slot_of(trace) -> dict:
     return {int(i): k for k, i in enumerate(trace.ids.tolist())}
 
 
-def step_bounded(trace, v: float, dt: float, *, tol: float = 1e-9) -> InvariantResult:
-    """No robot moves more than ``v*dt`` between consecutive recorded steps.
-
-    Lemma: ``bounded_range`` (000/001 Lemma 7, "each moves at most v dt")."""
-    lim = v * dt
-    for t in examined_steps(trace):
-        both = trace.present_at(t) & trace.present_at(t + 1)
-        d = np.hypot(*(trace.poses[t + 1][:, :2] - trace.poses[t][:, :2]).T)
-        bad = np.flatnonzero(both & (d > lim * (1 + tol) + tol))
-        if bad.size:
-            k = int(bad[0])
-            return InvariantResult(
-                "premise:step_bounded", "violated", "bounded_range (000/001 Lemma 7)",
-                {"step": t, "robot": int(trace.ids[k]), "moved": round(float(d[k]), 12),
-                 "limit": lim, "lemma": "bounded_range"},
-                f"robot {int(trace.ids[k])} moved {float(d[k]):.6g} > v*dt = {lim:.6g} in step {t}")
-    return InvariantResult("premise:step_bounded", "held", "bounded_range (000/001 Lemma 7)",
-                           None, f"every robot moved at most v*dt in all {trace.steps} steps")
-
-
-def movers_in_bounded_ranges(trace, phi: float, v: float, dt: float, related, tol: float,
-                              movers_only: bool = True):
-    """The loop the bounded-range monitors share: a robot that moves in step ``t`` (any robot, unless ``movers_only``) must
-    end within ``phi - v*dt`` of the step-``t`` position of every robot ``related(state_after)``
-    names.
-
-    Returns ``("missing", k, None)`` when a moving robot's state lacks the key,
-    ``("violated", (t, k, j, d), checked)`` for the first robot outside, else
-    ``("held", None, checked)``."""
-    radius = phi - v * dt
-    slot = slot_of(trace)
-    checked = 0
-    for t, k, _, after, p0, p1, pres0, pres1 in present_robot_steps(trace):
-        others = related(after[k])
-        if others is MISSING:
-            return "missing", k, None
-        end = p1[k, :2]
-        still = np.array_equal(end, p0[k, :2])
-        if movers_only and still:
-            continue  # did not move: nothing to check (the link case "still")
-        for c in others or ():
-            j = slot.get(int(c))
-            if j is None or not pres0[j]:
-                continue
-            if still and pres1[j] and np.array_equal(p1[j, :2], p0[j, :2]):
-                continue  # neither moved: the link is as it was (the case "both still")
-            checked += 1
-            d = float(np.hypot(*(end - p0[j, :2])))
-            if d > radius + tol * phi:
-                return "violated", (t, k, j, d), checked
-    return "held", None, checked
-
-
 def check_premises(trace, phi: float | None = None, v: float | None = None,
                    dt: float | None = None, monitors=None) -> list:
     """The premise monitors of the trace's algorithm over one trace.
@@ -193,7 +128,7 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
     --------
     >>> import numpy as np
     >>> from swarmproof.models.trace import Trace
-    >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.1, 0, 0]]], dtype=float)
+    >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.05, 0, 0]]], dtype=float)
     >>> st = ((("parent", None),), (("parent", 1),))
     >>> t = Trace(ids=[1, 2], poses=poses, states=[st] * 2, meta={"algorithm": "mine",
     ...           "premise_monitors": ["step_bounded"],
@@ -227,14 +162,12 @@ def _known(names) -> tuple:
     return names
 
 
-#: Every monitor by name: a function ``(trace, phi, v, dt) -> InvariantResult``.  The shared
-#: one is here; each paper's package adds its own when it is imported (:func:`register_monitor`).
-MONITORS = {
-    "step_bounded": lambda trace, phi, v, dt: step_bounded(trace, v, dt),
-}
+#: Every monitor by name: a function ``(trace, phi, v, dt) -> InvariantResult``.  Each paper's
+#: package adds its own when it is imported (:func:`register_monitor`).
+MONITORS: dict = {}
 
 #: The proof-suite lemma (``swarmproof prove`` id) whose premise each monitor checks.
-MONITOR_LEMMAS = {"step_bounded": "bounded_range"}
+MONITOR_LEMMAS: dict = {}
 
 #: Monitors with memory across steps, for :class:`PremisesMonitor`: name -> factory
 #: ``(phi, v, dt, meta) -> object with scan(trace) and result()``.
@@ -259,7 +192,8 @@ def register_monitor(name: str, check, lemma: str, accumulating=None) -> None:
 
     Examples
     --------
-    >>> register_monitor("my_bound", lambda trace, phi, v, dt: step_bounded(trace, v, dt), "bounded_range")
+    >>> register_monitor("my_bound", lambda trace, phi, v, dt: MONITORS["step_bounded"](trace, phi, v, dt),
+    ...                  "bounded_range")
     >>> MONITOR_LEMMAS["my_bound"]
     'bounded_range'
     >>> _ = MONITORS.pop("my_bound"), MONITOR_LEMMAS.pop("my_bound")
@@ -272,6 +206,20 @@ def register_monitor(name: str, check, lemma: str, accumulating=None) -> None:
         _ACCUMULATING.pop(name, None)
 
 
+#: Every monitor derived from a binding, by name (:func:`register_binding`).
+BINDINGS: dict = {}
+
+
+def register_binding(binding: Binding) -> str:
+    """Register the monitor a :class:`~swarmproof.invariants.lemma_monitor.Binding` derives, under
+    ``binding.name`` (:func:`register_monitor`, accumulating); returns the name.  A paper's
+    package does it when imported; an algorithm may list a ``Binding`` in its
+    ``premise_monitors`` directly (:func:`premise_monitors_of` registers it)."""
+    BINDINGS[binding.name] = binding
+    register_monitor(binding.name, binding.check, binding.lemma.id, accumulating=binding.monitor)
+    return binding.name
+
+
 def premise_monitors_of(algorithm) -> tuple:
     """The monitor names that apply to ``algorithm``: its class's ``premise_monitors``
     attribute (the lemmas its paper's proof uses), else ``()`` (no lemma premises declared).
@@ -282,7 +230,15 @@ def premise_monitors_of(algorithm) -> tuple:
     ('nclb',)
     """
     names = getattr(algorithm, "premise_monitors", None)
-    return _known(names or ())
+    out = []
+    for n in names or ():
+        if not isinstance(n, str):          # a Binding declared by the algorithm itself
+            if not isinstance(n, Binding):
+                raise ValueError(f"premise_monitors entry={n!r} of algorithm={getattr(algorithm, 'name', algorithm)!r} "
+                                 "is neither a monitor name nor a swarmproof.invariants.lemma_monitor.Binding")
+            n = register_binding(n)
+        out.append(n)
+    return _known(out)
 
 
 class PremisesMonitor:
@@ -339,7 +295,7 @@ class PremisesMonitor:
             r = self.accumulating[name].result() if name in self.accumulating else self.final.get(name)
             if r is None:
                 n = self.checked[name]
-                applicable = n > 0 or name == "step_bounded"
+                applicable = n > 0
                 r = InvariantResult(f"premise:{name}", "held", MONITOR_LEMMAS[name], None,
                                     f"held at every one of {self.steps} steps ({n} cases examined)",
                                     applicable=applicable, detail={"checked": n})
@@ -386,7 +342,7 @@ def premises(trace, monitors, phi: float, v: float, dt: float) -> InvariantResul
     >>> premises(t, (), 1.2, 0.2, 1.0).status
     'inconclusive'
     """
-    monitors = tuple(monitors)
+    monitors = _known(monitors)
     results = [(name, MONITORS[name](trace, phi, v, dt)) for name in monitors] if len(trace.poses) >= 2 else []
     return combine_premises(monitors, results, trace.steps)
 
@@ -408,10 +364,20 @@ def combine_premises(monitors, results, steps: int) -> InvariantResult:
         return InvariantResult("premises", "violated", CITE_PREMISES,
                                {**r.witness, "monitor": name},
                                f"premise of lemma {lemma} failed: {r.message}", detail=detail)
-    unsure = [(name, r) for name, r in results if r.status == "inconclusive"]
+    unsure = [(name, r) for name, r in results if r.status == "inconclusive" and not _vacuous(r)]
+    if results and all(_vacuous(r) for _, r in results):
+        unsure = results
     if unsure:
         return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
                                "; ".join(f"{name}: {r.message}" for name, r in unsure), detail=detail)
-    parts = [name if r.applicable else f"{name} (nothing to examine)" for name, r in results]
+    parts = [name if r.applicable else f"{name} ({'vacuous' if _vacuous(r) else 'nothing to examine'})"
+             for name, r in results]
     return InvariantResult("premises", "held", CITE_PREMISES, None,
                            f"premises held at all {steps} steps: {', '.join(parts)}", detail=detail)
+
+
+def _vacuous(r) -> bool:
+    """A monitor derived from a lemma that found no instance with every premise holding: it is
+    ``inconclusive`` for the run (issue 32), and the ``premises`` verdict names it vacuous
+    rather than letting it make the whole verdict inconclusive (docs/decisions.md)."""
+    return r.status == "inconclusive" and bool((r.detail or {}).get("vacuous"))

@@ -138,6 +138,7 @@ RETIRED_READINGS: dict[tuple[str, str], str] = {}
 LEMMA_SETS: tuple = (
     "swarmproof.reference_impl.song2016.lemmas",
     "swarmproof.reference_impl.wang2020.lemmas",
+    "swarmproof.reference_impl.examples.lemmas",
 )
 
 
@@ -145,7 +146,7 @@ def lemma_sets() -> list:
     """The modules of :data:`LEMMA_SETS`, imported, in order.
 
     >>> [m.__name__.rsplit(".", 2)[1] for m in lemma_sets()]
-    ['song2016', 'wang2020']
+    ['song2016', 'wang2020', 'examples']
     """
     return [importlib.import_module(name) for name in LEMMA_SETS]
 

@@ -105,6 +105,10 @@ class GatherToLowestId:
     #: value out of range before the run.  No ``target_kinds``: it forms nothing, any target is run.
     parameters = (ParamSpec("gap", float, None, low=0, low_open=True,
                             meaning="how far short of the lowest-ID neighbor a robot stops; default range/2"),)
+    #: ``swarmproof prove``'s lemma about it and the monitor bound to its runs (.lemmas,
+    #: docs/lemmas.md): a follower near its leader that does not end farther stays in range.
+    lemmas = ("gather_follower_link_kept",)
+    premise_monitors = ("gather_link",)
 
     def controller(self, robot_id, params, lattice, rng):
         return GatherController(robot_id, params)

@@ -218,14 +218,17 @@ def _relocate_spec(endpoint_radius2: int) -> LemmaSpec:
 
     start = ("start_within_range", lambda v: Le(dist2(v.a), 1))
     on_segment = ("on_segment", lambda v: And(Ge(v.l, 0), Le(v.l, 1)))
+    # the stationary robot's position after the step (before it: the origin); stated since issue 32
+    # so that the runtime monitor derived from this definition checks it (it was implicit before)
+    still = ("root_still", lambda v: And(Eq(v.r[0], 0), Eq(v.r[1], 0)))
     return LemmaSpec(
         id="relocate_stays_in_range",
         statement="A robot moving along the straight segment between two points within phi of "
                   "a stationary robot stays within phi of it.",
-        variables=(Point("a"), Point("b"), Real("l", 0.0, 1.0)),
-        premises=(start, end(endpoint_radius2), on_segment),
-        conclusion=lambda v: Le(dist2(_add(v.a, _scale(v.l, _sub(v.b, v.a)))), 1),
-        control_premises=(start, end(4), on_segment),
+        variables=(Point("a"), Point("b"), Real("l", 0.0, 1.0), Point("r")),
+        premises=(start, end(endpoint_radius2), on_segment, still),
+        conclusion=lambda v: Le(dist2(_add(v.a, _scale(v.l, _sub(v.b, v.a))), v.r), 1),
+        control_premises=(start, end(4), on_segment, still),
         cites=("001_7a4e517b856331bc.txt Sec. V-C case 2 (relocate robot toward the vacancy)",),
         normalisations=(_t("the stationary robot"), "scale: phi = 1 (scale_invariance)"),
         control_note="the segment's end may be 2 phi away",

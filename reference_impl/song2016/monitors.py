@@ -33,106 +33,158 @@ import math
 
 import numpy as np
 
-from swarmproof.invariants.premises import (MISSING, examined_steps, movers_in_bounded_ranges,
-                                            present_robot_steps, register_monitor, slot_of)
+from swarmproof.invariants.lemma_monitor import Batch, Binding, Instance
+from swarmproof.invariants.premises import MISSING, present_robot_steps, register_binding, register_monitor, slot_of
 from swarmproof.invariants.result import InvariantResult, state_value
 
-__all__ = ["parents_in_bounded_ranges", "relocate_path_in_range", "children_toward_still_parents",
-           "tree_links_in_proved_cases", "TREE_LINK_CASES", "TreeLinkCases"]
+from .lemmas import BOUNDED_RANGE, NCLB_LINK_KEPT, RELOCATE_STAYS_IN_RANGE, SPANNING_TREE_KEPT
+
+__all__ = ["STEP_BOUNDED", "NCLB", "RELOCATE", "CHILD_TOWARD_PARENT", "step_bounded", "parents_in_bounded_ranges",
+           "relocate_path_in_range", "children_toward_still_parents", "tree_links_in_proved_cases",
+           "TREE_LINK_CASES", "TreeLinkCases"]
 
 
-def parents_in_bounded_ranges(trace, phi: float, v: float, dt: float, *,
-                              tol: float = 1e-9) -> InvariantResult:
-    """Every robot that moves in step ``t`` ends within ``phi - v*dt`` of the
-    position at ``t`` of each child it declared for step ``t`` (001 Def. 8, NCLB).
+# ------------------------------------------------------------------ bindings (issue 32)
+# Each monitor below is derived from its lemma's one definition (.lemmas): the binding only says
+# which robots of a step are an instance and reads their positions, normalised as the lemma is.
 
-    Lemma: ``nclb_link_kept``."""
-    radius = phi - v * dt
-    status, hit, checked = movers_in_bounded_ranges(
-        trace, phi, v, dt, lambda st: state_value(st, "children", MISSING), tol)
-    if status == "missing":
-        return InvariantResult("premise:nclb", "inconclusive", "nclb_link_kept (001 Sec. V-C)",
-                               None, f"robot {int(trace.ids[hit])} has no 'children' in its state")
-    if status == "violated":
-        t, k, j, d = hit
-        return InvariantResult(
-            "premise:nclb", "violated", "nclb_link_kept (001 Sec. V-C, Def. 8)",
-            {"step": t, "parent": int(trace.ids[k]), "child": int(trace.ids[j]),
-             "distance": round(d, 12), "bounded_range": radius, "lemma": "nclb_link_kept"},
-            f"robot {int(trace.ids[k])} ended step {t} {d:.6g} from the old position of "
-            f"its child {int(trace.ids[j])}, outside its bounded range phi - v*dt = {radius:.6g}")
-    return InvariantResult("premise:nclb", "held", "nclb_link_kept (001 Sec. V-C, Def. 8)", None,
-                           f"{checked} moving-parent/child pairs inside the child's bounded range",
-                           applicable=checked > 0, detail={"checked": checked})
-
-def _parent_list(parent):
-    if parent is MISSING:
-        return MISSING
-    return () if parent is None else (parent,)
-
-def relocate_path_in_range(trace, phi: float, *, tol: float = 1e-9) -> InvariantResult:
-    """While the relocate robot's parent is the root: the root stays still and
-    both ends of the relocate robot's step are strictly within ``phi`` of it.
-
-    Lemma: ``relocate_stays_in_range`` (then the straight path between them is
-    within ``phi`` too)."""
-    slot = slot_of(trace)
-    checked = 0
-    for t in examined_steps(trace):
-        after = trace.states[t + 1]
-        pres1 = trace.present_at(t + 1)
-        for k in range(trace.n):
-            if not pres1[k]:
-                continue  # crashed or not yet added: no state to read
-            relocate = state_value(after[k], "relocate", MISSING)
-            if relocate is MISSING:
-                return InvariantResult("premise:relocate", "inconclusive",
-                                       "relocate_stays_in_range (001 Sec. V-C)", None,
-                                       f"robot {int(trace.ids[k])} has no 'relocate' in its state")
-            if not relocate:
-                continue
-            parent, root = state_value(after[k], "parent"), state_value(after[k], "root_id")
-            if parent is None or parent != root:
-                continue
-            q = slot.get(int(root))
-            if q is None or not (trace.present_at(t)[q] and trace.present_at(t + 1)[q]):
-                continue
-            checked += 1
-            r0, r1 = trace.poses[t][q, :2], trace.poses[t + 1][q, :2]
-            a, b = trace.poses[t][k, :2], trace.poses[t + 1][k, :2]
-            witness = {"step": t, "relocate": int(trace.ids[k]), "root": int(root),
-                       "lemma": "relocate_stays_in_range"}
-            if not np.array_equal(r0, r1):
-                return InvariantResult("premise:relocate", "violated",
-                                       "relocate_stays_in_range (001 Sec. V-C)",
-                                       {**witness, "root_moved": round(float(np.hypot(*(r1 - r0))), 12)},
-                                       f"the root {int(root)} moved in step {t}")
-            for end, p in (("start", a), ("end", b)):
-                d = float(np.hypot(*(p - r0)))
-                if not d < phi * (1 + tol):
-                    return InvariantResult(
-                        "premise:relocate", "violated", "relocate_stays_in_range (001 Sec. V-C)",
-                        {**witness, "at": end, "distance": round(d, 12), "range": phi},
-                        f"the relocate robot {int(trace.ids[k])} is {d:.6g} >= phi from the root "
-                        f"at the {end} of step {t}")
-    return InvariantResult("premise:relocate", "held", "relocate_stays_in_range (001 Sec. V-C)",
-                           None, f"{checked} relocate steps under the root within range",
-                           applicable=checked > 0, detail={"checked": checked})
+def _every_robot_step(view):
+    """Every robot present at both ends of the step, its own start at the origin."""
+    ks = view.robot_array()
+    yield Batch({"robot": view.ids_of(ks)},
+                {"s": view.s, "p_i_0_x": 0.0, "p_i_0_y": 0.0, **view.points("p_i_1", ks, 1)},
+                facts={"moved": np.round(view.distances(ks, 1, ks, 0), 12), "limit": view.v * view.dt})
 
 
-def children_toward_still_parents(trace, phi: float, v: float, dt: float, *,
-                                  tol: float = 1e-9) -> InvariantResult:
-    """A robot that moves in step ``t`` while its parent stays still ends no farther
-    from the parent than it started (001 Sec. V-C: "the children ... will only move
-    toward the robot"; case ``child_toward_still_parent`` of ``spanning_tree_kept``).
+#: ``step_bounded``: no robot moves more than ``v dt`` in a step -- the premise
+#: ``child_moves_at_most_v_dt`` of ``bounded_range`` (000/001 Lemma 7), for every robot.
+STEP_BOUNDED = Binding("step_bounded", BOUNDED_RANGE, _every_robot_step, what="robot steps",
+                       only=("child_moves_at_most_v_dt",), cites="bounded_range (000/001 Lemma 7)")
 
-    The parent is the one named in the robot's state both before and after the
-    step (state key ``"parent"``); the relocate robot (state key ``"relocate"``)
-    is left to :func:`relocate_path_in_range`, since it heads for a vacancy, not
-    for its parent, when the parent is the root.  Distances compare with a
-    tolerance of ``tol * phi``.  Added 2026-11-24: a subtree robot that drove
-    away from its still parent broke links with every other premise met
-    (docs/song2016.md, "Case 3 steered to the nearest safe point").
+
+def _moving_parents_and_children(view):
+    """Every robot that moved, with each child it decided the step with (state key
+    ``"children"`` after the step), the child's start at the origin."""
+    parents, children = [], []
+    for k in view.robots():
+        kids = view.state(k, "children")
+        if not kids or not view.moved(k):
+            continue                        # did not move: nothing to check (the link case "still")
+        for c in kids:
+            j = view.slot(c)
+            if j is not None:
+                parents.append(k)
+                children.append(j)
+    yield _link_batch(view, parents, children, ("parent", "child"),
+                      facts={"distance": np.round(view.distances(parents, 1, children, 0), 12),
+                             "bounded_range": view.phi - view.v * view.dt})
+
+
+def _link_batch(view, parents, children, names, facts, child_first: bool = False) -> Batch:
+    """Parent-child pairs as a batch of ``(s, p_p_0, p_p_1, p_c_1)`` with the child's start at
+    the origin (the variables of ``nclb_link_kept`` and ``spanning_tree_kept``); the key names
+    the parent first (``child_first``: the child)."""
+    key = [(names[0], view.ids_of(parents)), (names[1], view.ids_of(children))]
+    return Batch(dict(key[::-1] if child_first else key),
+                 {"s": view.s, **view.points("p_p_0", parents, 0, children), **view.points("p_p_1", parents, 1, children),
+                  **view.points("p_c_1", children, 1, children)}, facts=facts)
+
+
+#: ``nclb``: every robot that moves ends inside the bounded range (001 Def. 8: disc of radius
+#: ``phi - v dt``) of each child it decided the step with -- ``nclb_link_kept``, on the links of
+#: the communication graph at ``t`` (premise ``link_at_t`` selects them).
+NCLB = Binding("nclb", NCLB_LINK_KEPT, _moving_parents_and_children, what="moving-parent/child pairs",
+               given=("step_below_range", "link_at_t"), cites="nclb_link_kept (001 Sec. V-C, Def. 8)")
+
+
+def _relocate_under_root(view):
+    """The relocate robot while its parent is the root (state keys ``relocate``, ``parent``,
+    ``root_id`` after the step), the root's start at the origin; ``l = 1/2``: the path's midpoint
+    (the lemma covers every point of it; the two ends are its premises)."""
+    for k in view.robots():
+        if not view.state(k, "relocate"):
+            continue
+        parent, root = view.state(k, "parent"), view.state(k, "root_id")
+        if parent is None or parent != root:
+            continue
+        q = view.slot(root)
+        if q is None:
+            continue
+        o = (q, 0)
+        yield Instance({"relocate": view.id(k), "root": int(root)},
+                       {**view.point("a", k, 0, o), **view.point("b", k, 1, o), "l": 0.5,
+                        **view.point("r", q, 1, o)},
+                       facts={"root_moved": round(view.distance(q, 1, q, 0), 12),
+                              "start": round(view.distance(k, 0, q, 0), 12),
+                              "end": round(view.distance(k, 1, q, 0), 12), "range": view.phi})
+
+
+#: ``relocate``: while the relocate robot's parent is the root, the root stays still and both
+#: ends of the relocate robot's step are within ``phi`` of it -- ``relocate_stays_in_range``.
+RELOCATE = Binding("relocate", RELOCATE_STAYS_IN_RANGE, _relocate_under_root, what="relocate steps under the root",
+                   cites="relocate_stays_in_range (001 Sec. V-C)")
+
+
+def _children_of_still_parents(view):
+    """Every robot that moved, not the relocate robot, whose parent (the same before and after
+    the step) is present; its start at the origin."""
+    parents, children = [], []
+    for k in view.robots():
+        par = view.state(k, "parent", when=0)
+        if par is None or not view.moved(k) or view.state(k, "parent", default=None) != par:
+            continue
+        if view.state(k, "relocate", when=0, default=False) or view.state(k, "relocate", default=False):
+            continue
+        q = view.slot(par)
+        if q is None:
+            continue
+        parents.append(q)
+        children.append(k)
+    yield _link_batch(view, parents, children, ("parent", "child"), child_first=True,
+                      facts={"before": np.round(view.distances(children, 0, parents, 0), 12),
+                             "after": np.round(view.distances(children, 1, parents, 0), 12)})
+
+
+#: ``child_toward_parent``: a robot whose parent stays still does not end farther from it (001
+#: Sec. V-C: "the children ... will only move toward the robot") -- the premise
+#: ``child_not_farther`` of ``spanning_tree_kept``'s case ``child_not_farther_from_still_parent``,
+#: where its premise ``parent_still`` holds (the relocate robot is left to ``relocate``).
+CHILD_TOWARD_PARENT = Binding("child_toward_parent", SPANNING_TREE_KEPT, _children_of_still_parents,
+                              what="child moves toward a still parent", given=("parent_still",),
+                              only=("parent_still", "child_not_farther"),
+                              cites="spanning_tree_kept, case child_not_farther_from_still_parent "
+                                    "(001 Sec. V-C, Lemma 11)")
+
+
+def step_bounded(trace, v: float, dt: float, phi: float = 1.0) -> InvariantResult:
+    """:data:`STEP_BOUNDED` over ``trace``: no robot moves more than ``v*dt`` in a step.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from swarmproof.models.trace import Trace
+    >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.2, 0, 0]]], dtype=float)
+    >>> r = step_bounded(Trace(ids=[1, 2], poses=poses, states=[((), ())] * 2), v=0.1, dt=1.0)
+    >>> r.status, r.witness["robot"], r.witness["moved"], r.witness["premise"]
+    ('violated', 2, 0.2, 'child_moves_at_most_v_dt')
+    """
+    return STEP_BOUNDED.check(trace, phi, v, dt)
+
+
+def parents_in_bounded_ranges(trace, phi: float, v: float, dt: float) -> InvariantResult:
+    """:data:`NCLB` over ``trace`` (lemma ``nclb_link_kept``)."""
+    return NCLB.check(trace, phi, v, dt)
+
+
+def relocate_path_in_range(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
+    """:data:`RELOCATE` over ``trace`` (lemma ``relocate_stays_in_range``)."""
+    return RELOCATE.check(trace, phi, v, dt)
+
+
+def children_toward_still_parents(trace, phi: float, v: float, dt: float) -> InvariantResult:
+    """:data:`CHILD_TOWARD_PARENT` over ``trace``.  Added 2026-11-24: a subtree robot that drove
+    away from its still parent broke links with every other premise met (docs/song2016.md, "Case 3
+    steered to the nearest safe point").
 
     Examples
     --------
@@ -141,41 +193,10 @@ def children_toward_still_parents(trace, phi: float, v: float, dt: float, *,
     >>> poses = np.array([[[0, 0, 0], [1, 0, 0]], [[0, 0, 0], [1.1, 0, 0]]], dtype=float)
     >>> st = ((("parent", None), ("relocate", False)), (("parent", 1), ("relocate", False)))
     >>> r = children_toward_still_parents(Trace(ids=[1, 2], poses=poses, states=[st] * 2), 1.2, 0.1, 1.0)
-    >>> r.status, r.witness["child"], r.witness["parent"], r.witness["after"]
-    ('violated', 2, 1, 1.1)
+    >>> r.status, r.witness["child"], r.witness["parent"], r.witness["after"], r.witness["premise"]
+    ('violated', 2, 1, 1.1, 'child_not_farther')
     """
-    cites = "spanning_tree_kept, case child_toward_still_parent (001 Sec. V-C, Lemma 11)"
-    slot = slot_of(trace)
-    eps = tol * phi
-    checked = 0
-    for t, k, before, after, p0, p1, pres0, pres1 in present_robot_steps(trace):
-        par = state_value(before[k], "parent", MISSING)
-        if par is MISSING:
-            return InvariantResult("premise:child_toward_parent", "inconclusive", cites, None,
-                                   f"robot {int(trace.ids[k])} has no 'parent' in its state")
-        if par is None or state_value(after[k], "parent", None) != par:
-            continue
-        if state_value(before[k], "relocate", False) or state_value(after[k], "relocate", False):
-            continue
-        q = slot.get(int(par))
-        if q is None or not (pres0[q] and pres1[q]):
-            continue
-        if math.hypot(*(p1[q, :2] - p0[q, :2])) > eps or math.hypot(*(p1[k, :2] - p0[k, :2])) <= eps:
-            continue
-        checked += 1
-        d0 = math.hypot(*(p0[k, :2] - p0[q, :2]))
-        d1 = math.hypot(*(p1[k, :2] - p0[q, :2]))
-        if d1 > d0 + eps:
-            child = int(trace.ids[k])
-            return InvariantResult(
-                "premise:child_toward_parent", "violated", cites,
-                {"step": t, "child": child, "parent": int(par), "before": round(d0, 12),
-                 "after": round(d1, 12), "lemma": "spanning_tree_kept"},
-                f"robot {child} moved away from its still parent {int(par)} in step {t}: "
-                f"{d0:.6g} -> {d1:.6g}")
-    return InvariantResult("premise:child_toward_parent", "held", cites, None,
-                           f"{checked} child moves toward a still parent, none away",
-                           applicable=checked > 0, detail={"checked": checked})
+    return CHILD_TOWARD_PARENT.check(trace, phi, v, dt)
 
 
 #: The cases of ``spanning_tree_kept`` a link can be in (:func:`tree_links_in_proved_cases`);
@@ -341,9 +362,7 @@ class TreeLinkCases:
                                applicable=checked > 0, detail=detail)
 
 
-register_monitor("nclb", lambda trace, phi, v, dt: parents_in_bounded_ranges(trace, phi, v, dt), "nclb_link_kept")
-register_monitor("relocate", lambda trace, phi, v, dt: relocate_path_in_range(trace, phi), "relocate_stays_in_range")
-register_monitor("child_toward_parent", lambda trace, phi, v, dt: children_toward_still_parents(trace, phi, v, dt),
-                 "spanning_tree_kept")
+for _binding in (STEP_BOUNDED, NCLB, RELOCATE, CHILD_TOWARD_PARENT):
+    register_binding(_binding)
 register_monitor("tree_link_cases", lambda trace, phi, v, dt: tree_links_in_proved_cases(trace, phi, v, dt),
                  "spanning_tree_kept", accumulating=lambda phi, v, dt, meta: TreeLinkCases(phi, v, dt))

@@ -260,6 +260,12 @@ def _report_lines(args, checked) -> list:
     completion = getattr(checked, "completion_sound", None)
     if completion is not None:          # only algorithms whose robots detect completion
         lines.append(f"  completion detection: {judged('completion_sound', completion)}")
+    prem = getattr(checked, "premises", None)
+    if prem is not None:                # only algorithms that declare lemma premise monitors
+        lines.append(f"  lemma premises: {prem.status}* - {prem.message}")
+        if prem.violated and prem.witness.get("transfer"):
+            lines.append("  transfer failure: every premise of the lemma held and its conclusion did not: "
+                         "the proof does not transfer to this run (the binding or the encoding is wrong)")
     if result.crash is not None:
         c = result.crash
         who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
@@ -273,7 +279,7 @@ def _report_lines(args, checked) -> list:
     if args.gif is not None:
         lines.append(f"  animation: {doc['gif']}")
     shown = {"formation": sat, "connectivity": conn, "tree_links": links, "termination": term,
-             "completion_sound": completion}
+             "completion_sound": completion, "premises": prem}
     unclaimed = [p for p, r in shown.items() if r is not None and p not in na and claims.get(p) is None]
     if unclaimed:
         paper = getattr(checked.algorithm, "paper", None)
@@ -312,7 +318,7 @@ def run(args) -> int:
                 extra=_extra_with_options(args, spec), min_separation=args.min_separation,
                 allow_violations=args.allow_violations, progress=progress, record_every=args.record_every,
                 tree_link_mode=args.tree_link_mode,
-                strict=args.strict, vectorised=args.vectorised)
+                strict=args.strict, vectorised=args.vectorised, premises=True)
     except Overstayed as exc:
         return _timed_out(args, exc)
     finally:

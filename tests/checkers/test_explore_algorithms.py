@@ -162,7 +162,8 @@ def test_explore_a_class_then_replay_it_from_the_file(tmp_path):
     assert r.algorithm == "song2016" and r.as_dict()["algorithm_ref"] == f"{__name__}:RootDrifts"
     assert v.status == "violated"
     assert v.counterexample.violation["message"].startswith(
-        "premise of lemma relocate_stays_in_range failed: the root ")
+        "premise of lemma relocate_stays_in_range failed: step ")
+    assert "premise root_still of lemma relocate_stays_in_range failed" in v.counterexample.violation["message"]
     doc = json.loads(open(v.counterexample_path).read())
     assert doc["algorithm"] == f"{__name__}:RootDrifts"
     rr = replay_file(v.counterexample_path)
@@ -214,7 +215,7 @@ def test_premises_violated_by_song2014_lemma7_as_implemented(tmp_path):
 
 def test_premises_not_applicable_when_the_algorithm_declares_none():
     """No premise monitors: the property does not apply (no verdict, never a pass) and no run is spent on it."""
-    r = explore("example-gather", ["premises"], budget=10, max_examples=2, **SMALL)
+    r = explore("example-anonymous-line", ["premises"], budget=10, max_examples=2, robots=(3, 4), seed=0)
     v = r.properties["premises"]
     assert v.status == "not_applicable" and v.conclusive == 0
     assert v.message == "not applicable: it declares no lemma premise monitors (premise_monitors)"

@@ -47,7 +47,7 @@ def test_lemma_rows_each_status_maps_to_its_verdict():
         "subject                      property  verdict       detail",
         "relocate_stays_in_range      z3 proof  proved        auxiliary; premises satisfiable, negative control "
         "refuted (weakened: the segment's end may be 2 phi away), vacuity controls ok (needed: end_within_range, "
-        "on_segment, start_within_range); not proved: that the relocate robot's step ends within phi of the "
+        "on_segment, root_still, start_within_range); not proved: that the relocate robot's step ends within phi of the "
         "root: the run-time monitor checks that end directly (a disc is convex; this lemma only extends the "
         "two ends to the path between them)",
         "bounded_range_strict_closed  z3 proof  violated      counterexample s=0.5, p_i_0_x=0, p_i_0_y=0, "

@@ -108,11 +108,11 @@ def test_same_json_in_a_fresh_process_as_in_process(tmp_path):
 
 
 def test_module_qualname_algorithm_and_premises_property(capsys, tmp_path):
-    code, out, err = run(capsys, "swarmproof.reference_impl.examples:GatherToLowestId", "--property", "premises",
+    code, out, err = run(capsys, "swarmproof.reference_impl.examples:AnonymousLine", "--property", "premises",
                          "--budget", "10", "--max-examples", "2", "--robots", "3..3", "--json")
     doc = json.loads(out)
-    assert code == 3 and doc["algorithm"] == "example-gather"
-    assert doc["algorithm_ref"] == "swarmproof.reference_impl.examples:GatherToLowestId"
+    assert code == 3 and doc["algorithm"] == "example-anonymous-line"
+    assert doc["algorithm_ref"] == "swarmproof.reference_impl.examples:AnonymousLine"
     # it declares no premise monitors: not applicable (no verdict), and nothing else was asked: exit 3
     assert doc["properties"]["premises"]["status"] == "not_applicable" and doc["premise_lemmas"] == []
     assert doc["properties"]["premises"]["message"] == \

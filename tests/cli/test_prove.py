@@ -178,7 +178,8 @@ def test_prove_algorithm_proves_exactly_the_lemmas_it_declares(capsys, monkeypat
 
 
 @pytest.mark.parametrize("argv, match", [
-    (("--algorithm", "example-gather"), r"algorithm='example-gather' declares no lemmas .*fix: .*song2014, song2016"),
+    (("--algorithm", "example-anonymous-line"),
+     r"algorithm='example-anonymous-line' declares no lemmas .*fix: .*example-gather, song2014, song2016"),
     (("--algorithm", "song2014", "bounded_range"), r"give lemma ids or --algorithm=song2014, not both"),
     (("--algorithm", "nosuch"), r"algorithm='nosuch' is not known"),
     (("--list", "bounded_range"), r"--list lists every lemma: it takes no LEMMA and no --algorithm"),
@@ -199,7 +200,8 @@ def test_prove_list_is_list_lemmas_with_each_lemma_s_algorithms(capsys):
     assert "song2014" in by_id["bounded_range"]["algorithms"] and "song2016" in by_id["bounded_range"]["algorithms"]
     assert by_id["wang2020_lemma_iv_a_1"]["algorithms"] == ["wang2020", "wang2020-broadcast-handshake"]
     assert by_id["translation_invariance"]["algorithms"] == []
-    assert run(capsys, "--list")[1].splitlines()[0] == "lemmas (21):"
+    assert by_id["gather_follower_link_kept"]["algorithms"] == ["example-gather"]
+    assert run(capsys, "--list")[1].splitlines()[0] == "lemmas (22):"
 
 
 def test_every_declared_lemma_of_every_algorithm_is_in_the_suite():

@@ -163,6 +163,7 @@ def _follower(end_xy):
 
 
 def test_premises_held_violated_and_inconclusive():
+    import swarmproof.reference_impl.song2014  # noqa: F401  (registers its monitors)
     from swarmproof.invariants.properties import premises
 
     ok = premises(_follower((0.95, 0)), ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
@@ -171,7 +172,8 @@ def test_premises_held_violated_and_inconclusive():
     # too far a step AND outside the parent's disc: the earliest step, first declared monitor
     bad = premises(_follower((1.25, 0)), ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
     assert bad.violated and (bad.witness["monitor"], bad.witness["lemma"]) == ("step_bounded", "bounded_range")
-    assert bad.message.startswith("premise of lemma bounded_range failed: robot 7 moved 0.25 > v*dt = 0.2")
+    assert bad.message.startswith("premise of lemma bounded_range failed: step 0, robot 7: premise "
+                                  "child_moves_at_most_v_dt of lemma bounded_range failed, moved 0.25, limit 0.2")
     assert premises(_follower((0.95, 0)), (), 1.2, 0.2, 1.0).status == "inconclusive"
     # song2016's NCLB monitor on a state without "children": cannot judge
     r = premises(_follower((0.95, 0)), ("nclb",), 1.2, 0.2, 1.0)

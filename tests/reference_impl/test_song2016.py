@@ -734,4 +734,4 @@ def test_case3_robot_moves_only_toward_its_parent_regression():
     r = replay_file(path)
     assert not r.reproduced and r.verdict.status == "held"
     assert r.result.broken_assumptions == ()
-    assert all(x.status == "held" for x in check_premises(r.result.trace))
+    assert not any(x.violated for x in check_premises(r.result.trace))
