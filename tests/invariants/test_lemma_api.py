@@ -9,7 +9,8 @@ import dataclasses
 import pytest
 
 from swarmproof.checkers.proofs import LEMMAS, prove
-from swarmproof.invariants.lemma_api import (And, Ge, If, Le, LemmaSpec, Lt, Not, Real, cross_check, dist2)
+from swarmproof.invariants.lemma_api import (And, Bool, Eq, Ge, Gt, If, Iff, Implies, Int, IntPoint, Le, LemmaSpec, Lt,
+                                             Ne, Not, Or, Real, Xor, cross_check, dist2)
 from swarmproof.models.errors import UsageError
 from swarmproof.models.versions import tool_versions
 from swarmproof.reference_impl.song2016.lemmas import RELOCATE_STAYS_IN_RANGE
@@ -231,3 +232,83 @@ def test_cross_check_models_do_not_depend_on_what_z3_solved_before():
     before = _z3_models(spec)
     prove(LEMMAS["bounded_range"])
     assert _z3_models(spec) == before and len(before) == 16   # 8 models for each of its two cases
+
+
+# -- Booleans and integers (issue 32: 004's lemmas declared once) ----------------------------------
+
+def _flag_spec(**kw) -> LemmaSpec:
+    """A z3 Boolean and a z3 integer: ``b`` says ``n`` is positive, so ``not b`` means ``n == 0``;
+    the control forgets what ``b`` means."""
+    in_range = ("n_in_range", lambda v: And(Ge(v.n, 0), Le(v.n, 3)))
+    base = dict(id="flag_and_count", statement="b iff n > 0, 0 <= n <= 3: not b implies n == 0",
+                variables=(Bool("b"), Int("n", -1, 4)),
+                premises=(in_range, ("b_iff_positive", lambda v: Iff(v.b, Gt(v.n, 0)))),
+                conclusion=lambda v: Implies(Not(v.b), Eq(v.n, 0)),
+                control_premises=(in_range,), cites=("t",), control_note="b means nothing")
+    return LemmaSpec(**{**base, **kw})
+
+
+def test_bool_and_int_variables_are_z3_booleans_and_integers_and_python_values():
+    spec = _flag_spec()
+    enc = spec.build()
+    assert [str(v.sort()) for v in enc.variables] == ["Bool", "Int"]
+    assert str(enc.conclusion) == "Implies(Not(b), n == 0)"          # z3.Implies, not Or(Not(..), ..)
+    r = prove(spec.lemma())
+    assert (r.status, r.negative_control["status"]) == ("proved", "counterexample")
+    cex = r.negative_control["counterexample"]                        # a Boolean listed as 1 or 0
+    assert cex["b"] == 0.0 and cex["n"] in (1.0, 2.0, 3.0)
+    j = spec.judge(cex)
+    assert j.premises == {"n_in_range": True, "b_iff_positive": False} and not j.transfer_failure
+    assert spec.judge({"b": True, "n": 2}).premises_hold and spec.judge({"b": False, "n": 0}).conclusion
+    out = cross_check(spec, examples=60)
+    assert out["status"] == "held" and out["instances"] > 0, out
+    # a wrong conclusion is found in the drawn booleans and integers
+    wrong = _flag_spec(conclusion=lambda v: Implies(v.b, Eq(v.n, 1)))
+    found = cross_check(wrong, examples=60)
+    assert found["status"] == "violated" and found["counterexample"]["b"] == 1.0, found
+
+
+def test_a_real_sorted_flag_and_grid_point_keep_z3_reals_and_draw_whole_values():
+    """``sort="real"``: the z3 variable stays a real (an encoding's counterexamples list numbers
+    and its search does not change); the flag is the formula ``x == 1``; draws are whole."""
+    flag, move = Bool("ready", "real"), IntPoint("d", -1, 1, "real")
+    assert str(flag.z3()) == "ready == 1" and [str(v.sort()) for v in flag.z3_variables()] == ["Real"]
+    assert [str(v.sort()) for v in move.z3_variables()] == ["Real", "Real"]
+    assert flag.value({"ready": 1.0}).value is True and flag.value({"ready": 5.0}).value is False
+    assert move.value({"d_x": 1.0, "d_y": -0.5}) == (1.0, -0.5)       # a real's value, as z3 gave it
+    # premises with exact equalities hold on whole draws: more instances than z3's 8 models give
+    spec = _spec(variables=(flag, move),
+                 premises=(("east_or_west", lambda v: And(Or(Eq(v.d[0], 1), Eq(v.d[0], -1)), Eq(v.d[1], 0))),),
+                 conclusion=lambda v: And(Eq(dist2(v.d), 1), Or(v.ready, Not(v.ready))))
+    out = cross_check(spec, examples=60)
+    assert out["status"] == "held" and out["instances"] > 8, out
+
+
+def test_iff_xor_ne_read_booleans_both_ways():
+    spec = _spec(variables=(Bool("a"), Bool("b"), Real("x")),
+                 premises=(("xor", lambda v: Xor(v.a, v.b)), ("x_ne_1", lambda v: Ne(v.x, 1))),
+                 conclusion=lambda v: And(Ne(v.a, v.b), Not(Iff(v.a, v.b))))
+    enc = spec.build()
+    assert [str(t) for _, t in enc.premises] == ["Xor(a, b)", "x != 1"]
+    assert str(enc.conclusion) == "And(a != b, Not(a == b))"
+    assert spec.judge({"a": True, "b": False, "x": 0.0}).premises_hold
+    assert not spec.judge({"a": True, "b": True, "x": 0.0}).premises_hold
+    assert spec.judge({"a": 1.0, "b": 0.0, "x": 1.0 + 0.5e-9}).premises["x_ne_1"] is False   # Ne strictly
+    assert spec.judge({"a": True, "b": False, "x": 0.0}).conclusion
+    alone = _spec(variables=(Bool("a"),), premises=(("a", lambda v: Not(v.a)),), conclusion=lambda v: v.a)
+    assert alone.judge({"a": False}).transfer_failure                     # a Bool variable is a formula
+
+
+def test_a_control_may_change_the_conclusion_a_definition_reads():
+    """control_parts / control_conclusion: the negative control of a decision rule changes the
+    rule (which the conclusion reads), not a premise (004's planner: line 28 removed)."""
+    spec = _spec(conclusion=lambda v: Le(v.x, 2), control_premises=(("p", lambda v: Le(v.x, 1)),),
+                 control_conclusion=lambda v: Le(v.x, 0))
+    assert str(spec.build().conclusion) == "x <= 2" and str(spec.control().conclusion) == "x <= 0"
+    assert prove(spec.lemma()).negative_control["status"] == "counterexample"
+    parts = _spec(conclusion=None, parts=(("a", lambda v: Le(v.x, 2)),),
+                  control_parts=(("a", lambda v: Le(v.x, 0)),))
+    assert [str(t) for _, t in parts.control().parts] == ["x <= 0"]
+    with pytest.raises(UsageError, match=r"control_parts entry="):
+        _spec(control_parts=(lambda v: Le(v.x, 0),))
+
