@@ -452,6 +452,8 @@ def _number(val) -> float:
         return float(Fraction(r.numerator_as_long(), r.denominator_as_long()))
     if z3.is_int_value(val):
         return float(val.as_long())
+    if z3.is_true(val) or z3.is_false(val):     # a Boolean variable (lemma_api.Bool): 1 yes, 0 no
+        return float(z3.is_true(val))
     raise TypeError(f"value={val!r} is not a number")  # pragma: no cover
 
 

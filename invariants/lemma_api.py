@@ -1,12 +1,14 @@
 """A lemma declared once, read two ways: z3 terms for its proof, floats for a run (issue 32).
 
-A :class:`LemmaSpec` holds a lemma's variables (:class:`Real`, :class:`Point`), its named
-premises and its conclusion as Python functions of those variables, its citation, kind, gaps
-and negative control.  The functions are written with this module's helpers -- the comparisons
-:func:`Le` :func:`Lt` :func:`Ge` :func:`Gt` :func:`Eq`, the connectives :func:`And` :func:`Or`
-:func:`Not` :func:`Implies`, the vector helpers :func:`sub` :func:`add` :func:`scale`
-:func:`dist2` -- and Python's ``+ - *``, which mean the same on z3 terms and on floats.  From the
-one definition:
+A :class:`LemmaSpec` holds a lemma's variables (:class:`Real`, :class:`Point`; the yes/no and
+whole-number kinds :class:`Bool`, :class:`Int`, :class:`IntPoint`), its named premises and its
+conclusion as Python functions of those variables, its citation, kind, gaps and negative
+control.  The functions are written with this module's helpers -- the comparisons :func:`Le`
+:func:`Lt` :func:`Ge` :func:`Gt` :func:`Eq` :func:`Ne`, the connectives :func:`And` :func:`Or`
+:func:`Not` :func:`Implies` :func:`Iff` :func:`Xor` (a :class:`Bool` variable is a formula
+itself), :func:`If`, the vector helpers :func:`sub` :func:`add` :func:`scale` :func:`dist2`,
+:func:`constant` -- and Python's ``+ - *``, which mean the same on z3 terms and on floats.  From
+the one definition:
 
 * :meth:`LemmaSpec.lemma` is the :class:`~swarmproof.invariants.lemmas.Lemma` the prover
   proves (``swarmproof.checkers.proofs``): the functions called on z3 variables;
@@ -16,6 +18,11 @@ one definition:
   hide a failed conclusion ("premises held, conclusion false" is then a real transfer failure);
 * :func:`cross_check` draws float values where the premises hold and checks the conclusion in
   floating point: it finds a lemma whose real-number truth does not survive floats.
+
+A yes/no variable is a z3 Boolean in the proof and a truth value in a judgment (judged exactly);
+an integer one a z3 integer and a Python ``int``.  With ``sort="real"`` either stays a z3 real
+(a :class:`Bool` then means yes iff it equals 1), the form of encodings whose counterexamples
+list numbers; :func:`cross_check` still draws 0/1 and whole numbers for them.
 
 Tolerances (``tol``, default :data:`TOL`, in the lemma's normalised units): in a premise,
 ``Le(a, b)`` is ``a <= b - tol``, ``Lt(a, b)`` is ``a < b - tol``, ``Eq(a, b)`` is ``a == b``
@@ -39,11 +46,23 @@ Judgment(premises={'x_in_unit': True}, conclusion=True, cases={}, parts={}, loos
 {'x_in_unit': False}
 >>> str(spec.lemma().build().conclusion)
 'x*1/2 <= 1'
+>>> flag = LemmaSpec(
+...     id="flag_means_positive", statement="b iff x > 0 implies: b implies x >= 0",
+...     variables=(Bool("b"), Real("x")),
+...     premises=(("b_iff_positive", lambda v: Iff(v.b, Gt(v.x, 0))),),
+...     conclusion=lambda v: Implies(v.b, Ge(v.x, 0)),
+...     cites=("example",), control_note="b means nothing",
+...     control_premises=(("x_above_minus_1", lambda v: Ge(v.x, -1)),))
+>>> flag.judge({"b": True, "x": 0.5}).premises_hold, flag.judge({"b": 1, "x": -0.5}).premises_hold
+(True, False)
+>>> str(flag.lemma().build().conclusion)
+'Implies(b, x >= 0)'
 """
 
 from __future__ import annotations
 
 import contextvars
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from types import SimpleNamespace
@@ -54,8 +73,9 @@ import z3
 
 from swarmproof.invariants.lemmas import Encoding, Lemma, add, dist2, lemma_solver, scale, sub
 
-__all__ = ["TOL", "Real", "Point", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq", "And", "Or",
-           "Not", "Implies", "If", "sub", "add", "scale", "dist2", "constant", "cross_check"]
+__all__ = ["TOL", "Real", "Point", "Bool", "Int", "IntPoint", "LemmaSpec", "Judgment", "Le", "Lt", "Ge", "Gt", "Eq",
+           "Ne", "And", "Or", "Not", "Implies", "Iff", "Xor", "If", "sub", "add", "scale", "dist2", "constant",
+           "cross_check"]
 
 #: The default tolerance of a float judgment, in the lemma's normalised units (``phi = 1``): the
 #: engine's monitors compare positions with ``1e-9 * phi`` (swarmproof.invariants.premises).
@@ -153,7 +173,9 @@ def Not(a):
 
 
 def Implies(a, b):
-    """``Or(Not(a), b)``."""
+    """``Or(Not(a), b)`` (``z3.Implies`` on z3 terms)."""
+    if _is_z3(a, b):
+        return z3.Implies(_as_z3(a), _as_z3(b))
     return Or(Not(a), b)
 
 
@@ -172,7 +194,10 @@ def If(cond, a, b):
 def constant(x, like):
     """The number ``x`` as the kind of ``like``: ``z3.RealVal(x)`` when ``like`` is a z3 term, else
     a float.  Only needed to keep a term exactly as a hand-written encoding built it (z3 orients
-    ``term <= RealVal(1)`` as ``1 >= term``, which can change its search, not its answer)."""
+    ``term <= RealVal(1)`` as ``1 >= term``, which can change its search, not its answer).  A
+    truth value ``True``/``False`` is ``z3.BoolVal(x)``, else a formula with that truth."""
+    if isinstance(x, bool):
+        return z3.BoolVal(x) if _is_z3(like) else _Truth(x)
     return z3.RealVal(x) if _is_z3(like) else float(x)
 
 
@@ -207,6 +232,8 @@ def _truth(x, strict: bool, tol: float) -> bool:
                 out = (out & t) if x.op == "and" else (out | t)
             return out
         return all(vals) if x.op == "and" else any(vals)
+    if isinstance(x, _Truth):   # a Bool variable's float value, or a constant (section "Booleans and integers")
+        return x.value
     raise TypeError(f"formula={x!r} is not a comparison of this module (Le, Lt, Ge, Gt, Eq) or a "
                     "connective of them (And, Or, Not, Implies): a Python comparison such as x <= 1 "
                     "is judged without the tolerances; write it Le(x, 1)")
@@ -322,7 +349,9 @@ class LemmaSpec:
     as the prover proves it (:class:`~swarmproof.invariants.lemmas.Encoding`).  ``parts``
     (optional) names the conjuncts of the conclusion, ``(part name, function)``, each proved on
     its own; the conclusion is then their conjunction (give ``conclusion=None``).
-    ``control_cases`` are the negative control's cases (default: the lemma's)."""
+    ``control_cases`` are the negative control's cases (default: the lemma's);
+    ``control_conclusion`` / ``control_parts`` its conclusion (default: the lemma's), for a
+    control that changes a definition the conclusion reads, not a premise."""
 
     id: str
     statement: str
@@ -343,6 +372,10 @@ class LemmaSpec:
     cases: tuple = ()
     parts: tuple = ()
     control_cases: tuple | None = None
+    #: the negative control's conclusion or parts, for a control that weakens a definition the
+    #: conclusion reads (a decision rule) rather than a premise; None: the lemma's
+    control_conclusion: Callable | None = None
+    control_parts: tuple | None = None
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
@@ -360,7 +393,7 @@ class LemmaSpec:
                              fix="give control_premises: the premises with one weakened, which z3 must "
                                  "refute with a counterexample (docs/proofs.md)")
         groups = [("premises", self.premises), ("control_premises", self.control_premises),
-                  ("parts", self.parts)]
+                  ("parts", self.parts), ("control_parts", self.control_parts or ())]
         groups += [(f"cases[{name}]", prem) for name, prem in tuple(self.cases) + tuple(self.control_cases or ())]
         for label, pairs in groups:
             for pair in pairs:
@@ -382,7 +415,7 @@ class LemmaSpec:
             concl = z3.And([t for _, t in parts]) if parts else _as_z3(self.conclusion(v))
         finally:
             _Z3.reset(token)
-        flat = [t for var in self.variables for t in (var.z3() if isinstance(var, Point) else (var.z3(),))]
+        flat = [t for var in self.variables for t in _z3_variables(var)]
         return Encoding(premises=prem, conclusion=concl, variables=flat, cases=case_terms, parts=parts)
 
     def build(self) -> Encoding:
@@ -391,7 +424,9 @@ class LemmaSpec:
 
     def control(self) -> Encoding:
         """The z3 encoding of the negative control."""
-        return self._encoding(self.control_premises,
+        spec = self if self.control_parts is None and self.control_conclusion is None else \
+            dataclasses.replace(self, parts=self.control_parts or (), conclusion=self.control_conclusion)
+        return spec._encoding(self.control_premises,
                               self.cases if self.control_cases is None else self.control_cases)
 
     def lemma(self) -> Lemma:
@@ -482,7 +517,6 @@ def cross_check(spec: LemmaSpec, *, examples: int = 200, seed: int = 0) -> dict:
     from hypothesis import HealthCheck, Phase, given, seed as hseed, settings
     from hypothesis import strategies as st
 
-    bounds = {n: (var.lo, var.hi) for var in spec.variables for n in var.names()}
     held = 0
     for values in _z3_models(spec):
         j = spec.judge(values)
@@ -490,8 +524,7 @@ def cross_check(spec: LemmaSpec, *, examples: int = 200, seed: int = 0) -> dict:
             held += 1
             if not j.conclusion:
                 return _found(spec, values, held)
-    draws = st.fixed_dictionaries({n: st.floats(min_value=lo, max_value=hi, allow_nan=False)
-                                   for n, (lo, hi) in bounds.items()})
+    draws = st.fixed_dictionaries({n: draw for var in spec.variables for n, draw in _draws(var, st)})
     counted = {"held": 0, "last": None}
 
     @hseed(seed)
@@ -569,4 +602,155 @@ def _float(val) -> float:
     if z3.is_algebraic_value(val):
         r = val.approx(20)
         return r.numerator_as_long() / r.denominator_as_long()
+    if z3.is_int_value(val):
+        return float(val.as_long())
+    if z3.is_true(val) or z3.is_false(val):
+        return float(z3.is_true(val))
     return math.nan  # pragma: no cover
+
+
+# ------------------------------------------------------------------ Booleans and integers
+
+# Yes/no choices, whole numbers (grid directions, waypoint offsets) and the connectives on them,
+# for lemmas with Boolean structure such as a planner's decision rule (issue 32).  A Bool variable
+# is a formula itself: ``And(v.ready, Not(v.blocked))``.  In floats its value is a _Truth (a Python
+# bool wrapped as a formula, judged exactly: no tolerance), not a plain bool: a plain bool is what
+# Python's own ``x <= 1`` gives, which a judgment refuses (it would skip the tolerances).
+
+@dataclass(frozen=True)
+class _Truth(_Formula):
+    """A fixed truth value in a float judgment: a Bool variable's value, or ``constant(True or
+    False, like)``."""
+
+    value: bool
+
+@dataclass(frozen=True)
+class Bool:
+    """A yes/no variable, usable directly as a formula: ``z3.Bool(name)``; in floats a Python
+    ``bool`` (given as ``True``/``False`` or 1/0; read as a formula of that truth);
+    :func:`cross_check` draws it with Hypothesis ``booleans()``.
+
+    ``sort="real"``: a real variable that means *yes* iff it equals 1 (the formula
+    ``z3.Real(name) == 1``), for an encoding whose counterexamples must list numbers only (a
+    counterexample gives it as 1 or 0, and the judgment reads a value as yes iff it is 1)."""
+
+    name: str
+    sort: str = "bool"
+
+    def names(self) -> list:
+        return [self.name]
+
+    def z3(self):
+        return z3.Real(self.name) == 1 if self.sort == "real" else z3.Bool(self.name)
+
+    def z3_variables(self) -> list:
+        return [z3.Real(self.name) if self.sort == "real" else z3.Bool(self.name)]
+
+    def value(self, values: dict):
+        return _Truth(float(values[self.name]) == 1)
+
+    def draws(self, st) -> list:
+        if self.sort == "real":
+            return [(self.name, st.sampled_from((0.0, 1.0)))]
+        return [(self.name, st.booleans())]
+
+
+@dataclass(frozen=True)
+class Int:
+    """An integer variable: ``z3.Int(name)``; in floats a Python ``int``; :func:`cross_check`
+    draws it with Hypothesis ``integers(lo, hi)`` (the premises, not this range, state every
+    constraint).
+
+    ``sort="real"``: a real variable (``z3.Real(name)``) whose premises pick whole values (a grid
+    direction, a waypoint offset): z3 reads it as any real, as the encoding states it, and the
+    cross-check draws whole numbers, where the premises can hold, as floats."""
+
+    name: str
+    lo: int = -2
+    hi: int = 2
+    sort: str = "int"
+
+    def names(self) -> list:
+        return [self.name]
+
+    def z3(self):
+        return z3.Real(self.name) if self.sort == "real" else z3.Int(self.name)
+
+    def z3_variables(self) -> list:
+        return [self.z3()]
+
+    def value(self, values: dict):
+        return float(values[self.name]) if self.sort == "real" else int(values[self.name])
+
+    def draws(self, st) -> list:
+        ints = st.integers(min_value=self.lo, max_value=self.hi)
+        return [(self.name, ints.map(float) if self.sort == "real" else ints)]
+
+
+@dataclass(frozen=True)
+class IntPoint:
+    """A point ``(name_x, name_y)`` of two :class:`Int` coordinates (a grid waypoint, a unit
+    move), each drawn in ``lo..hi``; ``sort`` as :class:`Int`'s."""
+
+    name: str
+    lo: int = -2
+    hi: int = 2
+    sort: str = "int"
+
+    def _coords(self) -> tuple:
+        return tuple(Int(f"{self.name}_{c}", self.lo, self.hi, self.sort) for c in "xy")
+
+    def names(self) -> list:
+        return [f"{self.name}_x", f"{self.name}_y"]
+
+    def z3(self):
+        return tuple(c.z3() for c in self._coords())
+
+    def z3_variables(self) -> list:
+        return list(self.z3())
+
+    def value(self, values: dict):
+        return tuple(c.value(values) for c in self._coords())
+
+    def draws(self, st) -> list:
+        return [d for c in self._coords() for d in c.draws(st)]
+
+
+def _z3_variables(var) -> list:
+    """The z3 variables of one declared variable, in the order a counterexample lists them."""
+    if hasattr(var, "z3_variables"):
+        return var.z3_variables()
+    return list(var.z3()) if isinstance(var, Point) else [var.z3()]
+
+
+def _draws(var, st) -> list:
+    """``(name, Hypothesis strategy)`` for each value of one declared variable (cross_check)."""
+    if hasattr(var, "draws"):
+        return var.draws(st)
+    return [(n, st.floats(min_value=var.lo, max_value=var.hi, allow_nan=False)) for n in var.names()]
+
+
+def _is_formula(x) -> bool:
+    return isinstance(x, _Formula)
+
+
+def Iff(a, b):
+    """``a`` holds iff ``b`` does: the equality of two Booleans (``a == b`` on z3 terms)."""
+    if _is_z3(a, b):
+        return _as_z3(a) == _as_z3(b)
+    return Or(And(a, b), And(Not(a), Not(b)))
+
+
+def Xor(a, b):
+    """Exactly one of ``a`` and ``b`` holds (``z3.Xor`` on z3 terms)."""
+    if _is_z3(a, b):
+        return z3.Xor(_as_z3(a), _as_z3(b))
+    return Or(And(a, Not(b)), And(Not(a), b))
+
+
+def Ne(a, b):
+    """``a != b`` (z3's ``distinct`` on z3 terms; ``Not(Eq(a, b))`` in floats, or ``Not(Iff(a,
+    b))`` for Booleans)."""
+    if _is_z3(a, b):
+        return a != b
+    return Not(Iff(a, b)) if _is_formula(a) or _is_formula(b) else Not(Eq(a, b))

@@ -9,7 +9,8 @@ import dataclasses
 import pytest
 
 from swarmproof.checkers.proofs import LEMMAS, prove
-from swarmproof.invariants.lemma_api import (And, Ge, If, Le, LemmaSpec, Lt, Not, Real, cross_check, dist2)
+from swarmproof.invariants.lemma_api import (And, Bool, Eq, Ge, Gt, If, Iff, Implies, Int, IntPoint, Le, LemmaSpec, Lt,
+                                             Ne, Not, Or, Real, Xor, cross_check, dist2)
 from swarmproof.models.errors import UsageError
 from swarmproof.models.versions import tool_versions
 from swarmproof.reference_impl.song2016.lemmas import RELOCATE_STAYS_IN_RANGE
@@ -234,3 +235,140 @@ def test_cross_check_models_do_not_depend_on_what_z3_solved_before():
     before = _z3_models(spec)
     prove(LEMMAS["bounded_range"])
     assert _z3_models(spec) == before and len(before) == 16   # 8 models for each of its two cases
+
+
+# -- Booleans and integers (issue 32: 004's lemmas declared once) ----------------------------------
+
+def _flag_spec(**kw) -> LemmaSpec:
+    """A z3 Boolean and a z3 integer: ``b`` says ``n`` is positive, so ``not b`` means ``n == 0``;
+    the control forgets what ``b`` means."""
+    in_range = ("n_in_range", lambda v: And(Ge(v.n, 0), Le(v.n, 3)))
+    base = dict(id="flag_and_count", statement="b iff n > 0, 0 <= n <= 3: not b implies n == 0",
+                variables=(Bool("b"), Int("n", -1, 4)),
+                premises=(in_range, ("b_iff_positive", lambda v: Iff(v.b, Gt(v.n, 0)))),
+                conclusion=lambda v: Implies(Not(v.b), Eq(v.n, 0)),
+                control_premises=(in_range,), cites=("t",), control_note="b means nothing")
+    return LemmaSpec(**{**base, **kw})
+
+
+def test_bool_and_int_variables_are_z3_booleans_and_integers_and_python_values():
+    spec = _flag_spec()
+    enc = spec.build()
+    assert [str(v.sort()) for v in enc.variables] == ["Bool", "Int"]
+    assert str(enc.conclusion) == "Implies(Not(b), n == 0)"          # z3.Implies, not Or(Not(..), ..)
+    r = prove(spec.lemma())
+    assert (r.status, r.negative_control["status"]) == ("proved", "counterexample")
+    cex = r.negative_control["counterexample"]                        # a Boolean listed as 1 or 0
+    assert cex["b"] == 0.0 and cex["n"] in (1.0, 2.0, 3.0)
+    j = spec.judge(cex)
+    assert j.premises == {"n_in_range": True, "b_iff_positive": False} and not j.transfer_failure
+    assert spec.judge({"b": True, "n": 2}).premises_hold and spec.judge({"b": False, "n": 0}).conclusion
+    out = cross_check(spec, examples=60)
+    assert out["status"] == "held" and out["instances"] > 0, out
+    # a wrong conclusion is found in the drawn booleans and integers
+    wrong = _flag_spec(conclusion=lambda v: Implies(v.b, Eq(v.n, 1)))
+    found = cross_check(wrong, examples=60)
+    assert found["status"] == "violated" and found["counterexample"]["b"] == 1.0, found
+
+
+def test_a_real_sorted_flag_and_grid_point_keep_z3_reals_and_draw_whole_values():
+    """``sort="real"``: the z3 variable stays a real (an encoding's counterexamples list numbers
+    and its search does not change); the flag is the formula ``x == 1``; draws are whole."""
+    flag, move = Bool("ready", "real"), IntPoint("d", -1, 1, "real")
+    assert str(flag.z3()) == "ready == 1" and [str(v.sort()) for v in flag.z3_variables()] == ["Real"]
+    assert [str(v.sort()) for v in move.z3_variables()] == ["Real", "Real"]
+    assert flag.value({"ready": 1.0}).value is True and flag.value({"ready": 5.0}).value is False
+    assert move.value({"d_x": 1.0, "d_y": -0.5}) == (1.0, -0.5)       # a real's value, as z3 gave it
+    # premises with exact equalities hold on whole draws: more instances than z3's 8 models give
+    spec = _spec(variables=(flag, move),
+                 premises=(("east_or_west", lambda v: And(Or(Eq(v.d[0], 1), Eq(v.d[0], -1)), Eq(v.d[1], 0))),),
+                 conclusion=lambda v: And(Eq(dist2(v.d), 1), Or(v.ready, Not(v.ready))))
+    out = cross_check(spec, examples=60)
+    assert out["status"] == "held" and out["instances"] > 8, out
+
+
+def test_iff_xor_ne_read_booleans_both_ways():
+    spec = _spec(variables=(Bool("a"), Bool("b"), Real("x")),
+                 premises=(("xor", lambda v: Xor(v.a, v.b)), ("x_ne_1", lambda v: Ne(v.x, 1))),
+                 conclusion=lambda v: And(Ne(v.a, v.b), Not(Iff(v.a, v.b))))
+    enc = spec.build()
+    assert [str(t) for _, t in enc.premises] == ["Xor(a, b)", "x != 1"]
+    assert str(enc.conclusion) == "And(a != b, Not(a == b))"
+    assert spec.judge({"a": True, "b": False, "x": 0.0}).premises_hold
+    assert not spec.judge({"a": True, "b": True, "x": 0.0}).premises_hold
+    assert spec.judge({"a": 1.0, "b": 0.0, "x": 1.0 + 0.5e-9}).premises["x_ne_1"] is False   # Ne strictly
+    assert spec.judge({"a": True, "b": False, "x": 0.0}).conclusion
+    alone = _spec(variables=(Bool("a"),), premises=(("a", lambda v: Not(v.a)),), conclusion=lambda v: v.a)
+    assert alone.judge({"a": False}).transfer_failure                     # a Bool variable is a formula
+
+
+def test_a_control_may_change_the_conclusion_a_definition_reads():
+    """control_parts / control_conclusion: the negative control of a decision rule changes the
+    rule (which the conclusion reads), not a premise (004's planner: line 28 removed)."""
+    spec = _spec(conclusion=lambda v: Le(v.x, 2), control_premises=(("p", lambda v: Le(v.x, 1)),),
+                 control_conclusion=lambda v: Le(v.x, 0))
+    assert str(spec.build().conclusion) == "x <= 2" and str(spec.control().conclusion) == "x <= 0"
+    assert prove(spec.lemma()).negative_control["status"] == "counterexample"
+    parts = _spec(conclusion=None, parts=(("a", lambda v: Le(v.x, 2)),),
+                  control_parts=(("a", lambda v: Le(v.x, 0)),))
+    assert [str(t) for _, t in parts.control().parts] == ["x <= 0"]
+    with pytest.raises(UsageError, match=r"control_parts entry="):
+        _spec(control_parts=(lambda v: Le(v.x, 0),))
+
+
+# -- 004's lemmas declared once --------------------------------------------------------------------
+
+from swarmproof.reference_impl.wang2020 import lemmas as wang_lemmas  # noqa: E402
+
+#: Float judgments cannot meet these lemmas' premises: their z3 models sit on a premise's boundary
+#: (the leaver and the enterer at t = 0; a broadcast phase 0; a claim ending as the other's starts),
+#: which a premise's strict float reading rejects by design, and independent draws almost never meet
+#: their exact definitions (``lam_F = b t``, ``lam_L = min(1, a t)``) or the dozens of message fields
+#: the broadcast windows fix.  Their cross-check runs and must not be violated; it checks nothing.
+WANG_INCONCLUSIVE = {"wang2020_theorem_iv_a_2", "wang2020_speed_buffer_v_b3_cases"}
+
+
+def test_wang2020s_suite_lemmas_are_built_from_their_one_definition():
+    assert list(wang_lemmas.LEMMAS) == list(wang_lemmas.SPECS)
+    for lemma_id, lem in wang_lemmas.LEMMAS.items():
+        spec = wang_lemmas.SPECS[lemma_id]
+        assert lem.build.__self__ is spec and lem.control.__self__ is spec      # the spec's own encodings
+        assert (lem.statement, lem.cites, lem.kind, lem.not_proved, lem.solver_params) == (
+            spec.statement, spec.cites, spec.kind, spec.not_proved, spec.solver_params)
+    # the builders named in tests and docs give the specs' encodings and controls
+    w = wang_lemmas
+    for build, spec, control in ((w.planner_one_moment(), w.PLANNER_VERTEX_ONE_MOMENT, w.planner_one_moment(rule="no_priority")),
+                                 (w.planner_one_moment(conclusion="edge"), w.PLANNER_EDGE_ONE_MOMENT,
+                                  w.planner_one_moment(rule="optimistic", conclusion="edge")),
+                                 (w.lemma_iv_a_1(), w.LEMMA_IV_A_1, w.lemma_iv_a_1(1)),
+                                 (w.theorem_iv_a_2(), w.THEOREM_IV_A_2, w.theorem_iv_a_2(0.5)),
+                                 (w.time_normalisation(), w.TIME_NORMALISATION, w.time_normalisation(False)),
+                                 (w.separation(), w.SEPARATION_EQUAL_SPEEDS, w.separation(0.99 ** 2)),
+                                 (w.speed_buffer_cases(), w.SPEED_BUFFER_V_B3_CASES, w.speed_buffer_cases(0.99 ** 2)),
+                                 (w.separation_speeds(), w.SEPARATION_SPEEDS, w.separation_speeds(0.99 ** 2))):
+        assert _terms(build) == _terms(spec.build()) and _terms(control) == _terms(spec.control()), spec.id
+
+
+@pytest.mark.parametrize("lemma_id", list(wang_lemmas.SPECS))
+def test_cross_check_of_every_wang2020_lemma(lemma_id):
+    """The concrete cross-check on each 004 lemma: flags drawn as 0/1, grid moves, waypoint offsets
+    and priorities as whole numbers (Bool / IntPoint with sort="real"), times and speeds as floats.
+    Where float judgments can meet the premises it holds; :data:`WANG_INCONCLUSIVE` says where
+    they cannot."""
+    # the planner's premises hold on about one draw in thirty: 200 draws add instances to z3's models
+    out = cross_check(wang_lemmas.SPECS[lemma_id], examples=200 if "planner" in lemma_id else 60)
+    if lemma_id in WANG_INCONCLUSIVE:
+        assert out["status"] == "inconclusive", out
+    else:
+        assert out["status"] == "held" and out["instances"] > 0, out
+
+
+def test_a_wang2020_counterexample_is_judged_a_transfer_failure_of_the_control():
+    """The planner control's z3 counterexample (line 28 removed: two agents step onto one waypoint),
+    judged on floats with the control's rule, breaks a part; with the paper's rule it does not."""
+    spec = wang_lemmas.PLANNER_VERTEX_ONE_MOMENT
+    control = dataclasses.replace(spec, parts=spec.control_parts, control_parts=None)
+    cex = prove(control.lemma()).counterexample
+    # z3's model sits on the premise rho >= 2: judged exactly (tol 0; its numbers are dyadic)
+    assert control.judge(cex, tol=0.0).transfer_failure
+    assert not spec.judge(cex, tol=0.0).transfer_failure
