@@ -60,7 +60,8 @@ from typing import Callable, Iterable, Sequence
 import numpy as np
 import z3
 
-from swarmproof.invariants.lemmas import NORMALISATION_LEMMAS, Encoding, Lemma, dist2, lemma_solver, point as _pt
+from swarmproof.invariants.lemmas import Encoding, Lemma, dist2, lemma_solver, point as _pt
+from swarmproof.invariants.normalisation import NORMALISATION_LEMMAS
 from swarmproof.models.errors import UsageError, check_positive, did_you_mean
 from swarmproof.reference_impl.registry import lemma_sets
 

@@ -388,7 +388,7 @@ class LemmaSpec:
             if not (isinstance(case, tuple) and len(case) == 2 and isinstance(case[0], str)):
                 raise UsageError(f"lemma {self.id!r}: cases entry={case!r} is not (name, premises)",
                                  fix="write each case as (\"name\", ((\"premise\", lambda v: ...), ...))")
-        if not self.control_premises:
+        if not self.control_premises and self.control_conclusion is None and self.control_parts is None:
             raise UsageError(f"lemma {self.id!r} declares no control_premises (its negative control)",
                              fix="give control_premises: the premises with one weakened, which z3 must "
                                  "refute with a counterexample (docs/proofs.md)")

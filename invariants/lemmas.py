@@ -1,5 +1,5 @@
-"""Lemmas as data: the types of a z3 lemma, the vector helpers its encodings use, and the
-normalisation lemmas every geometric lemma relies on (issue 5; DESIGN.md sections 1, 3, 4).
+"""Lemmas as data: the types of a z3 lemma and the vector helpers its encodings use (issue 5;
+DESIGN.md sections 1, 3, 4).
 
 A lemma is a :class:`Lemma` (statement, citation, kind, what it does not prove, its encoding
 and a negative control); :meth:`Lemma.build` returns an :class:`Encoding` (named premises, a
@@ -10,9 +10,9 @@ through the algorithm registry (:func:`swarmproof.reference_impl.registry.lemma_
 
 Points are pairs of z3 arithmetic terms; distances are compared through their squares
 (:func:`dist2`: no distance variables, no quantifiers, DESIGN.md section 4).  The normalisation
-lemmas (:data:`NORMALISATION_LEMMAS`: translation, rotation and scale invariance) justify
-stating every geometric lemma with one point at the origin, ``phi = 1`` and ``s = v dt / phi``
-(docs/proofs.md).
+lemmas (translation, rotation and scale invariance), which justify stating every geometric lemma
+with one point at the origin, ``phi = 1`` and ``s = v dt / phi``, are declared once in
+:mod:`swarmproof.invariants.normalisation` (docs/proofs.md).
 
 Examples
 --------
@@ -20,8 +20,6 @@ Examples
 >>> a, b = point("a"), point("b")
 >>> z3.simplify(dist2((z3.RealVal(3), z3.RealVal(4))))
 25
->>> [lem.id for lem in NORMALISATION_LEMMAS]
-['translation_invariance', 'rotation_invariance', 'scale_invariance']
 """
 
 from __future__ import annotations
@@ -31,8 +29,7 @@ from typing import Callable
 
 import z3
 
-__all__ = ["Encoding", "Lemma", "Point", "point", "ORIGIN", "sub", "add", "scale", "eq", "dist2", "variables",
-           "translation_invariance", "rotation_invariance", "scale_invariance", "NORMALISATION_LEMMAS"]
+__all__ = ["Encoding", "Lemma", "Point", "point", "ORIGIN", "sub", "add", "scale", "eq", "dist2", "variables"]
 
 Point = tuple  # (x, y) of z3 arithmetic terms
 
@@ -143,87 +140,3 @@ def variables(*points_or_reals) -> list:
         else:
             out.append(p)
     return out
-
-
-# ---------------------------------------------------- normalisation lemmas
-
-def translation_invariance(shift_both: bool = True) -> Encoding:
-    """``||(a - c) - (b - c)||^2 = ||a - b||^2`` for all points ``a, b, c``.
-
-    Moving the origin to any point ``c`` changes no distance; with
-    ``shift_both=False`` (the control) only ``a`` is moved."""
-    a, b, c = point("a"), point("b"), point("c")
-    b2 = sub(b, c) if shift_both else b
-    return Encoding(premises=[], conclusion=dist2(sub(a, c), b2) == dist2(a, b),
-                    variables=variables(a, b, c))
-
-
-def rotation_invariance(unit: bool = True) -> Encoding:
-    """``||R a - R b||^2 = ||a - b||^2`` for ``R = [[c, -n], [n, c]]``, ``c^2 + n^2 = 1``.
-
-    The control drops ``c^2 + n^2 = 1`` (any rotation-scaling matrix)."""
-    a, b = point("a"), point("b")
-    c, n = z3.Reals("cos sin")
-
-    def rot(p):
-        return (c * p[0] - n * p[1], n * p[0] + c * p[1])
-
-    prem = [("rotation_is_orthonormal", c * c + n * n == 1)] if unit else \
-        [("rotation_bounded", c * c + n * n <= 4)]
-    return Encoding(premises=prem, conclusion=dist2(rot(a), rot(b)) == dist2(a, b),
-                    variables=variables(a, b, c, n))
-
-
-def scale_invariance(scale_radius: bool = True) -> Encoding:
-    """For ``k > 0``: ``||a-b||^2 <= r^2  <=>  ||k a - k b||^2 <= (k r)^2``, the same
-    with ``<``, and the map keeps segment points: ``k (a + l (b - a)) = k a + l (k b - k a)``.
-
-    So dividing every position and radius by ``phi`` turns ``phi`` into 1 and
-    ``v*dt`` into ``s = v*dt/phi`` without changing any premise or conclusion.
-    The control does not scale the radius."""
-    a, b = point("a"), point("b")
-    k, r, lam = z3.Reals("k r l")
-    kr = k * r if scale_radius else r
-    ka, kb = scale(k, a), scale(k, b)
-    seg = eq(scale(k, add(a, scale(lam, sub(b, a)))), add(ka, scale(lam, sub(kb, ka))))
-    concl = z3.And((dist2(a, b) <= r * r) == (dist2(ka, kb) <= kr * kr),
-                   (dist2(a, b) < r * r) == (dist2(ka, kb) < kr * kr),
-                   seg)
-    return Encoding(premises=[("scale_positive", k > 0)], conclusion=concl,
-                    variables=variables(a, b, k, r, lam))
-
-
-#: The normalisation lemmas, first in ``swarmproof prove``'s suite.
-NORMALISATION_LEMMAS = [
-    Lemma(
-        id="translation_invariance",
-        statement="Distances do not change when every point is shifted by the same vector: "
-                  "||(a - c) - (b - c)|| = ||a - b||.",
-        cites=("normalisation lemma (docs/proofs.md)",),
-        normalisations=(),
-        build=translation_invariance,
-        control=lambda: translation_invariance(shift_both=False),
-        control_note="only a is shifted",
-    ),
-    Lemma(
-        id="rotation_invariance",
-        statement="Distances do not change under a rotation R (c^2 + n^2 = 1): "
-                  "||R a - R b|| = ||a - b||.",
-        cites=("normalisation lemma (docs/proofs.md)",),
-        normalisations=(),
-        build=rotation_invariance,
-        control=lambda: rotation_invariance(unit=False),
-        control_note="c^2 + n^2 = 1 dropped (any rotation-scaling)",
-    ),
-    Lemma(
-        id="scale_invariance",
-        statement="For k > 0, ||a - b|| <= r iff ||k a - k b|| <= k r (also with <), and "
-                  "scaling maps segment points to segment points; so phi can be set to 1 "
-                  "and v*dt replaced by s = v*dt/phi.",
-        cites=("normalisation lemma (docs/proofs.md)",),
-        normalisations=(),
-        build=scale_invariance,
-        control=lambda: scale_invariance(scale_radius=False),
-        control_note="the radius r is not scaled",
-    ),
-]

@@ -15,6 +15,7 @@ import swarmproof.reference_impl.song2014  # noqa: F401  (registers song2014's m
 from swarmproof.checkers.proofs import prove
 from swarmproof.invariants.lemma_api import Le, LemmaSpec, cross_check, dist2
 from swarmproof.invariants.lemma_monitor import judge_batch, judge_instance
+from swarmproof.invariants.normalisation import SPECS as NORMALISATION_SPECS
 from swarmproof.invariants.premises import BINDINGS, MONITORS, check_premises, premises
 from swarmproof.models.trace import Trace
 from swarmproof.reference_impl.engine import simulate
@@ -150,8 +151,9 @@ def test_a_premise_that_fails_in_a_broken_gather_names_the_lemma_and_the_premise
     assert not r.witness.get("transfer")
 
 
-@pytest.mark.parametrize("spec", [s for m in lemma_sets() for s in getattr(m, "SPECS", {}).values()
-                                  if not s.id.startswith("wang2020_")], ids=lambda s: s.id)
+@pytest.mark.parametrize("spec", [*NORMALISATION_SPECS.values()]
+                         + [s for m in lemma_sets() for s in getattr(m, "SPECS", {}).values()
+                            if not s.id.startswith("wang2020_")], ids=lambda s: s.id)
 def test_the_concrete_cross_check_holds_for_every_bundled_lemma(spec):
     # (wang2020's: tests/invariants/test_lemma_api.py, with the two whose z3 models all sit on a
     # premise's boundary, inconclusive)
