@@ -376,6 +376,9 @@ class LemmaSpec:
     #: conclusion reads (a decision rule) rather than a premise; None: the lemma's
     control_conclusion: Callable | None = None
     control_parts: tuple | None = None
+    #: the negative control is this other lemma's (a finding or a hard lemma whose natural control
+    #: is a proved lemma's weakened form, in that lemma's variables)
+    control_of: "LemmaSpec | None" = None
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
@@ -388,7 +391,8 @@ class LemmaSpec:
             if not (isinstance(case, tuple) and len(case) == 2 and isinstance(case[0], str)):
                 raise UsageError(f"lemma {self.id!r}: cases entry={case!r} is not (name, premises)",
                                  fix="write each case as (\"name\", ((\"premise\", lambda v: ...), ...))")
-        if not self.control_premises and self.control_conclusion is None and self.control_parts is None:
+        if (not self.control_premises and self.control_conclusion is None and self.control_parts is None
+                and self.control_of is None):
             raise UsageError(f"lemma {self.id!r} declares no control_premises (its negative control)",
                              fix="give control_premises: the premises with one weakened, which z3 must "
                                  "refute with a counterexample (docs/proofs.md)")
@@ -424,6 +428,8 @@ class LemmaSpec:
 
     def control(self) -> Encoding:
         """The z3 encoding of the negative control."""
+        if self.control_of is not None:
+            return self.control_of.control()
         spec = self if self.control_parts is None and self.control_conclusion is None else \
             dataclasses.replace(self, parts=self.control_parts or (), conclusion=self.control_conclusion)
         return spec._encoding(self.control_premises,

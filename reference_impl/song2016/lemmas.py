@@ -325,41 +325,13 @@ def intermediate_goal_in_region(neighbour_radius2: int = 1) -> Encoding:
 # -------------------------------------------- findings and hard lemmas
 
 def intermediate_goal_partial_progress() -> Encoding:
-    """A robot that drives only part of the way to its intermediate goal ``g``
-    (``p_i(t+dt) = p_i(t) + l (g - p_i(t))``, ``0 <= l <= 1``, e.g. because part of
-    the step was spent turning) is NOT always in the parent's bounded range:
-    z3 finds a counterexample.  000 Sec. IV-C assumes the goal is reached."""
-    s, lam = z3.Reals("s l")
-    pi0, g = _pt("p_i_0"), _pt("g")
-    pi1 = _add(pi0, _scale(lam, _sub(g, pi0)))
-    prem = [
-        _step_range(s),
-        ("neighbours_at_t", dist2(pi0) <= 1),
-        ("goal_in_P_i", dist2(g, pi0) <= s * s),
-        ("goal_in_P_p", dist2(g) <= (1 - s) * (1 - s)),
-        ("partial_progress", z3.And(lam >= 0, lam <= 1)),
-    ]
-    return Encoding(premises=prem, conclusion=dist2(pi1) <= (1 - s) * (1 - s),
-                    variables=_vars(s, lam, pi0, g))
+    """:data:`INTERMEDIATE_GOAL_PARTIAL_PROGRESS` as z3 terms."""
+    return INTERMEDIATE_GOAL_PARTIAL_PROGRESS.build()
 
 
 def nclb_three_children_direct() -> Encoding:
-    """NCLB for a parent with three children at once, not normalised per child
-    (DESIGN.md section 4: did not finish in 300 s).  True, but too hard for
-    z3 in any short timeout: the honest source of a timeout in the tests."""
-    s = z3.Real("s")
-    pp1 = _pt("p_p_1")
-    c0 = [_pt(f"c{k}_0") for k in range(3)]
-    c1 = [_pt(f"c{k}_1") for k in range(3)]
-    prem = [_step_range(s), ("parent_moves_at_most_v_dt", dist2(pp1) <= s * s)]
-    for k in range(3):
-        prem += [
-            (f"link_{k}_at_t", dist2(c0[k]) <= 1),
-            (f"child_{k}_moves_at_most_v_dt", dist2(c1[k], c0[k]) <= s * s),
-            (f"parent_in_bounded_range_of_{k}", dist2(pp1, c0[k]) <= (1 - s) * (1 - s)),
-        ]
-    concl = z3.And([dist2(pp1, c) <= 1 for c in c1])
-    return Encoding(premises=prem, conclusion=concl, variables=_vars(s, pp1, *c0, *c1))
+    """:data:`NCLB_THREE_CHILDREN_DIRECT` as z3 terms."""
+    return NCLB_THREE_CHILDREN_DIRECT.build()
 
 
 # ------------------------------------------------------------- the suite
@@ -417,31 +389,71 @@ LEMMAS: dict = {lem.id: lem for lem in _LEMMA_LIST}
 
 #: Lemmas run only when named: known-false variants (findings) and a true
 #: lemma too hard for z3 (the honest timeout).
+def _partial_end(v):
+    """``p_i(t+dt) = p_i(t) + l (g - p_i(t))``: part of the way to the goal ``g``."""
+    return _add(v.p_i_0, _scale(v.l, _sub(v.g, v.p_i_0)))
+
+
+#: A robot that drives only part of the way to its intermediate goal ``g`` (``0 <= l <= 1``, e.g.
+#: because part of the step was spent turning) is NOT always in the parent's bounded range: z3
+#: finds a counterexample.  000 Sec. IV-C assumes the goal is reached.  A finding (expected
+#: counterexample); its control is ``intermediate_goal_in_region``'s.
+INTERMEDIATE_GOAL_PARTIAL_PROGRESS = LemmaSpec(
+    id="intermediate_goal_partial_progress",
+    statement="FINDING (expected counterexample): a robot that covers only part of the way "
+              "to its intermediate goal may end outside the parent's bounded range.",
+    cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C, Lemma 7",),
+    normalisations=(_t("p_p(t)"), _S_NORM),
+    variables=(Real("s", 0.0, 1.0), Real("l", 0.0, 1.0), Point("p_i_0"), Point("g")),
+    premises=(_STEP,
+              ("neighbours_at_t", lambda v: Le(dist2(v.p_i_0), 1)),
+              ("goal_in_P_i", lambda v: Le(dist2(v.g, v.p_i_0), v.s * v.s)),
+              ("goal_in_P_p", lambda v: Le(dist2(v.g), (1 - v.s) * (1 - v.s))),
+              ("partial_progress", lambda v: And(Ge(v.l, 0), Le(v.l, 1)))),
+    conclusion=lambda v: Le(dist2(_partial_end(v)), (1 - v.s) * (1 - v.s)),
+    control_of=INTERMEDIATE_GOAL_IN_REGION, control_note="the robots up to 2 phi apart",
+)
+
+
+def _three_children_premises() -> tuple:
+    prem = [_STEP, ("parent_moves_at_most_v_dt", lambda v: Le(dist2(v.p_p_1), v.s * v.s))]
+    for k in range(3):
+        c0, c1 = f"c{k}_0", f"c{k}_1"
+        prem += [
+            (f"link_{k}_at_t", lambda v, c0=c0: Le(dist2(getattr(v, c0)), 1)),
+            (f"child_{k}_moves_at_most_v_dt",
+             lambda v, c0=c0, c1=c1: Le(dist2(getattr(v, c1), getattr(v, c0)), v.s * v.s)),
+            (f"parent_in_bounded_range_of_{k}",
+             lambda v, c0=c0: Le(dist2(v.p_p_1, getattr(v, c0)), (1 - v.s) * (1 - v.s))),
+        ]
+    return tuple(prem)
+
+
+#: NCLB for a parent with three children at once, not normalised per child (DESIGN.md section 4:
+#: did not finish in 300 s).  True, but too hard for z3 in any short budget: the honest source of
+#: an inconclusive in the tests.  Its control is ``nclb_link_kept``'s (one child, radius phi).
+NCLB_THREE_CHILDREN_DIRECT = LemmaSpec(
+    id="nclb_three_children_direct",
+    statement="NCLB for three children at once, un-normalised: true, but too hard for z3 "
+              "within its budget (DESIGN.md section 4).",
+    cites=("001_7a4e517b856331bc.txt Sec. V-C",),
+    normalisations=(_S_NORM,),
+    variables=(Real("s", 0.0, 1.0), Point("p_p_1"), *(Point(f"c{k}_0") for k in range(3)),
+               *(Point(f"c{k}_1") for k in range(3))),
+    premises=_three_children_premises(),
+    conclusion=lambda v: And(*[Le(dist2(v.p_p_1, getattr(v, f"c{k}_1")), 1) for k in range(3)]),
+    control_of=NCLB_LINK_KEPT, control_note="one child, radius phi",
+    # z3 did not finish it in 300 s; a budget of about 5 s of work shows the honest
+    # inconclusive without the prover's default of about a minute (docs/proofs.md "Budgets")
+    rlimit=20_000_000,
+)
+
+SPECS.update({s.id: s for s in (INTERMEDIATE_GOAL_PARTIAL_PROGRESS, NCLB_THREE_CHILDREN_DIRECT)})
+
 EXTRA_LEMMAS: dict = {
     "bounded_range_strict_closed": BOUNDED_RANGE_STRICT_CLOSED.lemma(),
-    "intermediate_goal_partial_progress": Lemma(
-        id="intermediate_goal_partial_progress",
-        statement="FINDING (expected counterexample): a robot that covers only part of the way "
-                  "to its intermediate goal may end outside the parent's bounded range.",
-        cites=("000_3ad33c5b62f11d5f.txt Sec. IV-C, Lemma 7",),
-        normalisations=(_t("p_p(t)"), _S_NORM),
-        build=intermediate_goal_partial_progress,
-        control=lambda: intermediate_goal_in_region(neighbour_radius2=4),
-        control_note="the robots up to 2 phi apart",
-    ),
-    "nclb_three_children_direct": Lemma(
-        id="nclb_three_children_direct",
-        statement="NCLB for three children at once, un-normalised: true, but too hard for z3 "
-                  "within its budget (DESIGN.md section 4).",
-        cites=("001_7a4e517b856331bc.txt Sec. V-C",),
-        normalisations=(_S_NORM,),
-        build=nclb_three_children_direct,
-        control=lambda: nclb_link_kept(radius="phi"),
-        control_note="one child, radius phi",
-        # z3 did not finish it in 300 s; a budget of about 5 s of work shows the honest
-        # inconclusive without the prover's default of about a minute (docs/proofs.md "Budgets")
-        rlimit=20_000_000,
-    ),
+    "intermediate_goal_partial_progress": INTERMEDIATE_GOAL_PARTIAL_PROGRESS.lemma(),
+    "nclb_three_children_direct": NCLB_THREE_CHILDREN_DIRECT.lemma(),
 }
 
 

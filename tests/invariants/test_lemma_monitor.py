@@ -158,5 +158,10 @@ def test_the_concrete_cross_check_holds_for_every_bundled_lemma(spec):
     # (wang2020's: tests/invariants/test_lemma_api.py, with the two whose z3 models all sit on a
     # premise's boundary, inconclusive)
     out = cross_check(spec, examples=60)
+    if spec.statement.startswith("FINDING"):
+        # a known-false lemma: z3's counterexample lies on a thin set (l = 0) or exactly on the
+        # boundary of a strict conclusion, which float draws need not hit: exploration, not proof
+        assert out["status"] in ("held", "violated") and out["instances"] > 0, out
+        return
     assert out["status"] == "held", out
     assert out["instances"] > 0
