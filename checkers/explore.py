@@ -124,14 +124,21 @@ class PropertyVerdict:
     first_failure_cpu: float | None = None
     first_failure_robots: int | None = None
     first_failure_scenarios: int | None = None
+    #: ``premises`` only: each lemma premise monitor's outcome over the judged scenarios,
+    #: ``{monitor: {"held": n, "violated": n, "vacuous": n, "inconclusive": n}}`` (issue 32: verify
+    #: has a row per monitor); None for other properties.
+    monitors: dict | None = None
 
     def as_dict(self) -> dict:
-        return {"status": self.status, "scenarios": self.scenarios, "conclusive": self.conclusive,
-                "steps": self.steps, "capped": self.capped, "budget_hit": self.budget_hit,
-                "message": self.message,
-                "counterexample": self.counterexample_path,
-                "violation": None if self.counterexample is None else self.counterexample.violation,
-                "robots": None if self.counterexample is None else len(self.counterexample.robots)}
+        out = {"status": self.status, "scenarios": self.scenarios, "conclusive": self.conclusive,
+               "steps": self.steps, "capped": self.capped, "budget_hit": self.budget_hit,
+               "message": self.message,
+               "counterexample": self.counterexample_path,
+               "violation": None if self.counterexample is None else self.counterexample.violation,
+               "robots": None if self.counterexample is None else len(self.counterexample.robots)}
+        if self.monitors is not None:
+            out["monitors"] = {m: dict(c) for m, c in self.monitors.items()}
+        return out
 
 
 @dataclass
@@ -1164,9 +1171,19 @@ class _Search:
     shared: "_SharedRuns | None" = None
     #: the properties explored after this one that a run of this search is judged for as well
     later: tuple = ()
+    #: ``premises``: each monitor's outcome per judged run (:attr:`PropertyVerdict.monitors`)
+    monitors: dict | None = None
 
     def count(self, result, r) -> None:
         """Add one finished run (a :class:`_Ran`) and its judgment ``r``."""
+        per = (getattr(r, "detail", None) or {}).get("monitors") if self.prop == "premises" else None
+        if per:
+            tally = self.monitors if self.monitors is not None else {}
+            self.monitors = tally
+            for name, m in per.items():
+                kind = "vacuous" if m.get("vacuous") else m.get("status", "inconclusive")
+                c = tally.setdefault(name, {"held": 0, "violated": 0, "vacuous": 0, "inconclusive": 0})
+                c[kind if kind in c else "inconclusive"] += 1
         self.runs += 1
         self.steps += int(result.steps)
         self.capped += int(result.status == "step_cap")
@@ -1345,7 +1362,8 @@ def _search_verdicts(ex: _Exploration, search: _Search) -> tuple[PropertyVerdict
     """
     prop, failures = search.prop, search.failures
     v = PropertyVerdict(prop, "held", scenarios=search.runs, conclusive=search.conclusive, steps=search.steps,
-                        capped=search.capped, budget_hit=search.hit, seconds=time.monotonic() - search.t0)
+                        capped=search.capped, budget_hit=search.hit, seconds=time.monotonic() - search.t0,
+                        monitors=search.monitors)
     if search.first is not None:
         (v.first_failure_seconds, v.first_failure_cpu, v.first_failure_robots,
          v.first_failure_scenarios) = search.first

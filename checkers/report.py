@@ -799,10 +799,54 @@ def section_exploration(*, algorithms=None, properties=None,
             [(doc, artifact)] = _explore_one(subj.ref, (prop,), n_examples, tuple(robots), seed, used, out_dir, show)
         assumptions = {"kept_assumptions": doc.get("kept_assumptions", []),
                        "broken_assumptions": doc.get("broken_assumptions", [])}
-        rows.append(exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
-                                    assumptions=assumptions, budget_used=used, artifact=artifact,
-                                    paper=subj.paper))
+        row = exploration_row(algo, prop, doc["properties"][prop], claims.get(prop), **kw,
+                              assumptions=assumptions, budget_used=used, artifact=artifact, paper=subj.paper)
+        rows.append(row)
+        if prop == "premises":
+            rows.extend(monitor_rows(row, doc["properties"][prop]))
     return rows
+
+
+def monitor_rows(premises_row: Row, entry: dict) -> list[Row]:
+    """One exploration row per lemma premise monitor (issue 32: verify has a row per monitor),
+    from the ``premises`` exploration's per-monitor tallies (the same runs: no extra cost).
+
+    A monitor is ``violated`` when it failed in some explored scenario (the ``premises`` row's
+    counterexample is that of the monitor that failed first in the smallest scenario; another
+    one's failure has the tally, not a file), ``held`` when it held in some scenario and failed in none, ``inconclusive`` when it
+    was vacuous or could not judge in every scenario.  Rows take the property name
+    ``premises:MONITOR``.
+
+    >>> base = Row("exploration", "x n=3..8", "premises", Verdict.HELD, "held", {"algorithm": "x"})
+    >>> rows = monitor_rows(base, {"monitors": {"nclb": {"held": 0, "violated": 0, "vacuous": 5,
+    ...                                                  "inconclusive": 0}}, "violation": None})
+    >>> [(r.property, r.verdict.value, r.detail) for r in rows]
+    [('premises:nclb', 'inconclusive', 'vacuous in all 5 judged scenarios (no instance with every premise holding): not a pass')]
+    """
+    from swarmproof.invariants.premises import MONITOR_LEMMAS
+
+    out = []
+    for name, c in sorted((entry.get("monitors") or {}).items()):
+        n = sum(c.values())
+        lemma = MONITOR_LEMMAS.get(name, "?")
+        if c.get("violated"):
+            verdict = Verdict.VIOLATED
+            detail = (f"failed in {c['violated']} of {n} judged scenarios (lemma {lemma}); the counterexample "
+                      "file is the premises row's (the monitor that failed first in its smallest scenario)")
+        elif c.get("held"):
+            verdict = Verdict.HELD
+            detail = (f"held in {c['held']} of {n} judged scenarios (lemma {lemma}; vacuous in {c.get('vacuous', 0)}) "
+                      "(explored, not proved)")
+        elif c.get("vacuous") == n:
+            verdict = Verdict.INCONCLUSIVE
+            detail = f"vacuous in all {n} judged scenarios (no instance with every premise holding): not a pass"
+        else:
+            verdict = Verdict.INCONCLUSIVE
+            detail = f"could not judge in {c.get('inconclusive', 0)} of {n} scenarios, vacuous in {c.get('vacuous', 0)}"
+        data = {**premises_row.data, "monitor": name, "lemma": lemma, "tally": dict(c)}
+        out.append(Row("exploration", premises_row.subject, f"premises:{name}", verdict, detail, data,
+                       claim=premises_row.claim, paper=premises_row.paper))
+    return out
 
 
 def section_formulas(*, progress: Progress | None = None) -> list[Row]:
