@@ -742,7 +742,8 @@ def section_exploration(*, algorithms=None, properties=None,
     for subj in subjects:
         cap = getattr(subj.plan, "explore_max_examples", None)
         n_examples = max_examples if cap is None else min(int(max_examples), int(cap))
-        plan.extend((subj, prop, n_examples) for prop in props)
+        only = getattr(subj.plan, "explore_properties", None)
+        plan.extend((subj, prop, n_examples) for prop in props if only is None or prop in only)
     # not applicable (the algorithm's declarations against the property's needs): no exploration
     na = [subj.not_applicable(prop) for subj, prop, _ in plan]
     ran = None

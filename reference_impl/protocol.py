@@ -462,6 +462,10 @@ class VerifyPlan:
         At most this many Hypothesis examples per ``exploration`` row of this algorithm
         (fewer than the gate's when its runs are long: 004's asynchronous agents take
         hundreds of ticks; still a count, never a clock).  None: the gate's number.
+    explore_properties : tuple of str, optional
+        Explore only these properties (None: every registered one).  ``example-gather`` explores
+        its lemma premises only (issue 32: its monitor in verify), not the properties an example
+        is known to break.
     explore_cost : float, optional
         About how many CPU-seconds this algorithm's ``exploration`` rows take (measured on the
         project machine, docs/performance.md).  It only orders the work when verify explores on
@@ -488,6 +492,7 @@ class VerifyPlan:
     more: tuple = ()
     explore_max_examples: int | None = None
     explore_cost: float | None = None
+    explore_properties: tuple | None = None
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError

@@ -187,7 +187,7 @@ def verify_plans() -> list[tuple[str, object]]:
     ``verify`` plan, in the plans' ``rank`` order (ties by name).
 
     >>> [name for name, _ in verify_plans()]
-    ['song2016', 'song2016-literal', 'song2016-subtree-clock', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'wang2020-broadcast-handshake', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-printed', 'leechong-neighbor-printed', 'example-anonymous-line', 'example-grid-goals']
+    ['song2016', 'song2016-literal', 'song2016-subtree-clock', 'song2014', 'jiang', 'jiang-literal', 'wang2020', 'wang2020-broadcast-handshake', 'leechong-leader', 'leechong-neighbor', 'leechong-leader-printed', 'leechong-neighbor-printed', 'example-gather', 'example-anonymous-line', 'example-grid-goals']
     """
     plans = []
     for name in algorithm_names():

@@ -109,6 +109,11 @@ class GatherToLowestId:
     #: docs/lemmas.md): a follower near its leader that does not end farther stays in range.
     lemmas = ("gather_follower_link_kept",)
     premise_monitors = ("gather_link",)
+    #: ``swarmproof verify`` runs it on the square lattice and explores its lemma's premises (the
+    #: monitor ``gather_link`` on every step of every explored run); nothing is claimed, so its rows
+    #: are findings, never failures.
+    verify = VerifyPlan(targets=("square",), robots=6, seeds=(0, 1, 2), explore=True, rank=45,
+                        explore_properties=("premises",), explore_cost=5)
 
     def controller(self, robot_id, params, lattice, rng):
         return GatherController(robot_id, params)
