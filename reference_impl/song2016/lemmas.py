@@ -36,7 +36,8 @@ from swarmproof.invariants.lemma_api import And, Eq, Ge, Gt, Le, LemmaSpec, Lt, 
 from swarmproof.invariants.lemmas import (ORIGIN as _ORIGIN, Encoding, Lemma, add as _add, dist2, eq as _eq,
                                           point as _pt, scale as _scale, sub as _sub, variables as _vars)
 
-__all__ = ["LEMMAS", "EXTRA_LEMMAS", "CASE_FAMILIES", "TREE_SOLVER_PARAMS", "tree_case_encoding", "tree_cases",
+__all__ = ["LEMMAS", "EXTRA_LEMMAS", "CASE_FAMILIES", "TREE_SOLVER_PARAMS", "tree_case_encoding", "tree_case_spec",
+           "tree_cases",
            "rooted_shape", "bounded_range", "nclb_link_kept", "tree_link_kept", "tree_link_kept_control",
            "relocate_stays_in_range", "safe_region_nonempty", "intermediate_goal_in_region",
            "intermediate_goal_partial_progress", "nclb_three_children_direct", "RELOCATE_STAYS_IN_RANGE"]
@@ -467,20 +468,69 @@ EXTRA_LEMMAS: dict = {
 TREE_SOLVER_PARAMS = (("variable_ordering_strategy", 3),)
 
 
-def tree_case_encoding(tree, root, moving, bounded_range: str = "phi_minus_vdt") -> Encoding:
-    """001 Lemma 11 stated directly for one rooted tree and one set of moving
-    robots (no per-link lemma used): all links' premises at once, conclusion
-    "every link kept", one ``part`` per link.
+def tree_case_spec(tree, root, moving) -> LemmaSpec:
+    """001 Lemma 11 stated directly for one rooted tree and one set of moving robots (no per-link
+    lemma used), declared once (issue 32): all links' premises at once, conclusion "every link
+    kept", one ``part`` per link.  Its negative control is NCLB with radius ``phi`` instead of
+    ``phi - v dt``.
 
-    Normalisations (docs/proofs.md): the root's old position at the origin,
-    ``phi = 1``, ``s = v dt / phi``; a robot that does not move has the
-    constant move ``(0, 0)``.  Variables are per link (a linear change of
-    coordinates, one-to-one for a tree): for a moving parent
+    Normalisations (docs/proofs.md): the root's old position at the origin, ``phi = 1``,
+    ``s = v dt / phi``; a robot that does not move has the constant move ``(0, 0)``.  Variables
+    are per link (a linear change of coordinates, one-to-one for a tree): for a moving parent
     ``u_c = p_p(t+dt) - p_c(t)``, for a still parent ``d_c = p_c(t) - p_p(t)``;
-    ``m_k = p_k(t+dt) - p_k(t)`` for a moving robot.  The case of each link
-    follows the motion strategy (001 Sec. V-C): a moving parent obeys NCLB,
-    a child of a still parent moves straight toward it.  ``bounded_range="phi"``
-    is the negative control (NCLB with radius ``phi`` instead of ``phi - v dt``).
+    ``m_k = p_k(t+dt) - p_k(t)`` for a moving robot.  The case of each link follows the motion
+    strategy (001 Sec. V-C): a moving parent obeys NCLB, a child of a still parent moves straight
+    toward it (``m_c = -l_c d_c``, ``0 <= l_c <= 1``)."""
+    import networkx as nx
+
+    parent = {v: u for u, v in nx.bfs_edges(tree, root)}
+
+    def m(v, k):
+        return getattr(v, f"m{k}") if k in moving else (constant(0, v.s), constant(0, v.s))
+
+    def premises(control: bool) -> tuple:
+        def rad2(v):
+            return constant(1, v.s) if control else (1 - v.s) * (1 - v.s)
+
+        prem = [_STEP] + [(f"robot_{k}_moves_at_most_v_dt", lambda v, k=k: Le(dist2(m(v, k)), v.s * v.s))
+                          for k in sorted(moving)]
+        for c, p in sorted(parent.items()):
+            if p in moving:
+                prem += [(f"link_{p}_{c}_at_t", lambda v, c=c, p=p: Le(dist2(getattr(v, f"u{c}"), m(v, p)), 1)),
+                         (f"nclb_{p}_in_bounded_range_of_{c}",
+                          lambda v, c=c: Le(dist2(getattr(v, f"u{c}")), rad2(v)))]
+            else:
+                prem.append((f"link_{p}_{c}_at_t", lambda v, c=c: Le(dist2(getattr(v, f"d{c}")), 1)))
+                if c in moving:
+                    def toward(v, c=c):
+                        lam, d, mc = getattr(v, f"l{c}"), getattr(v, f"d{c}"), m(v, c)
+                        step = _scale(-lam, d)
+                        return And(Ge(lam, 0), Le(lam, 1), And(Eq(mc[0], step[0]), Eq(mc[1], step[1])))
+                    prem.append((f"child_{c}_toward_still_parent_{p}", toward))
+        return tuple(prem)
+
+    parts, variables = [], [Real("s", 0.0, 1.0)] + [Point(f"m{k}", -1.0, 1.0) for k in sorted(moving)]
+    for c, p in sorted(parent.items()):
+        if p in moving:
+            parts.append((f"link_{p}_{c}_kept", lambda v, c=c: Le(dist2(m(v, c), getattr(v, f"u{c}")), 1)))
+            variables.append(Point(f"u{c}"))
+        else:
+            parts.append((f"link_{p}_{c}_kept", lambda v, c=c: Le(dist2(_add(getattr(v, f"d{c}"), m(v, c))), 1)))
+            if c in moving:
+                variables.append(Real(f"l{c}", 0.0, 1.0))
+            variables.append(Point(f"d{c}"))
+    return LemmaSpec(
+        id=f"spanning_tree_case_{rooted_shape(tree, root, moving)}",
+        statement="001 Lemma 11 for one rooted tree and one set of moving robots: every link kept.",
+        cites=("001_7a4e517b856331bc.txt Lemma 11, Sec. V-C",),
+        normalisations=(_t("the root's old position"), _S_NORM),
+        variables=tuple(variables), premises=premises(False), conclusion=None, parts=tuple(parts),
+        control_premises=premises(True), control_note="NCLB with radius phi instead of phi - v dt",
+        solver_params=TREE_SOLVER_PARAMS)
+
+
+def tree_case_encoding(tree, root, moving, bounded_range: str = "phi_minus_vdt") -> Encoding:
+    """:func:`tree_case_spec` as z3 terms (``bounded_range="phi"``: its negative control).
 
     Examples
     --------
@@ -491,34 +541,8 @@ def tree_case_encoding(tree, root, moving, bounded_range: str = "phi_minus_vdt")
     >>> [name for name, _ in enc.parts]
     ['link_0_1_kept', 'link_1_2_kept']
     """
-    import networkx as nx
-
-    s = z3.Real("s")
-    parent = {v: u for u, v in nx.bfs_edges(tree, root)}
-    rad2 = (1 - s) * (1 - s) if bounded_range == "phi_minus_vdt" else z3.RealVal(1)
-    m = {k: (_pt(f"m{k}") if k in moving else _ORIGIN) for k in sorted(tree.nodes)}
-    prem = [_step_range(s)] + [(f"robot_{k}_moves_at_most_v_dt", dist2(m[k]) <= s * s)
-                               for k in sorted(moving)]
-    parts, variables = [], [s] + _vars(*[m[k] for k in sorted(moving)])
-    for c, p in sorted(parent.items()):
-        if p in moving:
-            u = _pt(f"u{c}")
-            prem += [(f"link_{p}_{c}_at_t", dist2(u, m[p]) <= 1),
-                     (f"nclb_{p}_in_bounded_range_of_{c}", dist2(u) <= rad2)]
-            parts.append((f"link_{p}_{c}_kept", dist2(m[c], u) <= 1))
-            variables += list(u)
-        else:
-            d = _pt(f"d{c}")
-            prem.append((f"link_{p}_{c}_at_t", dist2(d) <= 1))
-            if c in moving:
-                lam = z3.Real(f"l{c}")
-                prem.append((f"child_{c}_toward_still_parent_{p}",
-                             z3.And(lam >= 0, lam <= 1, _eq(m[c], _scale(-lam, d)))))
-                variables.append(lam)
-            parts.append((f"link_{p}_{c}_kept", dist2(_add(d, m[c])) <= 1))
-            variables += list(d)
-    return Encoding(premises=prem, conclusion=z3.And([t for _, t in parts]),
-                    variables=variables, parts=parts)
+    spec = tree_case_spec(tree, root, moving)
+    return spec.build() if bounded_range == "phi_minus_vdt" else spec.control()
 
 
 def rooted_shape(tree, root, moving) -> str:
