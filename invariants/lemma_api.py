@@ -653,7 +653,10 @@ class Bool:
         return [z3.Real(self.name) if self.sort == "real" else z3.Bool(self.name)]
 
     def value(self, values: dict):
-        return _Truth(float(values[self.name]) == 1)
+        x = values[self.name]
+        if isinstance(x, np.ndarray):                    # a batch of instances: yes where 1
+            return _Truth(np.asarray(x, dtype=float) == 1)
+        return _Truth(float(x) == 1)
 
     def draws(self, st) -> list:
         if self.sort == "real":
@@ -686,7 +689,10 @@ class Int:
         return [self.z3()]
 
     def value(self, values: dict):
-        return float(values[self.name]) if self.sort == "real" else int(values[self.name])
+        x = values[self.name]
+        if isinstance(x, np.ndarray):                    # a batch of instances (one per entry)
+            return np.asarray(x, dtype=float) if self.sort == "real" else np.asarray(x, dtype=np.int64)
+        return float(x) if self.sort == "real" else int(x)
 
     def draws(self, st) -> list:
         ints = st.integers(min_value=self.lo, max_value=self.hi)

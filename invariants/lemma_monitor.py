@@ -106,14 +106,15 @@ class Instance:
     facts: dict = field(default_factory=dict)
 
 
-def judge_instance(spec: LemmaSpec, inst: Instance, given: tuple = (), only: tuple | None = None) -> tuple:
+def judge_instance(spec: LemmaSpec, inst: Instance, given: tuple = (), only: tuple | None = None,
+                   tol: float | None = None) -> tuple:
     """``(kind, detail)`` of one instance: ``"outside"`` (a ``given`` premise does not hold
     strictly: the lemma does not apply), ``"failed"`` (premise names failed leniently),
     ``"boundary"``, ``"transfer"`` (premises held strictly, conclusion false leniently) or
-    ``"checked"``."""
+    ``"checked"``.  ``tol``: the tolerance of "leniently" (default the lemma's, ``spec.tol``)."""
     if only is not None:
         only = tuple(only) + tuple(g for g in given if g not in only)
-    j = spec.judge(inst.values, outcome=inst.outcome, loose=True, only=only, premise_tol=0.0)
+    j = spec.judge(inst.values, tol=tol, outcome=inst.outcome, loose=True, only=only, premise_tol=0.0)
     if given and not all(j.premises.get(g, True) for g in given):
         return "outside", None
     failed = tuple(n for n in j.failed if n not in given)
@@ -129,8 +130,9 @@ def judge_instance(spec: LemmaSpec, inst: Instance, given: tuple = (), only: tup
 @dataclass(frozen=True)
 class Batch:
     """Many instances of one step at once, as columns: ``key`` maps each name to a sequence (one
-    entry per instance), ``values`` and ``outcome`` each variable to a float array (or one float
-    shared by all), ``facts`` each fact to a sequence.  The lemma's functions are judged on the
+    entry per instance; a 2-D array gives each instance its row, as a list), ``values`` and
+    ``outcome`` each variable to a float array (or one float shared by all), ``facts`` each fact
+    to a sequence (or one value shared by all).  The lemma's functions are judged on the
     arrays element by element (numpy), which is what keeps a monitor's cost near the run's own;
     a finding is then re-judged as the single :class:`Instance` it names."""
 
@@ -149,6 +151,8 @@ class Batch:
 
         def num(x):
             v = pick(x)
+            if isinstance(v, np.ndarray):       # a row of a 2-D column (e.g. a pair of robot IDs)
+                return v.tolist()
             return v.item() if isinstance(v, np.generic) else v
 
         return Instance({k: num(v) for k, v in self.key.items()},
@@ -157,7 +161,8 @@ class Batch:
                         {k: num(v) for k, v in self.facts.items()})
 
 
-def judge_batch(spec: LemmaSpec, batch: Batch, given: tuple = (), only: tuple | None = None) -> dict:
+def judge_batch(spec: LemmaSpec, batch: Batch, given: tuple = (), only: tuple | None = None,
+                tol: float | None = None) -> dict:
     """Each instance's kind (as :func:`judge_instance`), as boolean arrays ``{"outside",
     "failed", "boundary", "transfer", "checked"}`` over the batch's entries."""
     n = len(batch)
@@ -168,7 +173,7 @@ def judge_batch(spec: LemmaSpec, batch: Batch, given: tuple = (), only: tuple | 
     out = None if batch.outcome is None else {k: np.asarray(v, dtype=float) if isinstance(v, (np.ndarray, list, tuple))
                                               else float(v) for k, v in batch.outcome.items()}
     arr = {k: (v if isinstance(v, np.ndarray) else np.full(n, v)) for k, v in arr.items()}
-    j = spec.judge(arr, outcome=out, loose=True, only=only, premise_tol=0.0)
+    j = spec.judge(arr, tol=tol, outcome=out, loose=True, only=only, premise_tol=0.0)
 
     def full(x):
         return np.broadcast_to(np.asarray(x, dtype=bool), (n,))
@@ -320,7 +325,10 @@ class Binding:
     :class:`MissingState`.  ``what``: what an instance is, for messages ("moving-parent/child
     pairs").  ``given``: premises that select instances (module docstring).  ``only``: monitor
     just these premises, without the conclusion.  ``cites``: the citation (default: the
-    lemma's first)."""
+    lemma's first).  ``tol``: the tolerance of the boundary band and of the conclusion (default
+    the lemma's, 1e-9 normalised); 0 for a binding that reads the very numbers the algorithm
+    compared (a clock reading against its window: no float noise between the decision and the
+    monitor, so a premise that fails exactly fails; docs/decisions.md)."""
 
     name: str
     lemma: LemmaSpec
@@ -329,6 +337,7 @@ class Binding:
     given: tuple = ()
     only: tuple | None = None
     cites: str = ""
+    tol: float | None = None
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
@@ -379,7 +388,7 @@ class BindingMonitor:
                     if isinstance(inst, Batch):
                         if not len(inst):
                             continue
-                        kinds = judge_batch(spec, inst, b.given, b.only)
+                        kinds = judge_batch(spec, inst, b.given, b.only, b.tol)
                         bad = np.flatnonzero(kinds["failed"] | kinds["transfer"])
                         upto = int(bad[0]) if bad.size else len(inst)
                         for kind in self.counts:
@@ -387,7 +396,7 @@ class BindingMonitor:
                         if not bad.size:
                             continue
                         inst = inst.instance(upto)          # the first finding, judged on its own
-                    kind, info = judge_instance(spec, inst, b.given, b.only)
+                    kind, info = judge_instance(spec, inst, b.given, b.only, b.tol)
                     if kind in self.counts:
                         self.counts[kind] += 1
                         continue

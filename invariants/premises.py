@@ -22,8 +22,9 @@ them in ``trace.meta["premise_monitors"]`` and :func:`check_premises` runs those
 
 Blind spots: poses are sampled at step ends (straight-line motion is assumed in between, as the
 lemmas assume); a state without the keys a monitor reads makes it ``inconclusive`` rather than
-``held``; the hand-written monitors that remain (``tree_link_cases``, the ``grid_*`` ones) check
-premises, not derived from a lemma definition yet (docs/proofs.md, "Premise monitors").
+``held``; the hand-written monitors that remain (``tree_link_cases``, ``grid_claims``,
+``grid_heard``, ``grid_spacing``) check premises, not derived from a lemma definition (each for
+a reason: docs/proofs.md, "Premise monitors").
 
 References
 ----------

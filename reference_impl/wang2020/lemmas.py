@@ -347,8 +347,13 @@ def _lemma_iv_a_1_premises(window) -> tuple:
         mj = _messages(v)[1]
         return mj.during(v.t_j, 0, False, True, mj.wp)
 
+    def i_waited(v):
+        # the same term as Lt(last_check_i, -w(v)) (RealVal(window)); it reads only last_check_i, so the
+        # runtime monitor grid_waited judges it on that alone (reference_impl/wang2020/monitors.py)
+        return Lt(v.last_check_i, -constant(window, v.last_check_i))
+
     return ((("broadcast_every_period_at_any_phase", _phases),
-             ("i_waited_longer_than_window", lambda v: Lt(v.last_check_i, -w(v))),
+             ("i_waited_longer_than_window", i_waited),
              ("i_intends_wp1_since_last_check", i_intends),
              ("j_waited_longer_than_window", lambda v: Lt(v.last_check_j, v.t_j - w(v))),
              ("j_intends_wp1_since_last_check", j_intends),

@@ -3,11 +3,17 @@
 The z3 lemmas (:mod:`.lemmas`) prove the planner collision-free (Theorems IV-A.1/IV-A.2)
 under premises about claims, priorities, spacing and what each robot has heard; these checks
 over a trace (or one step of a streaming run) say whether a run met them.  Importing this
-module registers them with :mod:`swarmproof.invariants.premises` (the shared mechanism):
-``grid_claims`` (:func:`grid_claims_distinct`), ``grid_priorities``
-(:func:`grid_priorities_distinct`), ``grid_spacing`` (:func:`grid_spacing_of_trace`),
-``grid_waited`` (:func:`grid_waited_window`) and ``grid_heard``
-(:func:`grid_heard_neighbours`, :class:`GridHeard`).
+module registers them with :mod:`swarmproof.invariants.premises` (the shared mechanism).
+
+Derived from their lemma's one definition (bindings, issue 32): ``grid_priorities``
+(:data:`GRID_PRIORITIES`, :func:`grid_priorities_distinct`: premise ``distinct_priorities`` of
+``wang2020_planner_vertex_one_moment``) and ``grid_waited`` (:data:`GRID_WAITED`,
+:func:`grid_waited_window`: premise ``i_waited_longer_than_window`` of ``wang2020_lemma_iv_a_1``).
+Hand-written, each for a reason (docs/proofs.md, "Premise monitors of these lemmas"):
+``grid_claims`` (:func:`grid_claims_distinct`: Thms. IV-A.1/IV-A.2's conclusions at one moment,
+which the lemmas state over claim intervals a state does not record), ``grid_heard``
+(:func:`grid_heard_neighbours`, :class:`GridHeard`: memory across the frames of a window) and
+``grid_spacing`` (:func:`grid_spacing_of_trace`: the run's parameters, not a step).
 
 References
 ----------
@@ -20,12 +26,15 @@ import math
 
 import numpy as np
 
-from swarmproof.invariants.premises import MISSING, examined_steps, present_robot_steps, register_monitor
+from swarmproof.invariants.lemma_monitor import Batch, Binding, MissingState
+from swarmproof.invariants.premises import MISSING, examined_steps, register_binding, register_monitor
 from swarmproof.invariants.result import InvariantResult, state_value
 from swarmproof.models.sensing import INCLUSIVE_SLACK
 
+from .lemmas import LEMMA_IV_A_1, PLANNER_VERTEX_ONE_MOMENT
+
 __all__ = ["grid_claims_distinct", "grid_priorities_distinct", "grid_spacing_bound", "grid_spacing_of_trace",
-           "SPEED_BOUND", "grid_waited_window", "grid_heard_neighbours", "GridHeard"]
+           "SPEED_BOUND", "grid_waited_window", "grid_heard_neighbours", "GridHeard", "GRID_PRIORITIES", "GRID_WAITED"]
 
 #: Cites of the grid monitors: the lemmas of :mod:`swarmproof.reference_impl.wang2020.lemmas`.
 _GRID_CITES = {
@@ -128,10 +137,54 @@ def grid_claims_distinct(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.
                            applicable=checked > 0, detail={"checked": checked})
 
 
+def _priority_pairs(view):
+    """Every pair of robots within ``phi`` (= ``R``, inclusive) of each other in a recorded state,
+    both with a priority (None: not started yet), as instances of ``distinct_priorities``: the
+    state after the step (and, in step 0, the start's too), ``q0``, ``q1`` the pair's priorities and
+    ``q2``, ``q3`` two idle agents off the grid (priorities larger than every one of the step: the
+    lemma's own reading of fewer than 3 neighbours, ``PLANNER_VERTEX_ONE_MOMENT.not_proved``), so
+    the premise holds exactly when the pair's priorities differ.  The pairs are chosen within the
+    disc of radius ``R`` (the lemma's ``neighbour_k_within_R`` is the square around it, a weaker
+    premise: docs/decisions.md)."""
+    ids_all = np.asarray(view.ids)
+    for when in ((0, 1) if view.t == 0 else (1,)):
+        ks = np.flatnonzero(view.present[when])
+        states = view.states[when]
+        prio = []
+        for k in ks.tolist():
+            q = state_value(states[k], "priority", MISSING)
+            if q is MISSING:
+                raise MissingState(f"robot {view.id(k)} has no 'priority' in its state at step {view.t + when}")
+            prio.append(q)
+        started = [i for i, q in enumerate(prio) if q is not None]
+        if len(started) < 2:
+            continue
+        ks = ks[started]
+        q = np.array([tuple(prio[i]) for i in started], dtype=float).reshape(len(started), -1)
+        xy = view.p[when][ks, :2]
+        d = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+        a, b = np.nonzero(np.triu(d <= view.phi * INCLUSIVE_SLACK, 1))
+        if not a.size:
+            continue
+        ids = ids_all[ks]
+        pad = float(np.max(np.abs(q))) + 1.0
+        yield Batch({"robots": np.stack([ids[a], ids[b]], axis=1)},
+                    {"q0_x": q[a, 0], "q0_y": q[a, 1], "q1_x": q[b, 0], "q1_y": q[b, 1],
+                     "q2_x": pad, "q2_y": pad, "q3_x": pad + 1.0, "q3_y": pad + 1.0},
+                    facts={"priority": q[a], "frame": view.t + when})
+
+
+#: ``grid_priorities``: robots within ``R`` of each other have distinct priorities in every recorded
+#: state -- the premise ``distinct_priorities`` of ``wang2020_planner_vertex_one_moment`` (the
+#: lexicographic priority of distinct waypoints, 004 Sec. II-B), on every pair within ``R``.
+GRID_PRIORITIES = Binding("grid_priorities", PLANNER_VERTEX_ONE_MOMENT, _priority_pairs, what="pairs within R",
+                          only=("distinct_priorities",), cites=_GRID_CITES["priorities"])
+
+
 def grid_priorities_distinct(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
-    """Robots within ``phi`` (= ``R``) of each other have distinct ``"priority"`` values in every
-    recorded state (the lexicographic priority of distinct waypoints, 004 Sec. II-B; premise
-    ``distinct_priorities`` of ``wang2020_planner_vertex_one_moment``).
+    """:data:`GRID_PRIORITIES` over ``trace``: robots within ``phi`` (= ``R``) of each other have
+    distinct ``"priority"`` values in every recorded state (premise ``distinct_priorities`` of
+    ``wang2020_planner_vertex_one_moment``).
 
     Examples
     --------
@@ -139,34 +192,11 @@ def grid_priorities_distinct(trace, phi: float, v: float = 0.0, dt: float = 1.0)
     >>> from swarmproof.models.trace import Trace
     >>> poses = np.zeros((2, 2, 3)); poses[:, 1, 0] = 0.2
     >>> st = ((("priority", (0, 0)),), (("priority", (0, 0)),))
-    >>> grid_priorities_distinct(Trace(ids=[1, 2], poses=poses, states=[st, st]), 0.6).witness["robots"]
-    [1, 2]
+    >>> r = grid_priorities_distinct(Trace(ids=[1, 2], poses=poses, states=[st, st]), 0.6)
+    >>> r.witness["robots"], r.witness["premise"]
+    ([1, 2], 'distinct_priorities')
     """
-    name, cites = "premise:grid_priorities", _GRID_CITES["priorities"]
-    checked = 0
-    for t in _grid_steps(trace):
-        rows = _grid_states(trace, t, ("priority",))
-        if isinstance(rows, tuple):
-            return InvariantResult(name, "inconclusive", cites, None,
-                                   f"robot {int(trace.ids[rows[1]])} has no 'priority' in its state at step {t}")
-        p = trace.poses[t]
-        ks = sorted(rows)
-        for x, k in enumerate(ks):
-            for j in ks[x + 1:]:
-                if math.hypot(*(p[k, :2] - p[j, :2])) > phi * INCLUSIVE_SLACK:
-                    continue
-                if rows[k]["priority"] is None or rows[j]["priority"] is None:
-                    continue                    # not started yet
-                checked += 1
-                if tuple(rows[k]["priority"]) == tuple(rows[j]["priority"]):
-                    a, b = int(trace.ids[k]), int(trace.ids[j])
-                    return InvariantResult(
-                        name, "violated", cites,
-                        {"step": t, "robots": [a, b], "priority": list(rows[k]["priority"]),
-                         "lemma": "wang2020_planner_vertex_one_moment"},
-                        f"robots {a} and {b}, within R, have the same priority at step {t}")
-    return InvariantResult(name, "held", cites, None, f"{checked} pairs within R with distinct priorities",
-                           applicable=checked > 0, detail={"checked": checked})
+    return GRID_PRIORITIES.check(trace, phi, v, dt)
 
 
 #: Sec. V-B3's bound on the grid length for agents of different speeds, as the witness names it.
@@ -269,25 +299,71 @@ def _claim_of(state, row):
     return _cell(state_value(state, "wp", None)) if moving else None
 
 
-def _decided(trace, t, k):
-    """Robot slot ``k`` set off in step ``t``: ``moving`` False before the step and True after when
-    the state has that key (the wang2020 controller), else ``next`` None before, not None after."""
-    m0 = state_value(trace.states[t][k], "moving", MISSING)
-    m1 = state_value(trace.states[t + 1][k], "moving", MISSING)
+def _set_off(before, after):
+    """A robot set off between the states ``before`` and ``after`` of a step: ``moving`` False
+    before and True after when the states have that key (the wang2020 controller), else ``next``
+    None before, not None after; MISSING when they have neither."""
+    m0, m1 = state_value(before, "moving", MISSING), state_value(after, "moving", MISSING)
     if m0 is not MISSING and m1 is not MISSING:
         return (not m0) and bool(m1)
-    before = state_value(trace.states[t][k], "next", MISSING)
-    after = state_value(trace.states[t + 1][k], "next", MISSING)
-    if before is MISSING or after is MISSING:
+    n0, n1 = state_value(before, "next", MISSING), state_value(after, "next", MISSING)
+    if n0 is MISSING or n1 is MISSING:
         return MISSING
-    return before is None and after is not None
+    return n0 is None and n1 is not None
+
+
+def _decided(trace, t, k):
+    """Robot slot ``k`` set off in step ``t`` (:func:`_set_off`)."""
+    return _set_off(trace.states[t][k], trace.states[t + 1][k])
+
+
+def _sets_off(view, k: int) -> bool:
+    """Robot slot ``k`` set off in the step (:func:`_set_off`, read from a ``StepView``)."""
+    went = _set_off(view.states[0][k], view.states[1][k])
+    if went is MISSING:
+        raise MissingState(f"robot {view.id(k)} has no 'next' in its state")
+    return went
+
+
+def _departures(view):
+    """Every robot that sets off in the step (Alg. 2 lines 30-31), as agent ``a_i`` of Lemma IV-A.1
+    at its ``t* = 0``: ``last_check_i = -2 waited / window``, time in units of ``Delta t / 2`` (the
+    lemma's ``1/f_comm`` where ``Delta t = 2/f_comm``, Alg. 2 line 6; the relaxed ``Delta t`` of Sec.
+    V-B3 is the same premise in its own units).  The quotient keeps the controller's comparison
+    exactly: ``waited > window`` makes ``waited / window >= 1 + ulp / window > 1 + 2**-53``, which
+    rounds above 1 (and ``waited < window`` below it); doubling is exact.  ``waited`` (time since ``last_check`` when it
+    decided) and ``window`` (its ``Delta t``) from the state after the step."""
+    ks, waited, window = [], [], []
+    for k in view.robots():
+        if not _sets_off(view, k):
+            continue
+        w, win = state_value(view.states[1][k], "waited", MISSING), state_value(view.states[1][k], "window", MISSING)
+        if w is MISSING or win is MISSING:
+            raise MissingState(f"robot {view.id(k)} set off in step {view.t} without 'waited' and 'window' "
+                               "in its state")
+        ks.append(k)
+        waited.append(float(w))
+        window.append(float(win))
+    if ks:
+        w, win = np.array(waited), np.array(window)
+        yield Batch({"robot": view.ids_of(ks)}, {"last_check_i": -2.0 * w / win},
+                    facts={"waited": w, "window": win})
+
+
+#: ``grid_waited``: a robot that sets off had waited at its waypoint longer than its window -- the
+#: premise ``i_waited_longer_than_window`` of ``wang2020_lemma_iv_a_1`` (004 Alg. 2 line 30), for
+#: every departure.  ``tol=0``: ``waited`` and ``window`` are the numbers the controller compared, so
+#: a departure at ``waited == window`` (the off-by-one ``>=`` of line 30) is a failure, not a
+#: boundary instance.
+GRID_WAITED = Binding("grid_waited", LEMMA_IV_A_1, _departures, what="departures",
+                      only=("i_waited_longer_than_window",), cites=_GRID_CITES["waited"], tol=0.0)
 
 
 def grid_waited_window(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
-    """A robot that sets off in step ``t`` (its ``"next"`` None before, not None after) had waited
-    at its waypoint longer than the window: state keys ``"waited"`` (time since ``last_check``
-    when it decided) and ``"window"`` (its ``Delta t``), from the state after the step
-    (004 Alg. 2 line 30; premise ``i_waited_longer_than_window`` of ``wang2020_lemma_iv_a_1``).
+    """:data:`GRID_WAITED` over ``trace``: a robot that sets off in step ``t`` (its ``"moving"``
+    False before, True after; without that key its ``"next"`` None before, not None after) had
+    waited at its waypoint longer than the window: state keys ``"waited"`` and ``"window"`` from
+    the state after the step (004 Alg. 2 line 30).  ``phi`` is not read (1 when not given).
 
     Examples
     --------
@@ -297,30 +373,10 @@ def grid_waited_window(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0)
     >>> before = ((("next", None), ("waited", 1.0), ("window", 2.0)),)
     >>> after = ((("next", (1, 0)), ("waited", 1.5), ("window", 2.0)),)
     >>> r = grid_waited_window(Trace(ids=[7], poses=poses, states=[before, after]))
-    >>> r.status, r.witness["robot"], r.witness["waited"]
-    ('violated', 7, 1.5)
+    >>> r.status, r.witness["robot"], r.witness["waited"], r.witness["premise"]
+    ('violated', 7, 1.5, 'i_waited_longer_than_window')
     """
-    name, cites = "premise:grid_waited", _GRID_CITES["waited"]
-    checked = 0
-    for t, k, before, after, *_ in present_robot_steps(trace):
-        went = _decided(trace, t, k)
-        if went is MISSING:
-            return InvariantResult(name, "inconclusive", cites, None, f"robot {int(trace.ids[k])} has no 'next' in its state")
-        if not went:
-            continue
-        waited, window = state_value(after[k], "waited", MISSING), state_value(after[k], "window", MISSING)
-        if waited is MISSING or window is MISSING:
-            return InvariantResult(name, "inconclusive", cites, None,
-                                   f"robot {int(trace.ids[k])} set off in step {t} without 'waited' and 'window' in its state")
-        checked += 1
-        if not float(waited) > float(window):
-            rid = int(trace.ids[k])
-            return InvariantResult(name, "violated", cites,
-                                   {"step": t, "robot": rid, "waited": float(waited), "window": float(window),
-                                    "lemma": "wang2020_lemma_iv_a_1"},
-                                   f"robot {rid} set off in step {t} after waiting {float(waited):g} <= Delta t = {float(window):g}")
-    return InvariantResult(name, "held", cites, None, f"{checked} departures after waiting longer than the window",
-                           applicable=checked > 0, detail={"checked": checked})
+    return GRID_WAITED.check(trace, phi if phi and phi > 0 else 1.0, v, dt)
 
 
 def grid_heard_neighbours(trace, phi: float, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
@@ -539,8 +595,8 @@ class GridHeard:
 
 # the premises of reference_impl/wang2020/lemmas.py's lemmas
 register_monitor("grid_claims", grid_claims_distinct, "wang2020_separation_equal_speeds")
-register_monitor("grid_priorities", grid_priorities_distinct, "wang2020_planner_vertex_one_moment")
+register_binding(GRID_PRIORITIES)
 register_monitor("grid_spacing", grid_spacing_of_trace, "wang2020_separation_equal_speeds")
-register_monitor("grid_waited", grid_waited_window, "wang2020_lemma_iv_a_1")
+register_binding(GRID_WAITED)
 register_monitor("grid_heard", grid_heard_neighbours, "wang2020_lemma_iv_a_1",
                  accumulating=lambda phi, v, dt, meta: GridHeard(phi, meta=meta))

@@ -246,9 +246,11 @@ def test_priorities_monitor():
     tr = Trace(ids=[1, 2, 3], poses=tr.poses, states=states)
     r = grid.grid_priorities_distinct(tr, 0.6)
     assert r.status == "violated" and r.witness["robots"] == [1, 2] and r.witness["step"] == 0
-    # the same priorities out of range R are no conflict
+    assert r.witness["premise"] == "distinct_priorities" and r.witness["lemma"] == "wang2020_planner_vertex_one_moment"
+    # the same priorities out of range R are no conflict: no pair within R, so nothing was checked
+    # (a monitor derived from a lemma calls that vacuous: inconclusive for the run, never violated)
     far = grid.grid_priorities_distinct(tr, 0.1)
-    assert far.status == "held" and not far.applicable
+    assert far.status == "inconclusive" and not far.applicable and far.detail["vacuous"]
 
 
 def test_spacing_bound_at_sec_v_values_and_just_outside():
@@ -325,6 +327,44 @@ def test_waited_monitor():
     r = grid.grid_waited_window(_timing_trace(2.0, (2, 3)))   # not longer than Delta t
     assert r.status == "violated" and (r.witness["robot"], r.witness["step"]) == (1, 0)
     assert r.witness["lemma"] == "wang2020_lemma_iv_a_1"
+
+
+def test_waited_monitor_is_exact_at_the_window():
+    """grid_waited is derived from wang2020_lemma_iv_a_1's premise i_waited_longer_than_window with
+    tol = 0: waited == window (line 30's ">" written ">=") fails; one float step above it holds (the
+    normalised -2 waited / window stays below -2).  With the lemma's default tolerance the same
+    departure at the window would only be a boundary instance."""
+    import dataclasses
+
+    window = 1.9999999999999998                           # a mantissa near 2: the closest quotient to 1
+    above = float(np.nextafter(window, np.inf))
+    assert -2.0 * above / window < -2.0
+    tr = _timing_trace(2.5, (2, 3))
+    states = [tuple(tuple((k, window if k == "window" else (above if k == "waited" and v != 5.0 else v))
+                          for k, v in st) for st in row) for row in tr.states]
+    tr = Trace(ids=[1, 2, 3], poses=tr.poses, states=states)
+    r = grid.grid_waited_window(tr)
+    assert r.status == "held" and r.detail["checked"] == 3
+    at = grid.grid_waited_window(_timing_trace(2.0, (2, 3)))
+    assert at.status == "violated" and at.witness["premise"] == "i_waited_longer_than_window"
+    loose = dataclasses.replace(grid.GRID_WAITED, tol=None).check(_timing_trace(2.0, (2, 3)), 1.0, 0.0, 1.0)
+    assert loose.status == "held" and loose.detail["boundary"] == 1
+
+
+def test_priority_batch_judges_as_its_instances_one_by_one():
+    from swarmproof.invariants.lemma_monitor import StepView, judge_batch, judge_instance
+
+    tr = _trace(GOOD)
+    states = [tuple(tuple(kv for kv in st if kv[0] != "priority") + (("priority", (9, 9) if i < 2 else (1, 2)),)
+                    for i, st in enumerate(row)) for row in tr.states]
+    tr = Trace(ids=[1, 2, 3], poses=tr.poses, states=states)
+    b = grid.GRID_PRIORITIES
+    (batch, _) = list(b.instances(StepView(tr, 0, 0.6, 0.05, 1.0)))     # step 0: the start's state and the next
+    kinds = judge_batch(b.lemma, batch, b.given, b.only)
+    for i in range(len(batch)):
+        one, _ = judge_instance(b.lemma, batch.instance(i), b.given, b.only)
+        assert kinds[one][i]
+    assert batch.instance(0).key == {"robots": [1, 2]} and list(kinds["failed"]) == [True, False, False]
 
 
 def test_heard_monitor():
