@@ -405,6 +405,43 @@ class LemmaSpec:
                         and callable(pair[1])):
                     raise UsageError(f"lemma {self.id!r}: {label} entry={pair!r} is not (name, function)",
                                      fix="write each premise as (\"name\", lambda v: Le(...))")
+        self._dry_run()
+
+    def _dry_run(self) -> None:
+        """Call every function of the definition once on float values (each variable in the middle
+        of its range): a Python comparison or ``and``/``or``/``not``, a misspelt variable or a
+        value of the wrong kind is then a usage error naming the lemma and the function, at
+        definition, rather than a crash in a run (z3 accepts Python's ``<=``: only the float
+        reading would meet it)."""
+        from swarmproof.models.errors import UsageError
+
+        values = {}
+        for var in self.variables:
+            lo, hi = getattr(var, "lo", 0), getattr(var, "hi", 0)
+            mid = lo if isinstance(lo, int) and not isinstance(lo, bool) and isinstance(var, (Int, IntPoint)) \
+                else (lo + hi) / 2
+            for n in var.names():
+                values[n] = 1 if isinstance(var, Bool) else mid
+        v = self._namespace(lambda var: var.value(values))
+        groups = [("premise", self.premises), ("control premise", self.control_premises), ("part", self.parts),
+                  ("control part", self.control_parts or ())]
+        groups += [(f"case {case!r} premise", extra) for case, extra in tuple(self.cases) + tuple(self.control_cases or ())]
+        groups += [("conclusion", (("conclusion", self.conclusion),) if self.conclusion is not None else ()),
+                   ("control conclusion", (("control_conclusion", self.control_conclusion),)
+                    if self.control_conclusion is not None else ())]
+        for label, pairs in groups:
+            for name, fn in pairs:
+                try:
+                    _truth(fn(v), True, 0.0)
+                except (TypeError, AttributeError, NameError, KeyError) as exc:
+                    raise UsageError(f"lemma {self.id!r}: {label} {name!r} cannot be evaluated on floats: "
+                                     f"{type(exc).__name__}: {exc}",
+                                     fix="write comparisons with Le/Lt/Ge/Gt/Eq, connectives with And/Or/Not/"
+                                         "Implies/If of swarmproof.invariants.lemma_api, and read only the "
+                                         f"declared variables ({', '.join(var.name for var in self.variables)})") \
+                        from None
+                except Exception:  # noqa: BLE001 - e.g. a division by zero at the middle values: not a misuse
+                    pass
 
     def _namespace(self, make) -> SimpleNamespace:
         return SimpleNamespace(**{var.name: make(var) for var in self.variables})

@@ -342,12 +342,22 @@ class Binding:
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError
 
-        names = {n for n, _ in self.lemma.premises} | {n for _, extra in self.lemma.cases for n, _ in extra}
+        common = {n for n, _ in self.lemma.premises}
+        names = common | {n for _, extra in self.lemma.cases for n, _ in extra}
         for label, group in (("given", self.given), ("only", self.only or ())):
             for n in group:
                 if n not in names:
                     raise UsageError(f"binding {self.name!r}: {label} premise={n!r} is not a premise of lemma "
                                      f"{self.lemma.id!r}", fix=f"use some of {sorted(names)}")
+        for n in self.given:
+            if n not in common and n not in (self.only or ()):
+                raise UsageError(f"binding {self.name!r}: given premise={n!r} belongs to a case of lemma "
+                                 f"{self.lemma.id!r}, not to every instance",
+                                 fix=f"give only=(...) with {n!r} among them to monitor that case's premises, "
+                                     f"or select with common premises: {sorted(common)}")
+        if not callable(self.instances):
+            raise UsageError(f"binding {self.name!r}: instances={self.instances!r} is not a function of a step",
+                             fix="give a function view -> iterable of Instance or Batch")
 
     @property
     def citation(self) -> str:
@@ -384,7 +394,12 @@ class BindingMonitor:
             self.steps += 1
             view = StepView(trace, t, self.phi, self.v, self.dt)
             try:
-                for inst in b.instances(view):
+                found = b.instances(view)
+                if found is None:
+                    raise TypeError("the binding's function returned None, not an iterable of Instance or Batch")
+                for inst in found:
+                    if not isinstance(inst, (Batch, Instance)):
+                        raise TypeError(f"the binding's function yielded {inst!r}, not an Instance or a Batch")
                     if isinstance(inst, Batch):
                         if not len(inst):
                             continue
@@ -405,6 +420,16 @@ class BindingMonitor:
             except MissingState as e:
                 self.missing = str(e)
                 return
+            except (TypeError, KeyError, AttributeError, IndexError, ValueError) as exc:
+                from swarmproof.models.errors import SwarmproofError, UsageError
+
+                if isinstance(exc, SwarmproofError):
+                    raise
+                raise UsageError(f"binding {b.name!r} of lemma {spec.id!r} failed at step {t}: "
+                                 f"{type(exc).__name__}: {exc}",
+                                 fix="make its function yield Instance/Batch values for every variable of "
+                                     f"the lemma ({', '.join(spec.names())}), or those its only= premises read "
+                                     "(docs/lemmas.md)") from None
 
     def _finding(self, t: int, inst: Instance, kind: str, info) -> InvariantResult:
         b, spec = self.b, self.b.lemma
@@ -418,7 +443,8 @@ class BindingMonitor:
             if info:
                 witness["parts_failed"] = [n for n, ok in info.items() if not ok]
             msg = (f"step {t}, {who}: every premise of lemma {spec.id} held and its conclusion did not -- "
-                   "the proof does not transfer to this run (the binding or the encoding is wrong)")
+                   "the proof does not transfer to this run (the binding reads the run wrongly, or the lemma "
+                   f"is false: swarmproof prove {spec.id})")
             return InvariantResult(f"premise:{b.name}", "violated", b.citation, witness, msg,
                                    detail=dict(self.counts))
         failed, in_cases = info

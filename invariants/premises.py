@@ -156,10 +156,14 @@ def check_premises(trace, phi: float | None = None, v: float | None = None,
 
 def _known(names) -> tuple:
     """``names`` as a tuple; ValueError naming the first that is not in :data:`MONITORS`."""
+    from swarmproof.models.errors import UsageError
+
     names = tuple(names)
     for n in names:
         if n not in MONITORS:
-            raise ValueError(f"premise monitor={n!r} is not known; use some of {sorted(MONITORS)!r}")
+            raise UsageError(f"premise monitor={n!r} is not known; use some of {sorted(MONITORS)!r}",
+                             fix="name a registered monitor, or give a swarmproof.invariants.lemma_monitor.Binding "
+                                 "object in premise_monitors (docs/lemmas.md)")
     return names
 
 
@@ -216,6 +220,15 @@ def register_binding(binding: Binding) -> str:
     ``binding.name`` (:func:`register_monitor`, accumulating); returns the name.  A paper's
     package does it when imported; an algorithm may list a ``Binding`` in its
     ``premise_monitors`` directly (:func:`premise_monitors_of` registers it)."""
+    old = BINDINGS.get(binding.name)
+    if old is not binding and (old is not None or binding.name in MONITORS):
+        if old is None or old.lemma is not binding.lemma or old.instances is not binding.instances:
+            from swarmproof.models.errors import UsageError
+
+            raise UsageError(f"binding name={binding.name!r} is taken by another premise monitor "
+                             f"(of lemma {MONITOR_LEMMAS.get(binding.name)!r})",
+                             fix="give your Binding a name of its own (swarmproof list lemmas shows the "
+                                 "monitors' lemmas)")
     BINDINGS[binding.name] = binding
     register_monitor(binding.name, binding.check, binding.lemma.id, accumulating=binding.monitor)
     return binding.name
@@ -235,8 +248,12 @@ def premise_monitors_of(algorithm) -> tuple:
     for n in names or ():
         if not isinstance(n, str):          # a Binding declared by the algorithm itself
             if not isinstance(n, Binding):
-                raise ValueError(f"premise_monitors entry={n!r} of algorithm={getattr(algorithm, 'name', algorithm)!r} "
-                                 "is neither a monitor name nor a swarmproof.invariants.lemma_monitor.Binding")
+                from swarmproof.models.errors import UsageError
+
+                raise UsageError(f"premise_monitors entry={n!r} of algorithm={getattr(algorithm, 'name', algorithm)!r} "
+                                 "is neither a monitor name nor a swarmproof.invariants.lemma_monitor.Binding",
+                                 fix="list monitor names or Binding objects (a LemmaSpec goes in lemmas; "
+                                     "docs/lemmas.md)")
             n = register_binding(n)
         out.append(n)
     return _known(out)
@@ -362,9 +379,10 @@ def combine_premises(monitors, results, steps: int) -> InvariantResult:
     if bad:
         name, r = min(bad, key=lambda nr: nr[1].witness["step"])
         lemma = r.witness["lemma"]
+        what = (f"transfer failure of lemma {lemma}" if r.witness.get("transfer")
+                else f"premise of lemma {lemma} failed")
         return InvariantResult("premises", "violated", CITE_PREMISES,
-                               {**r.witness, "monitor": name},
-                               f"premise of lemma {lemma} failed: {r.message}", detail=detail)
+                               {**r.witness, "monitor": name}, f"{what}: {r.message}", detail=detail)
     unsure = [(name, r) for name, r in results if r.status == "inconclusive" and not _vacuous(r)]
     if results and all(_vacuous(r) for _, r in results):
         unsure = results

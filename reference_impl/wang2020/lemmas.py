@@ -246,6 +246,7 @@ def planner_one_moment(neighbours: int = 3, rule: str = "paper", conclusion: str
     n = neighbours + 1
     spec = PLANNER_VERTEX_ONE_MOMENT if conclusion == "vertex" else PLANNER_EDGE_ONE_MOMENT
     return dataclasses.replace(spec, variables=_planner_variables(n), premises=_planner_premises(n),
+                               control_premises=_planner_premises(n),
                                parts=_planner_parts(n, rule, conclusion), control_parts=None).build()
 
 

@@ -224,6 +224,16 @@ def _write_files(args, checked) -> None:
                                    max_frames=GIF_FRAMES)
 
 
+def _claimed_failure(checked) -> bool:
+    """Whether a claimed, applicable property of the run was violated."""
+    na, claims = checked.not_applicable, checked.claims
+    results = {"formation": checked.satisfaction, "connectivity": checked.connectivity,
+               "tree_links": checked.tree_links, "termination": checked.termination,
+               "completion_sound": getattr(checked, "completion_sound", None)}
+    return any(r is not None and r.violated and p not in na and claims.get(p) is not None
+               for p, r in results.items())
+
+
 def _report_lines(args, checked) -> list:
     """The human report of a checked run: what ran, each judgment, the figures, the files, then
     the result line of the exit code."""
@@ -261,11 +271,10 @@ def _report_lines(args, checked) -> list:
     if completion is not None:          # only algorithms whose robots detect completion
         lines.append(f"  completion detection: {judged('completion_sound', completion)}")
     prem = getattr(checked, "premises", None)
+    transfer = prem is not None and prem.violated and bool(prem.witness.get("transfer"))
     if prem is not None:                # only algorithms that declare lemma premise monitors
-        lines.append(f"  lemma premises: {prem.status}* - {prem.message}")
-        if prem.violated and prem.witness.get("transfer"):
-            lines.append("  transfer failure: every premise of the lemma held and its conclusion did not: "
-                         "the proof does not transfer to this run (the binding or the encoding is wrong)")
+        # a transfer failure decides the exit code whatever is claimed: no "*"
+        lines.append(f"  lemma premises: {prem.status}{'' if transfer else '*'} - {prem.message}")
     if result.crash is not None:
         c = result.crash
         who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
@@ -279,7 +288,7 @@ def _report_lines(args, checked) -> list:
     if args.gif is not None:
         lines.append(f"  animation: {doc['gif']}")
     shown = {"formation": sat, "connectivity": conn, "tree_links": links, "termination": term,
-             "completion_sound": completion, "premises": prem}
+             "completion_sound": completion, "premises": None if transfer else prem}
     unclaimed = [p for p, r in shown.items() if r is not None and p not in na and claims.get(p) is None]
     if unclaimed:
         paper = getattr(checked.algorithm, "paper", None)
@@ -287,6 +296,8 @@ def _report_lines(args, checked) -> list:
                      "not judged for the exit code")
     findings = [p for p in unclaimed if shown[p].violated]
     lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
+                  "result: a proof does not transfer to this run (every premise of a lemma held, its "
+                  "conclusion did not)" if transfer and not _claimed_failure(checked) else
                   "result: a claimed property failed",
                   3: "result: inconclusive (step cap reached)" if result.status == "step_cap" else
                   "result: inconclusive (a claimed property was not decided)"}[checked.exit_code]

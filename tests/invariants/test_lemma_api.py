@@ -73,24 +73,34 @@ def test_tolerance_makes_premises_harder_and_conclusions_easier():
 def test_judge_names_missing_values_and_foreign_formulas():
     with pytest.raises(KeyError, match=r"needs values for \['b_x', 'b_y', 'r_x', 'r_y'\]"):
         RELOCATE_STAYS_IN_RANGE.judge({"a_x": 0, "a_y": 0, "l": 0})
-    bad = _spec(premises=(("p", lambda v: v.x),))
-    with pytest.raises(TypeError, match=r"is not a comparison of this module"):
-        bad.judge({"x": 0.5})
+    # refused when the lemma is declared (z3 would accept Python's <=: the float reading is tried
+    # at once), naming the lemma and the premise, with the fix
+    with pytest.raises(UsageError, match=r"lemma 't': premise 'p' .*is not a comparison of this module"):
+        _spec(premises=(("p", lambda v: v.x),))
     # a Python comparison would be judged without the tolerances: refused, with the fix
-    raw = _spec(premises=(("p", lambda v: v.x <= 1),))
-    with pytest.raises(TypeError, match=r"a Python comparison such as x <= 1 .* write it Le\(x, 1\)"):
-        raw.judge({"x": 1.0})
+    with pytest.raises(UsageError, match=r"a Python comparison such as x <= 1 .* write it Le\(x, 1\)"):
+        _spec(premises=(("p", lambda v: v.x <= 1),))
     # Python's and/or/not/if would read a formula as always true: refused
     for fn in (lambda v: Ge(v.x, 0) and Le(v.x, 1), lambda v: not Le(v.x, 1),
                lambda v: Le(v.x, 1) if Ge(v.x, 0) else Le(v.x, 2)):
-        with pytest.raises(TypeError, match=r"no plain truth value: combine formulas with And, Or, Not"):
-            _spec(premises=(("p", fn),)).judge({"x": -5.0})
+        with pytest.raises(UsageError, match=r"no plain truth value: combine formulas with And, Or, Not"):
+            _spec(premises=(("p", fn),))
+    # a misspelt variable, in the control too
+    with pytest.raises(UsageError, match=r"lemma 't': control premise 'p' .*no attribute 'y'.*declared variables \(x\)"):
+        _spec(control_premises=(("p", lambda v: Le(v.y, 1)),))
+    # and the judgment itself still refuses a foreign formula (a spec made past the check)
+    spec = _spec()
+    object.__setattr__(spec, "premises", (("p", lambda v: v.x <= 1),))
+    with pytest.raises(TypeError, match=r"a Python comparison such as x <= 1"):
+        spec.judge({"x": 1.0})
 
 
 def _spec(**kw) -> LemmaSpec:
     base = dict(id="t", statement="t", variables=(Real("x"),), premises=(("p", lambda v: Le(v.x, 1)),),
                 conclusion=lambda v: Le(v.x, 1), cites=("t",), control_note="t",
                 control_premises=(("p", lambda v: Le(v.x, 2)),))
+    if "variables" in kw and "control_premises" not in kw:   # the default control reads x
+        base["control_premises"] = kw.get("premises", base["premises"])
     return LemmaSpec(**{**base, **kw})
 
 

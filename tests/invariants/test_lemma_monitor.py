@@ -14,7 +14,7 @@ import pytest
 import swarmproof.reference_impl.song2014  # noqa: F401  (registers song2014's monitor; song2016's with it)
 from swarmproof.checkers.proofs import prove
 from swarmproof.invariants.lemma_api import Le, LemmaSpec, cross_check, dist2
-from swarmproof.invariants.lemma_monitor import judge_batch, judge_instance
+from swarmproof.invariants.lemma_monitor import Binding, judge_batch, judge_instance
 from swarmproof.invariants.normalisation import SPECS as NORMALISATION_SPECS
 from swarmproof.invariants.premises import BINDINGS, MONITORS, check_premises, premises
 from swarmproof.models.trace import Trace
@@ -86,6 +86,8 @@ def test_a_wrong_binding_is_caught_as_premises_held_conclusion_false_on_a_real_r
     assert good.held and good.detail["checked"] > 50
     r = dataclasses.replace(GATHER_LINK, instances=wrong).check(trace, 2.0, 0.1, 1.0)
     assert r.violated and r.witness["transfer"] is True
+    p = premises(trace, ("gather_link",), 2.0, 0.1, 1.0)   # the registered (right) binding: held
+    assert p.held
     assert set(r.witness) >= {"step", "follower", "leader", "values", "outcome", "lemma"}
     assert r.message.startswith(f"step {r.witness['step']}, follower {r.witness['follower']}, "
                                 f"leader {r.witness['leader']}: every premise of lemma gather_follower_link_kept held")
@@ -165,3 +167,29 @@ def test_the_concrete_cross_check_holds_for_every_bundled_lemma(spec):
         return
     assert out["status"] == "held", out
     assert out["instances"] > 0
+
+
+def test_a_users_binding_mistakes_are_usage_errors_that_name_the_binding():
+    from swarmproof.invariants.premises import register_binding
+    from swarmproof.models.errors import UsageError
+    from swarmproof.reference_impl.song2016.lemmas import SPANNING_TREE_KEPT
+
+    trace = _gather_run(seed=0, n=4)
+    with pytest.raises(UsageError, match=r"binding 'oops' of lemma 'gather_follower_link_kept' failed at step 0: "
+                                         r"TypeError: the binding's function returned None"):
+        dataclasses.replace(GATHER_LINK, name="oops", instances=lambda view: None).check(trace, 2.0, 0.1, 1.0)
+
+    def missing_l1(view):
+        for b in _followers_and_leaders(view):
+            yield dataclasses.replace(b, values={k: v for k, v in b.values.items() if not k.startswith("l1")})
+
+    with pytest.raises(UsageError, match=r"binding 'oops' .*needs values for \['l1_x', 'l1_y'\].*fix: make its "
+                                         r"function yield"):
+        dataclasses.replace(GATHER_LINK, name="oops", instances=missing_l1).check(trace, 2.0, 0.1, 1.0)
+    # a case's premise cannot select every instance
+    with pytest.raises(UsageError, match=r"given premise='parent_still' belongs to a case"):
+        Binding("oops", SPANNING_TREE_KEPT, lambda view: (), given=("parent_still",))
+    # a name taken by a bundled monitor is refused, not silently replaced
+    with pytest.raises(UsageError, match=r"binding name='step_bounded' is taken by another premise monitor"):
+        register_binding(dataclasses.replace(GATHER_LINK, name="step_bounded"))
+    assert BINDINGS["step_bounded"].lemma.id == "bounded_range"
