@@ -88,7 +88,7 @@ _ROLE = {0: None, 1: "client", 2: "server"}
 #: columns of a message's integer row (Alg. 3's fields); px, py are a float row
 (WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP) = range(10)
 _NI = 10
-#: the integer fields of the wait and held bits (:meth:`_Run._aggregate`, with px and py)
+#: the integer fields :meth:`_Run._aggregate` reads beside the gradient's (hop, q_u)
 _WAIT_HELD = np.array([WPX, WPY, NSX, NSY, TX, TY, COMP])
 
 
@@ -185,59 +185,18 @@ def _within(dx, dy, lim):
     return ok
 
 
-#: the codes of :func:`_hop_code`: a finite hop count below ``_HOP_CAP`` is itself, INF and
-#: ``_NONE`` the two above it; the code times 2**32 plus an entry's position is a key whose minimum
-#: gives line 18's minimum and its first entry at once (:meth:`_Run._aggregate`)
-_HOP_CAP = 1 << 30
-_POS_MASK = (1 << 32) - 1
-
-
-def _hop_code(hop):
-    """Hop counts (finite, ``INF`` or ``_NONE``) as codes in the same order, below 2**31
-    (:meth:`_Run.outbox` checks that no finite hop count reaches ``_HOP_CAP``)."""
-    return np.where(hop < _HOP_CAP, hop, np.where(hop == INF, _HOP_CAP, _HOP_CAP + 1))
-
-
-#: :func:`_wait_held`'s layout: the wait bits (five: W, S, E, N and the waypoint) low, the held bits above
-_HELD_SHIFT = 5
-_WAIT_MASK = (1 << _HELD_SHIFT) - 1
-
-
-def _wait_held(wait, held):
-    """One receipt's wait bits and held bits in one integer (one OR reduction gives both)."""
-    return wait | (held << _HELD_SHIFT)
-
-
-def _run_starts(R):
-    """Where each run of equal values of the sorted array ``R`` (not empty) begins."""
-    head = np.empty(len(R), dtype=bool)
-    head[0] = True
-    np.not_equal(R[1:], R[:-1], out=head[1:])
-    return np.flatnonzero(head)
-
-
-def _hop_of(code):
-    """The hop counts of :func:`_hop_code`'s codes."""
-    return np.where(code < _HOP_CAP, code, np.where(code == _HOP_CAP, INF, _NONE))
-
-
 class _Block:
     """One tick's receipts in msg_buff (every receiver's, sorted by receiver then sender ID) and,
     per receiver, what Algorithm 2 reads of them (:meth:`_Run._aggregate`), with the receiver's
     shape, waypoint and position it was computed from (recomputed when one changed).  A receipt's
     message is its sender's column of the tick's outbox ``(I, F)`` (:meth:`_Run.outbox`), read
-    when needed: most receipts are never read past the goal managers.
-
-    Per receipt (aligned with ``R, S``) it keeps what :meth:`_Run._aggregate` reduces per receiver,
-    computed for the receiver's ``kshape, kwx, kwy, kpx, kpy``: ``ewh`` the wait bits and the held
-    bits (:func:`_wait_held`), valid where ``eok_wh``; ``eg`` the hop's code (:func:`_hop_code`),
-    valid where ``eok_g``.  ``rdirty_wh``, ``rdirty_g``: receivers whose wait and held, or
-    gradient, must be reduced again from them (a sender changed)."""
+    when needed: most receipts are never read past the goal managers."""
 
     __slots__ = ("R", "S", "I", "F", "btime", "present", "ghop", "gqx", "gqy", "held", "wait",
-                 "kshape", "kwx", "kwy", "kpx", "kpy", "ewh", "eg", "eok_wh", "eok_g", "rdirty_wh", "rdirty_g")
+                 "kshape", "kwx", "kwy", "kpx", "kpy", "gshape")
     #: the per-receiver results of :meth:`_Run._aggregate` and the state they were computed from
-    AGGREGATES = ("ghop", "gqx", "gqy", "held", "wait", "kshape", "kwx", "kwy", "kpx", "kpy")
+    #: (``gshape``: the shape its gradient part was computed for, :meth:`_Run._gradient`)
+    AGGREGATES = ("ghop", "gqx", "gqy", "held", "wait", "kshape", "kwx", "kwy", "kpx", "kpy", "gshape")
 
     def __init__(self, n, R, S, I, F, now, present=None) -> None:
         self.R, self.S, self.I, self.F = R, S, I, F     # I, F: by sender slot (the whole outbox)
@@ -246,10 +205,8 @@ class _Block:
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
         self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
         self.kshape, self.kwx, self.kwy = np.full(n, -1), z(), z()   # shape -1: not computed yet
+        self.gshape = np.full(n, -1)
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
-        self.rdirty_wh, self.rdirty_g = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
-        self.eok_wh, self.eok_g = np.zeros(len(R), dtype=bool), np.zeros(len(R), dtype=bool)
-        self.ewh = self.eg = None              # allocated when first computed
 
 
 class _StaleStates(UsageError):
@@ -368,7 +325,6 @@ class _Run:
         self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
         self._nb = None                 # the last neighbour pairs: (xy, keys, receivers, senders)
-        self._pair_map = None           # (the pairs before, where each pair was in them or None: same)
         self.moved = np.ones(n, dtype=bool)
         self._last = None               # the last tick's block, messages and broadcast flags
 
@@ -518,8 +474,6 @@ class _Run:
         I[WPX], I[WPY], I[NSX], I[NSY] = self.wx, self.wy, self.nx, self.ny
         I[TX], I[TY], I[QX], I[QY] = self.Tx, self.Ty, self.qx, self.qy
         I[HOP], I[COMP] = self.hop, self.completed
-        if ((self.hop >= _HOP_CAP) & (self.hop != INF)).any():
-            raise AssertionError("a hop count outside [0, 2**30) (the gradient's codes, _hop_code)")
         return I, np.stack((self.px, self.py))
 
     def exchange(self, now) -> None:
@@ -602,44 +556,25 @@ class _Run:
         the same messages.  A receiver's receipts can differ only if it moved, or one of its
         senders (in either block) moved, changed its message or its broadcast flag; the others'
         entries are equal, so what :meth:`_aggregate` computed from them (for the receiver's
-        shape, waypoint and position stored beside it, checked when read) is equal too.  The
-        receivers whose receipts may differ are marked (``rdirty_wh``, ``rdirty_g``: reduced again when read).
-
-        Per receipt: when both blocks' receipts are the neighbour pairs (every agent broadcast)
-        and :meth:`_pairs` says where each pair was before, a receipt whose sender did not
-        change keeps its values (``ew, eh, eg``, for the receiver's state stored beside them);
-        the others are recomputed when read."""
+        shape, waypoint and position stored beside it, checked when read) is equal too."""
         prev, self._last = self._last, (b, msgs, valid)
         if prev is None:
             return
         pb, pmsgs, pvalid = prev
         changed = msgs[0] != pmsgs[0]
-        base = self.moved | (valid != pvalid)
-        s_wh = base | changed[_WAIT_HELD].any(axis=0) | (msgs[1] != pmsgs[1]).any(axis=0)
-        s_g = base | changed[HOP] | changed[COMP]          # the entries' hop codes
-        s_gq = s_g | changed[QX] | changed[QY]              # the receivers' gradient (q_u read at the first)
-        dirty_wh, dirty_g = self.moved | pb.rdirty_wh, self.moved | pb.rdirty_g
-        sb_wh, sb_gq = s_wh[b.S], s_gq[b.S]
-        dirty_wh[pb.R[s_wh[pb.S]]] = True
-        dirty_wh[b.R[sb_wh]] = True
-        dirty_g[pb.R[s_gq[pb.S]]] = True
-        dirty_g[b.R[sb_gq]] = True
+        senders = (self.moved | (valid != pvalid) | changed[_WAIT_HELD].any(axis=0)
+                   | (msgs[1] != pmsgs[1]).any(axis=0))
+        dirty = self.moved.copy()
+        dirty[pb.R[senders[pb.S]]] = True
+        dirty[b.R[senders[b.S]]] = True
         for name in _Block.AGGREGATES:
             setattr(b, name, getattr(pb, name).copy())
-        b.rdirty_wh, b.rdirty_g = dirty_wh, dirty_g
-        pm = self._pair_map
-        if pb.ewh is None or pm is None or pm[0] is not pb.R or self._nb is None or b.R is not self._nb[2]:
-            return                                               # no receipt's values carried over
-        src = pm[1]
-        sb_g = sb_gq if s_g is s_gq else s_g[b.S]
-        if src is None:                                          # the same pairs
-            b.ewh, b.eg = pb.ewh.copy(), pb.eg.copy()
-            b.eok_wh, b.eok_g = pb.eok_wh & ~sb_wh, pb.eok_g & ~sb_g
-        else:
-            b.ewh, b.eg = pb.ewh[src], pb.eg[src]
-            new = src < 0
-            b.eok_wh = pb.eok_wh[src] & ~(new | sb_wh)
-            b.eok_g = pb.eok_g[src] & ~(new | sb_g)
+        b.kshape[dirty] = -1                                     # not computed for these receipts
+        # a sender that changed only its hop or q_u (and did not move) is in both blocks' lists of
+        # the same receivers: their gradient alone is recomputed (_gradient)
+        grad = changed[HOP] | changed[QX] | changed[QY]
+        dirty[b.R[grad[b.S]]] = True
+        b.gshape[dirty] = -1
 
     def _receipts(self, poses, phi, last_valid):
         """``(R, S)``: receiver and sender slots of the tick's deliveries, sorted by receiver, then
@@ -674,7 +609,6 @@ class _Run:
             moved = np.flatnonzero((xy[:, 0] != old[:, 0]) | (xy[:, 1] != old[:, 1]))
             if not len(moved):
                 self.moved = np.zeros(n, dtype=bool)
-                self._pair_map = (prev[2], None)
                 return prev[1:]
         else:
             moved = np.arange(n)
@@ -682,7 +616,6 @@ class _Run:
         mask[moved] = True
         self.moved = mask
         lim = phi * INCLUSIVE_SLACK
-        self._pair_map = None
         if prev is None or len(moved) * 4 > n:      # many moved: everything again (the engine's search)
             if n <= _BRUTE_MAX:
                 i, j, _ = neighbor_pairs(xy, phi, True)
@@ -713,7 +646,6 @@ class _Run:
                 at = np.repeat(lo - np.cumsum(cnt) + cnt, cnt) + np.arange(int(cnt.sum()))
                 if np.array_equal(K0[at], np.sort(NK)):
                     self._nb = (xy.copy(),) + prev[1:]
-                    self._pair_map = (R0, None)
                     return prev[1:]
             # each ordered pair once: (moved, any) from its row; (other, moved) only from the
             # moved agent's row when the other did not move (else its own row gives it)
@@ -723,11 +655,6 @@ class _Run:
             K = np.concatenate((K0[stay], NK, j[other] * n + self.id_rank[c[other]]))
             o = np.argsort(K, kind="stable")
             K, R, S = K[o], R[o], S[o]
-            # where each pair was in the last arrays (-1: a pair with a moved agent, new)
-            kept = np.flatnonzero(stay)
-            src = np.full(len(K), -1, dtype=np.int64)
-            src[:len(kept)] = kept
-            self._pair_map = (R0, src[o])
         self._nb = (xy.copy(), K, R, S)
         return K, R, S
 
@@ -852,63 +779,55 @@ class _Run:
             g = np.concatenate((g, np.zeros(len(up), dtype=bool)))[o]
         return E, kinds, g
 
-    def _aggregate(self, b, need_wh, need_g, stale):
-        """What Algorithm 2 reads of block ``b``, per receiver, from the receiver's current shape,
-        waypoint and position: the surrounding waypoints it holds as goals (lines 21-22) and the
-        ones it claims (line 26: wp) or a lexically larger sender heads for (line 28), for the
-        receivers ``need_wh`` (a mask); the gradient's candidate of this block (line 18: the first
-        entry of the smallest hop among this shape's entries), for the receivers ``need_g``.
-
-        Each receipt's part is kept in the block (``ewh``, ``eg``) and recomputed only for the
-        receivers ``stale`` (whose shape, waypoint or position changed) and the receipts not
-        valid (new, or the sender's message changed); the per-receiver results are then reduced
-        again from every receipt of those receivers."""
+    def _aggregate(self, b, sel):
+        """What Algorithm 2 reads of block ``b``, per receiver, for the receivers of entries ``sel``
+        (all, or the stale ones), from their current shape, waypoint and position: the
+        gradient's candidate of this block (line 18: the first entry of the smallest hop among
+        this shape's entries), the surrounding waypoints it holds as goals (lines 21-22) and the
+        ones it claims (line 26: wp) or a lexically larger sender heads for (line 28)."""
+        R, S = b.R[sel], b.S[sel]
+        E = len(R)
+        if not E:
+            return
         I, F = b.I, b.F                      # by sender slot: only the fields used are gathered
-        if b.ewh is None:
-            nb = len(b.R)
-            b.ewh, b.eg = np.zeros(nb, np.int64), np.zeros(nb, np.int64)
-        if stale.any():
-            gS = np.flatnonzero(stale)
-            b.kshape[gS], b.kwx[gS], b.kwy[gS] = self.shape[gS], self.wx[gS], self.wy[gS]
-            b.kpx[gS], b.kpy[gS] = self.px[gS], self.py[gS]
-        sel = np.flatnonzero(need_wh[b.R])
-        E = len(sel)
-        if E:
-            R = b.R[sel]
-            sub = sel[stale[R] | ~b.eok_wh[sel]]
-            if len(sub):                     # the receipts' own bits
-                Rs, Ss = b.R[sub], b.S[sub]
-                wx, wy, px = self.wx[Rs], self.wy[Rs], self.px[Rs]
-                fx = F[0][Ss]
-                gt = (fx > px) | ((fx == px) & (F[1][Ss] > self.py[Rs]))
-                sm = np.minimum(I[COMP][Ss], self.last) == self.shape[Rs]
-                b.ewh[sub] = _wait_held(_bits(I[WPX][Ss] - wx, I[WPY][Ss] - wy)
-                                        | np.where(gt, _bits(I[NSX][Ss] - wx, I[NSY][Ss] - wy), 0),
-                                        np.where(sm, _bits(I[TX][Ss] - wx, I[TY][Ss] - wy) & 15, 0))
-                b.eok_wh[sub] = True
-            starts = _run_starts(R)
-            gR = R[starts]
-            wh = np.bitwise_or.reduceat(b.ewh[sel], starts)
-            b.wait[gR], b.held[gR] = wh & _WAIT_MASK, wh >> _HELD_SHIFT
-            b.rdirty_wh[gR] = False
-        sel = np.flatnonzero(need_g[b.R])
-        E = len(sel)
-        if E:
-            R = b.R[sel]
-            sub = sel[stale[R] | ~b.eok_g[sel]]
-            if len(sub):                     # the receipts' hop codes (another shape's message: none)
-                Rs, Ss = b.R[sub], b.S[sub]
-                sm = np.minimum(I[COMP][Ss], self.last) == self.shape[Rs]
-                b.eg[sub] = np.where(sm, _hop_code(I[HOP][Ss]), _HOP_CAP + 1)
-                b.eok_g[sub] = True
-            starts = _run_starts(R)
-            gR = R[starts]
-            # line 18: the smallest hop, and the first entry holding it, in one minimum of code and position
-            kmin = np.minimum.reduceat((b.eg[sel] << 32) | np.arange(E), starts)
-            b.ghop[gR] = _hop_of(kmin >> 32)
-            sf = b.S[sel[kmin & _POS_MASK]]
-            b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
-            b.rdirty_g[gR] = False
+        head = np.empty(E, dtype=bool)       # first entry of each receiver's run (R is sorted)
+        head[0] = True
+        np.not_equal(R[1:], R[:-1], out=head[1:])
+        starts = np.flatnonzero(head)
+        gR = R[starts]
+        wx, wy, px = self.wx[R], self.wy[R], self.px[R]
+        fx = F[0][S]
+        gt = (fx > px) | ((fx == px) & (F[1][S] > self.py[R]))
+        wb = _bits(I[WPX][S] - wx, I[WPY][S] - wy) | np.where(gt, _bits(I[NSX][S] - wx, I[NSY][S] - wy), 0)
+        b.wait[gR] = np.bitwise_or.reduceat(wb, starts)
+        sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
+        b.held[gR] = np.bitwise_or.reduceat(np.where(sm, _bits(I[TX][S] - wx, I[TY][S] - wy) & 15, 0), starts)
+        b.kshape[gR], b.kwx[gR], b.kwy[gR] = self.shape[gR], self.wx[gR], self.wy[gR]
+        b.kpx[gR], b.kpy[gR] = self.px[gR], self.py[gR]
+        self._gradient(b, R, S, starts, sm)
+
+    def _gradient(self, b, R, S, starts=None, sm=None):
+        """The gradient part of :meth:`_aggregate` alone (line 18: per receiver, the first entry of
+        the smallest hop among this shape's entries), for entries ``R, S`` of whole receivers:
+        it reads only the receiver's shape and the senders' shape count, hop and q_u."""
+        E = len(R)
+        I = b.I
+        if starts is None:
+            head = np.empty(E, dtype=bool)
+            head[0] = True
+            np.not_equal(R[1:], R[:-1], out=head[1:])
+            starts = np.flatnonzero(head)
+            sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
+        gR = R[starts]
+        hop = np.where(sm, I[HOP][S], _NONE)
+        mins = np.minimum.reduceat(hop, starts)
+        # the first entry of each run holding its minimum: the smallest such position
+        at_min = hop == np.repeat(mins, np.diff(starts, append=E))
+        first = np.minimum.reduceat(np.where(at_min, np.arange(E), E), starts)
+        b.ghop[gR] = mins
+        sf = S[first]
+        b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
+        b.gshape[gR] = self.shape[gR]
 
     def _mains(self, now, cutoff):
         """Algorithm 2 lines 9-35 for every agent at a waypoint; returns (movers, dx, dy)."""
@@ -929,9 +848,12 @@ class _Run:
             use = M & b.present & (b.btime >= cutoff)
             stale = use & ((b.kshape != self.shape) | (b.kwx != wx) | (b.kwy != wy) | (b.kpx != self.px)
                            | (b.kpy != self.py))
-            need_wh, need_g = stale | (use & b.rdirty_wh), stale | (use & b.rdirty_g)
-            if need_wh.any() or need_g.any():
-                self._aggregate(b, need_wh, need_g, stale)
+            if stale.any():
+                self._aggregate(b, np.flatnonzero(stale[b.R]))
+            stale = use & (b.gshape != self.shape)          # only the gradient's senders changed
+            if stale.any():
+                sel = np.flatnonzero(stale[b.R])
+                self._gradient(b, b.R[sel], b.S[sel])
             wait |= np.where(use, b.wait, 0)
             held |= np.where(use, b.held, 0)
             h = np.where(use, b.ghop, _NONE)
