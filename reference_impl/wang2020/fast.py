@@ -85,6 +85,8 @@ __all__ = ["simulate_fast", "unsupported", "trace_json"]
 INF = np.int64(1) << 60
 _EPS = 1e-9
 _ROLE = {0: None, 1: "client", 2: "server"}
+#: numpy's ``Generator.random()`` on PCG64: the next 64 bits shifted right by 11, times 2**-53
+_DOUBLE_UNIT = 1.0 / 9007199254740992.0
 #: columns of a message's integer row (Alg. 3's fields); px, py are a float row
 (WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP) = range(10)
 _NI = 10
@@ -282,6 +284,7 @@ class _Run:
         self.by_rank = np.argsort(self.ids, kind="stable")          # slot of the i-th smallest ID
         self.id_rank[self.by_rank] = np.arange(n)
         self.rngs = [_robot_rng(seed, k) for k in range(n)]
+        self.raw = [r.bit_generator.random_raw for r in self.rngs]    # their next 64 bits
         self.l = ctrl.l
         self.shapes = ctrl.shapes
         self.shape_sets = ctrl.shape_sets
@@ -316,7 +319,7 @@ class _Run:
         self.deadline = np.zeros(n)
         self.seq = i64()
         self.send = np.zeros(n, dtype=bool)     # a client's request to send in this tick's exchange
-        self.slot_of = {r: k for k, r in enumerate(self.ids_l)}
+        self.sorted_ids = self.ids[self.by_rank]
         self.swaps = i64()
         self.took_role, self.took_peer, self.took_seq = i64(), i64(), i64()   # state "took" (0: None)
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
@@ -482,35 +485,30 @@ class _Run:
         client's request, in slot order, answered by its server (``Wang2020Controller.answer``),
         then every answer read by its client (``on_reply``), in the same order -- the engine's
         queue order; each peer is a neighbour (its message was just received)."""
-        ks = np.flatnonzero(self.send).tolist()
-        if not ks:
+        ks = np.flatnonzero(self.send)
+        if not len(ks):
             return
         self.send[:] = False
-        ids, role, peer = self.ids_l, self.role, self.peer
-        replies = []
-        for k in ks:
-            if role[k] != 1:
-                continue                                  # the handshake ended this tick (a shape switch)
-            s = self.slot_of[int(peer[k])]
-            if role[s] == 2 and peer[s] == ids[k] and not now[s] > self.deadline[s]:
-                old = (int(self.Tx[s]), int(self.Ty[s]))
-                self.Tx[s], self.Ty[s] = self.hgx[k], self.hgy[k]
-                self.last_check[s] = now[s]
-                role[s] = 0
-                self.swaps[s] += 1
-                self.took_role[s], self.took_peer[s], self.took_seq[s] = 2, ids[k], self.hseq[k]
-                replies.append((k, old))
-            else:
-                replies.append((k, None))
-        for k, old in replies:
-            if role[k] != 1 or now[k] > self.deadline[k]:
-                continue
-            role[k] = 0
-            if old is not None:
-                self.Tx[k], self.Ty[k] = old
-                self.last_check[k] = now[k]
-                self.swaps[k] += 1
-                self.took_role[k], self.took_peer[k], self.took_seq[k] = 1, peer[k], self.hseq[k]
+        role, peer, deadline, Tx, Ty = self.role, self.peer, self.deadline, self.Tx, self.Ty
+        ks = ks[role[ks] == 1]                            # else the handshake ended this tick (a shape switch)
+        # each server answers the one client its peer names (a server is no client): no order between them
+        srv = self.by_rank[np.searchsorted(self.sorted_ids, peer[ks])]
+        ok = (role[srv] == 2) & (peer[srv] == self.ids[ks]) & ~(now[srv] > deadline[srv])
+        a, s = ks[ok], srv[ok]
+        oldx, oldy = Tx[s], Ty[s]
+        Tx[s], Ty[s] = self.hgx[a], self.hgy[a]
+        self.last_check[s] = now[s]
+        role[s] = 0
+        self.swaps[s] += 1
+        self.took_role[s], self.took_peer[s], self.took_seq[s] = 2, self.ids[a], self.hseq[a]
+        # every client reads its answer (its role is still 1: only servers changed above)
+        live = ~(now[ks] > deadline[ks])
+        role[ks[live]] = 0
+        c = ks[ok & live]
+        Tx[c], Ty[c] = oldx[live[ok]], oldy[live[ok]]
+        self.last_check[c] = now[c]
+        self.swaps[c] += 1
+        self.took_role[c], self.took_peer[c], self.took_seq[c] = 1, peer[c], self.hseq[c]
 
     # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
 
@@ -688,37 +686,49 @@ class _Run:
             first = np.minimum.reduceat(np.where(kinds <= 2, pos, nE), starts)
             keep = (pos <= np.repeat(first, np.diff(starts, append=nE))) | (kinds == 1)
             E, RE, kinds, gt = E[keep], RE[keep], kinds[keep], gt[keep]
-        rngs, beta, timeout = self.rngs, self.beta, self.timeout
-        role, peer, hseq, seq, send = self.role, self.peer, self.hseq, self.seq, self.send
-        deadline, Tx, Ty, hgx, hgy = self.deadline, self.Tx, self.Ty, self.hgx, self.hgy
+        raw, beta = self.raw, self.beta
         sid_e = self.ids[S[E]].tolist()
-        now_l = now.tolist()
         blocked = scalar = -1
+        hk, hc, hs = [], [], []              # the handshakes begun: receiver, client side, peer ID
         for e, k, kind, client, sid in zip(E.tolist(), RE.tolist(), kinds.tolist(), gt.tolist(), sid_e):
             if k == scalar or (k == blocked and kind != 1):
                 continue
             if kind == 1:          # the rest of this receiver's receipts, the reference's way
+                if k == blocked:   # its handshake first (written below for the others)
+                    self._begin_handshakes(hk[-1:], hc[-1:], hs[-1:], now)
+                    del hk[-1], hc[-1], hs[-1]
                 end = int(np.searchsorted(R, k, side="right"))
                 ids_s = self.ids[S[e:end]].tolist()
                 rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
+                now_k = float(now[k])
                 for sid_j, row, frow in zip(ids_s, rows, frows):
-                    self._gm(k, now_l[k], sid_j, row, frow)
+                    self._gm(k, now_k, sid_j, row, frow)
                 scalar = k
                 continue
-            # kind 3: equal cost, the agent's own draw (line 16); kind 2: a lower cost (line 11)
-            if kind == 3 and not rngs[k].random() < beta:
+            # kind 3: equal cost, the agent's own draw (line 16: ``rng.random() < beta``, the double
+            # of the next 64 random bits, as numpy's PCG64 makes it); kind 2: a lower cost (line 11)
+            if kind == 3 and not (raw[k]() >> 11) * _DOUBLE_UNIT < beta:
                 continue
-            # _gm's handshake (Sec. III-A): client when the sender is lexically larger
-            if client:
-                seq[k] += 1
-                role[k], hseq[k] = 1, seq[k]
-                send[k] = True
-            else:
-                role[k], hseq[k] = 2, -1
-            peer[k] = sid
-            deadline[k] = now_l[k] + timeout
-            hgx[k], hgy[k] = Tx[k], Ty[k]
+            hk.append(k)
+            hc.append(client)
+            hs.append(sid)
             blocked = k
+        if hk:
+            self._begin_handshakes(hk, hc, hs, now)
+
+    def _begin_handshakes(self, ks, client, sids, now) -> None:
+        """:meth:`_gm`'s handshake (Sec. III-A) for receivers ``ks`` (each once), the client side
+        where ``client`` (the sender lexically larger), with peers ``sids``."""
+        ks = np.array(ks, dtype=np.int64)
+        client = np.array(client, dtype=bool)
+        kc, kv = ks[client], ks[~client]
+        self.seq[kc] += 1
+        self.role[kc], self.hseq[kc] = 1, self.seq[kc]
+        self.send[kc] = True
+        self.role[kv], self.hseq[kv] = 2, -1
+        self.peer[ks] = sids
+        self.deadline[ks] = now[ks] + self.timeout
+        self.hgx[ks], self.hgy[ks] = self.Tx[ks], self.Ty[ks]
 
     def _gm_kinds(self, R, S, I, F):
         """What each receipt does to its receiver in :meth:`_gm`, from the receiver's current
