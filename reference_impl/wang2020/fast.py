@@ -187,6 +187,13 @@ def _within(dx, dy, lim):
     return ok
 
 
+#: line 18's minimum as one integer (:meth:`_Run._gradient`): a finite hop count (below
+#: ``_HOP_CAP``), INF as ``_HOP_CAP``, no entry of the shape ``_HOP_CAP + 1``; times 2**32 plus the
+#: entry's position (below 2**32)
+_HOP_CAP = 1 << 30
+_POS_MASK = (1 << 32) - 1
+
+
 class _Block:
     """One tick's receipts in msg_buff (every receiver's, sorted by receiver then sender ID) and,
     per receiver, what Algorithm 2 reads of them (:meth:`_Run._aggregate`), with the receiver's
@@ -477,6 +484,8 @@ class _Run:
         I[WPX], I[WPY], I[NSX], I[NSY] = self.wx, self.wy, self.nx, self.ny
         I[TX], I[TY], I[QX], I[QY] = self.Tx, self.Ty, self.qx, self.qy
         I[HOP], I[COMP] = self.hop, self.completed
+        if ((self.hop >= _HOP_CAP) & (self.hop != INF)).any():
+            raise AssertionError("a hop count of 2**30 or more: outside the gradient's codes (_Run._gradient)")
         return I, np.stack((self.px, self.py))
 
     def exchange(self, now) -> None:
@@ -829,13 +838,13 @@ class _Run:
             starts = np.flatnonzero(head)
             sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
         gR = R[starts]
-        hop = np.where(sm, I[HOP][S], _NONE)
-        mins = np.minimum.reduceat(hop, starts)
-        # the first entry of each run holding its minimum: the smallest such position
-        at_min = hop == np.repeat(mins, np.diff(starts, append=E))
-        first = np.minimum.reduceat(np.where(at_min, np.arange(E), E), starts)
-        b.ghop[gR] = mins
-        sf = S[first]
+        # the smallest hop and the first entry holding it, as one minimum of (code, position): the
+        # codes keep the order of finite hop counts (below _HOP_CAP, Run.outbox), INF and none
+        code = np.where(sm, np.minimum(I[HOP][S], _HOP_CAP), _HOP_CAP + 1)
+        kmin = np.minimum.reduceat((code << 32) | np.arange(E), starts)
+        code = kmin >> 32
+        b.ghop[gR] = np.where(code < _HOP_CAP, code, np.where(code == _HOP_CAP, INF, _NONE))
+        sf = S[kmin & _POS_MASK]
         b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
         b.gshape[gR] = self.shape[gR]
 
