@@ -683,47 +683,52 @@ class _Run:
         if not len(E):
             return
         RE = R[E]
-        if len(E) > 64:
-            # the pass below skips a receiver's receipts after its first kind 1 or 2 (scalar
-            # path, or blocked in a handshake) but kind 1: drop them here, in bulk
-            nE = len(E)
-            head = np.empty(nE, dtype=bool)
-            head[0] = True
-            np.not_equal(RE[1:], RE[:-1], out=head[1:])
-            starts = np.flatnonzero(head)
-            pos = np.arange(nE)
-            first = np.minimum.reduceat(np.where(kinds <= 2, pos, nE), starts)
-            keep = (pos <= np.repeat(first, np.diff(starts, append=nE))) | (kinds == 1)
-            E, RE, kinds, gt = E[keep], RE[keep], kinds[keep], gt[keep]
+        nE = len(E)
+        head = np.empty(nE, dtype=bool)       # each receiver's run of E
+        head[0] = True
+        np.not_equal(RE[1:], RE[:-1], out=head[1:])
+        starts = np.flatnonzero(head)
+        pos = np.arange(nE)
+        # the first kind 1 at or after each entry (nE: none); its run ends at ``ends``
+        nxt1 = np.minimum.accumulate(np.where(kinds == 1, pos, nE)[::-1])[::-1].tolist()
+        ends = starts[1:].tolist() + [nE]
         raw, beta = self.raw, self.beta
+        E_l, kinds_l, gt_l = E.tolist(), kinds.tolist(), gt.tolist()
         sid_e = self.ids[S[E]].tolist()
-        blocked = scalar = -1
         hk, hc, hs = [], [], []              # the handshakes begun: receiver, client side, peer ID
-        for e, k, kind, client, sid in zip(E.tolist(), RE.tolist(), kinds.tolist(), gt.tolist(), sid_e):
-            if k == scalar or (k == blocked and kind != 1):
-                continue
-            if kind == 1:          # the rest of this receiver's receipts, the reference's way
-                if k == blocked:   # its handshake first (written below for the others)
-                    self._begin_handshakes(hk[-1:], hc[-1:], hs[-1:], now)
-                    del hk[-1], hc[-1], hs[-1]
-                end = int(np.searchsorted(R, k, side="right"))
-                ids_s = self.ids[S[e:end]].tolist()
-                rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
-                now_k = float(now[k])
-                for sid_j, row, frow in zip(ids_s, rows, frows):
-                    self._gm(k, now_k, sid_j, row, frow)
-                scalar = k
-                continue
-            # kind 3: equal cost, the agent's own draw (line 16: ``rng.random() < beta``, the double
-            # of the next 64 random bits, as numpy's PCG64 makes it); kind 2: a lower cost (line 11)
-            if kind == 3 and not (raw[k]() >> 11) * _DOUBLE_UNIT < beta:
-                continue
-            hk.append(k)
-            hc.append(client)
-            hs.append(sid)
-            blocked = k
+        for k, i, end in zip(RE[starts].tolist(), starts.tolist(), ends):
+            while True:
+                kind = kinds_l[i]
+                if kind == 1:      # the rest of this receiver's receipts, the reference's way
+                    self._gm_rest(k, E_l[i], R, S, I, F, now)
+                    break
+                # kind 3: equal cost, the agent's own draw (line 16: ``rng.random() < beta``, the
+                # double of the next 64 random bits, as numpy's PCG64 makes it); kind 2: a lower
+                # cost (line 11).  Either begins a handshake: then only a kind 1 acts on it.
+                if kind == 2 or (raw[k]() >> 11) * _DOUBLE_UNIT < beta:
+                    j = nxt1[i + 1] if i + 1 < end else nE
+                    if j < end:    # its handshake first (written below for the others)
+                        self._begin_handshakes([k], [gt_l[i]], [sid_e[i]], now)
+                        self._gm_rest(k, E_l[j], R, S, I, F, now)
+                    else:
+                        hk.append(k)
+                        hc.append(gt_l[i])
+                        hs.append(sid_e[i])
+                    break
+                i += 1
+                if i == end:
+                    break
         if hk:
             self._begin_handshakes(hk, hc, hs, now)
+
+    def _gm_rest(self, k, e, R, S, I, F, now) -> None:
+        """:meth:`_gm` on receiver k's receipts from receipt ``e`` to the end of its run."""
+        end = int(np.searchsorted(R, k, side="right"))
+        ids_s = self.ids[S[e:end]].tolist()
+        rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
+        now_k = float(now[k])
+        for sid_j, row, frow in zip(ids_s, rows, frows):
+            self._gm(k, now_k, sid_j, row, frow)
 
     def _begin_handshakes(self, ks, client, sids, now) -> None:
         """:meth:`_gm`'s handshake (Sec. III-A) for receivers ``ks`` (each once), the client side
