@@ -130,8 +130,6 @@ def unsupported(algorithm, params, *, faults=None, record_messages: bool = False
     return None
 
 
-#: no entry of the agent's shape in a block (above INF, so it never wins line 18's minimum)
-_NONE = INF * 2
 #: the surrounding waypoints of Alg. 2 lines 21-24 in their order W, S, E, N, and their bit of ``held``
 _NEAR_DX = np.array([[-1], [0], [1], [0]], dtype=np.int64)
 _NEAR_DY = np.array([[0], [-1], [0], [1]], dtype=np.int64)
@@ -188,9 +186,10 @@ def _within(dx, dy, lim):
 
 
 #: line 18's minimum as one integer (:meth:`_Run._gradient`): a finite hop count (below
-#: ``_HOP_CAP``), INF as ``_HOP_CAP``, no entry of the shape ``_HOP_CAP + 1``; times 2**32 plus the
-#: entry's position (below 2**32)
+#: ``_HOP_CAP``), INF as ``_HOP_CAP``, no entry of the shape ``_NO_HOP``; times 2**32 plus the
+#: entry's position (below 2**32).  A block's ``ghop`` holds these codes.
 _HOP_CAP = 1 << 30
+_NO_HOP = _HOP_CAP + 1
 _POS_MASK = (1 << 32) - 1
 
 
@@ -212,7 +211,7 @@ class _Block:
         self.btime = now                       # every receiver's clock at receipt (all tick at rate 1)
         self.present = np.bincount(R, minlength=n) > 0 if present is None else present
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
-        self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
+        self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NO_HOP), z(), z(), z(), z()
         self.kshape, self.kwx, self.kwy = np.full(n, -1), z(), z()   # shape -1: not computed yet
         self.gshape = np.full(n, -1)
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
@@ -845,10 +844,9 @@ class _Run:
         gR = R[starts]
         # the smallest hop and the first entry holding it, as one minimum of (code, position): the
         # codes keep the order of finite hop counts (below _HOP_CAP, Run.outbox), INF and none
-        code = np.where(sm, np.minimum(I[HOP][S], _HOP_CAP), _HOP_CAP + 1)
+        code = np.where(sm, np.minimum(I[HOP][S], _HOP_CAP), _NO_HOP)
         kmin = np.minimum.reduceat((code << 32) | np.arange(E), starts)
-        code = kmin >> 32
-        b.ghop[gR] = np.where(code < _HOP_CAP, code, np.where(code == _HOP_CAP, INF, _NONE))
+        b.ghop[gR] = kmin >> 32
         sf = S[kmin & _POS_MASK]
         b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
         b.gshape[gR] = self.shape[gR]
@@ -864,7 +862,7 @@ class _Run:
         self.nx = np.where(M, nx, self.nx)
         self.ny = np.where(M, ny, self.ny)
         # msg_buff, block by block, oldest first (the deque's order)
-        best = np.full(n, _NONE, dtype=np.int64)
+        best = np.full(n, _NO_HOP, dtype=np.int64)
         bqx, bqy = np.zeros(n, np.int64), np.zeros(n, np.int64)
         held = np.zeros(n, np.int64)
         wait = np.zeros(n, np.int64)
@@ -880,14 +878,15 @@ class _Run:
                 self._gradient(b, b.R[sel], b.S[sel])
             wait |= np.where(use, b.wait, 0)
             held |= np.where(use, b.held, 0)
-            h = np.where(use, b.ghop, _NONE)
-            # line 18: the first of the smallest hop; an older block keeps ties; none finite -> the first entry
-            take = (h != _NONE) & ((best == _NONE) | ((h != INF) & ((best == INF) | (h < best))))
+            h = np.where(use, b.ghop, _NO_HOP)
+            # line 18: the first of the smallest hop; an older block keeps ties; none finite -> the
+            # first entry (in codes: finite < INF < none, so a block's candidate wins iff smaller)
+            take = h < best
             if take.any():
-                best[take] = h[take]
-                bqx[take], bqy[take] = b.gqx[take], b.gqy[take]
-        g = best != _NONE
-        self.hop = np.where(g, np.where(best == INF, INF, best + 1), self.hop)             # line 19
+                best = np.minimum(best, h)
+                bqx, bqy = np.where(take, b.gqx, bqx), np.where(take, b.gqy, bqy)
+        g = best != _NO_HOP
+        self.hop = np.where(g, np.where(best == _HOP_CAP, INF, best + 1), self.hop)        # line 19
         self.qx = np.where(g, bqx, self.qx)                                                  # line 20
         self.qy = np.where(g, bqy, self.qy)
         if g.any():                                                                          # lines 21-24
