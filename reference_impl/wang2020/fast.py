@@ -334,6 +334,7 @@ class _Run:
         self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
         self._nb = None                 # the last neighbour pairs: (xy, keys, receivers, senders)
+        self._vl = None                 # the Verlet list (_verlet)
         self.moved = np.ones(n, dtype=bool)
         self._last = None               # the last tick's block, messages and broadcast flags
 
@@ -607,7 +608,8 @@ class _Run:
         agents and adds theirs again from the same exact test (:func:`_within`) against every
         agent (``hypot`` is symmetric in sign, so the distance is the same bits whichever end is
         subtracted), then sorts the keys again (a stable sort of one sorted run and a short tail);
-        the result is the same arrays as a full computation."""
+        the result is the same arrays as a full computation.  Where many agents moved (above 50
+        agents) the same exact test runs on a kept list of candidate pairs (:meth:`_verlet`)."""
         n = self.n
         prev = self._nb
         if prev is not None:
@@ -622,15 +624,12 @@ class _Run:
         mask[moved] = True
         self.moved = mask
         lim = phi * INCLUSIVE_SLACK
-        if prev is None or len(moved) * 4 > n:      # many moved: everything again (the engine's search)
-            if n <= _BRUTE_MAX:
-                i, j, _ = neighbor_pairs(xy, phi, True)
-            else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
-                pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
-                i, j = pr[:, 0], pr[:, 1]
-                d = xy[j] - xy[i]
-                ok = _within(d[:, 0], d[:, 1], lim)
-                i, j = i[ok], j[ok]
+        if n > _BRUTE_MAX and (prev is None or len(moved) * 16 > n):   # many moved: the Verlet list
+            got = self._verlet(xy, phi, lim, prev)
+            self._nb = (xy.copy(),) + got
+            return got
+        if prev is None or len(moved) * 4 > n:      # (up to 50 agents) everything again: the engine's search
+            i, j, _ = neighbor_pairs(xy, phi, True)
             K = np.sort(np.concatenate((i * n + self.id_rank[j], j * n + self.id_rank[i])))
             R = K // n
             S = self.by_rank[K - R * n]
@@ -663,6 +662,36 @@ class _Run:
             K, R, S = K[o], R[o], S[o]
         self._nb = (xy.copy(), K, R, S)
         return K, R, S
+
+    def _verlet(self, xy, phi, lim, prev):
+        """``(K, R, S)`` of :meth:`_pairs` from a Verlet list: every pair within ``lim + skin``
+        (``skin = phi / 6``) when the list was built, so every pair within ``lim`` now while no agent
+        has moved more than ``skin / 2`` since (the triangle inequality; rebuilt otherwise); the
+        exact test (:func:`_within`) on the candidates, in key order, gives the set sorted.
+        Returns the last call's arrays themselves when the set did not change."""
+        n = self.n
+        skin = phi / 6.0
+        vl = self._vl
+        if vl is not None:
+            d = xy - vl[0]
+            far = float(((d * d).sum(axis=1)).max()) > (0.5 * skin * (1 - 1e-6)) ** 2
+        if vl is None or far:
+            pr = cKDTree(xy).query_pairs(r=(lim + skin) * _INFLATE, output_type="ndarray")
+            i, j = pr[:, 0].astype(np.int64), pr[:, 1].astype(np.int64)
+            keys = np.concatenate((i * n + self.id_rank[j], j * n + self.id_rank[i]))
+            o = np.argsort(keys)
+            VK = keys[o]
+            VR = VK // n
+            vl = self._vl = (xy.copy(), i, j, VK, VR, self.by_rank[VK - VR * n],
+                             np.concatenate((np.arange(len(i)), np.arange(len(i))))[o], None)
+        _, i, j, VK, VR, VS, VU, last = vl
+        ok = _within(xy[j, 0] - xy[i, 0], xy[j, 1] - xy[i, 1], lim)[VU]
+        # the last arrays are this list's of the same set (no other path made them since)
+        if last is not None and prev is not None and prev[1] is last[1] and np.array_equal(ok, last[0]):
+            return prev[1:]
+        got = VK[ok], VR[ok], VS[ok]
+        self._vl = vl[:7] + ((ok, got[0]),)
+        return got
 
     def _goal_managers(self, R, S, I, F, now):
         """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module
