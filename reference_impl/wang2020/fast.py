@@ -23,14 +23,18 @@ How the sequential parts stay exact
   agent's number first, and the first message that may change anything else
   hands that receiver's remaining messages to a scalar copy of
   ``_goal_manager``.  Every random number is drawn from the agent's own
-  generator, in the reference's order.
+  generator, in the reference's order (line 16's ``random() < beta`` from the
+  generator's raw 64 bits, the same double).  The handshakes begun are written
+  in bulk after the pass, and the exchange answers them in bulk (a server
+  answers only the client its peer names).
 * **msg_buff** (Alg. 2 line 15) is a list of per-tick blocks (every receipt of a
   tick, sorted by receiver then sender ID, as the deque holds them); an entry
   expires by the reference's own float test, ``time < clock() - Delta t``.
   Line 18's "first of the smallest hop" is found per block and combined oldest
   first, which is the deque's order.
 * **Kept across ticks** (agents rest on their cells most ticks): the neighbour pairs
-  are recomputed only around agents that moved (:meth:`_Run._pairs`), a tick's block
+  are recomputed only around agents that moved, or, when many moved, from a Verlet list of
+  candidates (:meth:`_Run._pairs`, :meth:`_Run._verlet`), a tick's block
   takes the last block's aggregates for every receiver whose receipts did not change
   (:meth:`_Run._carry_over`), and receipts between two agents resting on their goals
   are screened out of Algorithm 4 per agent (:meth:`_Run._gm_kinds`); each gives what
