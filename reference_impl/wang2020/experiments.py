@@ -367,6 +367,7 @@ class ProgressObserver:
 
     def start(self, ids) -> None:
         self.prev = None
+        self._on = None             # per agent: the goal-grid cell it rests on (flat index), or -1
         self.distance = 0.0
         self.formed_step = None
         self.series = []          # (step, goals occupied, distance)
@@ -384,6 +385,34 @@ class ProgressObserver:
         held[c[:, 0], c[:, 1]] = True
         return int(np.count_nonzero(held & self._grid))
 
+    def _resting_cells(self, xy) -> np.ndarray:
+        """Per agent (rows of ``xy``, metres), the flat index in the goals' bounding box of the cell
+        it rests on, or -1 (moving, or outside the box): :meth:`occupied`'s test, row by row."""
+        xy = xy / self.l
+        cells = np.rint(xy)
+        rest = np.abs(xy - cells).max(axis=1) <= 1e-9
+        c = cells.astype(np.int64) - self._lo
+        shape = self._grid.shape
+        ok = rest & (c[:, 0] >= 0) & (c[:, 1] >= 0) & (c[:, 0] < shape[0]) & (c[:, 1] < shape[1])
+        return np.where(ok, c[:, 0] * shape[1] + c[:, 1], -1)
+
+    def _occupied_since(self, xy) -> int:
+        """:meth:`occupied` of the positions ``xy`` (metres), updated from the last call's for the
+        agents whose position changed since (agents per cell of the box, counted)."""
+        if self._on is None:
+            self._on = self._resting_cells(xy)
+            self._count = np.bincount(self._on[self._on >= 0], minlength=self._grid.size)
+            self._on_xy = xy
+            return int(np.count_nonzero((self._count > 0) & self._grid.ravel()))
+        last, self._on_xy = self._on_xy, xy
+        moved = np.flatnonzero((xy[:, 0] != last[:, 0]) | (xy[:, 1] != last[:, 1]))
+        if len(moved):
+            old, new = self._on[moved], self._resting_cells(xy[moved])
+            np.subtract.at(self._count, old[old >= 0], 1)
+            np.add.at(self._count, new[new >= 0], 1)
+            self._on[moved] = new
+        return int(np.count_nonzero((self._count > 0) & self._grid.ravel()))
+
     def observe(self, t, poses, states, present) -> None:
         if self.prev is not None:
             d = poses[:, :2] - self.prev
@@ -391,7 +420,7 @@ class ProgressObserver:
         self.prev = np.array(poses[:, :2])
         occ = None
         if self.formed_step is None or t % self.every == 0:
-            occ = self.occupied(poses)
+            occ = self._occupied_since(self.prev)
             if self.formed_step is None and occ == len(self.goals):
                 self.formed_step = t
         if t % self.every == 0:

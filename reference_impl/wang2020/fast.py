@@ -23,14 +23,18 @@ How the sequential parts stay exact
   agent's number first, and the first message that may change anything else
   hands that receiver's remaining messages to a scalar copy of
   ``_goal_manager``.  Every random number is drawn from the agent's own
-  generator, in the reference's order.
+  generator, in the reference's order (line 16's ``random() < beta`` from the
+  generator's raw 64 bits, the same double).  The handshakes begun are written
+  in bulk after the pass, and the exchange answers them in bulk (a server
+  answers only the client its peer names).
 * **msg_buff** (Alg. 2 line 15) is a list of per-tick blocks (every receipt of a
   tick, sorted by receiver then sender ID, as the deque holds them); an entry
   expires by the reference's own float test, ``time < clock() - Delta t``.
   Line 18's "first of the smallest hop" is found per block and combined oldest
   first, which is the deque's order.
 * **Kept across ticks** (agents rest on their cells most ticks): the neighbour pairs
-  are recomputed only around agents that moved (:meth:`_Run._pairs`), a tick's block
+  are recomputed only around agents that moved, or, when many moved, from a Verlet list of
+  candidates (:meth:`_Run._pairs`, :meth:`_Run._verlet`), a tick's block
   takes the last block's aggregates for every receiver whose receipts did not change
   (:meth:`_Run._carry_over`), and receipts between two agents resting on their goals
   are screened out of Algorithm 4 per agent (:meth:`_Run._gm_kinds`); each gives what
@@ -85,6 +89,8 @@ __all__ = ["simulate_fast", "unsupported", "trace_json"]
 INF = np.int64(1) << 60
 _EPS = 1e-9
 _ROLE = {0: None, 1: "client", 2: "server"}
+#: numpy's ``Generator.random()`` on PCG64: the next 64 bits shifted right by 11, times 2**-53
+_DOUBLE_UNIT = 1.0 / 9007199254740992.0
 #: columns of a message's integer row (Alg. 3's fields); px, py are a float row
 (WPX, WPY, NSX, NSY, TX, TY, QX, QY, HOP, COMP) = range(10)
 _NI = 10
@@ -128,8 +134,6 @@ def unsupported(algorithm, params, *, faults=None, record_messages: bool = False
     return None
 
 
-#: no entry of the agent's shape in a block (above INF, so it never wins line 18's minimum)
-_NONE = INF * 2
 #: the surrounding waypoints of Alg. 2 lines 21-24 in their order W, S, E, N, and their bit of ``held``
 _NEAR_DX = np.array([[-1], [0], [1], [0]], dtype=np.int64)
 _NEAR_DY = np.array([[0], [-1], [0], [1]], dtype=np.int64)
@@ -185,6 +189,14 @@ def _within(dx, dy, lim):
     return ok
 
 
+#: line 18's minimum as one integer (:meth:`_Run._gradient`): a finite hop count (below
+#: ``_HOP_CAP``), INF as ``_HOP_CAP``, no entry of the shape ``_NO_HOP``; times 2**32 plus the
+#: entry's position (below 2**32).  A block's ``ghop`` holds these codes.
+_HOP_CAP = 1 << 30
+_NO_HOP = _HOP_CAP + 1
+_POS_MASK = (1 << 32) - 1
+
+
 class _Block:
     """One tick's receipts in msg_buff (every receiver's, sorted by receiver then sender ID) and,
     per receiver, what Algorithm 2 reads of them (:meth:`_Run._aggregate`), with the receiver's
@@ -203,7 +215,7 @@ class _Block:
         self.btime = now                       # every receiver's clock at receipt (all tick at rate 1)
         self.present = np.bincount(R, minlength=n) > 0 if present is None else present
         z = lambda: np.zeros(n, dtype=np.int64)  # noqa: E731
-        self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NONE), z(), z(), z(), z()
+        self.ghop, self.gqx, self.gqy, self.held, self.wait = np.full(n, _NO_HOP), z(), z(), z(), z()
         self.kshape, self.kwx, self.kwy = np.full(n, -1), z(), z()   # shape -1: not computed yet
         self.gshape = np.full(n, -1)
         self.kpx, self.kpy = np.zeros(n), np.zeros(n)
@@ -282,6 +294,7 @@ class _Run:
         self.by_rank = np.argsort(self.ids, kind="stable")          # slot of the i-th smallest ID
         self.id_rank[self.by_rank] = np.arange(n)
         self.rngs = [_robot_rng(seed, k) for k in range(n)]
+        self.raw = [r.bit_generator.random_raw for r in self.rngs]    # their next 64 bits
         self.l = ctrl.l
         self.shapes = ctrl.shapes
         self.shape_sets = ctrl.shape_sets
@@ -316,7 +329,7 @@ class _Run:
         self.deadline = np.zeros(n)
         self.seq = i64()
         self.send = np.zeros(n, dtype=bool)     # a client's request to send in this tick's exchange
-        self.slot_of = {r: k for k, r in enumerate(self.ids_l)}
+        self.sorted_ids = self.ids[self.by_rank]
         self.swaps = i64()
         self.took_role, self.took_peer, self.took_seq = i64(), i64(), i64()   # state "took" (0: None)
         self.blocks: list = []          # msg_buff: per tick, dict of arrays sorted by (receiver, sender id)
@@ -325,6 +338,7 @@ class _Run:
         self.cutoff = self.prev_cutoff = None
         self.grid_poses = poses
         self._nb = None                 # the last neighbour pairs: (xy, keys, receivers, senders)
+        self._vl = None                 # the Verlet list (_verlet)
         self.moved = np.ones(n, dtype=bool)
         self._last = None               # the last tick's block, messages and broadcast flags
 
@@ -474,6 +488,8 @@ class _Run:
         I[WPX], I[WPY], I[NSX], I[NSY] = self.wx, self.wy, self.nx, self.ny
         I[TX], I[TY], I[QX], I[QY] = self.Tx, self.Ty, self.qx, self.qy
         I[HOP], I[COMP] = self.hop, self.completed
+        if ((self.hop >= _HOP_CAP) & (self.hop != INF)).any():
+            raise AssertionError("a hop count of 2**30 or more: outside the gradient's codes (_Run._gradient)")
         return I, np.stack((self.px, self.py))
 
     def exchange(self, now) -> None:
@@ -482,35 +498,30 @@ class _Run:
         client's request, in slot order, answered by its server (``Wang2020Controller.answer``),
         then every answer read by its client (``on_reply``), in the same order -- the engine's
         queue order; each peer is a neighbour (its message was just received)."""
-        ks = np.flatnonzero(self.send).tolist()
-        if not ks:
+        ks = np.flatnonzero(self.send)
+        if not len(ks):
             return
         self.send[:] = False
-        ids, role, peer = self.ids_l, self.role, self.peer
-        replies = []
-        for k in ks:
-            if role[k] != 1:
-                continue                                  # the handshake ended this tick (a shape switch)
-            s = self.slot_of[int(peer[k])]
-            if role[s] == 2 and peer[s] == ids[k] and not now[s] > self.deadline[s]:
-                old = (int(self.Tx[s]), int(self.Ty[s]))
-                self.Tx[s], self.Ty[s] = self.hgx[k], self.hgy[k]
-                self.last_check[s] = now[s]
-                role[s] = 0
-                self.swaps[s] += 1
-                self.took_role[s], self.took_peer[s], self.took_seq[s] = 2, ids[k], self.hseq[k]
-                replies.append((k, old))
-            else:
-                replies.append((k, None))
-        for k, old in replies:
-            if role[k] != 1 or now[k] > self.deadline[k]:
-                continue
-            role[k] = 0
-            if old is not None:
-                self.Tx[k], self.Ty[k] = old
-                self.last_check[k] = now[k]
-                self.swaps[k] += 1
-                self.took_role[k], self.took_peer[k], self.took_seq[k] = 1, peer[k], self.hseq[k]
+        role, peer, deadline, Tx, Ty = self.role, self.peer, self.deadline, self.Tx, self.Ty
+        ks = ks[role[ks] == 1]                            # else the handshake ended this tick (a shape switch)
+        # each server answers the one client its peer names (a server is no client): no order between them
+        srv = self.by_rank[np.searchsorted(self.sorted_ids, peer[ks])]
+        ok = (role[srv] == 2) & (peer[srv] == self.ids[ks]) & ~(now[srv] > deadline[srv])
+        a, s = ks[ok], srv[ok]
+        oldx, oldy = Tx[s], Ty[s]
+        Tx[s], Ty[s] = self.hgx[a], self.hgy[a]
+        self.last_check[s] = now[s]
+        role[s] = 0
+        self.swaps[s] += 1
+        self.took_role[s], self.took_peer[s], self.took_seq[s] = 2, self.ids[a], self.hseq[a]
+        # every client reads its answer (its role is still 1: only servers changed above)
+        live = ~(now[ks] > deadline[ks])
+        role[ks[live]] = 0
+        c = ks[ok & live]
+        Tx[c], Ty[c] = oldx[live[ok]], oldy[live[ok]]
+        self.last_check[c] = now[c]
+        self.swaps[c] += 1
+        self.took_role[c], self.took_peer[c], self.took_seq[c] = 1, peer[c], self.hseq[c]
 
     # -- one tick of every agent (Wang2020Controller.step) -------------------------------------
 
@@ -601,7 +612,8 @@ class _Run:
         agents and adds theirs again from the same exact test (:func:`_within`) against every
         agent (``hypot`` is symmetric in sign, so the distance is the same bits whichever end is
         subtracted), then sorts the keys again (a stable sort of one sorted run and a short tail);
-        the result is the same arrays as a full computation."""
+        the result is the same arrays as a full computation.  Where many agents moved (above 50
+        agents) the same exact test runs on a kept list of candidate pairs (:meth:`_verlet`)."""
         n = self.n
         prev = self._nb
         if prev is not None:
@@ -616,15 +628,12 @@ class _Run:
         mask[moved] = True
         self.moved = mask
         lim = phi * INCLUSIVE_SLACK
-        if prev is None or len(moved) * 4 > n:      # many moved: everything again (the engine's search)
-            if n <= _BRUTE_MAX:
-                i, j, _ = neighbor_pairs(xy, phi, True)
-            else:   # neighbor_pairs' candidates and exact filter, without its (i, j) sort: sorted below
-                pr = cKDTree(xy).query_pairs(r=phi * _INFLATE, output_type="ndarray")
-                i, j = pr[:, 0], pr[:, 1]
-                d = xy[j] - xy[i]
-                ok = _within(d[:, 0], d[:, 1], lim)
-                i, j = i[ok], j[ok]
+        if n > _BRUTE_MAX and (prev is None or len(moved) * 16 > n):   # many moved: the Verlet list
+            got = self._verlet(xy, phi, lim, prev)
+            self._nb = (xy.copy(),) + got
+            return got
+        if prev is None or len(moved) * 4 > n:      # (up to 50 agents) everything again: the engine's search
+            i, j, _ = neighbor_pairs(xy, phi, True)
             K = np.sort(np.concatenate((i * n + self.id_rank[j], j * n + self.id_rank[i])))
             R = K // n
             S = self.by_rank[K - R * n]
@@ -658,6 +667,36 @@ class _Run:
         self._nb = (xy.copy(), K, R, S)
         return K, R, S
 
+    def _verlet(self, xy, phi, lim, prev):
+        """``(K, R, S)`` of :meth:`_pairs` from a Verlet list: every pair within ``lim + skin``
+        (``skin = phi / 6``) when the list was built, so every pair within ``lim`` now while no agent
+        has moved more than ``skin / 2`` since (the triangle inequality; rebuilt otherwise); the
+        exact test (:func:`_within`) on the candidates, in key order, gives the set sorted.
+        Returns the last call's arrays themselves when the set did not change."""
+        n = self.n
+        skin = phi / 6.0
+        vl = self._vl
+        if vl is not None:
+            d = xy - vl[0]
+            far = float(((d * d).sum(axis=1)).max()) > (0.5 * skin * (1 - 1e-6)) ** 2
+        if vl is None or far:
+            pr = cKDTree(xy).query_pairs(r=(lim + skin) * _INFLATE, output_type="ndarray")
+            i, j = pr[:, 0].astype(np.int64), pr[:, 1].astype(np.int64)
+            keys = np.concatenate((i * n + self.id_rank[j], j * n + self.id_rank[i]))
+            o = np.argsort(keys)
+            VK = keys[o]
+            VR = VK // n
+            vl = self._vl = (xy.copy(), i, j, VK, VR, self.by_rank[VK - VR * n],
+                             np.concatenate((np.arange(len(i)), np.arange(len(i))))[o], None)
+        _, i, j, VK, VR, VS, VU, last = vl
+        ok = _within(xy[j, 0] - xy[i, 0], xy[j, 1] - xy[i, 1], lim)[VU]
+        # the last arrays are this list's of the same set (no other path made them since)
+        if last is not None and prev is not None and prev[1] is last[1] and np.array_equal(ok, last[0]):
+            return prev[1:]
+        got = VK[ok], VR[ok], VS[ok]
+        self._vl = vl[:7] + ((ok, got[0]),)
+        return got
+
     def _goal_managers(self, R, S, I, F, now):
         """Algorithm 4 on every receipt of the tick, each receiver in sender-ID order (module
         docstring); the messages are the senders' columns of ``I`` and ``F``.
@@ -676,49 +715,66 @@ class _Run:
         if not len(E):
             return
         RE = R[E]
-        if len(E) > 64:
-            # the pass below skips a receiver's receipts after its first kind 1 or 2 (scalar
-            # path, or blocked in a handshake) but kind 1: drop them here, in bulk
-            nE = len(E)
-            head = np.empty(nE, dtype=bool)
-            head[0] = True
-            np.not_equal(RE[1:], RE[:-1], out=head[1:])
-            starts = np.flatnonzero(head)
-            pos = np.arange(nE)
-            first = np.minimum.reduceat(np.where(kinds <= 2, pos, nE), starts)
-            keep = (pos <= np.repeat(first, np.diff(starts, append=nE))) | (kinds == 1)
-            E, RE, kinds, gt = E[keep], RE[keep], kinds[keep], gt[keep]
-        rngs, beta, timeout = self.rngs, self.beta, self.timeout
-        role, peer, hseq, seq, send = self.role, self.peer, self.hseq, self.seq, self.send
-        deadline, Tx, Ty, hgx, hgy = self.deadline, self.Tx, self.Ty, self.hgx, self.hgy
+        nE = len(E)
+        head = np.empty(nE, dtype=bool)       # each receiver's run of E
+        head[0] = True
+        np.not_equal(RE[1:], RE[:-1], out=head[1:])
+        starts = np.flatnonzero(head)
+        pos = np.arange(nE)
+        # the first kind 1 at or after each entry (nE: none); its run ends at ``ends``
+        nxt1 = np.minimum.accumulate(np.where(kinds == 1, pos, nE)[::-1])[::-1].tolist()
+        ends = starts[1:].tolist() + [nE]
+        raw, beta = self.raw, self.beta
+        E_l, kinds_l, gt_l = E.tolist(), kinds.tolist(), gt.tolist()
         sid_e = self.ids[S[E]].tolist()
-        now_l = now.tolist()
-        blocked = scalar = -1
-        for e, k, kind, client, sid in zip(E.tolist(), RE.tolist(), kinds.tolist(), gt.tolist(), sid_e):
-            if k == scalar or (k == blocked and kind != 1):
-                continue
-            if kind == 1:          # the rest of this receiver's receipts, the reference's way
-                end = int(np.searchsorted(R, k, side="right"))
-                ids_s = self.ids[S[e:end]].tolist()
-                rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
-                for sid_j, row, frow in zip(ids_s, rows, frows):
-                    self._gm(k, now_l[k], sid_j, row, frow)
-                scalar = k
-                continue
-            # kind 3: equal cost, the agent's own draw (line 16); kind 2: a lower cost (line 11)
-            if kind == 3 and not rngs[k].random() < beta:
-                continue
-            # _gm's handshake (Sec. III-A): client when the sender is lexically larger
-            if client:
-                seq[k] += 1
-                role[k], hseq[k] = 1, seq[k]
-                send[k] = True
-            else:
-                role[k], hseq[k] = 2, -1
-            peer[k] = sid
-            deadline[k] = now_l[k] + timeout
-            hgx[k], hgy[k] = Tx[k], Ty[k]
-            blocked = k
+        hk, hc, hs = [], [], []              # the handshakes begun: receiver, client side, peer ID
+        for k, i, end in zip(RE[starts].tolist(), starts.tolist(), ends):
+            while True:
+                kind = kinds_l[i]
+                if kind == 1:      # the rest of this receiver's receipts, the reference's way
+                    self._gm_rest(k, E_l[i], R, S, I, F, now)
+                    break
+                # kind 3: equal cost, the agent's own draw (line 16: ``rng.random() < beta``, the
+                # double of the next 64 random bits, as numpy's PCG64 makes it); kind 2: a lower
+                # cost (line 11).  Either begins a handshake: then only a kind 1 acts on it.
+                if kind == 2 or (raw[k]() >> 11) * _DOUBLE_UNIT < beta:
+                    j = nxt1[i + 1] if i + 1 < end else nE
+                    if j < end:    # its handshake first (written below for the others)
+                        self._begin_handshakes([k], [gt_l[i]], [sid_e[i]], now)
+                        self._gm_rest(k, E_l[j], R, S, I, F, now)
+                    else:
+                        hk.append(k)
+                        hc.append(gt_l[i])
+                        hs.append(sid_e[i])
+                    break
+                i += 1
+                if i == end:
+                    break
+        if hk:
+            self._begin_handshakes(hk, hc, hs, now)
+
+    def _gm_rest(self, k, e, R, S, I, F, now) -> None:
+        """:meth:`_gm` on receiver k's receipts from receipt ``e`` to the end of its run."""
+        end = int(np.searchsorted(R, k, side="right"))
+        ids_s = self.ids[S[e:end]].tolist()
+        rows, frows = I[:, S[e:end]].T.tolist(), F[:, S[e:end]].T.tolist()
+        now_k = float(now[k])
+        for sid_j, row, frow in zip(ids_s, rows, frows):
+            self._gm(k, now_k, sid_j, row, frow)
+
+    def _begin_handshakes(self, ks, client, sids, now) -> None:
+        """:meth:`_gm`'s handshake (Sec. III-A) for receivers ``ks`` (each once), the client side
+        where ``client`` (the sender lexically larger), with peers ``sids``."""
+        ks = np.array(ks, dtype=np.int64)
+        client = np.array(client, dtype=bool)
+        kc, kv = ks[client], ks[~client]
+        self.seq[kc] += 1
+        self.role[kc], self.hseq[kc] = 1, self.seq[kc]
+        self.send[kc] = True
+        self.role[kv], self.hseq[kv] = 2, -1
+        self.peer[ks] = sids
+        self.deadline[ks] = now[ks] + self.timeout
+        self.hgx[ks], self.hgy[ks] = self.Tx[ks], self.Ty[ks]
 
     def _gm_kinds(self, R, S, I, F):
         """What each receipt does to its receiver in :meth:`_gm`, from the receiver's current
@@ -819,13 +875,12 @@ class _Run:
             starts = np.flatnonzero(head)
             sm = np.minimum(I[COMP][S], self.last) == self.shape[R]
         gR = R[starts]
-        hop = np.where(sm, I[HOP][S], _NONE)
-        mins = np.minimum.reduceat(hop, starts)
-        # the first entry of each run holding its minimum: the smallest such position
-        at_min = hop == np.repeat(mins, np.diff(starts, append=E))
-        first = np.minimum.reduceat(np.where(at_min, np.arange(E), E), starts)
-        b.ghop[gR] = mins
-        sf = S[first]
+        # the smallest hop and the first entry holding it, as one minimum of (code, position): the
+        # codes keep the order of finite hop counts (below _HOP_CAP, Run.outbox), INF and none
+        code = np.where(sm, np.minimum(I[HOP][S], _HOP_CAP), _NO_HOP)
+        kmin = np.minimum.reduceat((code << 32) | np.arange(E), starts)
+        b.ghop[gR] = kmin >> 32
+        sf = S[kmin & _POS_MASK]
         b.gqx[gR], b.gqy[gR] = I[QX][sf], I[QY][sf]
         b.gshape[gR] = self.shape[gR]
 
@@ -840,7 +895,7 @@ class _Run:
         self.nx = np.where(M, nx, self.nx)
         self.ny = np.where(M, ny, self.ny)
         # msg_buff, block by block, oldest first (the deque's order)
-        best = np.full(n, _NONE, dtype=np.int64)
+        best = np.full(n, _NO_HOP, dtype=np.int64)
         bqx, bqy = np.zeros(n, np.int64), np.zeros(n, np.int64)
         held = np.zeros(n, np.int64)
         wait = np.zeros(n, np.int64)
@@ -856,14 +911,15 @@ class _Run:
                 self._gradient(b, b.R[sel], b.S[sel])
             wait |= np.where(use, b.wait, 0)
             held |= np.where(use, b.held, 0)
-            h = np.where(use, b.ghop, _NONE)
-            # line 18: the first of the smallest hop; an older block keeps ties; none finite -> the first entry
-            take = (h != _NONE) & ((best == _NONE) | ((h != INF) & ((best == INF) | (h < best))))
+            h = np.where(use, b.ghop, _NO_HOP)
+            # line 18: the first of the smallest hop; an older block keeps ties; none finite -> the
+            # first entry (in codes: finite < INF < none, so a block's candidate wins iff smaller)
+            take = h < best
             if take.any():
-                best[take] = h[take]
-                bqx[take], bqy[take] = b.gqx[take], b.gqy[take]
-        g = best != _NONE
-        self.hop = np.where(g, np.where(best == INF, INF, best + 1), self.hop)             # line 19
+                best = np.minimum(best, h)
+                bqx, bqy = np.where(take, b.gqx, bqx), np.where(take, b.gqy, bqy)
+        g = best != _NO_HOP
+        self.hop = np.where(g, np.where(best == _HOP_CAP, INF, best + 1), self.hop)        # line 19
         self.qx = np.where(g, bqx, self.qx)                                                  # line 20
         self.qy = np.where(g, bqy, self.qy)
         if g.any():                                                                          # lines 21-24
