@@ -63,7 +63,7 @@ def test_verify_plans_order_and_content():
     assert [n for n, _ in plans] == ["song2016", "song2016-literal", "song2016-subtree-clock", "song2014", "jiang",
                                      "jiang-literal",
                                      "wang2020", "wang2020-broadcast-handshake", "leechong-leader", "leechong-neighbor", "leechong-leader-printed", "leechong-neighbor-printed",
-                                     "example-anonymous-line", "example-grid-goals"]
+                                     "example-gather", "example-anonymous-line", "example-grid-goals"]
     for _, plan in (plans[0], plans[2], plans[3]):
         assert plan.targets == ("square", "hexagon", "octagon-square") and plan.robots == 10
         assert plan.seeds == (0, 1, 2)

@@ -21,6 +21,7 @@ def test_fault_kinds():
     assert FAULT_KINDS == ("schedule", "crashes", "drops", "additions", "noise", "delays", "latency")
 
 
+@pytest.mark.slow   # 5.5 s CPU (issue 32's time trim); test_drawn_noise_and_additions_are_named keeps drawn additions covered
 def test_drawn_additions_break_song2016_formation_named_and_replayed(tmp_path):
     r = explore("song2016", ["formation"], budget=None, max_examples=15, robots=(3, 5), lattices=["square"], seed=0,
                 draw_faults=("additions",), out_dir=tmp_path)

@@ -59,6 +59,7 @@ def test_shared_runs_give_the_verdicts_of_one_call_per_property(monkeypatch, alg
     assert shared_runs <= separate_runs - kw["max_examples"], (shared_runs, separate_runs)
 
 
+@pytest.mark.slow   # 8 s CPU (issue 32's time trim); test_shared_runs_give_the_verdicts_of_one_call_per_property keeps shared runs covered
 def test_sharing_only_cheap_judgments_changes_no_outcome():
     """By default a later property is judged for sharing only while its judgments are cheap
     against a run (SHARE_JUDGE_FRACTION); with the default, the verdicts are those of one call

@@ -136,6 +136,7 @@ def test_termination_bound_is_checked_when_the_algorithm_gives_one(capsys, monke
     assert json.loads(out)["termination"]["status"] == "held"
 
 
+@pytest.mark.slow   # 8.5 s CPU (issue 32's time trim); tests/invariants/test_connectivity_termination.py keeps both link modes covered
 def test_tree_link_mode_decided_by_default_and_persistent_on_request(capsys):
     """Issue 19: song2016 square n=20 seed 1 breaks, at step 344, a link robot 2 chose in that
     step; the default reading finds it (exit 1), the persistent reading is blind to it."""
