@@ -389,10 +389,21 @@ def combine_premises(monitors, results, steps: int) -> InvariantResult:
     if unsure:
         return InvariantResult("premises", "inconclusive", CITE_PREMISES, None,
                                "; ".join(f"{name}: {r.message}" for name, r in unsure), detail=detail)
-    parts = [name if r.applicable else f"{name} ({'vacuous' if _vacuous(r) else 'nothing to examine'})"
-             for name, r in results]
+    parts = [_part(name, r) for name, r in results]
     return InvariantResult("premises", "held", CITE_PREMISES, None,
                            f"premises held at all {steps} steps: {', '.join(parts)}", detail=detail)
+
+
+def _part(name: str, r) -> str:
+    """One monitor in the ``premises`` message: its name and what it judged (a derived monitor's
+    checked, boundary and outside instances), or why it judged nothing."""
+    if not r.applicable:
+        return f"{name} ({'vacuous' if _vacuous(r) else 'nothing to examine'})"
+    d = r.detail or {}
+    if "boundary" in d:        # a monitor derived from a lemma (a binding)
+        counts = ", ".join(f"{d[k]} {k}" for k in ("checked", "boundary", "outside") if d.get(k) or k == "checked")
+        return f"{name} ({counts})"
+    return name
 
 
 def _vacuous(r) -> bool:

@@ -167,7 +167,8 @@ def test_premises_held_violated_and_inconclusive():
     from swarmproof.invariants.properties import premises
 
     ok = premises(_follower((0.95, 0)), ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
-    assert ok.held and ok.message == "premises held at all 1 steps: step_bounded, parent_bounded_range"
+    assert ok.held and ok.message == ("premises held at all 1 steps: step_bounded (2 checked), "
+                                      "parent_bounded_range (1 checked)")
     assert ok.detail["monitors"]["parent_bounded_range"]["checked"] == 1
     # too far a step AND outside the parent's disc: the earliest step, first declared monitor
     bad = premises(_follower((1.25, 0)), ("step_bounded", "parent_bounded_range"), 1.2, 0.2, 1.0)
