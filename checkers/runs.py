@@ -82,6 +82,9 @@ class CheckedRun:
     #: the lemma premise monitors' verdict, streamed inside the engine on every step (``premises``
     #: of the property registry; None when not asked for or the algorithm declares none)
     premises: Any = None
+    #: the exit code is 1 because of a transfer failure in ``premises`` alone (no claimed property
+    #: failed, the algorithm did not crash): what simulate's result line says
+    exit_by_transfer: bool = False
 
 
 #: The largest team a seeded start is drawn for (memory and time bounded on any input; 004's runs
@@ -524,12 +527,14 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     if prem_monitor is not None and result.steps > 0:
         prem = prem_monitor.result()
         doc["premises"] = prem.as_dict()
-        if prem.violated and prem.witness.get("transfer"):
-            code = EXIT_VIOLATED     # the proof does not transfer to this run: the worst finding
+    by_transfer = prem is not None and prem.violated and bool(prem.witness.get("transfer")) \
+        and code != EXIT_VIOLATED
+    if by_transfer:
+        code = EXIT_VIOLATED         # the proof does not transfer to this run: the worst finding
     doc["exit_code"] = code
     return CheckedRun(doc, code, result, lattice, algorithm, params, initial, formation.sat, conn, links, term,
                       formation.metrics, {p: claims.get(p) for p in RUN_PROPERTIES}, na,
-                      completion_sound=more.get("completion_sound"), premises=prem)
+                      completion_sound=more.get("completion_sound"), premises=prem, exit_by_transfer=by_transfer)
 
 
 def _premises_observer(algorithm, params):

@@ -168,11 +168,12 @@ def judge_batch(spec: LemmaSpec, batch: Batch, given: tuple = (), only: tuple | 
     n = len(batch)
     if only is not None:
         only = tuple(only) + tuple(g for g in given if g not in only)
-    arr = {k: np.asarray(v, dtype=float) if isinstance(v, (np.ndarray, list, tuple)) else float(v)
-           for k, v in batch.values.items()}
-    out = None if batch.outcome is None else {k: np.asarray(v, dtype=float) if isinstance(v, (np.ndarray, list, tuple))
-                                              else float(v) for k, v in batch.outcome.items()}
-    arr = {k: (v if isinstance(v, np.ndarray) else np.full(n, v)) for k, v in arr.items()}
+    def column(v):
+        return np.asarray(v, dtype=float) if isinstance(v, (np.ndarray, list, tuple)) else float(v)
+
+    # every premise value a column of n (a value shared by all is repeated), so each verdict is one
+    arr = {k: np.broadcast_to(column(v), (n,)) for k, v in batch.values.items()}
+    out = None if batch.outcome is None else {k: column(v) for k, v in batch.outcome.items()}
     j = spec.judge(arr, tol=tol, outcome=out, loose=True, only=only, premise_tol=0.0)
 
     def full(x):
@@ -256,10 +257,6 @@ class StepView:
             raise MissingState(f"robot {self.id(k)} has no {key!r} in its state")
         return default
 
-    def xy(self, k: int, when: int) -> np.ndarray:
-        """Robot ``k``'s position (run units) before (0) or after (1) the step."""
-        return self.p[when][k, :2]
-
     def moved(self, k: int) -> bool:
         """Whether robot ``k``'s position changed in the step (exactly)."""
         if self._moved is None:
@@ -292,11 +289,6 @@ class StepView:
     def robot_array(self) -> np.ndarray:
         """The slots present at both ends, as an integer array."""
         return np.flatnonzero(self.present[0] & self.present[1])
-
-    def moved_array(self, ks) -> np.ndarray:
-        """Whether each robot of ``ks`` changed position in the step (exactly)."""
-        ks = np.asarray(ks, dtype=int)
-        return np.any(self.p[0][ks, :2] != self.p[1][ks, :2], axis=1)
 
     def points(self, name: str, ks, when: int, origins=None, origin_when: int = 0) -> dict:
         """:meth:`point` for every robot of ``ks`` (``origins``: a slot per robot, at

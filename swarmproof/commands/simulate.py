@@ -224,16 +224,6 @@ def _write_files(args, checked) -> None:
                                    max_frames=GIF_FRAMES)
 
 
-def _claimed_failure(checked) -> bool:
-    """Whether a claimed, applicable property of the run was violated."""
-    na, claims = checked.not_applicable, checked.claims
-    results = {"formation": checked.satisfaction, "connectivity": checked.connectivity,
-               "tree_links": checked.tree_links, "termination": checked.termination,
-               "completion_sound": getattr(checked, "completion_sound", None)}
-    return any(r is not None and r.violated and p not in na and claims.get(p) is not None
-               for p, r in results.items())
-
-
 def _report_lines(args, checked) -> list:
     """The human report of a checked run: what ran, each judgment, the figures, the files, then
     the result line of the exit code."""
@@ -297,7 +287,7 @@ def _report_lines(args, checked) -> list:
     findings = [p for p in unclaimed if shown[p].violated]
     lines.append({0: "result: ok", 1: "result: the algorithm crashed (a finding)" if result.crash else
                   "result: a proof does not transfer to this run (every premise of a lemma held, its "
-                  "conclusion did not)" if transfer and not _claimed_failure(checked) else
+                  "conclusion did not)" if checked.exit_by_transfer else
                   "result: a claimed property failed",
                   3: "result: inconclusive (step cap reached)" if result.status == "step_cap" else
                   "result: inconclusive (a claimed property was not decided)"}[checked.exit_code]

@@ -193,3 +193,28 @@ def test_a_users_binding_mistakes_are_usage_errors_that_name_the_binding():
     with pytest.raises(UsageError, match=r"binding name='step_bounded' is taken by another premise monitor"):
         register_binding(dataclasses.replace(GATHER_LINK, name="step_bounded"))
     assert BINDINGS["step_bounded"].lemma.id == "bounded_range"
+
+
+def _read_in_run_units(view):
+    """The wrong binding of the test above: what followed read without dividing by phi."""
+    for b in _followers_and_leaders(view):
+        yield dataclasses.replace(b, outcome={k: np.asarray(v) * view.phi for k, v in b.values.items()
+                                              if k[:2] in ("f1", "l1")})
+
+
+class _WrongUnits(GatherToLowestId):
+    name = "wrong-units-gather"
+    premise_monitors = (dataclasses.replace(GATHER_LINK, name="gather_link_wrong_units",
+                                            instances=_read_in_run_units),)
+
+
+def test_simulate_exits_1_on_a_transfer_failure_and_says_so(capsys):
+    from swarmproof.cli import main
+
+    code = main(["simulate", f"{__name__}:_WrongUnits", "--lattice", "square", "--robots", "8", "--seed", "0",
+                 "--range", "2"])
+    out = capsys.readouterr().out
+    assert code == 1
+    assert "  lemma premises: violated - transfer failure of lemma gather_follower_link_kept: step " in out
+    assert out.rstrip().splitlines()[-1].startswith(
+        "result: a proof does not transfer to this run (every premise of a lemma held, its conclusion did not)")
