@@ -105,6 +105,8 @@ def cases():
         "crash+add": FaultModel(crashes={5: [2]}, additions={3: [(99, [0.3, 0.3, 0.0])]}),
         "drops": FaultModel(drop_message=DropSet({(1, 0, 1), (2, 1, 0)}), message_loss=0.2),
         "noise": FaultModel(noise_std=(0.01, 0.02)),
+        # pinned on commit 2a774c5, before the engine's choice points (issue 33)
+        "late": FaultModel(message_delay=2, message_duplication=0.3, message_reorder=True, message_loss=0.1),
     }
     for label, fm in faults.items():
         for alg in ("example-gather", "song2016"):
@@ -113,6 +115,18 @@ def cases():
                                                    Params(range=1.2, v=0.05), seed=4, faults=fm,
                                                    allow_violations=True, max_steps=400,
                                                    record_messages=True))
+    # wang2020: grid motion, asynchronous clocks and point-to-point exchanges; plain and with
+    # late and lost messages (pinned on commit 2a774c5, before the engine's choice points)
+    from swarmproof.models.targets import resolve_target
+    from swarmproof.reference_impl.initial import random_grid_connected
+
+    shape = resolve_target("shape:square-9")
+    grid_init = random_grid_connected(9, 0, range=0.6, spacing=0.2)
+    for label, fm in (("none", None), ("late", FaultModel(message_delay=2, message_loss=0.1))):
+        yield (f"wang2020 shape:square-9 n=9 seed=0 faults={label}",
+               lambda fm=fm: simulate(get_algorithm("wang2020"), shape, grid_init,
+                                      get_algorithm("wang2020").default_params(0.6, 9), seed=0, faults=fm,
+                                      allow_violations=True, max_steps=3000))
 
 
 def main(argv) -> int:

@@ -35,7 +35,8 @@ def _module():
 
 EXPECTED = json.loads((ROOT / "tests" / "reference_impl" / "data" / "trace_hashes.json").read_text())
 #: The default suite's cases: each algorithm on each lattice once (seed 0, n = 10), every fault
-#: hook for both algorithms, the recorded messages and the n = 30 stable-first run.  The other
+#: hook for both algorithms (late, duplicated, reordered messages since issue 33), wang2020 with and
+#: without late and lost messages, the recorded messages and the n = 30 stable-first run.  The other
 #: seeds and the n = 20 runs take the same code paths on other starts (slow suite).
 FAST = [k for k in EXPECTED
         if " n=20 " not in k and not (" n=10 " in k and not k.endswith(" seed=0"))]
@@ -57,7 +58,7 @@ def test_the_pinned_cases_are_exactly_the_scripts_cases():
     set, and the script runs no case the file does not pin (labels only: nothing simulated)."""
     assert sorted(label for label, _ in _module().cases()) == sorted(EXPECTED)
     assert sorted(FAST + SLOW) == sorted(EXPECTED)
-    assert len(FAST) == 15 and len(SLOW) == 21
+    assert len(FAST) == 19 and len(SLOW) == 21
 
 
 @pytest.mark.parametrize("label", FAST)
