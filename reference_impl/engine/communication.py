@@ -46,20 +46,12 @@ class _AllBut(_MappingABC):
         return repr(dict(self.items()))
 
 
-def _lost(faults, rng, t: int, from_id, to_id) -> bool:
-    """Whether the fault model loses a delivery from ``from_id`` to ``to_id`` sent in step ``t``:
-    its ``drop_message`` hook, then ``message_loss`` (a draw from the fault generator)."""
-    if faults.drop_message is not None and faults.drop_message(t, from_id, to_id, rng):
-        return True
-    return faults.message_loss > 0 and rng.random() < faults.message_loss
+def _deliver_pending(pending: dict, k: int, t: int, choices, to_id) -> tuple:
+    """The deliveries due at step ``t`` for receiver slot ``k`` (robot ``to_id``; removed from
+    ``pending``): ``((sender slot, message), ...)`` in delivery order.
 
-
-def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple:
-    """The deliveries due at step ``t`` for receiver slot ``k`` (removed from ``pending``):
-    ``((sender slot, message), ...)`` in delivery order.
-
-    Due deliveries come in (due step, sending order); ``reorder`` shuffles them
-    with the fault generator.
+    Due deliveries come in (due step, sending order), unless the run's choices reorder them
+    (:meth:`.choices.Choices.order`: the fault model's ``message_reorder``, or a chooser).
     """
     box = pending.get(k)
     if not box:
@@ -69,8 +61,10 @@ def _deliver_pending(pending: dict, k: int, t: int, reorder: bool, rng) -> tuple
         return ()
     pending[k] = [e for e in box if e[0] > t]
     due.sort(key=lambda e: (e[0], e[1]))
-    if reorder and len(due) > 1:
-        due = [due[i] for i in rng.permutation(len(due)).tolist()]
+    if len(due) > 1:
+        order = choices.order(t, to_id, len(due))
+        if order is not None:
+            due = [due[i] for i in order]
     return tuple((e[2], e[4]) for e in due)
 
 
@@ -79,21 +73,20 @@ class Delivery:
     delay, duplication and reordering (every draw from the fault generator, in delivery
     order), then anonymity (no sender IDs).
 
-    Per run: ``Delivery(model, faults, phi, ids_list, rng)``; per step: :meth:`begin`
+    Per run: ``Delivery(model, faults, phi, ids_list, choices)`` (the run's
+    :class:`.choices.Choices`: the draws, or a chooser's decisions); per step: :meth:`begin`
     (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`hold`
     per robot whose asynchronous clock did not tick (its backlog, read at its next tick),
     :meth:`end` (records ``drop`` and ``late_delivery`` events).
     """
 
-    def __init__(self, model, faults, phi: float, ids_list, rng) -> None:
+    def __init__(self, model, faults, phi: float, ids_list, choices) -> None:
         self.comm = model.communication
         self.anonymous = model.sensing == "anonymous"
         self.inclusive = getattr(model, "neighbor_rule", "strict") == "inclusive"
-        self.faults, self.phi, self.ids_list, self.rng = faults, float(phi), ids_list, rng
-        self.drops = faults.drops_messages
-        self.late = faults.late_messages
-        self.max_delay = int(faults.message_delay)
-        self.dup_p = float(faults.message_duplication)
+        self.faults, self.phi, self.ids_list, self.choices = faults, float(phi), ids_list, choices
+        self.drops = choices.drops
+        self.late = choices.late
         self.pending: dict = {}   # receiver slot -> [(due step, seq, sender slot, sender id, message)]
         #: receiver slot -> [(sender slot, message), ...] received in steps it did not decide (:meth:`hold`)
         self.backlog: dict = {}
@@ -153,7 +146,7 @@ class Delivery:
         """This step's deliveries to slot ``k``: ``[(sender slot, message), ...]`` in delivery
         order (the model's audience, then the fault model's loss, delay, duplication and
         reordering, every draw from the fault generator)."""
-        last_msgs, faults, rng = self.last_msgs, self.faults, self.rng
+        last_msgs, choices = self.last_msgs, self.choices
         late = self.late
         if self.comm == "none":
             heard = ()
@@ -173,12 +166,12 @@ class Delivery:
             msg = last_msgs[s]
             if msg is None:
                 continue
-            if _lost(faults, rng, t, sid, my_id):
+            if choices.lost(t, sid, my_id):
                 self.dropped.append((sid, my_id))
                 continue
             if late:
-                delay = int(rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
-                copies = 2 if self.dup_p > 0 and rng.random() < self.dup_p else 1
+                delay = choices.delay(t, sid, my_id)
+                copies = choices.copies(t, sid, my_id)
                 box = self.pending.setdefault(k, [])
                 for _ in range(copies):
                     box.append((t + delay, self.seq, s, sid, msg))
@@ -188,7 +181,7 @@ class Delivery:
             else:
                 got.append((s, msg))
         if late:
-            return list(_deliver_pending(self.pending, k, t, faults.message_reorder, rng))
+            return list(_deliver_pending(self.pending, k, t, choices, my_id))
         return got
 
     def _as_observed(self, got: list, nb_slots, inbox: bool):
@@ -225,11 +218,10 @@ class Exchanges:
     records the lost and late ones (``drop`` and ``late_delivery`` events, key ``exchanges``).
     """
 
-    def __init__(self, model, faults, ids_list, rng) -> None:
+    def __init__(self, model, faults, ids_list, choices) -> None:
         self.comm = model.communication
         self.anonymous = model.sensing == "anonymous"
-        self.faults, self.rng = faults, rng
-        self.max_delay = int(faults.message_delay)
+        self.faults, self.choices = faults, choices
         self.ids_list = ids_list
         self.slot_of = {int(r): s for s, r in enumerate(ids_list)}
         self.queue: list = []       # heap of (due step, seq, kind, from slot, to slot, payload, reply)
@@ -239,10 +231,10 @@ class Exchanges:
 
     def _fate(self, t: int, from_id: int, to_id: int):
         """None (lost) or the step a delivery from ``from_id`` to ``to_id`` sent at ``t`` arrives."""
-        if _lost(self.faults, self.rng, t, from_id, to_id):
+        if self.choices.lost(t, from_id, to_id):
             self.dropped.append((from_id, to_id))
             return None
-        d = int(self.rng.integers(0, self.max_delay + 1)) if self.max_delay else 0
+        d = self.choices.delay(t, from_id, to_id)
         if d:
             self.late_log.append((from_id, to_id, t + d, 1))
         return t + d

@@ -29,7 +29,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from swarmproof.models.errors import ProtocolError, UsageError
+from swarmproof.models.errors import ProtocolError
 from swarmproof.models.se2 import wrap_angle
 from swarmproof.models.trace import Event
 
@@ -84,6 +84,7 @@ class RunState:
     mover: Any
     clocks: Any
     fault_rng: np.random.Generator
+    choices: Any                        # the run's decisions (choices.Choices): drawn, or a chooser's
     progress: Callable | None
     stop_when: Callable | None
     record_clamps: bool
@@ -107,6 +108,7 @@ class RunState:
     record_exchanges: bool = False      # messages recorded: every exchange is an event
     two_phase: bool = False             # some controller offers requests(obs): two-phase steps
     controllers: list = field(default_factory=list)
+    robot_rngs: list = field(default_factory=list)  # per slot, the generator its controller got
     states: tuple | None = None
     # -- the loop's state --
     t: int = 0
@@ -172,7 +174,7 @@ def apply_faults(run: RunState, step: StepView) -> None:
         This step's values; the phase adds its own.
     """
     t, events, ids_list, present, poses = step.t, run.events, run.ids_list, run.present, run.poses
-    for rid in run.faults.crashes.get(t, ()):
+    for rid in run.choices.crashed(t, lambda: run.ids[present].tolist()):
         for k in range(run.n_total):
             if present[k] and ids_list[k] == int(rid):
                 present[k] = False
@@ -187,8 +189,9 @@ def apply_faults(run: RunState, step: StepView) -> None:
         run.mover.add(slot, poses, ids_list[slot], t)
         present[slot] = True
         run.calling = slot
+        run.robot_rngs[slot] = _robot_rng(run.seed, slot)
         run.controllers[slot] = run.algorithm.controller(None if run.hide_ids else ids_list[slot], run.params,
-                                                         run.lattice, _robot_rng(run.seed, slot))
+                                                         run.lattice, run.robot_rngs[slot])
         run.calling = None
         run.two_phase = run.two_phase or callable(getattr(run.controllers[slot], "requests", None))
         events.append(Event(t, "add", (ids_list[slot],)))
@@ -212,16 +215,20 @@ def activate(run: RunState, step: StepView) -> None:
     idx = np.flatnonzero(run.present)
     m = len(idx)
     pres_ids = run.ids[idx]
-    if run.faults.schedule is not None:
-        act = np.asarray(run.faults.schedule(t, pres_ids.copy(), run.fault_rng), dtype=bool)
-        if act.shape != (m,):
-            raise UsageError(f"faults.schedule returned shape={act.shape!r}, expected ({m},)")
-    else:
-        act = np.ones(m, dtype=bool)
-    if run.async_clocks:
+    choices = run.choices
+    if run.async_clocks and "activate" in choices.kinds:
+        # the chooser picks among the robots whose clock ticks (choices.Choices.ticking)
         decide_now, step.bcast, step.tau0 = run.clocks.ticks(t, idx)
-        act &= decide_now
+        act = choices.ticking(t, pres_ids, decide_now)
         step.ticked_l = decide_now.tolist()
+    else:
+        act = choices.activation(t, pres_ids)
+        if act is None:
+            act = np.ones(m, dtype=bool)
+        if run.async_clocks:
+            decide_now, step.bcast, step.tau0 = run.clocks.ticks(t, idx)
+            act &= decide_now
+            step.ticked_l = decide_now.tolist()
     step.idx, step.m, step.pres_ids = idx, m, pres_ids
     step.idx_l, step.pres_ids_l, step.act_l = idx.tolist(), pres_ids.tolist(), act.tolist()
 

@@ -95,6 +95,7 @@ from swarmproof.models.se2 import wrap_angle
 from swarmproof.models.trace import Event, InitialConfiguration, Trace, to_jsonable
 
 from ..protocol import Params
+from .choices import Choices, check_chooser, state_digest
 from .clocks import clock_model
 from .common import PROGRESS_EVERY, _ro, _robot_rng
 from .communication import Delivery, Exchanges
@@ -461,7 +462,7 @@ def _slots(initial: InitialConfiguration, faults: FaultModel) -> tuple:
 
 
 def _new_run(algorithm, lattice, initial: InitialConfiguration, params: Params, seed, allow_violations: bool,
-             faults: FaultModel | None, **options) -> RunState:
+             faults: FaultModel | None, chooser=None, **options) -> RunState:
     """A run before its start (:class:`~.phases.RunState`).
 
     The checks (:func:`preflight`), the slots (:func:`_slots`), the motion and clock models and
@@ -469,6 +470,8 @@ def _new_run(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     ``record_every``, ``observers``, ``progress``, ``stop_when`` and ``record_clamps``, checked
     when the run starts (:func:`_start`).
     """
+    if chooser is not None:
+        check_chooser(chooser)
     seed, faults, events, broken = preflight(algorithm, lattice, initial, params, seed, allow_violations, faults)
     model = algorithm.model
     ids, poses, present, slot_of_add = _slots(initial, faults)
@@ -477,10 +480,15 @@ def _new_run(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     mover.start(poses, n0, ids_list)
     clocks = clock_model(model, params, n_total, seed)
     anonymous = model.sensing == "anonymous"
+    fault_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
+    choices = Choices(faults, fault_rng, chooser)
+    for name in choices.broken_assumptions(model):
+        if name not in broken:
+            broken.append(name)
     run = RunState(algorithm, lattice, params, seed, faults, events, broken, ids, ids_list, n0, poses, present,
-                   slot_of_add, any_presence_change=n_total > n0 or any(faults.crashes.values()),
-                   mover=mover, clocks=clocks,
-                   fault_rng=np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,))), **options)
+                   slot_of_add, any_presence_change=(n_total > n0 or any(faults.crashes.values())
+                                                     or choices.crashes_left > 0),
+                   mover=mover, clocks=clocks, fault_rng=fault_rng, choices=choices, **options)
     run.n_total = n_total
     run.anonymous = anonymous
     run.hide_ids = anonymous and not getattr(model, "own_id", False)   # what controllers and assumptions see
@@ -498,10 +506,12 @@ def _new_controllers(run: RunState, initial: InitialConfiguration) -> None:
     """
     algorithm, ids_list, n0 = run.algorithm, run.ids_list, run.n0
     run.controllers = [None] * run.n_total
+    run.robot_rngs = [None] * run.n_total
     for k in range(n0):
         run.calling = k
+        run.robot_rngs[k] = _robot_rng(run.seed, k)
         run.controllers[k] = algorithm.controller(None if run.hide_ids else ids_list[k], run.params, run.lattice,
-                                                  _robot_rng(run.seed, k))
+                                                  run.robot_rngs[k])
     run.calling = None
     if getattr(algorithm, "knows_start", False):
         # The paper's input: every robot knows the robot set and all initial positions in the
@@ -545,7 +555,7 @@ def _plan_shortcuts(run: RunState) -> None:
     """
     model, faults, n_total = run.algorithm.model, run.faults, run.n_total
     run.repeaters = [getattr(c, "repeat_step", None) for c in run.controllers]
-    run.repeat_ok = (model.sensing == "local" and model.communication == "neighbors"
+    run.repeat_ok = (run.choices.chooser is None and model.sensing == "local" and model.communication == "neighbors"
                      and not faults.drops_messages and not faults.noisy and faults.schedule is None
                      and not faults.late_messages and not run.grid and not run.async_clocks
                      and not run.any_presence_change and not run.two_phase
@@ -589,8 +599,8 @@ def _start(run: RunState, initial: InitialConfiguration, stop_when_static, recor
     std_xy, std_th = (float(s) for s in faults.noise_std)   # (a noise_std that is not a pair fails here)
     run.noisy = faults.noisy
     run.inclusive = model.neighbor_rule == "inclusive"
-    run.delivery = Delivery(model, faults, run.phi, run.ids_list, run.fault_rng)
-    run.exchanges = Exchanges(model, faults, run.ids_list, run.fault_rng)
+    run.delivery = Delivery(model, faults, run.phi, run.ids_list, run.choices)
+    run.exchanges = Exchanges(model, faults, run.ids_list, run.choices)
     run.record_exchanges = bool(record_messages)
     run.calling = -1
     finished = bool(algorithm.finished(tuple(s for s, p in zip(run.states, run.present) if p)))
@@ -644,6 +654,8 @@ def _result(run: RunState) -> SimulationResult:
                     run.broken, run.faults, run.clocks,
                     {"grid_spacing": mover.spacing, **mover.describe()} if run.grid else None, run.record_every,
                     run.crash)
+    if run.choices.chooser is not None:
+        meta["choices"] = run.choices.chooser.describe()
     trace = run.rec.trace(run.ids, run.events, meta)
     return SimulationResult(status=run.status, steps=run.t, trace=trace, broken_assumptions=tuple(run.broken),
                             seed=run.seed, static_window=run.window, max_steps=run.max_steps,
@@ -657,7 +669,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
              progress: Callable[[int, int], None] | None = None,
              record_clamps: bool = True,
              stop_when: Callable[[int, np.ndarray, tuple, np.ndarray], bool] | None = None,
-             record_every: int = 1, observers: Sequence = ()) -> SimulationResult:
+             record_every: int = 1, observers: Sequence = (), chooser=None) -> SimulationResult:
     """Run ``algorithm`` from ``initial`` until it finishes, goes static or hits the cap.
 
     Parameters
@@ -703,6 +715,11 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
         read-only views) and ``result()``; e.g.
         :class:`~swarmproof.invariants.connectivity.ConnectivityMonitor`.
         Properties judged this way see every step whatever is recorded.
+    chooser : choices.Chooser, optional
+        Makes the decisions of the kinds it names (which robots act, each delivery's fate,
+        crashes: :mod:`.choices`) instead of the fault generator (issue 33), and is asked after
+        every step whether to go on (status ``"pruned"`` when it says no).  None (default): the
+        fault model draws as always.
 
     Returns
     -------
@@ -718,9 +735,10 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
     ProtocolError
         A controller returned something that is not a valid Command.
     """
-    run = _new_run(algorithm, lattice, initial, params, seed, allow_violations, faults, max_steps=max_steps,
+    run = _new_run(algorithm, lattice, initial, params, seed, allow_violations, faults, chooser, max_steps=max_steps,
                    record_every=record_every, observers=observers, progress=progress, stop_when=stop_when,
                    record_clamps=record_clamps)
+    after_step = getattr(chooser, "after_step", None)
     try:
         _start(run, initial, stop_when_static, record_messages)
         while run.status is None and run.t < run.max_steps:
@@ -732,6 +750,9 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             move(run, step)             # 5.
             record(run, step)           # 6. the trace and the monitors
             stop_test(run, step)
+            if after_step is not None and run.status is None and after_step(
+                    run.t, lambda symmetric=False: state_digest(run, symmetric=symmetric and run.hide_ids)):
+                run.status = "pruned"   # the chooser has seen this state (exhaustive checking)
         _end(run)
     except (Exception, SystemExit, GeneratorExit) as exc:  # noqa: BLE001 - only what the algorithm raised
         # SystemExit and GeneratorExit from the algorithm's code are crashes too (a SystemExit once
