@@ -214,11 +214,12 @@ class ExploreReport:
 # ----------------------------------------------------------------------------
 
 def run_scenario(algorithm_name, lattice, ids, poses, params, *, seed: int, max_steps=None,
-                 allow_violations: bool = False, faults=None, stop_when=None):
+                 allow_violations: bool = False, faults=None, stop_when=None, chooser=None):
     """Run the engine on one scenario; returns ``(algorithm, SimulationResult)``.
 
     ``algorithm_name``: anything :func:`resolve_algorithm` accepts, or an :class:`AlgorithmSpec`.
     ``stop_when``: a run-time monitor for ``simulate`` (e.g. a :class:`CycleMonitor`).
+    ``chooser``: the engine's decisions (an exhaustive counterexample's recorded choices).
     """
     from swarmproof.models.trace import InitialConfiguration
     from swarmproof.reference_impl.engine import simulate
@@ -227,7 +228,7 @@ def run_scenario(algorithm_name, lattice, ids, poses, params, *, seed: int, max_
     initial = InitialConfiguration(list(ids), [list(p) for p in poses])
     algorithm = spec.build(n_robots=initial.n)
     result = simulate(algorithm, lattice, initial, params, seed=seed, max_steps=max_steps,
-                      allow_violations=allow_violations, faults=faults, stop_when=stop_when)
+                      allow_violations=allow_violations, faults=faults, stop_when=stop_when, chooser=chooser)
     return algorithm, result
 
 

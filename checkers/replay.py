@@ -147,6 +147,17 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
             faults = FaultModel.from_dict(cx.faults)
         except UsageError as exc:
             raise bad("faults", exc, "...") from None
+    chooser = None
+    if cx.choices is not None:
+        from swarmproof.reference_impl.engine.choices import RecordedChoices, check_chooser
+
+        ch = cx.choices
+        try:
+            chooser = RecordedChoices(ch["kinds"], ch.get("deviations") or [], max_delay=int(ch.get("max_delay", 1)),
+                                      max_crashes=int(ch.get("max_crashes", 1)))
+            check_chooser(chooser)
+        except UsageError as exc:
+            raise bad("choices", exc, ch.get("kinds")) from None
     p = cx.params
     params = Params(range=float(p["range"]), v=float(p["v"]), omega=float(p["omega"]), dt=float(p["dt"]),
                     extra=dict(p.get("extra") or {}))
@@ -154,11 +165,15 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         algorithm, result = run_scenario(spec, lattice, [i for i, _ in cx.robots],
                                          [pose for _, pose in cx.robots], params, seed=cx.seed,
                                          max_steps=cx.max_steps, allow_violations=cx.allow_violations,
-                                         faults=faults)
+                                         faults=faults, chooser=chooser)
     except InputFileError:
         raise
     except UsageError as exc:
         raise bad("params", exc, cx.params) from None
+    if chooser is not None and chooser.diverged is not None:
+        raise InputFileError(f"choices: the run did not make the recorded decisions ({chooser.diverged}), so it "
+                             "is not the run the file records", file=file, field="choices",
+                             fix="replay it with the swarmproof and algorithm version that wrote it (made_by)")
     verdict = judge(cx.property, algorithm, lattice, params, result, cx.options)
     verdict = _before_the_recorded_step(cx, verdict, result)
     return ReplayResult(cx, bool(verdict.violated), verdict, result)

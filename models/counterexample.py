@@ -10,7 +10,11 @@ purpose; a file without the field was written before readings were versioned and
 ``"1"``, :data:`~swarmproof.models.versions.DEFAULT_READING`; replay refuses a file of
 another reading than the algorithm's, exit 2) and ``made_by`` (the swarmproof, Python and
 numpy versions that wrote it; replay names it when no registered reading reproduces a file).  Angles in ``initial`` are radians
-(``angle_unit: "rad"``) so a replay is bit-exact.
+(``angle_unit: "rad"``) so a replay is bit-exact.  A counterexample found by exhaustive checking
+(issue 33) adds ``choices``: the bound it was found within (``steps``, ``deviations``, ``kinds``,
+``max_delay``, ``max_crashes``), ``choice_points`` (how many decisions the run made) and
+``deviations`` (each non-default decision: its ``index`` among the run's decisions, ``kind``,
+``at`` and ``option``); replay makes the same decisions again.
 
 Examples
 --------
@@ -206,6 +210,8 @@ class Counterexample:
     made_by : dict or None
         The file's ``made_by`` as read (the versions that wrote it); not compared, and
         :meth:`as_dict` writes this process's versions.
+    choices : dict or None
+        An exhaustively found counterexample's decisions (module docstring); written only when given.
     """
 
     algorithm: str
@@ -225,6 +231,7 @@ class Counterexample:
     clocks: dict | None = None
     reading: str | None = None
     made_by: dict | None = field(default=None, compare=False)
+    choices: dict | None = None
 
     @property
     def recorded_reading(self) -> str:
@@ -257,6 +264,8 @@ class Counterexample:
             doc["target"] = dict(self.target)
         if self.clocks is not None:
             doc["clocks"] = dict(self.clocks)
+        if self.choices is not None:
+            doc["choices"] = dict(self.choices)
         # DESIGN.md section 5: counterexample files record what made them (read by nothing;
         # a replay that no longer reproduces can be traced to a changed library)
         from swarmproof.models.versions import tool_versions
@@ -353,6 +362,9 @@ class Counterexample:
             raise err("reading", f"reading={reading!r} must be a non-empty string (the algorithm's reading version)",
                       fix="write the algorithm's reading as its class declares it (e.g. \"1\"), or drop the "
                           "field: a file without one is reading \"1\"")
+        choices = d.get("choices")
+        if choices is not None:
+            _check_choices(choices, err)
         made_by = d.get("made_by")
         return cls(algorithm=d["algorithm"], params=params, lattice=d.get("lattice"), robots=robots,
                    seed=seed, property=d["property"],
@@ -363,7 +375,8 @@ class Counterexample:
                    options=dict(d.get("options") or {}),
                    target=None if target is None else dict(target),
                    clocks=None if clocks is None else dict(clocks), reading=reading,
-                   made_by=dict(made_by) if isinstance(made_by, Mapping) else None)
+                   made_by=dict(made_by) if isinstance(made_by, Mapping) else None,
+                   choices=None if choices is None else dict(choices))
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "Counterexample":
@@ -422,7 +435,62 @@ class Counterexample:
         lines.append(f"{k + 1}. run {self.algorithm} with seed {self.seed}{cap}{with_params} ({sched}, {fault_text})")
         if self.broken_assumptions:
             lines[-1] += f" -- broken assumptions: {', '.join(self.broken_assumptions)}"
+        if self.choices is not None:
+            devs = list(self.choices.get("deviations") or [])
+            lines[-1] += (f"; every decision of kinds {', '.join(self.choices.get('kinds') or [])} the default "
+                          f"except {len(devs)}:" if devs else "; every decision the default")
+            lines += [f"   - {_choice_phrase(d)}" for d in devs]
         step = self.violation.get("step")
         where = f"at step {step}" if step is not None else "at the end"
         lines.append(f"{k + 2}. {where}: {self.violation.get('message', '')}")
         return lines
+
+
+def _choice_phrase(d: Mapping) -> str:
+    """One recorded deviation as a sentence.
+
+    >>> _choice_phrase({"index": 4, "kind": "activate", "at": [2], "option": [1, 3]})
+    'step 2: only robots 1, 3 act (decision 4)'
+    >>> _choice_phrase({"index": 9, "kind": "delay", "at": [3, 1, 2], "option": 2})
+    'step 3: the message from robot 1 to robot 2 arrives 2 step(s) late (decision 9)'
+    """
+    kind, at, opt = d.get("kind"), list(d.get("at") or []), d.get("option")
+    step = f"step {at[0]}: " if at else ""
+    link = f"the message from robot {at[1]} to robot {at[2]}" if len(at) >= 3 else "a message"
+    text = {
+        "activate": lambda: "only robot" + ("s " if len(opt or []) != 1 else " ") + ", ".join(map(str, opt or [])) + " act"
+                            + ("s" if len(opt or []) == 1 else ""),
+        "loss": lambda: f"{link} is lost",
+        "delay": lambda: f"{link} arrives {opt} step(s) late",
+        "duplicate": lambda: f"{link} arrives {opt} times",
+        "reorder": lambda: f"robot {at[1] if len(at) > 1 else '?'} reads its messages in the order {opt}",
+        "crash": lambda: f"robot {opt} crashes",
+    }.get(kind, lambda: f"{kind} = {opt!r}")()
+    return f"{step}{text} (decision {d.get('index')})"
+
+
+def _check_choices(choices, err) -> None:
+    """``choices`` of an exhaustively found counterexample: its shape (the kinds' names are the
+    engine's to check, at replay)."""
+    if not isinstance(choices, Mapping):
+        raise err("choices", f"choices={choices!r} must be a JSON object")
+    kinds = choices.get("kinds")
+    if not (isinstance(kinds, list) and kinds and all(isinstance(k, str) for k in kinds)):
+        raise err("choices.kinds", f"choices.kinds={kinds!r} must be a non-empty list of choice kinds")
+    for key in ("max_delay", "max_crashes"):
+        v = choices.get(key, 0)
+        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+            raise err(f"choices.{key}", f"choices.{key}={v!r} must be an integer >= 0")
+    devs = choices.get("deviations")
+    if not isinstance(devs, list):
+        raise err("choices.deviations", f"choices.deviations={devs!r} must be a list")
+    last = -1
+    for j, dv in enumerate(devs):
+        fld = f"choices.deviations[{j}]"
+        if not isinstance(dv, Mapping) or not {"index", "kind", "option"} <= set(dv):
+            raise err(fld, f"{fld}={dv!r} must be an object with index, kind and option")
+        i = dv["index"]
+        if isinstance(i, bool) or not isinstance(i, int) or i <= last:
+            raise err(f"{fld}.index", f"{fld}.index={i!r} must be an integer above the previous deviation's",
+                      fix="list the deviations in the order the run made them")
+        last = i

@@ -155,3 +155,60 @@ class FakeTerminal:
     def lines(self) -> list:
         """What the terminal shows: each line after its last carriage return, erase codes dropped."""
         return [ln.rsplit("\r", 1)[-1].replace("\033[K", "") for ln in self.text.split("\n")]
+
+
+# -- exhaustive checking's toy (issue 33) -------------------------------------------------------
+
+class Toggle:
+    """A toy for exhaustive checking: robots that never move; a robot that acts flips its bit ``x``
+    and broadcasts ``("t", step)``.  ``bug(robot_id, obs, x)`` returning True makes that robot's
+    controller raise (a planted bug, found by ``no_crash``)."""
+
+    name = "toggle"
+    assumptions = ()
+    bug = None
+
+    def __init__(self):
+        from swarmproof.reference_impl.protocol import RobotModel
+
+        self.model = RobotModel(sensing="local", communication="neighbors", motion="holonomic", clocks="sync")
+
+    def controller(self, robot_id, params, target, rng):
+        from swarmproof.reference_impl.protocol import Command
+
+        algo = self
+
+        class C:
+            x = 0
+
+            def step(self, obs):
+                if algo.bug is not None and algo.bug(robot_id, obs, self.x):
+                    raise RuntimeError(f"planted bug: robot {robot_id} at step {obs.step}")
+                self.x = 1 - self.x
+                return Command(message=("t", obs.step))
+
+            def state(self):
+                return (("x", self.x),)
+
+        return C()
+
+    def finished(self, states):
+        return False
+
+
+class ToggleBuggy(Toggle):
+    """Toggle whose robot 2 raises when it acts at step 1 having heard nobody: only when robots 1
+    and 3 (its only neighbours) were both left out at step 0 -- 2 deviations, the fewest."""
+
+    name = "toggle-buggy"
+
+    @staticmethod
+    def bug(robot_id, obs, x):
+        return robot_id == 2 and obs.step == 1 and len(obs.messages) == 0
+
+
+def toggle_start():
+    """Three robots in a line, each within range 1 of the next."""
+    from swarmproof.models.trace import InitialConfiguration
+
+    return InitialConfiguration([1, 2, 3], [[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0]])

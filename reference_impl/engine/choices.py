@@ -31,6 +31,12 @@ Choice kinds (``at`` says where the decision is made):
     Which robot crashes at the start of step ``t`` (``at = (t,)``): ``None`` (default) or one
     of the present robots' IDs, while the chooser's ``max_crashes`` is not spent and more
     than one robot is present.
+``clock_phase``
+    Asynchronous clocks (``RobotModel.clocks="async"``): each start robot's clock phase, chosen
+    before step 0 (``at = (robot,)``).  A phase is continuous, but within the run's step cap it
+    makes only finitely many behaviours (the steps the robot decides and broadcasts in):
+    :func:`phase_classes` gives one phase per behaviour, and the options are the seeded phase
+    (default) and one phase of each other behaviour.  Clock rates stay the seeded ones.
 
 The engine also asks the chooser, after each step, whether to go on
 (:meth:`Chooser.after_step`, with a digest of the run's whole state: :func:`state_digest`).
@@ -51,7 +57,7 @@ __all__ = ["CHOICE_KINDS", "MAX_ACTIVATION_ROBOTS", "MAX_REORDERED", "Chooser", 
            "activation_options", "state_digest"]
 
 #: The decisions a chooser can make (module docstring).
-CHOICE_KINDS = ("activate", "loss", "delay", "duplicate", "reorder", "crash")
+CHOICE_KINDS = ("activate", "loss", "delay", "duplicate", "reorder", "crash", "clock_phase")
 #: Activation choices enumerate 2^n - 1 subsets: refused above this many acting robots.
 MAX_ACTIVATION_ROBOTS = 10
 #: Reorder choices permute at most this many deliveries of one robot in one step (5! = 120).
@@ -83,8 +89,9 @@ class Chooser:
         raise NotImplementedError
 
     def after_step(self, t: int, digest) -> bool:
-        """Called after every step ``t`` with ``digest()``, the run's state digest (computed only
-        when called); True ends the run there (status ``"pruned"``)."""
+        """Called after every step ``t`` but the last with ``digest()``, the run's state digest
+        (computed only when called; ``digest(symmetric=True)`` up to relabelling anonymous robots);
+        True ends the run there (status ``"pruned"``)."""
         return False
 
     def describe(self) -> dict:
@@ -233,6 +240,14 @@ class Choices:
             return self.rng.permutation(n).tolist()
         return None
 
+    def clock_phases(self, clocks, steps: int, ids: Sequence[int]) -> None:
+        """``clock_phase`` choices: each start robot's phase (changed in ``clocks.phase``)."""
+        if "clock_phase" not in self.kinds or not hasattr(clocks, "phase"):
+            return
+        for k, rid in enumerate(ids):
+            opts = phase_classes(float(clocks.phase[k]), float(clocks.rate[k]), float(clocks.every), int(steps))
+            clocks.phase[k] = float(self.chooser.choose("clock_phase", tuple(opts), opts[0], (int(rid),)))
+
     def crashed(self, t: int, present_ids) -> tuple:
         """The robots that crash at the start of step ``t``: the fault model's ``crashes[t]``,
         then the chooser's ``crash`` pick among ``present_ids()`` (called only then)."""
@@ -247,6 +262,48 @@ class Choices:
                     self.crashes_left -= 1
                     out = out + (int(pick),)
         return out
+
+
+def _clock_signature(phase: float, rate: float, every: float, steps: int) -> bytes:
+    """The steps ``0 .. steps - 1`` a clock of this phase and rate decides and broadcasts in, with
+    :meth:`.clocks.AsyncClocks.ticks`' own arithmetic."""
+    t = np.arange(steps, dtype=float)
+    tau0 = phase + rate * t
+    tau1 = tau0 + rate
+    decide = np.floor(tau1) > np.floor(tau0)
+    bcast = np.floor((tau1 + 0.5) / every) > np.floor((tau0 + 0.5) / every)
+    return np.packbits(decide).tobytes() + b"|" + np.packbits(bcast).tobytes()
+
+
+def phase_classes(phase: float, rate: float, every: float, steps: int) -> list[float]:
+    """``phase`` first, then one phase of every other behaviour a clock of this ``rate`` can have
+    within ``steps`` steps (which steps it decides and broadcasts in): the phases in [0, 1) where
+    the behaviour changes are where ``phase + rate t`` or ``phase + rate t + 1/2`` meets an integer
+    or a broadcast instant; between two of them the behaviour is one (the midpoint stands for it).
+
+    >>> phase_classes(0.3, 1.0, 2.0, 10)      # rate 1, a broadcast every 2: even or odd steps
+    [0.3, 0.75]
+    >>> phase_classes(0.1, 0.5, 1.0, 8)       # rate 1/2: it decides every other step
+    [0.1, 0.75]
+    """
+    cuts = {0.0, 1.0}
+    top = rate * (steps + 1) + 2.0
+    for t in range(steps + 1):
+        cuts.add(float((-rate * t) % 1.0))
+        for j in range(int(top / every) + 2):
+            cuts.add(float((j * every - 0.5 - rate * t) % 1.0))
+    edges = sorted(cuts)
+    seen = {_clock_signature(phase, rate, every, steps)}
+    out = [float(phase)]
+    for a, b in zip(edges, edges[1:]):
+        if b - a <= 1e-12:
+            continue
+        mid = (a + b) / 2.0
+        sig = _clock_signature(mid, rate, every, steps)
+        if sig not in seen:
+            seen.add(sig)
+            out.append(mid)
+    return out
 
 
 class RecordedChoices(Chooser):
@@ -339,8 +396,8 @@ def canonical_bytes(x) -> bytes:
 
     >>> canonical_bytes({"b": 1, "a": 0.5}) == canonical_bytes({"a": 0.5, "b": 1})
     True
-    >>> canonical_bytes((0.1,)) == canonical_bytes((0.1 + 1e-17,)), canonical_bytes(0.0) == canonical_bytes(-0.0)
-    (True, False)
+    >>> canonical_bytes(0.1 + 0.2) == canonical_bytes(0.3), canonical_bytes(0.0) == canonical_bytes(-0.0)
+    (False, False)
     """
     out: list = []
     _canon(x, out)
@@ -369,8 +426,9 @@ def state_digest(run, *, symmetric: bool = False) -> bytes:
     and the choices still allowed (crashes left).
 
     With ``symmetric`` (anonymous robots: the model gives controllers no IDs) the robots are
-    taken up to relabelling: a robot is named by its *key* (presence, pose, state, generator, its
-    motion state and clock),
+    taken up to relabelling: a robot is named by its *key* (presence, pose, state, its motion
+    state and clock, and its generator when the algorithm declares ``randomized = True``: a
+    deterministic one's robots never draw, the contract oscillation's rule 1 relies on too),
     a message's sender by its sender's key, and the robots' rows are sorted, so two states that
     differ by a permutation of the robots have the same digest.  When two robots have the same
     key the permutation is not determined by the keys, and the digest falls back to slot order
@@ -386,8 +444,12 @@ def state_digest(run, *, symmetric: bool = False) -> bytes:
     moving, mover_common = _mover_state(run.mover, n)
     clocks = run.clocks
     clock = [(clocks.phase[k], clocks.rate[k]) if hasattr(clocks, "phase") else None for k in range(n)]
+    # a deterministic algorithm's robots (no ``randomized = True``) never draw: up to relabelling
+    # their generators (distinct per slot) are not part of who they are
+    own_rng = not symmetric or getattr(run.algorithm, "randomized", False)
     keys = [canonical_bytes((bool(run.present[k]), run.poses[k].tobytes(), run.states[k] if run.states else None,
-                             run.robot_rngs[k] if k < len(run.robot_rngs) else None, moving[k], clock[k]))
+                             run.robot_rngs[k] if own_rng and k < len(run.robot_rngs) else None, moving[k],
+                             clock[k]))
             for k in range(n)]
     symmetric = symmetric and len(set(keys)) == n
     name = keys if symmetric else list(range(n))     # how a robot is referred to

@@ -578,6 +578,7 @@ def _start(run: RunState, initial: InitialConfiguration, stop_when_static, recor
     _new_controllers(run, initial)
     algorithm, model, faults = run.algorithm, run.algorithm.model, run.faults
     run.max_steps, run.window = run_caps(algorithm, run.params, run.n0, run.max_steps, stop_when_static)
+    run.choices.clock_phases(run.clocks, run.max_steps, run.ids_list[:run.n0])   # a chooser's, before step 0
     check_type("record_every", run.record_every, (int, np.integer))
     run.record_every = int(run.record_every)
     if run.record_every < 1:
@@ -750,7 +751,7 @@ def simulate(algorithm, lattice, initial: InitialConfiguration, params: Params, 
             move(run, step)             # 5.
             record(run, step)           # 6. the trace and the monitors
             stop_test(run, step)
-            if after_step is not None and run.status is None and after_step(
+            if after_step is not None and run.status is None and run.t < run.max_steps and after_step(
                     run.t, lambda symmetric=False: state_digest(run, symmetric=symmetric and run.hide_ids)):
                 run.status = "pruned"   # the chooser has seen this state (exhaustive checking)
         _end(run)

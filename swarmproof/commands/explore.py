@@ -44,7 +44,9 @@ def add_arguments(p) -> None:
                         "--max-examples alone bounds the search (the same verdicts on any machine, for CI gates)")
     p.add_argument("--max-examples", type=int, default=100, metavar="N",
                    help="Hypothesis examples per property (default 100)")
-    p.add_argument("--robots", default="3..8", metavar="MIN..MAX", help="number of robots (default 3..8)")
+    p.add_argument("--robots", default=None, metavar="MIN..MAX",
+                   help="number of robots (default 3..8; with --exhaustive 3, and MIN..MAX searches each team "
+                        "size in turn up to the first violation)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="Hypothesis seed (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--out", metavar="DIR", help="write counterexample files into DIR")
@@ -73,6 +75,26 @@ def add_arguments(p) -> None:
     p._negative_number_matcher = _NUMBERS
     p.add_argument("--database", metavar="DIR",
                    help="keep Hypothesis's example database in DIR so a rerun finds known failures at once")
+    g = p.add_argument_group("exhaustive bounded checking (--exhaustive; docs/exhaustive.md)")
+    g.add_argument("--exhaustive", action="store_true",
+                   help="try every choice sequence within a bound (steps, deviations, choice kinds) from each "
+                        "start instead of sampling: held means held for every one of them")
+    g.add_argument("--initial", metavar="FILE", help="the one start to search from (an initial-configuration file)")
+    g.add_argument("--starts", type=int, default=None, metavar="N",
+                   help="without --initial: N seeded starts, seeds S, S+1, ... (default 1)")
+    g.add_argument("--deviations", type=int, default=None, metavar="K",
+                   help="most non-default choices per sequence (default 2); deepened from 0, so a "
+                        "counterexample has the fewest")
+    g.add_argument("--choices", default=None, metavar="KIND,...",
+                   help="choice kinds to enumerate: activate, loss, delay, duplicate, reorder, crash "
+                        "(default activate)")
+    g.add_argument("--max-delay", type=int, default=None, metavar="D", help="largest delay of a delay choice (default 1)")
+    g.add_argument("--max-crashes", type=int, default=None, metavar="C",
+                   help="most robots a crash choice crashes in one run (default 1)")
+    g.add_argument("--max-runs", type=int, metavar="N",
+                   help="runs per start and property before the search gives up: inconclusive with the coverage")
+    g.add_argument("--no-symmetry", action="store_true",
+                   help="no symmetry reduction for anonymous robots (to measure it)")
 
 
 def _options(args) -> dict | None:
@@ -157,10 +179,23 @@ def _progress():
     return show
 
 
+#: Flags of the sampling explorer that an exhaustive search has no use for, and its own flags.
+_SAMPLING_ONLY = (("faults", "--fault", []), ("speeds", "--speeds", None), ("database", "--database", None))
+_EXHAUSTIVE_ONLY = (("initial", "--initial", None), ("starts", "--starts", None), ("deviations", "--deviations", None),
+                    ("choices", "--choices", None), ("max_delay", "--max-delay", None),
+                    ("max_crashes", "--max-crashes", None), ("max_runs", "--max-runs", None),
+                    ("no_symmetry", "--no-symmetry", False))
+
+
 def run(args) -> int:
+    if args.exhaustive:
+        return _run_exhaustive(args)
+    for attr, flag, default in _EXHAUSTIVE_ONLY:
+        if getattr(args, attr) != default:
+            raise UsageError(f"{flag} is for exhaustive checking only", fix=f"add --exhaustive, or drop {flag}")
     from swarmproof.checkers.explore import explore
 
-    robots = parse_robots(args.robots)
+    robots = parse_robots(args.robots or "3..8")
     if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
         raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0, or none",
                          fix="e.g. --budget 60, or --budget none to bound the search by --max-examples alone")
@@ -217,3 +252,99 @@ def run(args) -> int:
                 lines.append("    (pass --out DIR to write the counterexample file)")
     human(args, *lines)
     return report.exit_code
+
+
+def _exhaustive_progress():
+    if not sys.stderr.isatty():
+        return None
+    import time
+
+    last = [0.0]
+
+    def show(prop: str, d: dict) -> None:
+        now = time.monotonic()
+        if now - last[0] < 0.5:
+            return
+        last[0] = now
+        sys.stderr.write(f"\rexhaustive {prop}: K={d['deviations']} runs {d['runs']}, states {d['states']}, "
+                         f"depth {d['depth']}   ")
+        sys.stderr.flush()
+
+    return show
+
+
+def _run_exhaustive(args) -> int:
+    """``explore --exhaustive``: every choice sequence within the bound (checkers/exhaustive.py)."""
+    from swarmproof.checkers.exhaustive import Bound, exhaustive
+    from swarmproof.commands.simulate import _parse_extra
+
+    for attr, flag, default in _SAMPLING_ONLY:
+        if getattr(args, attr) != default:
+            raise UsageError(f"{flag} is for sampling exploration; --exhaustive enumerates the choices it names",
+                             fix=f"drop {flag} (use --choices for the decisions to enumerate)")
+    if args.max_examples != 100:
+        raise UsageError("--max-examples is for sampling exploration", fix="drop it; bound the search with "
+                         "--max-steps, --deviations and --choices (and --max-runs / --budget)")
+    steps = 20 if args.max_steps is None else args.max_steps
+    kinds = tuple(k.strip() for k in (args.choices or "activate").split(",") if k.strip())
+    bound = Bound(steps=steps, deviations=2 if args.deviations is None else args.deviations, kinds=kinds,
+                  max_delay=1 if args.max_delay is None else args.max_delay,
+                  max_crashes=1 if args.max_crashes is None else args.max_crashes)
+    initial = None
+    if args.initial is not None:
+        from swarmproof.reference_impl import initial as initial_mod
+
+        initial = initial_mod.from_file(args.initial)
+    lo, hi = parse_robots(args.robots or "3")
+    if initial is not None and args.robots is not None and (lo, hi) != (initial.n, initial.n):
+        raise UsageError(f"--robots {args.robots} disagrees with --initial {args.initial!r} ({initial.n} robots)",
+                         fix="drop --robots or make them agree")
+    if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
+        raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0, or none")
+    if args.targets and len(args.targets) > 1:
+        raise UsageError(f"--target given {len(args.targets)} times: an exhaustive search runs on one target",
+                         fix="give one --target")
+    params = {k: getattr(args, k) for k in ("v", "omega", "dt") if getattr(args, k) is not None}
+    if args.param:
+        params["extra"] = _parse_extra(args.param)
+    if args.out is not None:
+        from swarmproof.models.fileio import check_output_dir
+
+        check_output_dir(args.out, "--out")
+    progress = _exhaustive_progress()
+    reports = []
+    for n in range(lo, hi + 1):
+        report = exhaustive(args.algorithm, args.properties, target=(args.targets or [None])[0], robots=n,
+                            seed=args.seed, initial=initial, starts=1 if args.starts is None else args.starts,
+                            bound=bound, params=params,
+                            options=_options(args), max_runs=args.max_runs, budget=args.budget,
+                            symmetry=not args.no_symmetry, out_dir=args.out, progress=progress)
+        reports.append(report)
+        if report.exit_code == 1 or initial is not None:
+            break           # the smallest team with a violation (teams in increasing size)
+    if progress is not None:
+        sys.stderr.write("\n")
+    if args.json:
+        emit_json(reports[0].as_dict() if len(reports) == 1 else
+                  {"mode": "exhaustive", "teams": [r.as_dict() for r in reports],
+                   "exit_code": max(r.exit_code for r in reports)})
+    lines = []
+    for report in reports:
+        lines.append(f"explore {report.algorithm} --exhaustive: {report.robots} robots, starts "
+                     f"{', '.join(report.starts)}, bound {report.bound.text()}"
+                     + (", symmetry reduction (anonymous robots)" if report.symmetric else ""))
+        if report.broken_assumptions:
+            lines.append(f"  the choices break: {', '.join(report.broken_assumptions)}")
+        for name, v in report.properties.items():
+            if v.status == "not_applicable":
+                lines.append(f"  {name:<13} {'n/a':<12} {v.message}")
+                continue
+            stats = (f"{v.runs} runs, {v.distinct_states} states, {v.pruned} pruned"
+                     + (f", {v.symmetric_pruned} by symmetry" if report.symmetric else ""))
+            lines.append(f"  {name:<13} {v.status:<12} {stats}: {v.message}")
+            if v.counterexample is not None:
+                lines += ["    " + s for s in v.counterexample.format_steps()]
+                lines.append(f"    replay: swarmproof replay {v.counterexample_path}" if v.counterexample_path
+                             else "    (pass --out DIR to write the counterexample file)")
+    human(args, *lines)
+    return max(r.exit_code for r in reports)

@@ -1,0 +1,586 @@
+"""Exhaustive bounded checking: every choice sequence within a bound, not a sample (issue 33).
+
+For a fixed start the engine's discrete nondeterminism -- which robots act in a step, each
+delivery's fate, which robot crashes when (:mod:`swarmproof.reference_impl.engine.choices`) --
+spans a finite tree of choice sequences within a step bound.  This module walks that tree by
+*re-execution* (stateless model checking, as CHESS and Hypothesis's choice sequences do): the
+engine is deterministic, so a run is fixed by its start, its seed and the choices made; each run
+follows a prefix of choices, takes the default everywhere after it and records every choice
+point, and the next run changes the deepest choice that still has an untried option.
+
+Bounds (:class:`Bound`): the steps of a run, the choice kinds enumerated, and a **deviation
+budget K**: the number of non-default choices a sequence may make (a lost or late message, a
+duplicated one, a reordering, a crash; an activation that leaves ``j`` robots out counts ``j``).
+The search deepens K from 0 (iterative context bounding, Musuvathi & Qadeer 2007), so the first
+counterexample found has the fewest deviations.
+
+Reductions, each sound for what it is used on:
+
+- **State hashing** (safety properties only): after each step of the part of a run past its
+  prefix, the run's state digest (:func:`~swarmproof.reference_impl.engine.choices.state_digest`:
+  step, poses bit for bit, controller states, generators, messages in flight, clocks, motion,
+  choices left) is looked up; a state already explored with at least as much budget left ends
+  the run there (status ``"pruned"``): its whole future was explored from the first visit.
+  Liveness (termination, formation, deadlock, oscillation) is judged on complete runs, never
+  pruned: a pruned run has no end to judge.
+- **Symmetry** (anonymous robots, declared by the robot model: ``sensing="anonymous"`` without
+  ``own_id``): states equal up to relabelling the robots share a symmetric digest.
+
+Verdicts: *held* means held for every choice sequence within the bound from these starts (the
+message and the JSON say the bound); *violated* comes with the counterexample, whose choices
+replay exactly (``swarmproof replay``); a bound not covered within the run or time budget is
+*inconclusive* with the coverage reached, and so is a liveness property on a run that reached
+the step bound.  Exploration by sampling never claims a proof; this does, within its bound only.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+from swarmproof.models.errors import UsageError
+from swarmproof.reference_impl.engine.choices import CHOICE_KINDS, Chooser
+
+__all__ = ["Bound", "ExhaustiveVerdict", "ExhaustiveReport", "exhaustive", "search_start", "deviation_cost",
+           "SequenceSearch"]
+
+#: Kinds enumerated when none are named: asynchronous activation.
+DEFAULT_KINDS = ("activate",)
+
+
+@dataclass(frozen=True)
+class Bound:
+    """What an exhaustive search covers.
+
+    Attributes
+    ----------
+    steps : int
+        Each run's step cap.
+    deviations : int
+        K: the most non-default choices a sequence makes (:func:`deviation_cost`).
+    kinds : tuple of str
+        The choice kinds enumerated (:data:`~swarmproof.reference_impl.engine.choices.CHOICE_KINDS`);
+        every other decision is the fault model's as without a chooser (none: the plain model).
+    max_delay : int
+        The largest delay of a ``delay`` choice (steps).
+    max_crashes : int
+        How many robots a ``crash`` choice may crash in one run.
+    """
+
+    steps: int
+    deviations: int
+    kinds: tuple = DEFAULT_KINDS
+    max_delay: int = 1
+    max_crashes: int = 1
+
+    def __post_init__(self) -> None:
+        for name in ("steps", "deviations", "max_delay", "max_crashes"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < (1 if name == "steps" else 0):
+                raise UsageError(f"{name}={v!r} must be an integer >= {1 if name == 'steps' else 0}",
+                                 fix="e.g. steps=20, deviations=2")
+        kinds = tuple(self.kinds)
+        if not kinds:
+            raise UsageError("kinds=() names no choice kind", fix=f"give some of {list(CHOICE_KINDS)}")
+        bad = [k for k in kinds if k not in CHOICE_KINDS]
+        if bad:
+            raise UsageError(f"choice kind={bad[0]!r} is not known", fix=f"use some of {list(CHOICE_KINDS)}")
+        object.__setattr__(self, "kinds", tuple(sorted(set(kinds), key=CHOICE_KINDS.index)))
+
+    def as_dict(self) -> dict:
+        out = {"steps": self.steps, "deviations": self.deviations, "kinds": list(self.kinds)}
+        if "delay" in self.kinds:
+            out["max_delay"] = self.max_delay
+        if "crash" in self.kinds:
+            out["max_crashes"] = self.max_crashes
+        return out
+
+    def text(self) -> str:
+        """``"20 steps, K=2 deviations, choices activate, loss"``."""
+        extra = (f", delays up to {self.max_delay}" if "delay" in self.kinds else "") + \
+                (f", up to {self.max_crashes} crash(es)" if "crash" in self.kinds else "")
+        return f"{self.steps} steps, K={self.deviations} deviations, choices {', '.join(self.kinds)}{extra}"
+
+
+def deviation_cost(kind: str, option, default) -> int:
+    """How many deviations choosing ``option`` over ``default`` spends: an activation leaving
+    ``j`` robots out costs ``j``; any other non-default option 1; the default 0.
+
+    >>> deviation_cost("activate", (1, 3), (1, 2, 3)), deviation_cost("delay", 2, 0), deviation_cost("loss", False, False)
+    (1, 1, 0)
+    """
+    if option == default:
+        return 0
+    if kind == "activate":
+        return len(default) - len(option)
+    return 1
+
+
+def _jsonable_option(x):
+    if isinstance(x, tuple):
+        return [_jsonable_option(y) for y in x]
+    if hasattr(x, "item"):
+        return x.item()
+    return x
+
+
+@dataclass
+class _Point:
+    kind: str
+    options: tuple
+    idx: int
+    cost: int
+    at: tuple
+
+
+class _Stats:
+    """What one level of the search counted."""
+
+    def __init__(self) -> None:
+        self.runs = 0
+        self.pruned = 0
+        self.symmetric_pruned = 0
+        self.table: dict = {}          # digest -> most budget left it was explored with
+        self.sym_table: dict = {}
+
+
+class SequenceSearch(Chooser):
+    """The chooser of one run of the search: it follows ``prefix`` (option indices), then takes
+    every default, and records each choice point (:attr:`trail`).
+
+    With ``stats`` and ``prune``, after each step past the prefix it looks the run's state up in
+    the level's tables and ends the run at a state explored before with at least as much budget
+    left (``symmetric``: also up to relabelling anonymous robots).
+    """
+
+    def __init__(self, bound: Bound, prefix: Sequence[int], budget: int, stats: _Stats | None = None,
+                 prune: bool = False, symmetric: bool = False) -> None:
+        self.kinds = frozenset(bound.kinds)
+        self.max_delay, self.max_crashes = bound.max_delay, bound.max_crashes
+        self.prefix, self.budget = list(prefix), int(budget)
+        self.stats, self.prune, self.symmetric = stats, prune, symmetric
+        self.trail: list[_Point] = []
+        self.used = 0
+
+    def choose(self, kind, options, default, at=()):
+        options = tuple(options)
+        if not options or options[0] != default:
+            raise AssertionError(f"choice point {kind} at {at}: the default must be the first option")
+        i = len(self.trail)
+        idx = self.prefix[i] if i < len(self.prefix) else 0
+        if idx >= len(options):       # the run is not the one the prefix was made on: a bug here
+            raise AssertionError(f"choice point {i} ({kind} at {at}) has {len(options)} options, prefix says {idx}")
+        opt = options[idx]
+        cost = deviation_cost(kind, opt, default)
+        self.used += cost
+        self.trail.append(_Point(kind, options, idx, cost, tuple(at)))
+        return opt
+
+    def after_step(self, t, digest) -> bool:
+        stats = self.stats
+        if stats is None or len(self.trail) < len(self.prefix):
+            return False              # still on the prefix: these states were seen by an earlier run
+        left = self.budget - self.used
+        if self._seen(stats.table, digest(), left):
+            stats.pruned += 1
+            return True
+        if self.symmetric and self._seen(stats.sym_table, digest(symmetric=True), left):
+            stats.symmetric_pruned += 1
+            return True
+        return False
+
+    def _seen(self, table: dict, key: bytes, left: int) -> bool:
+        """Whether ``key`` was explored with at least ``left`` budget (then prune, when pruning);
+        else note it with ``left``."""
+        seen = table.get(key)
+        if self.prune and seen is not None and seen >= left:
+            return True
+        if seen is None or left > seen:
+            table[key] = left
+        return False
+
+    def next_prefix(self) -> list[int] | None:
+        """The next run's prefix in depth-first order within the budget, or None when the tree is done."""
+        trail = self.trail
+        used = [0] * (len(trail) + 1)
+        for i, p in enumerate(trail):
+            used[i + 1] = used[i] + p.cost
+        for i in range(len(trail) - 1, -1, -1):
+            p = trail[i]
+            for j in range(p.idx + 1, len(p.options)):
+                if used[i] + deviation_cost(p.kind, p.options[j], p.options[0]) <= self.budget:
+                    return [q.idx for q in trail[:i]] + [j]
+        return None
+
+    def deviations(self) -> list[dict]:
+        """The non-default choices made, as a counterexample records them."""
+        return [{"index": i, "kind": p.kind, "at": [int(x) for x in p.at], "option": _jsonable_option(p.options[p.idx])}
+                for i, p in enumerate(self.trail) if p.idx != 0]
+
+
+@dataclass
+class ExhaustiveVerdict:
+    """One property's verdict over every start searched."""
+
+    property: str
+    status: str                      # held | violated | inconclusive | not_applicable
+    message: str = ""
+    runs: int = 0
+    distinct_states: int = 0
+    pruned: int = 0
+    symmetric_pruned: int = 0
+    complete: bool = False
+    starts: int = 0
+    levels: list = field(default_factory=list)
+    deviations: int | None = None    # a counterexample's number of deviations
+    counterexample: Any = None
+    counterexample_path: str | None = None
+    cpu: float = 0.0
+
+    @property
+    def violated(self) -> bool:
+        return self.status == "violated"
+
+    def as_dict(self, bound: Bound) -> dict:
+        out = {"status": self.status, "message": self.message,
+               "exhaustive": {"runs": self.runs, "distinct_states": self.distinct_states, "pruned": self.pruned,
+                              "symmetric_pruned": self.symmetric_pruned, "complete": self.complete,
+                              "bound": bound.as_dict(), "starts": self.starts, "levels": list(self.levels)}}
+        if self.counterexample is not None:
+            out["counterexample"] = self.counterexample.as_dict()
+            out["deviations"] = self.deviations
+        if self.counterexample_path is not None:
+            out["counterexample_path"] = self.counterexample_path
+        return out
+
+
+@dataclass
+class ExhaustiveReport:
+    """What :func:`exhaustive` found, per property."""
+
+    algorithm: str
+    seed: int
+    bound: Bound
+    robots: int
+    starts: list
+    symmetric: bool
+    properties: dict = field(default_factory=dict)
+    broken_assumptions: list = field(default_factory=list)
+
+    @property
+    def exit_code(self) -> int:
+        """1 a property violated, 3 one inconclusive, else 0."""
+        st = [v.status for v in self.properties.values()]
+        if "violated" in st:
+            return 1
+        if "inconclusive" in st:
+            return 3
+        return 0
+
+    def as_dict(self) -> dict:
+        return {"algorithm": self.algorithm, "mode": "exhaustive", "seed": self.seed, "robots": self.robots,
+                "bound": self.bound.as_dict(), "starts": list(self.starts), "symmetry": self.symmetric,
+                "broken_assumptions": list(self.broken_assumptions),
+                "properties": {p: v.as_dict(self.bound) for p, v in self.properties.items()},
+                "exit_code": self.exit_code}
+
+
+# ----------------------------------------------------------------------------------------------
+# one start
+# ----------------------------------------------------------------------------------------------
+
+@dataclass
+class _StartOutcome:
+    status: str                      # held | violated | inconclusive
+    message: str
+    runs: int
+    distinct_states: int
+    pruned: int
+    symmetric_pruned: int
+    complete: bool
+    levels: list
+    chooser: SequenceSearch | None = None
+    result: Any = None
+    verdict: Any = None
+    bound_reached: int = 0
+
+
+class _OutOfBudget(Exception):
+    pass
+
+
+def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *, seed: int = 0,
+                 options: Mapping[str, Any] | None = None, faults=None, prune: bool | None = None,
+                 symmetry: bool = True, max_runs: int | None = None, deadline: float | None = None,
+                 progress: Callable[[dict], None] | None = None, iterative: bool = True,
+                 allow_violations: bool = True, factory=None,
+                 unsound_liveness_pruning: bool = False) -> _StartOutcome:
+    """Search every choice sequence within ``bound`` from one start for a violation of ``prop``.
+
+    ``algorithm`` is a built algorithm object; ``prune`` defaults to True for safety properties and
+    must not be True for liveness ones (a pruned run has no end: :class:`UsageError`).  ``iterative``
+    deepens K from 0 (the first counterexample has the fewest deviations); without it one search
+    with budget K.  ``max_runs`` / ``deadline`` (a ``time.monotonic()`` instant) end the search
+    early: inconclusive with the coverage reached.  ``unsound_liveness_pruning`` prunes a liveness
+    property too, leaving its pruned runs unjudged (they have no end): only to show what it hides
+    (tests/checkers/test_exhaustive.py), never a verdict.
+    """
+    from swarmproof.checkers.explore import judge
+    from swarmproof.invariants.registry import get_property
+    from swarmproof.reference_impl.engine import simulate
+
+    rule = get_property(prop)
+    safety = rule.kind == "safety"
+    if prune is None:
+        prune = safety
+    if prune and not safety and not unsound_liveness_pruning:
+        raise UsageError(f"prune=True for the {rule.kind} property {prop!r}: a pruned run has no end to judge",
+                         fix="prune only safety properties (the default)")
+    model = algorithm.model
+    symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False))
+    monitor_of = rule.run_monitor if safety else None
+    levels: list = []
+    total_runs = 0
+    bound_reached = 0
+    ks = range(bound.deviations + 1) if iterative else (bound.deviations,)
+    last = _Stats()
+
+    def run_once(prefix, budget, stats, prune_now):
+        ch = SequenceSearch(bound, prefix, budget, stats, prune_now, symmetric)
+        monitor = None
+        if monitor_of is not None:
+            monitor = monitor_of(factory or type(algorithm), dict(options or {}))
+            if monitor is not None and callable(getattr(monitor, "start", None)):
+                monitor.start(initial.ids.tolist())
+        result = simulate(algorithm, target, initial, params, seed=seed, max_steps=bound.steps, faults=faults,
+                          allow_violations=allow_violations, stop_when=monitor, chooser=ch)
+        return ch, result
+
+    for k in ks:
+        stats = _Stats()
+        prefix: list[int] | None = []
+        while prefix is not None:
+            if (max_runs is not None and total_runs >= max_runs) or \
+                    (deadline is not None and time.monotonic() > deadline):
+                levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
+                               "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned,
+                               "complete": False})
+                covered = f"K <= {k - 1} covered completely, " if k > 0 else ""
+                why = "max_runs" if max_runs is not None and total_runs >= max_runs else "the time budget"
+                return _StartOutcome("inconclusive",
+                                     f"{why} spent before the bound was covered ({covered}K = {k}: "
+                                     f"{stats.runs} runs, {len(stats.table)} states)", total_runs,
+                                     len(stats.table), stats.pruned, stats.symmetric_pruned, False, levels)
+            ch, result = run_once(prefix, k, stats, prune)
+            stats.runs += 1
+            total_runs += 1
+            if result.status == "pruned" and not safety:     # (unsound_liveness_pruning) no end to judge
+                prefix = ch.next_prefix()
+                continue
+            verdict = judge(prop, algorithm, target, params, result, options)
+            if result.status == "stopped" and not verdict.violated:
+                # the early-stop monitor ended a run it did not judge violated: run it to its end,
+                # without recording its states (an earlier run of this prefix recorded them)
+                ch, result = run_once(prefix, k, None, False)
+                verdict = judge(prop, algorithm, target, params, result, options)
+            if verdict.violated:
+                levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
+                               "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned,
+                               "complete": False})
+                return _StartOutcome("violated", verdict.message, total_runs, len(stats.table), stats.pruned,
+                                     stats.symmetric_pruned, False, levels, ch, result, verdict)
+            if result.status == "step_cap" and not safety and verdict.status == "inconclusive":
+                bound_reached += 1
+            if progress is not None:
+                progress({"deviations": k, "runs": total_runs, "states": len(stats.table), "depth": len(ch.trail)})
+            prefix = ch.next_prefix()
+        levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
+                       "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned, "complete": True})
+        last = stats
+    if bound_reached:
+        return _StartOutcome("inconclusive",
+                             f"{bound_reached} of the runs reached the {bound.steps}-step bound before {prop} "
+                             "could be judged (bound reached: never held)", total_runs, len(last.table),
+                             last.pruned, last.symmetric_pruned, True, levels, bound_reached=bound_reached)
+    return _StartOutcome("held", "", total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels)
+
+
+# ----------------------------------------------------------------------------------------------
+# the command's driver
+# ----------------------------------------------------------------------------------------------
+
+def _starts(spec, algorithm, target, params, phi, robots: int, seed: int, starts: int, initial):
+    """``[(label, InitialConfiguration)]``: the given start, else ``starts`` seeded starts (seeds
+    ``seed, seed + 1, ...``: the start ``swarmproof simulate --robots N --seed S`` runs)."""
+    from swarmproof.checkers.runs import _seeded_start
+
+    if initial is not None:
+        return [("initial", initial)]
+    return [(f"seed {s}", _seeded_start(algorithm, robots, s, params, target, phi, None))
+            for s in range(seed, seed + starts)]
+
+
+def _counterexample(spec, target, label, params, initial, seed: int, prop: str, outcome: _StartOutcome,
+                    bound: Bound, options, broken) -> Any:
+    from swarmproof.checkers.explore import _cx_lattice, _cx_target
+    from swarmproof.checkers.runs import cx_params
+    from swarmproof.models.counterexample import Counterexample
+
+    ch = outcome.chooser
+    w = outcome.verdict.witness or {}
+    return Counterexample(
+        algorithm=spec.ref, params=cx_params(params), lattice=_cx_lattice(label, target),
+        robots=[(int(i), tuple(float(x) for x in p)) for i, p in zip(initial.ids.tolist(), initial.poses.tolist())],
+        seed=int(seed), property=prop, violation={"step": w.get("step"), "message": outcome.message},
+        faults=None, max_steps=bound.steps, allow_violations=True, broken_assumptions=list(broken),
+        options=dict(options or {}), target=_cx_target(label, target), reading=spec.reading,
+        clocks=outcome.result.trace.meta.get("clocks"),
+        choices={**bound.as_dict(), "max_delay": bound.max_delay, "max_crashes": bound.max_crashes,
+                 "deviations": ch.deviations(), "choice_points": len(ch.trail)})
+
+
+def _inputs(algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget):
+    """The checked inputs of :func:`exhaustive`: the algorithm, its target (scaled to the team),
+    the parameters, the properties and the starts."""
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+    from swarmproof.checkers.explore import _load_targets, explore_properties
+    from swarmproof.checkers.runs import _run_range, build_params
+    from swarmproof.invariants.registry import get_property
+
+    spec = resolve_algorithm(algorithm)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise UsageError(f"seed={seed!r} must be an integer >= 0")
+    if initial is None and (isinstance(robots, bool) or not isinstance(robots, int) or robots < 1):
+        raise UsageError(f"robots={robots!r} must be an integer >= 1", fix="e.g. --robots 3")
+    if isinstance(starts, bool) or not isinstance(starts, int) or starts < 1:
+        raise UsageError(f"starts={starts!r} must be an integer >= 1", fix="e.g. --starts 3")
+    if max_runs is not None and (isinstance(max_runs, bool) or not isinstance(max_runs, int) or max_runs < 1):
+        raise UsageError(f"max_runs={max_runs!r} must be an integer >= 1", fix="e.g. --max-runs 10000")
+    if budget is not None and not (isinstance(budget, (int, float)) and budget > 0):
+        raise UsageError(f"budget={budget!r} must be a number of seconds > 0, or None")
+    n = initial.n if initial is not None else robots
+    algo = spec.build(n_robots=n)
+    if target is None:
+        # the algorithm's own default targets (explore's), else its verify plan's, else square
+        own = getattr(spec.factory, "explore_targets", None)
+        plan = getattr(spec.factory, "verify_plan", None)
+        targets = tuple(own or (getattr(plan, "targets", ()) if plan is not None else ()) or ())
+        target = targets[0] if targets else "square"
+    labels, loaded, _warnings = _load_targets([target], default_range=getattr(spec.factory, "default_range", None))
+    label = labels[0]
+    tgt = loaded[label]
+    scale = getattr(algo, "scale_target", None)
+    if callable(scale):
+        tgt = scale(tgt, n)
+    phi = _run_range(spec, tgt, getattr(tgt, "kind", "lattice"), None)
+    p = dict(params or {})
+    params_obj = build_params(algo, phi, n, v=p.get("v"), omega=p.get("omega"), dt=p.get("dt"), extra=p.get("extra"))
+    props = list(properties) if properties else [q for q in explore_properties()
+                                                 if get_property(q).not_applicable_to(algo) is None]
+    for q in props:
+        get_property(q)            # unknown names: a usage error before any run
+    start_list = _starts(spec, algo, tgt, params_obj, phi, n, seed, starts, initial)
+    return spec, algo, tgt, label, params_obj, props, start_list
+
+
+def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, seed, options, symmetry, max_runs,
+                    budget, out_dir, progress, broken) -> ExhaustiveVerdict:
+    """One property searched from every start in turn, up to the first violation."""
+    v = ExhaustiveVerdict(prop, "held", complete=True)
+    t0 = time.process_time()
+    inconclusive = []
+    for start_label, init in start_list:
+        deadline = None if budget is None else time.monotonic() + float(budget)
+        out = search_start(spec.build(n_robots=init.n), tgt, init, params_obj, prop, bound, seed=seed,
+                           options=options, symmetry=symmetry, max_runs=max_runs, deadline=deadline,
+                           factory=spec.factory,
+                           progress=None if progress is None else (lambda d, prop=prop: progress(prop, d)))
+        v.starts += 1
+        v.runs += out.runs
+        v.distinct_states += out.distinct_states
+        v.pruned += out.pruned
+        v.symmetric_pruned += out.symmetric_pruned
+        v.complete = v.complete and out.complete
+        v.levels.append({"start": start_label, "levels": out.levels})
+        if out.status == "violated":
+            v.status = "violated"
+            v.deviations = out.chooser.used
+            cx = _counterexample(spec, tgt, label, params_obj, init, seed, prop, out, bound, options, broken)
+            v.counterexample = cx
+            v.message = (f"{out.message} (start {start_label}, {v.deviations} deviation(s), found after "
+                         f"{v.runs} runs; fewest within the bound)")
+            if out_dir is not None:
+                from swarmproof.checkers.explore import _file_label
+
+                path = os.path.join(os.fspath(out_dir), f"{_file_label(spec)}-{prop}-exhaustive-seed{seed}.json")
+                v.counterexample_path = cx.save(path)
+            break
+        if out.status == "inconclusive":
+            inconclusive.append(f"start {start_label}: {out.message}")
+    v.cpu = time.process_time() - t0
+    if v.status != "violated":
+        if inconclusive:
+            v.status = "inconclusive"
+            v.message = "; ".join(inconclusive)
+        else:
+            v.message = (f"held for every choice sequence within the bound ({bound.text()}) from "
+                         f"{v.starts} start(s), for the robots' draws of seed {seed}: {v.runs} runs, "
+                         f"{v.distinct_states} distinct states")
+    return v
+
+
+def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=None, robots: int = 3, seed: int = 0,
+               initial=None, starts: int = 1, bound: Bound | None = None, params: Mapping[str, Any] | None = None,
+               options: Mapping[str, Any] | None = None, max_runs: int | None = None, budget: float | None = None,
+               symmetry: bool = True, out_dir: str | os.PathLike | None = None,
+               progress: Callable[[str, dict], None] | None = None) -> ExhaustiveReport:
+    """Check ``properties`` of ``algorithm`` for every choice sequence within ``bound`` from each start.
+
+    Parameters
+    ----------
+    algorithm : str, class or callable
+        As :func:`swarmproof.checkers.explore.explore` takes it.
+    properties : sequence of str, optional
+        Default: the algorithm's explored properties that apply to it.
+    target : str or target, optional
+        A bundled lattice, ``KIND:NAME`` or a file; default the algorithm's first explore target
+        (``explore_targets``), else its verify plan's first, else ``square``.
+    robots, seed, starts : int
+        Without ``initial``: ``starts`` seeded starts of ``robots`` robots from seeds ``seed, seed +
+        1, ...``.  ``seed`` is also the engine's seed: the robots' own draws are those of that seed
+        (the verdict says so).
+    initial : InitialConfiguration, optional
+        The one start to search from (``--initial FILE``).
+    bound : Bound
+        Steps, K, choice kinds (default 20 steps, K = 2, activation).
+    max_runs, budget : optional
+        Runs / wall seconds per start and property; spent before the bound is covered: inconclusive.
+    symmetry : bool
+        Symmetry reduction where the robot model is anonymous.
+    out_dir : path, optional
+        Where counterexample files are written.
+    progress : callable ``(property, {"deviations", "runs", "states", "depth"})``, optional
+    """
+    spec, algo, tgt, label, params_obj, props, start_list = _inputs(
+        algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget)
+    bound = bound if bound is not None else Bound(steps=20, deviations=2)
+    from swarmproof.invariants.registry import get_property
+    from swarmproof.reference_impl.engine.choices import Choices
+    from swarmproof.reference_impl.engine.faults import FaultModel
+
+    broken = Choices(FaultModel(), None, SequenceSearch(bound, [], bound.deviations)).broken_assumptions(algo.model)
+    model = algo.model
+    symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False))
+    report = ExhaustiveReport(spec.label, seed, bound, start_list[0][1].n, [s for s, _ in start_list], symmetric,
+                              broken_assumptions=broken)
+    for prop in props:
+        why = get_property(prop).not_applicable_to(algo, tgt)
+        if why is not None:
+            report.properties[prop] = ExhaustiveVerdict(prop, "not_applicable", f"not applicable: {why}")
+            continue
+        report.properties[prop] = _check_property(
+            spec, tgt, label, params_obj, prop, bound, start_list, seed=seed, options=options, symmetry=symmetry,
+            max_runs=max_runs, budget=budget, out_dir=out_dir, progress=progress, broken=broken)
+    return report

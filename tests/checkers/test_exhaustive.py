@@ -1,0 +1,405 @@
+"""Exhaustive bounded checking (issue 33): the choice tree enumerated, pruned soundly, its
+counterexamples replayed exactly; the engine's choice points and state digest."""
+
+from __future__ import annotations
+
+import itertools
+import json
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from testkit import Toggle, ToggleBuggy, toggle_start
+
+from swarmproof.checkers.exhaustive import Bound, SequenceSearch, deviation_cost, exhaustive, search_start
+from swarmproof.checkers.replay import replay_file
+from swarmproof.models.counterexample import Counterexample
+from swarmproof.models.errors import InputFileError, UsageError
+from swarmproof.reference_impl.engine import FaultModel, simulate
+from swarmproof.reference_impl.engine.choices import (Chooser, RecordedChoices, activation_options,
+                                                       canonical_bytes, state_digest)
+from swarmproof.reference_impl.protocol import Params
+
+PARAMS = Params(range=1.0, v=0.1)
+
+
+def _search(algo, bound, **kw):
+    return search_start(algo, None, toggle_start(), PARAMS, "no_crash", bound, **kw)
+
+
+# ---------------------------------------------------------------- the choice tree, in closed form
+
+def test_three_robots_two_steps_is_seven_squared_sequences_without_reduction():
+    """Non-empty activation subsets of 3 robots: 7 options a step, 7^2 = 49 sequences over 2 steps,
+    each enumerated once (the activation sequences seen are exactly the 49)."""
+    seen = []
+    bound = Bound(steps=2, deviations=4, kinds=("activate",))
+    orig = SequenceSearch.choose
+
+    def spy(self, kind, options, default, at=()):
+        out = orig(self, kind, options, default, at)
+        if len(self.trail) == 2:
+            seen.append(tuple(p.options[p.idx] for p in self.trail))
+        return out
+
+    SequenceSearch.choose = spy
+    try:
+        out = _search(Toggle(), bound, prune=False, iterative=False)
+    finally:
+        SequenceSearch.choose = orig
+    assert out.status == "held" and out.complete and out.runs == 49
+    subsets = activation_options([1, 2, 3])
+    assert len(subsets) == 7 and sorted(seen) == sorted(itertools.product(subsets, repeat=2))
+
+
+@pytest.mark.parametrize("k", [0, 1, 2, 3, 4])
+def test_the_deviation_budget_keeps_exactly_the_sequences_that_cost_at_most_k(k):
+    """Leaving j robots out costs j: the runs are the sequences of total cost <= K, counted by
+    brute force over the 49."""
+    subsets = activation_options([1, 2, 3])
+    want = sum(1 for a, b in itertools.product(subsets, repeat=2)
+               if deviation_cost("activate", a, subsets[0]) + deviation_cost("activate", b, subsets[0]) <= k)
+    out = _search(Toggle(), Bound(steps=2, deviations=k), prune=False, iterative=False)
+    assert out.runs == want
+    assert [1, 7, 22, 40, 49][k] == want
+
+
+def test_iterative_deepening_runs_each_level_and_reports_it():
+    out = _search(Toggle(), Bound(steps=2, deviations=2), prune=False)
+    assert [lv["runs"] for lv in out.levels] == [1, 7, 22] and out.runs == 30
+    assert all(lv["complete"] for lv in out.levels)
+
+
+def test_pruning_ends_runs_at_states_explored_before_and_keeps_the_verdict():
+    """Toggle's states merge (a bit flipped twice is as if never flipped, the messages name only
+    the step): pruning cuts runs, never the bug."""
+    bound = Bound(steps=5, deviations=3)
+    plain = _search(Toggle(), bound, prune=False)
+    pruned = _search(Toggle(), bound)
+    assert plain.status == pruned.status == "held"
+    assert pruned.pruned > 0 and pruned.runs < plain.runs
+    assert pruned.levels[-1]["distinct_states"] <= plain.levels[-1]["distinct_states"]
+    found = _search(ToggleBuggy(), bound)
+    assert found.status == "violated"
+
+
+# ---------------------------------------------------------------- the planted bug
+
+def test_a_planted_bug_is_found_at_its_choice_sequence_with_the_fewest_deviations():
+    out = _search(ToggleBuggy(), Bound(steps=4, deviations=3))
+    assert out.status == "violated" and out.chooser.used == 2
+    assert out.chooser.deviations() == [{"index": 0, "kind": "activate", "at": [0], "option": [2]}]
+    assert "planted bug: robot 2 at step 1" in out.message
+    # K = 1 cannot reach it: held within that bound
+    assert _search(ToggleBuggy(), Bound(steps=4, deviations=1)).status == "held"
+
+
+def test_an_uncovered_bound_is_inconclusive_with_its_coverage_never_held():
+    out = _search(Toggle(), Bound(steps=2, deviations=4), prune=False, max_runs=10)
+    assert out.status == "inconclusive" and not out.complete and out.runs == 10
+    assert "K <= 1 covered completely" in out.message and "max_runs" in out.message
+
+
+# ---------------------------------------------------------------- counterexamples replay exactly
+
+def _trace_bytes(result):
+    tr = result.trace
+    return (tr.poses.tobytes(), json.dumps([list(map(repr, s)) for s in tr.states]),
+            json.dumps([e.as_dict() for e in tr.events], sort_keys=True), result.status, result.steps)
+
+
+def test_an_exhaustive_counterexample_replays_bit_for_bit(tmp_path):
+    rep = exhaustive("testkit:ToggleBuggy", ["no_crash"], target="square", initial=toggle_start(),
+                     bound=Bound(steps=4, deviations=3), out_dir=tmp_path)
+    v = rep.properties["no_crash"]
+    assert rep.exit_code == 1 and v.status == "violated" and v.deviations == 2 and v.counterexample_path
+    cx = Counterexample.load(v.counterexample_path)
+    assert cx.choices["deviations"] == [{"index": 0, "kind": "activate", "at": [0], "option": [2]}]
+    assert cx.choices["kinds"] == ["activate"] and cx.choices["steps"] == 4
+    text = "\n".join(cx.format_steps())
+    assert "step 0: only robot 2 acts (decision 0)" in text
+    rr = replay_file(v.counterexample_path)
+    assert rr.reproduced and rr.step == cx.violation["step"]
+    # the very run the search judged: a second replay and the search's own run give the same bytes
+    again = replay_file(v.counterexample_path)
+    assert _trace_bytes(rr.result) == _trace_bytes(again.result)
+    out = search_start(ToggleBuggy(), None, toggle_start(), PARAMS, "no_crash",
+                       Bound(steps=4, deviations=3))
+    assert _trace_bytes(out.result)[0] == _trace_bytes(rr.result)[0]
+    assert _trace_bytes(out.result)[2] == _trace_bytes(rr.result)[2]
+
+
+def test_a_replay_whose_run_makes_other_decisions_is_refused(tmp_path):
+    rep = exhaustive("testkit:ToggleBuggy", ["no_crash"], target="square", initial=toggle_start(),
+                     bound=Bound(steps=4, deviations=3), out_dir=tmp_path)
+    path = rep.properties["no_crash"].counterexample_path
+    doc = json.loads(open(path, encoding="utf-8").read())
+    doc["choices"]["deviations"][0]["kind"] = "loss"
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(doc, fh)
+    with pytest.raises(InputFileError, match="did not make the recorded decisions"):
+        replay_file(path)
+    doc["choices"]["kinds"] = ["teleport"]
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(doc, fh)
+    with pytest.raises(InputFileError, match="teleport"):
+        replay_file(path)
+
+
+def test_recorded_choices_make_the_same_decisions_and_the_rest_default():
+    rc = RecordedChoices(["activate"], [{"index": 1, "kind": "activate", "option": [1, 3]}])
+    r = simulate(Toggle(), None, toggle_start(), PARAMS, seed=0, max_steps=3, chooser=rc)
+    assert rc.n == 3 and rc.diverged is None
+    assert r.trace.meta["choices"]["kinds"] == ["activate"]
+    assert [s[1][0][1] for s in r.trace.states] == [0, 1, 1, 0]     # robot 2 left out at step 1
+
+
+# ---------------------------------------------------------------- liveness is never pruned
+
+def test_a_liveness_bug_that_pruning_would_hide_is_found_without_it():
+    """A property of the whole run: robot 3's bit is 0 after step 0 and 1 at the end.  With K = 1
+    only the sequence leaving robot 3 out at step 0 violates it; at step 4 it reaches the state of
+    the sequence leaving robot 3 out at step 1 (explored first, the same budget left): pruned
+    there, its end is never seen."""
+    from swarmproof.invariants.registry import Property, register_property, unregister_property
+    from swarmproof.invariants.result import InvariantResult
+
+    def check(trace, ctx):
+        x3 = [dict(s[2])["x"] for s in trace.states]
+        if ctx.result.status == "step_cap" and x3[1] == 0 and x3[-1] == 1:
+            return InvariantResult("x3_late", "violated", "test", {"step": None}, "robot 3 started late")
+        return InvariantResult("x3_late", "held", "test", None, "")
+
+    register_property(Property("x3_late", "liveness", check), replace=True)
+    try:
+        bound = Bound(steps=6, deviations=1)
+        sound = search_start(Toggle(), None, toggle_start(), PARAMS, "x3_late", bound)
+        assert sound.status == "violated" and sound.pruned == 0
+        assert sound.chooser.deviations() == [{"index": 0, "kind": "activate", "at": [0], "option": [1, 2]}]
+        hidden = search_start(Toggle(), None, toggle_start(), PARAMS, "x3_late", bound, prune=True,
+                              unsound_liveness_pruning=True)
+        assert hidden.status == "held" and hidden.pruned > 0       # what pruning would hide
+        with pytest.raises(UsageError, match="pruned run has no end"):
+            search_start(Toggle(), None, toggle_start(), PARAMS, "x3_late", bound, prune=True)
+    finally:
+        unregister_property("x3_late")
+
+
+# ---------------------------------------------------------------- the state digest
+
+def _fake_run(**over):
+    """A run's state as :func:`state_digest` reads it (two robots), with fields replaced."""
+    rng = [np.random.default_rng(np.random.SeedSequence(0, spawn_key=(0, k))) for k in range(2)]
+    run = SimpleNamespace(
+        n_total=2, present=np.array([True, True]), poses=np.array([[0.0, 0.0, 0.0], [0.5, 0.0, 0.0]]),
+        states=((("x", 0),), (("x", 1),)), robot_rngs=rng, last_msgs=[("t", 0), None], heard_msgs=[None, None],
+        outbox=None, last_outbox=None, delivery=SimpleNamespace(pending={}, backlog={}),
+        exchanges=SimpleNamespace(queue=[]), clocks=SimpleNamespace(), mover=SimpleNamespace(max_turn=1.0),
+        t=3, quiet=0, fault_rng=np.random.default_rng(1), choices=SimpleNamespace(crashes_left=0), status=None,
+        idx_l_prev=[0, 1], ids_list=[1, 2], algorithm=Toggle())
+    for k, v in over.items():
+        setattr(run, k, v)
+    return run
+
+
+def _advanced(seed_key):
+    g = np.random.default_rng(np.random.SeedSequence(0, spawn_key=(0, seed_key)))
+    g.random()
+    return g
+
+
+@pytest.mark.parametrize("field, value", [
+    ("delivery", SimpleNamespace(pending={1: [(4, 0, 0, 1, ("t", 0))]}, backlog={})),    # a message in flight
+    ("delivery", SimpleNamespace(pending={}, backlog={1: [(0, ("t", 0))]})),             # a held one
+    ("exchanges", SimpleNamespace(queue=[(4, 0, "request", 0, 1, "hi", None)])),
+    ("states", ((("x", 0),), (("x", 0),))),                                              # a controller field
+    ("states", ((("x", 0),), (("x", 1.0),))),                                            # 1 vs 1.0
+    ("poses", np.array([[0.0, 0.0, 0.0], [np.nextafter(0.5, 1), 0.0, 0.0]])),            # one bit of a pose
+    ("poses", np.array([[-0.0, 0.0, 0.0], [0.5, 0.0, 0.0]])),                            # -0.0
+    ("last_msgs", [("t", 0), ("t", 0)]),
+    ("heard_msgs", [("t", 0), None]),
+    ("present", np.array([True, False])),
+    ("t", 4), ("quiet", 1), ("status", "finished"), ("idx_l_prev", [0]),
+    ("choices", SimpleNamespace(crashes_left=1)),
+    ("fault_rng", np.random.default_rng(2)),
+    ("robot_rngs", [np.random.default_rng(np.random.SeedSequence(0, spawn_key=(0, 0))), _advanced(1)]),
+    ("mover", SimpleNamespace(max_turn=1.0, cells=np.array([[0, 0], [1, 0]]))),
+])
+def test_the_digest_never_merges_two_states_that_differ(field, value):
+    assert state_digest(_fake_run()) == state_digest(_fake_run())
+    assert state_digest(_fake_run(**{field: value})) != state_digest(_fake_run())
+
+
+def test_the_symmetric_digest_merges_relabelled_robots_and_only_them():
+    a = _fake_run(states=((("x", 0),), (("x", 1),)), last_msgs=[None, None])
+    b = _fake_run(poses=a.poses[::-1].copy(), states=a.states[::-1], last_msgs=[None, None])
+    assert state_digest(a) != state_digest(b)                       # slot order differs
+    assert state_digest(a, symmetric=True) == state_digest(b, symmetric=True)
+    c = _fake_run(states=((("x", 1),), (("x", 1),)), last_msgs=[None, None])
+    assert state_digest(a, symmetric=True) != state_digest(c, symmetric=True)
+    # a message's sender is named by its key: who sent it to whom survives the relabelling
+    a2 = _fake_run(last_msgs=[None, None], delivery=SimpleNamespace(pending={1: [(4, 0, 0, 1, "m")]}, backlog={}))
+    b2 = _fake_run(poses=a.poses[::-1].copy(), states=a.states[::-1], last_msgs=[None, None],
+                   delivery=SimpleNamespace(pending={0: [(4, 0, 1, 2, "m")]}, backlog={}))
+    b3 = _fake_run(poses=a.poses[::-1].copy(), states=a.states[::-1], last_msgs=[None, None],
+                   delivery=SimpleNamespace(pending={1: [(4, 0, 0, 1, "m")]}, backlog={}))
+    assert state_digest(a2, symmetric=True) == state_digest(b2, symmetric=True)
+    assert state_digest(a2, symmetric=True) != state_digest(b3, symmetric=True)
+
+
+def test_robots_with_the_same_key_fall_back_to_slot_order():
+    twin = _fake_run(poses=np.zeros((2, 3)), states=((("x", 0),), (("x", 0),)), last_msgs=[("a",), None])
+    swapped = _fake_run(poses=np.zeros((2, 3)), states=((("x", 0),), (("x", 0),)), last_msgs=[None, ("a",)])
+    assert state_digest(twin, symmetric=True) != state_digest(swapped, symmetric=True)
+
+
+def test_canonical_bytes_orders_mappings_and_keeps_float_bits():
+    assert canonical_bytes({"a": 1, "b": 2}) == canonical_bytes({"b": 2, "a": 1})
+    assert canonical_bytes((1,)) != canonical_bytes((1.0,)) and canonical_bytes(0.0) != canonical_bytes(-0.0)
+    assert canonical_bytes([1, 2]) != canonical_bytes((1, 2))
+
+
+# ---------------------------------------------------------------- the engine's choice points
+
+class _Defaults(Chooser):
+    def __init__(self, kinds):
+        self.kinds = frozenset(kinds)
+        self.max_delay, self.max_crashes = 2, 1
+        self.points = []
+
+    def choose(self, kind, options, default, at=()):
+        self.points.append((kind, tuple(at)))
+        assert options[0] == default
+        return default
+
+
+def test_a_chooser_taking_every_default_gives_the_fault_free_run():
+    from swarmproof.reference_impl.registry import get_algorithm
+
+    lat_init = toggle_start()
+    plain = simulate(get_algorithm("example-gather"), None, lat_init, Params(range=1.2, v=0.05), seed=3, max_steps=30)
+    ch = _Defaults(("activate", "loss", "delay", "duplicate", "reorder", "crash"))
+    chosen = simulate(get_algorithm("example-gather"), None, lat_init, Params(range=1.2, v=0.05), seed=3,
+                      max_steps=30, chooser=ch)
+    assert np.array_equal(plain.trace.poses, chosen.trace.poses) and plain.trace.states == chosen.trace.states
+    kinds = {k for k, _ in ch.points}
+    assert kinds == {"activate", "loss", "delay", "duplicate", "reorder", "crash"}
+    assert set(chosen.broken_assumptions) >= {"synchronous_clocks", "reliable_messages", "no_crashes"}
+
+
+def test_a_chooser_with_an_unknown_kind_is_a_usage_error():
+    ch = _Defaults(("teleport",))
+    with pytest.raises(UsageError, match="teleport"):
+        simulate(Toggle(), None, toggle_start(), PARAMS, seed=0, max_steps=2, chooser=ch)
+
+
+def test_chosen_crash_delay_and_loss_change_the_run_as_named():
+    class Pick(_Defaults):
+        def choose(self, kind, options, default, at=()):
+            super().choose(kind, options, default, at)
+            if kind == "crash" and at == (1,):
+                return 3
+            if kind == "loss" and at[:1] == (2,) and at[1:] == (1, 2):
+                return True
+            return default
+
+    ch = Pick(("crash", "loss"))
+    r = simulate(Toggle(), None, toggle_start(), PARAMS, seed=0, max_steps=4, chooser=ch)
+    kinds = [(e.kind, e.step) for e in r.trace.events if e.kind in ("crash", "drop")]
+    assert ("crash", 1) in kinds and ("drop", 2) in kinds
+    assert not r.trace.present[-1][2]
+
+
+def test_bounds_are_checked():
+    with pytest.raises(UsageError, match="steps=0"):
+        Bound(steps=0, deviations=1)
+    with pytest.raises(UsageError, match="teleport"):
+        Bound(steps=3, deviations=1, kinds=("teleport",))
+    with pytest.raises(UsageError, match="deviations=-1"):
+        Bound(steps=3, deviations=-1)
+    assert Bound(steps=3, deviations=1, kinds=("loss", "activate")).kinds == ("activate", "loss")
+
+
+def test_activation_of_too_many_robots_is_refused():
+    with pytest.raises(UsageError, match="at most 10 robots"):
+        activation_options(list(range(11)))
+
+
+def test_a_late_delivery_kind_enumerates_delays_up_to_the_bound():
+    out = search_start(Toggle(), None, toggle_start(), PARAMS, "no_crash",
+                       Bound(steps=3, deviations=1, kinds=("delay",), max_delay=2), prune=False, iterative=False)
+    # step 0 broadcasts nothing yet; steps 1 and 2 deliver 4 messages each (1->2, 2->1, 2->3, 3->2),
+    # each 0, 1 or 2 steps late: 1 + 8 * 2 sequences with at most one late delivery
+    assert out.status == "held" and out.runs == 17
+
+
+def test_faults_given_beside_the_chooser_keep_their_own_draws():
+    fm = FaultModel(message_loss=0.5)
+    a = simulate(Toggle(), None, toggle_start(), PARAMS, seed=5, max_steps=6, faults=fm)
+    b = simulate(Toggle(), None, toggle_start(), PARAMS, seed=5, max_steps=6, faults=fm,
+                 chooser=_Defaults(("activate",)))
+    assert [e.as_dict() for e in a.trace.events if e.kind == "drop"] == \
+        [e.as_dict() for e in b.trace.events if e.kind == "drop"]
+
+
+# ---------------------------------------------------------------- the command line
+
+def _initial_file(tmp_path):
+    path = tmp_path / "start.json"
+    init = toggle_start()
+    path.write_text(json.dumps({"format": "swarmproof-initial/1", "robots": [
+        {"id": int(i), "pose": [float(x) for x in p]} for i, p in zip(init.ids.tolist(), init.poses.tolist())]}))
+    return path
+
+
+def test_cli_exhaustive_finds_writes_and_replays(cli, tmp_path):
+    start = _initial_file(tmp_path)
+    code, out, err = cli("explore", "testkit:ToggleBuggy", "--exhaustive", "--initial", start, "--property",
+                         "no_crash", "--max-steps", "4", "--deviations", "3", "--target", "square", "--json",
+                         "--out", tmp_path)
+    assert code == 1, err
+    doc = json.loads(out)
+    v = doc["properties"]["no_crash"]
+    assert doc["mode"] == "exhaustive" and v["status"] == "violated" and v["deviations"] == 2
+    ex = v["exhaustive"]
+    assert set(ex) >= {"runs", "distinct_states", "pruned", "symmetric_pruned", "complete", "bound"}
+    assert ex["bound"] == {"steps": 4, "deviations": 3, "kinds": ["activate"]} and ex["complete"] is False
+    code, out, err = cli("replay", v["counterexample_path"])
+    assert code == 1 and "reproduced" in (out + err).lower()
+
+
+def test_cli_exhaustive_held_names_its_bound(cli, tmp_path):
+    code, out, err = cli("explore", "testkit:Toggle", "--exhaustive", "--initial", _initial_file(tmp_path),
+                         "--property", "no_crash", "--max-steps", "3", "--deviations", "1", "--choices",
+                         "activate,loss", "--target", "square")
+    assert code == 0, err
+    assert "held for every choice sequence within the bound (3 steps, K=1 deviations, choices activate, loss)" in out
+    assert "the choices break: synchronous_clocks, reliable_messages" in out
+
+
+def test_cli_exhaustive_out_of_runs_is_inconclusive_exit_3(cli, tmp_path):
+    code, out, err = cli("explore", "testkit:Toggle", "--exhaustive", "--initial", _initial_file(tmp_path),
+                         "--property", "no_crash", "--max-steps", "4", "--deviations", "3", "--max-runs", "5",
+                         "--target", "square")
+    assert code == 3 and "inconclusive" in out and "max_runs spent before the bound was covered" in out
+
+
+@pytest.mark.parametrize("argv, match", [
+    (["--choices", "activate,teleport"], "choice kind='teleport' is not known"),
+    (["--deviations", "-1"], "deviations=-1 must be an integer >= 0"),
+    (["--max-steps", "0"], "steps=0 must be an integer >= 1"),
+    (["--fault", "delays"], "--fault is for sampling exploration"),
+    (["--max-examples", "5"], "--max-examples is for sampling exploration"),
+    (["--max-runs", "0"], "max_runs=0 must be an integer >= 1"),
+    (["--robots", "4"], "disagrees with --initial"),
+])
+def test_cli_exhaustive_bad_input_exit_2(cli, tmp_path, argv, match):
+    code, out, err = cli("explore", "testkit:Toggle", "--exhaustive", "--initial", _initial_file(tmp_path),
+                         "--target", "square", *argv)
+    assert code == 2 and match in err, err
+    assert "Traceback" not in err
+
+
+def test_cli_exhaustive_only_flags_need_exhaustive(cli):
+    code, out, err = cli("explore", "song2014", "--deviations", "2")
+    assert code == 2 and "--deviations is for exhaustive checking only" in err
