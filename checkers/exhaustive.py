@@ -514,6 +514,7 @@ def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, se
             if out_dir is not None:
                 from swarmproof.checkers.explore import _file_label
 
+                os.makedirs(out_dir, exist_ok=True)
                 path = os.path.join(os.fspath(out_dir), f"{_file_label(spec)}-{prop}-exhaustive-seed{seed}.json")
                 v.counterexample_path = cx.save(path)
             break
