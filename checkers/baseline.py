@@ -131,6 +131,8 @@ class Expected:
     claim: str | None = None
     algorithm: str | None = None
     signature: dict | None = field(default=None, compare=False)
+    #: An exhaustive row's coverage (issue 33): ``{"complete", "bound"}``, recorded, not compared.
+    exhaustive: dict | None = field(default=None, compare=False)
 
     @property
     def key(self) -> tuple[str, str, str]:
@@ -143,13 +145,17 @@ class Expected:
             doc["algorithm"] = self.algorithm
         if self.signature is not None:
             doc["signature"] = dict(self.signature)
+        if self.exhaustive is not None:
+            doc["exhaustive"] = dict(self.exhaustive)
         return doc
 
     @classmethod
     def of_row(cls, row) -> "Expected":
         algo = (row.data or {}).get("algorithm")
+        ex = (row.data or {}).get("exhaustive")
+        cover = None if not isinstance(ex, dict) else {"complete": bool(ex.get("complete")), "bound": ex.get("bound")}
         return cls(row.section, row.subject, row.property, row.verdict, row.claim,
-                   algo if isinstance(algo, str) else None, signature(row))
+                   algo if isinstance(algo, str) else None, signature(row), cover)
 
 
 def _key_text(key: tuple[str, str, str]) -> str:
@@ -290,8 +296,11 @@ class Baseline:
             if sig is not None and not (isinstance(sig, dict) and isinstance(sig.get("kind"), str)):
                 raise err(f"{where}.signature", f"{where}.signature={sig!r} is not "
                                                 "{property, size, kind}")
+            ex = r.get("exhaustive")
+            if ex is not None and not (isinstance(ex, dict) and isinstance(ex.get("complete"), bool)):
+                raise err(f"{where}.exhaustive", f"{where}.exhaustive={ex!r} is not {{complete, bound}}")
             e = Expected(r["section"], r["subject"], r["property"], verdict, r.get("claim"), r.get("algorithm"),
-                         sig)
+                         sig, ex)
             if e.key in rows:
                 raise err(where, f"{where} repeats the row {_key_text(e.key)!r}",
                           fix="keep one row per section, subject and property")

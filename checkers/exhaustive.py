@@ -201,6 +201,11 @@ class SequenceSearch(Chooser):
             table[key] = left
         return False
 
+    def describe(self) -> dict:
+        from swarmproof.reference_impl.engine.choices import deterministic_from
+
+        return {**super().describe(), "deterministic_from": deterministic_from(self.deviations())}
+
     def next_prefix(self) -> list[int] | None:
         """The next run's prefix in depth-first order within the budget, or None when the tree is done."""
         trail = self.trail

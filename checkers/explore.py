@@ -54,6 +54,7 @@ from swarmproof.checkers.runs import build_params, cx_params
 from swarmproof.checkers.watchdog import MAX_LIMIT_S, Overstayed, time_limit
 from swarmproof.models.counterexample import Counterexample
 from swarmproof.models.errors import UsageError
+from swarmproof.models.hypothesis_seed import without_local_constants
 
 __all__ = ["explore_properties", "PERIODIC_LATTICES", "ExploreReport", "PropertyVerdict", "Scenario",
            "explore", "judge", "run_and_judge", "run_scenario", "free_start_box"]
@@ -682,46 +683,6 @@ def _check_speeds(speeds, params) -> tuple | None:
 
 
 @contextlib.contextmanager
-def _without_local_constants():
-    """Keep Hypothesis from mixing constants of the loaded local modules into its draws.
-
-    Hypothesis (6.13x+) scans the source of every non-site-packages module
-    imported so far for literal constants and draws them now and then
-    (``internal/conjecture/providers.py: _get_local_constants``).  The same
-    ``@seed`` then gives different scenarios in a script, the CLI and the
-    test suite (measured: a ``200`` in the calling script turned a held
-    verdict into a violated one).  For a report that depends only on the
-    seed and ``max_examples`` we give Hypothesis an empty local-constant pool
-    while exploring, and an empty ``CONSTANTS_CACHE`` (the per-draw-kind
-    cache of the pool: any Hypothesis test run earlier in the process, e.g.
-    a ``find()`` in a test suite, fills it with that moment's local
-    constants -- measured: 853 instead of 851 steps over the same 10
-    scenarios).  This touches private names; if they move, exploration
-    still works, only without that guarantee (documented in docs/explorer.md).
-    """
-    try:
-        from hypothesis.internal.conjecture import providers
-        empty = type(providers._local_constants)(
-            integers=type(providers._local_constants.integers)(),
-            floats=type(providers._local_constants.floats)(key=providers.float_to_int),
-            bytes=type(providers._local_constants.bytes)(),
-            strings=type(providers._local_constants.strings)())
-        original = providers._get_local_constants
-        original_cache = providers.CONSTANTS_CACHE
-        fresh_cache = type(original_cache)(original_cache.max_size)
-    except (ImportError, AttributeError, TypeError):  # pragma: no cover - other Hypothesis versions
-        yield
-        return
-    providers._get_local_constants = lambda: empty
-    providers.CONSTANTS_CACHE = fresh_cache
-    try:
-        yield
-    finally:
-        providers._get_local_constants = original
-        providers.CONSTANTS_CACHE = original_cache
-
-
-@contextlib.contextmanager
 def _count_bounded_shrinking():
     """Lift Hypothesis's wall-clock stop of shrinking while exploring: :data:`MAX_SHRINK_RUNS`
     bounds it by a count instead.  Hypothesis documents the constant as monkeypatchable ("for the
@@ -1331,7 +1292,7 @@ def _search_property(ex: _Exploration, strategy, prop: str, share: float,
                    suppress_health_check=list(HealthCheck))(
         hseed(ex.seed)(given(strategy)(_scenario_test(ex, search))))
     try:
-        with _without_local_constants(), _count_bounded_shrinking():
+        with without_local_constants(), _count_bounded_shrinking():
             run()
     except _BudgetSpent:
         pass  # the share of the budget is spent: keep what was found (and shrunk) so far

@@ -66,7 +66,7 @@ def _scope(sections, subjects, properties):
     def in_scope(e) -> bool:
         if e.section not in sections:
             return False
-        if e.section in ("algorithms", "exploration"):
+        if e.section in ("algorithms", "exploration", "exhaustive"):
             if e.algorithm is not None and e.algorithm not in labels:
                 return False
             if props is not None and e.property not in props:
@@ -148,7 +148,7 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
         properties = list(properties)
         explore_props = [p for p in registered if p in properties]
     subjects = report_mod.verify_subjects(None if algorithms is None else tuple(algorithms))
-    wanted = sections or (["algorithms", "exploration"] if algorithms else list(report_mod.SECTIONS))
+    wanted = sections or (["algorithms", "exploration", "exhaustive"] if algorithms else list(report_mod.SECTIONS))
     ordered = [s for s in report_mod.SECTIONS if s in wanted]
     if "exploration" in ordered:      # team sizes the explorer cannot draw: refused before any row runs
         from swarmproof.checkers.algorithm_spec import resolve_algorithm
@@ -162,7 +162,8 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
                         "seed": gate["seed"], "out_dir": out_dir, "properties": explore_props,
                         "subjects": [s for s in subjects if algorithms or s.plan.explore],
                         "workers": workers},
-        "algorithms": {"out_dir": out_dir, "subjects": subjects, "properties": properties}})
+        "algorithms": {"out_dir": out_dir, "subjects": subjects, "properties": properties},
+        "exhaustive": {"out_dir": out_dir, "subjects": subjects}})
     in_scope = _scope(ordered, subjects, properties)
     if base is not None:
         rep.comparison = compare(rep.rows, base, in_scope=in_scope, strict=strict)

@@ -581,8 +581,11 @@ def cross_check(spec: LemmaSpec, *, examples: int = 200, seed: int = 0) -> dict:
             counted["last"] = values   # Hypothesis runs the shrunk failure last
             raise _Failed
 
+    from swarmproof.models.hypothesis_seed import without_local_constants
+
     try:
-        probe()
+        with without_local_constants():      # the same draws whatever ran before in the process
+            probe()
         found = None
     except _Failed:
         found = counted["last"]

@@ -370,7 +370,7 @@ class CycleMonitor:
 
 def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: float | None = None,
                 min_returns: int = 3, randomized: bool = False, progress=None, window: int | None = None,
-                progress_eps: float = 1e-9) -> InvariantResult:
+                progress_eps: float = 1e-9, deterministic_from: int = 0) -> InvariantResult:
     """No cycle of global states and no robot moving back and forth, short of the goal.
 
     1. *Cycle*: the global state at step ``t2`` -- every pose rounded to
@@ -392,7 +392,11 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
        later: W is the stated patience).
 
     With ``randomized=True`` rule 1 is not applied: a randomized algorithm
-    can revisit a global state without repeating what followed it.  A
+    can revisit a global state without repeating what followed it.  Nor before
+    ``deterministic_from``: a run whose decisions were chosen (exhaustive checking's
+    choices, issue 33) is deterministic only after its last non-default decision, so rule 1
+    compares the states from that step on (a state repeated across a chosen decision is no
+    cycle: the next pass need not make it).  A
     randomized algorithm without a ``progress`` measure cannot be judged by
     rule 3, so the result is ``inconclusive`` unless rule 2 fires.
 
@@ -447,7 +451,7 @@ def oscillation(trace, pos_tol: float = 1e-6, *, goal_reached=False, excursion: 
             raise ValueError(f"progress has shape={progress.shape!r}, expected ({T + 1},): one value per step")
     seen: dict = {}
     prev = None
-    for t in range(T + 1 if randomized else 0, T + 1):  # rule 1 only for deterministic ones
+    for t in range(T + 1 if randomized else max(0, int(deterministic_from)), T + 1):  # rule 1: deterministic only
         key = _state_key(trace, t, pos_tol)
         if key in seen and key != prev and not goal(t):
             t1 = seen[key]

@@ -424,9 +424,11 @@ def _oscillation(trace, ctx):
     if callable(measure) and (randomized or window is not None):
         window = int(DEFAULT_PROGRESS_WINDOW if window is None else window)
         progress = progress_values(trace, measure)
+    chosen = (getattr(trace, "meta", None) or {}).get("choices") or {}
     return oscillation(trace, float(options.get("pos_tol", DEFAULT_POS_TOL)), goal_reached=lambda t: g and t == T,
                        randomized=randomized, progress=progress, window=window,
-                       progress_eps=float(options.get("progress_eps", 1e-9)))
+                       progress_eps=float(options.get("progress_eps", 1e-9)),
+                       deterministic_from=int(chosen.get("deterministic_from", 0)))
 
 
 def _oscillation_stream(algorithm, params, options):

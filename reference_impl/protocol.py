@@ -48,7 +48,8 @@ from typing import Any, Callable, Hashable, Mapping, Protocol, Sequence, runtime
 import numpy as np
 
 __all__ = [
-    "Assumption", "RobotModel", "Params", "ParamSpec", "VerifyPlan", "Observation", "Command", "Controller",
+    "Assumption", "RobotModel", "Params", "ParamSpec", "VerifyPlan", "ExhaustiveCell", "Observation", "Command",
+    "Controller",
     "Algorithm", "DEFAULT_READING", "reading_of", "steer_toward", "connected_start",
     "Experiment", "ExperimentColumn", "experiment",
 ]
@@ -440,6 +441,34 @@ class Algorithm(Protocol):
 
 
 @dataclass(frozen=True)
+class ExhaustiveCell:
+    """Exhaustive rows of ``swarmproof verify`` (issue 33): ``properties`` checked for every choice
+    sequence within a bound -- steps, ``deviations`` (K) and choice ``kinds`` only, never wall
+    time -- from the seeded start of ``robots`` robots (``seed``), on ``target`` (None: the
+    algorithm's default).  One row per property (docs/exhaustive.md).
+
+    >>> ExhaustiveCell(("connectivity",), ("activate",), steps=15, deviations=2).label()
+    'n=3 activate S=15 K=2'
+    """
+
+    properties: tuple
+    kinds: tuple = ("activate",)
+    steps: int = 20
+    deviations: int = 2
+    robots: int = 3
+    seed: int = 0
+    max_delay: int = 1
+    max_crashes: int = 1
+    target: str | None = None
+
+    def label(self) -> str:
+        """The part of the rows' subject that names the bound."""
+        extra = (f" D={self.max_delay}" if "delay" in self.kinds else "") + \
+                (f" C={self.max_crashes}" if "crash" in self.kinds else "")
+        return f"n={self.robots} {'+'.join(self.kinds)} S={self.steps} K={self.deviations}{extra}"
+
+
+@dataclass(frozen=True)
 class VerifyPlan:
     """What ``swarmproof verify`` runs of one algorithm (its class's ``verify`` attribute).
 
@@ -462,6 +491,8 @@ class VerifyPlan:
         At most this many Hypothesis examples per ``exploration`` row of this algorithm
         (fewer than the gate's when its runs are long: 004's asynchronous agents take
         hundreds of ticks; still a count, never a clock).  None: the gate's number.
+    exhaustive : tuple of ExhaustiveCell
+        Exhaustive rows (``exhaustive`` section): every choice sequence within each cell's bound.
     explore_properties : tuple of str, optional
         Explore only these properties (None: every registered one).  ``example-gather`` explores
         its lemma premises only (issue 32: its monitor in verify), not the properties an example
@@ -493,6 +524,7 @@ class VerifyPlan:
     explore_max_examples: int | None = None
     explore_cost: float | None = None
     explore_properties: tuple | None = None
+    exhaustive: tuple = ()
 
     def __post_init__(self) -> None:
         from swarmproof.models.errors import UsageError

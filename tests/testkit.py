@@ -212,3 +212,26 @@ def toggle_start():
     from swarmproof.models.trace import InitialConfiguration
 
     return InitialConfiguration([1, 2, 3], [[0.0, 0.0, 0.0], [0.5, 0.0, 0.0], [1.0, 0.0, 0.0]])
+
+
+class ToggleRows(Toggle):
+    """Toggle with ``verify`` rows: ``no_crash`` for every schedule within 4 steps and 3 robots
+    idle; its robots raise when one acts at step 1 having heard nobody (always reachable: leave
+    all but one robot out at step 0)."""
+
+    name = "toggle-rows"
+
+    @staticmethod
+    def bug(robot_id, obs, x):
+        return obs.step == 1 and len(obs.messages) == 0
+
+    @classmethod
+    def _plan(cls):
+        from swarmproof.reference_impl.protocol import ExhaustiveCell, VerifyPlan
+
+        return VerifyPlan(explore=False, exhaustive=(
+            ExhaustiveCell(("no_crash",), ("activate",), steps=4, deviations=3, target="square"),
+            ExhaustiveCell(("no_crash",), ("loss",), steps=3, deviations=1, target="square")))
+
+
+ToggleRows.verify = ToggleRows._plan()

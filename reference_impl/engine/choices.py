@@ -306,6 +306,23 @@ def phase_classes(phase: float, rate: float, every: float, steps: int) -> list[f
     return out
 
 
+def deterministic_from(deviations) -> int:
+    """The first step whose state a run's later decisions are all defaults from: one past the step
+    of the last non-default decision (``clock_phase``: before step 0), 0 with none.
+
+    >>> deterministic_from([{"kind": "loss", "at": [3, 0, 1]}, {"kind": "activate", "at": [7]}])
+    8
+    >>> deterministic_from([{"kind": "clock_phase", "at": [4]}]), deterministic_from([])
+    (0, 0)
+    """
+    last = -1
+    for d in deviations:
+        at = list(d.get("at") or [])
+        if d.get("kind") != "clock_phase" and at:
+            last = max(last, int(at[0]))
+    return last + 1
+
+
 class RecordedChoices(Chooser):
     """A chooser that makes a recorded sequence of decisions again (a counterexample's
     ``choices``: :func:`swarmproof.checkers.exhaustive` writes them): at the ``index``-th
@@ -326,6 +343,9 @@ class RecordedChoices(Chooser):
         self.at_index = {int(d["index"]): d for d in deviations}
         self.n = 0
         self.diverged: str | None = None
+
+    def describe(self) -> dict:
+        return {**super().describe(), "deterministic_from": deterministic_from(self.at_index.values())}
 
     def choose(self, kind, options, default, at=()):
         i = self.n

@@ -78,8 +78,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from swarmproof.invariants.algorithm_invariants import Invariant
-from swarmproof.reference_impl.protocol import (Assumption, Command, Observation, Params, RobotModel,
-                                                VerifyPlan, steer_toward)
+from swarmproof.reference_impl.protocol import (Assumption, Command, ExhaustiveCell, Observation, Params,
+                                                RobotModel, VerifyPlan, steer_toward)
 
 __all__ = ["Jiang", "JiangLiteral", "Group", "Layer", "nearest", "assign", "JiangController"]
 
@@ -382,7 +382,11 @@ class Jiang:
     target_kinds = ("pattern",)
     verify = VerifyPlan(targets=("pattern:rhombus-triangles", "pattern:square-segments",
                                  "pattern:triangle-segments", "pattern:trapezoid-hexagons"),
-                        robots=12, seeds=(0, 1, 2), explore=True, rank=20, explore_cost=22)
+                        robots=12, seeds=(0, 1, 2), explore=True, rank=20, explore_cost=22,
+                        # every way of delaying two deliveries by up to 2 steps, 3 robots, 40 steps
+                        # (issue 33; within 002's model: unbounded delays): ~2 s CPU
+                        exhaustive=(ExhaustiveCell(("termination",), ("delay",), steps=40, deviations=2,
+                                                   max_delay=2),))
 
     @staticmethod
     def team_multiple(target) -> int:

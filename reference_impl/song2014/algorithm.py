@@ -60,7 +60,8 @@ from swarmproof.models.errors import AssumptionError, ProtocolError
 from swarmproof.models.geometry import nearest_xy
 from swarmproof.models.se2 import wrap_angle
 
-from ..protocol import Assumption, Command, Observation, Params, ParamSpec, RobotModel, VerifyPlan
+from ..protocol import (Assumption, Command, ExhaustiveCell, Observation, Params, ParamSpec, RobotModel,
+                        VerifyPlan)
 
 __all__ = [
     "Song2014", "Song2014Controller", "Song2014Message", "authority_key", "is_higher",
@@ -709,7 +710,10 @@ class Song2014:
     lemmas = ("bounded_range", "bounded_range_strict", "intermediate_goal_in_region")
     #: ``swarmproof verify``: the periodic lattices of 000 Figs. 2, 3, 7, 10 robots, 3 starts.
     verify = VerifyPlan(targets=("square", "hexagon", "octagon-square"), robots=10, seeds=(0, 1, 2), rank=1,
-                        explore_cost=44)
+                        explore_cost=44,
+                        # every schedule of 3 robots within 15 steps and 2 robots idle (issue 33): ~8 s CPU
+                        exhaustive=(ExhaustiveCell(("connectivity", "oscillation"), ("activate",), steps=15,
+                                                   deviations=2),))
     #: Its ``Params.extra`` keys (the engine refuses any other) and the kind of target it forms.
     parameters = (
         ParamSpec("arrive_tol", float, None, low=0,

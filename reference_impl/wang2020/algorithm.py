@@ -62,8 +62,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from swarmproof.invariants.algorithm_invariants import Invariant
-from swarmproof.reference_impl.protocol import (Assumption, Command, Observation, Params, ParamSpec, RobotModel,
-                                               VerifyPlan)
+from swarmproof.reference_impl.protocol import (Assumption, Command, ExhaustiveCell, Observation, Params, ParamSpec,
+                                               RobotModel, VerifyPlan)
 
 __all__ = ["Wang2020", "Wang2020Controller", "Wang2020BroadcastHandshake", "BroadcastHandshakeController", "WangMsg",
            "manhattan", "lex_greater", "default_params", "J1", "J2", "INVARIANT_NAMES", "window_bound", "speed_range", "speed_buffer_bound"]
@@ -1059,6 +1059,14 @@ def _then_shape(name: str):
     return g
 
 
+#: ``swarmproof verify``'s exhaustive rows (issue 33): 3 agents on the scaled letter L, collision and
+#: the runtime invariants (J monotone, no swap) for every clock phase (Sec. II-A a: any phase) and,
+#: with one deviation, every asynchronous interleaving besides; about 6 s of CPU.
+WANG2020_EXHAUSTIVE = (ExhaustiveCell(("collision", "invariants"), ("clock_phase",), steps=40, deviations=3),
+                       ExhaustiveCell(("collision", "invariants"), ("activate", "clock_phase"), steps=30,
+                                      deviations=1))
+
+
 class Wang2020:
     """Wang & Rubenstein 2020's shape formation by local task swapping (registry name
     ``wang2020``): grid waypoints, Alg. 2-4; see the module docstring.
@@ -1121,7 +1129,7 @@ class Wang2020:
     # add about 4 minutes to `swarmproof verify`, docs/wang2020.md)
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=30,
                         more=(("shape:square-9", 9, (0, 1, 2)),), explore_max_examples=100,
-                        explore_cost=44)
+                        explore_cost=44, exhaustive=WANG2020_EXHAUSTIVE)
     #: simulate's ``--then`` becomes ``params.extra["then"]`` (Fig. 9's "N" then "U"): in the run's
     #: parameters, so counterexample files, replay and campaigns carry it.
     options = ("then",)
@@ -1427,4 +1435,4 @@ class Wang2020BroadcastHandshake(Wang2020):
     controller_class = BroadcastHandshakeController
     parameters = BROADCAST_HANDSHAKE_PARAMETERS
     verify = VerifyPlan(targets=("shape:letter-l",), robots=5, seeds=(0, 1, 2), explore=True, rank=31,
-                        explore_max_examples=100, explore_cost=44)
+                        explore_max_examples=100, explore_cost=44, exhaustive=WANG2020_EXHAUSTIVE)

@@ -403,3 +403,31 @@ def test_cli_exhaustive_bad_input_exit_2(cli, tmp_path, argv, match):
 def test_cli_exhaustive_only_flags_need_exhaustive(cli):
     code, out, err = cli("explore", "song2014", "--deviations", "2")
     assert code == 2 and "--deviations is for exhaustive checking only" in err
+
+
+# ---------------------------------------------------------------- verify's exhaustive rows
+
+def test_verify_has_exhaustive_rows_bounded_by_steps_k_and_kinds_and_the_baseline_records_coverage(tmp_path):
+    from swarmproof.checkers.baseline import Baseline
+    from swarmproof.checkers.gate import verify
+
+    path = tmp_path / "base.json"
+    rep = verify(algorithms=["testkit:ToggleRows"], sections=["exhaustive"], baseline=path, update_baseline=True,
+                 out_dir=tmp_path / "cx")
+    rows = {r.subject: r for r in rep.rows}
+    assert set(rows) == {"toggle-rows n=3 activate S=4 K=3", "toggle-rows n=3 loss S=3 K=1"}
+    bad, good = rows["toggle-rows n=3 activate S=4 K=3"], rows["toggle-rows n=3 loss S=3 K=1"]
+    assert bad.verdict.value == "violated" and bad.data["deviations"] == 2 and bad.claim is None
+    assert "the choices break synchronous_clocks" in bad.detail and bad.data["counterexample"]
+    assert good.verdict.value == "held" and good.data["exhaustive"]["complete"] is True
+    assert good.data["reproduce"].startswith("swarmproof explore testkit:ToggleRows --exhaustive --property "
+                                             "no_crash --choices loss --max-steps 3 --deviations 1")
+    doc = json.loads(path.read_text())
+    saved = {r["subject"]: r for r in doc["rows"]}
+    assert saved["toggle-rows n=3 loss S=3 K=1"]["exhaustive"] == {
+        "complete": True, "bound": {"steps": 3, "deviations": 1, "kinds": ["loss"]}}
+    assert saved["toggle-rows n=3 activate S=4 K=3"]["exhaustive"]["complete"] is False
+    assert Baseline.load(path).rows[("exhaustive", "toggle-rows n=3 loss S=3 K=1", "no_crash")].exhaustive[
+        "complete"] is True
+    again = verify(algorithms=["testkit:ToggleRows"], sections=["exhaustive"], baseline=path)
+    assert again.comparison.exit_code == 0 and {c.outcome for c in again.comparison.changes} <= {"same", "known"}

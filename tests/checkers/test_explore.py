@@ -357,7 +357,7 @@ def test_early_stop_at_a_repeated_state_gives_the_same_oscillation_verdict(algor
 def test_report_does_not_depend_on_hypothesis_runs_before_it(monkeypatch):
     # Hypothesis mixes literal constants of the loaded local modules into its draws, and a
     # Hypothesis run outside the explorer (here a @given run of the same strategy) fills its
-    # constants cache with them: exploring must see neither (explore._without_local_constants).
+    # constants cache with them: exploring must see neither (models.hypothesis_seed.without_local_constants).
     # Checked where it acts -- in every scenario the explorer runs -- since comparing two whole
     # reports passed with the guard removed too (these scenarios happen not to draw a constant).
     from hypothesis import given, settings
