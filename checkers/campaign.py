@@ -147,12 +147,12 @@ def _check_names(spec) -> None:
     from swarmproof.checkers.explore import FAULT_KINDS, explore_properties, resolve_algorithm
     from swarmproof.models.targets import resolve_target
 
-    props = set(explore_properties())
     for cell in spec.explore:
         try:
-            resolve_algorithm(cell.algorithm)
+            algo = resolve_algorithm(cell.algorithm)
         except UsageError as exc:
             raise spec.error(cell.path + ("algorithm",), exc.message, exc.fix or "use a registry name") from None
+        props = set(explore_properties(algo.factory))     # with the algorithm's own properties
         for k, p in enumerate(cell.properties or ()):
             if p not in props and ":" not in p:
                 raise spec.error(cell.path + ("properties", k), f"property={p!r} is not registered",
@@ -253,13 +253,13 @@ def _label(cell) -> str:
 def plan_tasks(spec) -> list[Task]:
     """Every task of ``spec``, in a fixed order (cells as written, then properties / targets,
     sizes and seeds).  Names are checked first (located errors)."""
-    from swarmproof.checkers.explore import explore_properties
+    from swarmproof.checkers.explore import explore_properties, resolve_algorithm
 
     _check_names(spec)
     _check_run_inputs(spec)
     tasks: list[Task] = []
     for cell in spec.explore:
-        for prop in (cell.properties or explore_properties()):
+        for prop in (cell.properties or explore_properties(resolve_algorithm(cell.algorithm).factory)):
             for seed in cell.seeds:
                 args = {"algorithm": cell.algorithm, "property": prop, "seed": seed, "robots": list(cell.robots),
                         "max_examples": cell.max_examples, "lattices": None if cell.lattices is None else list(cell.lattices),

@@ -59,17 +59,20 @@ from swarmproof.models.hypothesis_seed import without_local_constants
 __all__ = ["explore_properties", "PERIODIC_LATTICES", "ExploreReport", "PropertyVerdict", "Scenario",
            "explore", "judge", "run_and_judge", "run_scenario", "free_start_box"]
 
-def explore_properties() -> tuple[str, ...]:
+def explore_properties(algorithm=None) -> tuple[str, ...]:
     """The properties the explorer judges by default: every registered one, in
     registration order (:mod:`swarmproof.invariants.registry`; a user's own
-    property joins once registered).
+    property joins once registered), but an algorithm's own properties (``own=True``, e.g.
+    ``tree_link_cases``) only for the ``algorithm`` that declares them (its
+    ``properties``), after the others.
 
     >>> explore_properties()[:2]
     ('connectivity', 'tree_links')
     """
-    from swarmproof.invariants.registry import property_names
+    from swarmproof.invariants.registry import own_properties_of, property_names
 
-    return tuple(property_names())
+    mine = () if algorithm is None else own_properties_of(algorithm)
+    return tuple(property_names(own=False)) + tuple(mine)
 
 
 #: The bundled periodic lattices (models/library.py table).
@@ -799,13 +802,13 @@ def _check_inputs(algorithm, properties, budget, max_examples, robots, seed, lat
     spec = resolve_algorithm(algorithm)
     from swarmproof.invariants.registry import get_property
 
-    props = list(explore_properties()) if properties is None else list(properties)
+    props = list(explore_properties(spec.factory)) if properties is None else list(properties)
     for p in props:
         get_property(p)  # unknown names fail here, listing the registered ones
     if len(set(props)) != len(props):
         raise UsageError(f"properties={props!r} names a property twice", fix="give each property once")
     if not props:
-        raise UsageError("properties=[] is empty", fix=f"give one or more of {list(explore_properties())!r}")
+        raise UsageError("properties=[] is empty", fix=f"give one or more of {list(explore_properties(spec.factory))!r}")
     if budget is None:
         budget = math.inf   # no wall-clock limit: max_examples alone bounds the search (machine-independent)
     elif isinstance(budget, bool) or not (isinstance(budget, (int, float)) and math.isfinite(budget) and budget > 0):

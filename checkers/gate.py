@@ -139,7 +139,10 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
     if properties is not None:
         from swarmproof.checkers.explore import explore_properties
 
-        registered = explore_properties()
+        registered = list(explore_properties())     # and the own properties of the algorithms verified
+        for s in report_mod.verify_subjects(None if algorithms is None else tuple(algorithms)):
+            if s.declared is not None:
+                registered += [p for p in explore_properties(s.declared) if p not in registered]
         known = set(registered) | set(report_mod.RUN_PROPERTIES)
         for prop in properties:
             if prop not in known:

@@ -709,7 +709,8 @@ def section_exploration(*, algorithms=None, properties=None,
     For each algorithm (default: those whose ``verify`` plan asks for
     exploration, :func:`verify_subjects`; ``algorithms`` names them, or
     ``subjects`` gives them) and each property (default every registered one
-    when this runs, :func:`~swarmproof.checkers.explore.explore_properties`) one
+    when this runs, and the algorithm's own properties,
+    :func:`~swarmproof.checkers.explore.explore_properties`) one
     :func:`~swarmproof.checkers.explore.explore` run with ``max_examples`` (or fewer: the
     plan's ``explore_max_examples``), ``robots`` and ``seed``.  No wall-clock limit by default
     (:data:`VERIFY_EXPLORE_BUDGET`, read when the section runs, as is
@@ -736,13 +737,14 @@ def section_exploration(*, algorithms=None, properties=None,
     if subjects is None:
         subjects = [s for s in verify_subjects(None if algorithms is None else tuple(algorithms))
                     if algorithms is not None or s.plan.explore]
-    props = explore_properties() if properties is None else tuple(properties)
     deadline = math.inf if section_budget is None else time.monotonic() + section_budget
     plan = []
     for subj in subjects:
         cap = getattr(subj.plan, "explore_max_examples", None)
         n_examples = max_examples if cap is None else min(int(max_examples), int(cap))
         only = getattr(subj.plan, "explore_properties", None)
+        # every registered property, and the algorithm's own ones (no row for another's)
+        props = explore_properties(subj.declared) if properties is None else tuple(properties)
         plan.extend((subj, prop, n_examples) for prop in props if only is None or prop in only)
     # not applicable (the algorithm's declarations against the property's needs): no exploration
     na = [subj.not_applicable(prop) for subj, prop, _ in plan]

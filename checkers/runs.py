@@ -85,6 +85,10 @@ class CheckedRun:
     #: the exit code is 1 because of a transfer failure in ``premises`` alone (no claimed property
     #: failed, the algorithm did not crash): what simulate's result line says
     exit_by_transfer: bool = False
+    #: the algorithm's own properties (its ``properties``, e.g. song2016's ``tree_link_cases``):
+    #: name -> result, streamed inside the engine on every step where the property streams
+    #: (empty when not asked for or it declares none)
+    own: dict = dataclasses.field(default_factory=dict)
 
 
 #: The largest team a seeded start is drawn for (memory and time bounded on any input; 004's runs
@@ -315,6 +319,39 @@ def _judge_registry(algorithm, lattice, params, result, na: dict) -> dict:
     return {p: None if p in na else get_property(p).judge(result.trace, ctx) for p in REGISTRY_RUN_PROPERTIES}
 
 
+def _own_observers(algorithm, params, lattice) -> dict:
+    """Name -> the streaming monitor of each of the algorithm's own properties that streams and
+    applies (the engine feeds it every step, whatever the trace keeps)."""
+    from swarmproof.invariants.registry import get_property, own_properties_of
+
+    out = {}
+    for name in own_properties_of(algorithm):
+        prop = get_property(name)
+        if prop.stream is not None and prop.not_applicable_to(algorithm, lattice) is None:
+            out[name] = prop.stream(algorithm, params, {})
+    return out
+
+
+def _judge_own(algorithm, lattice, params, result, observers: dict) -> dict:
+    """Name -> the verdict of each of the algorithm's own properties on the run: its streaming
+    monitor's where it streamed (every step), else its check on the trace; None where not applicable."""
+    from swarmproof.invariants.registry import PropertyContext, get_property, own_properties_of
+
+    ctx = PropertyContext(algorithm, lattice, params, result, {})
+    out = {}
+    for name in own_properties_of(algorithm):
+        prop = get_property(name)
+        ob = observers.get(name)
+        if prop.not_applicable_to(algorithm, lattice) is not None:
+            out[name] = None
+        elif ob is None or result.crash is not None:
+            out[name] = prop.judge(result.trace, ctx)
+        else:
+            judge = getattr(ob, "judge", None)
+            out[name] = judge(ctx) if callable(judge) else ob.result()
+    return out
+
+
 def _judge_termination(algorithm, result, params):
     """The algorithm's own termination bound or end (001 Thm. 13) judged on the run; None when it
     offers neither."""
@@ -436,7 +473,7 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
                   allow_violations: bool = False,
                   progress: Callable[[int, int], None] | None = None, record_every: int = 1,
                   strict: bool = False, tree_link_mode: str | None = None,
-                  vectorised: bool = False, premises: bool = False) -> CheckedRun:
+                  vectorised: bool = False, premises: bool = False, own_properties: bool = False) -> CheckedRun:
     """Run ``algorithm_name`` on ``lattice`` (any target) from a seeded connected start (or ``initial``)
     and check it.
 
@@ -449,6 +486,10 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     ``premises`` streams the algorithm's lemma premise monitors inside the engine on every step
     (``simulate`` asks for them): the JSON's ``premises``; "premises held, conclusion false" (the
     proof does not transfer to the run) makes the exit code 1 whether claimed or not.
+    ``own_properties`` judges the algorithm's own properties (its ``properties``: checks of its
+    paper that no lemma states), streamed inside the engine on every step where they stream
+    (``simulate`` asks for them): the JSON's ``own_properties``; a claimed one decides the exit code
+    as any claimed property does.
 
     The JSON document keeps every field it had for lattices and adds
     ``target{kind, name}``, ``satisfied`` (the target's verdict on the final
@@ -498,12 +539,15 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     prem_monitor = _premises_observer(algorithm, params) if premises else None
     if prem_monitor is not None:
         observers += (prem_monitor,)
+    own_obs = _own_observers(algorithm, params, lattice) if own_properties else {}
+    observers += tuple(own_obs.values())
     result = _engine(algorithm, vectorised)(
         algorithm, lattice, initial, params, seed=seed, max_steps=max_steps, allow_violations=allow_violations,
         progress=progress, record_every=record_every, observers=observers)
     formation = _judge_formation(algorithm, result, lattice, kind, params, phi)
     conn, links = _judge_links(algorithm, result, phi, link_mode, streamed=streamed)
     more = _judge_registry(algorithm, lattice, params, result, na)
+    own = _judge_own(algorithm, lattice, params, result, own_obs) if own_properties else {}
     doc = _simulate_document(algorithm, lattice, kind, initial, seed, phi, params, result, formation, conn, links,
                              record_every=record_every, warnings=warnings, vectorised=vectorised)
     term = _judge_termination(algorithm, result, params)
@@ -522,7 +566,11 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     doc.update(_claims_document(claims, na, {"termination": term is not None, "formation": True,
                                              "connectivity": True, "tree_links": True,
                                              **{p: True for p in REGISTRY_RUN_PROPERTIES}}))
-    code = _exit_code(result, formation.sat, conn, links, term, claims, na, more)
+    if own:
+        doc["own_properties"] = {p: (r.as_dict() if r is not None else
+                                     _na_document(p, _own_na(algorithm, lattice, p))) for p, r in own.items()}
+    code = _exit_code(result, formation.sat, conn, links, term, claims, na,
+                      {**more, **{p: r for p, r in own.items() if r is not None}})
     prem = None
     if prem_monitor is not None and result.steps > 0:
         prem = prem_monitor.result()
@@ -534,7 +582,15 @@ def run_and_check(algorithm_name: str, lattice, *, seed: int, robots: int | None
     doc["exit_code"] = code
     return CheckedRun(doc, code, result, lattice, algorithm, params, initial, formation.sat, conn, links, term,
                       formation.metrics, {p: claims.get(p) for p in RUN_PROPERTIES}, na,
-                      completion_sound=more.get("completion_sound"), premises=prem, exit_by_transfer=by_transfer)
+                      completion_sound=more.get("completion_sound"), premises=prem, exit_by_transfer=by_transfer,
+                      own=own)
+
+
+def _own_na(algorithm, target, name: str) -> str:
+    """Why the registered property ``name`` is not applicable to ``algorithm`` ("" when it is)."""
+    from swarmproof.invariants.registry import get_property
+
+    return get_property(name).not_applicable_to(algorithm, target) or ""
 
 
 def _premises_observer(algorithm, params):

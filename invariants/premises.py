@@ -12,9 +12,11 @@ This module holds what every algorithm shares: the registry of monitors (:data:`
 (:func:`check_premises`, :class:`PremisesMonitor`) and the ``premises`` verdict
 (:func:`premises`, :func:`combine_premises`).  Each paper's monitors live in its package and
 register themselves when it is imported (``swarmproof.reference_impl.song2016.monitors``:
-``step_bounded``, ``nclb``, ``relocate``, ``child_toward_parent``, ``tree_link_cases``;
-``...song2014.monitors``: ``parent_bounded_range``; ``...wang2020.monitors``: the ``grid_*``
-monitors).
+``step_bounded``, ``nclb``, ``relocate``, ``child_toward_parent``;
+``...song2014.monitors``: ``parent_bounded_range``; ``...wang2020.monitors``: ``grid_priorities``,
+``grid_waited``).  Every one is derived from a lemma definition (a binding); the checks that no
+lemma states are properties of their algorithms (``tree_link_cases``, ``grid_claims``,
+``grid_heard``, ``grid_spacing``: docs/proofs.md, "Premise monitors").
 
 An algorithm's class says which monitors apply to it (``premise_monitors``: names, or
 :class:`~swarmproof.invariants.lemma_monitor.Binding` objects of its own); the engine records
@@ -22,9 +24,7 @@ them in ``trace.meta["premise_monitors"]`` and :func:`check_premises` runs those
 
 Blind spots: poses are sampled at step ends (straight-line motion is assumed in between, as the
 lemmas assume); a state without the keys a monitor reads makes it ``inconclusive`` rather than
-``held``; the hand-written monitors that remain (``tree_link_cases``, ``grid_claims``,
-``grid_heard``, ``grid_spacing``) check premises, not derived from a lemma definition (each for
-a reason: docs/proofs.md, "Premise monitors").
+``held``.
 
 References
 ----------
@@ -54,7 +54,7 @@ from .result import InvariantResult
 
 __all__ = ["check_premises", "params_of", "MONITORS",
            "MONITOR_LEMMAS", "register_monitor", "premise_monitors_of", "PremisesMonitor", "premises",
-           "combine_premises", "CITE_PREMISES", "register_binding", "BINDINGS", "MISSING", "Window", "examined_steps", "present_robot_steps",
+           "combine_premises", "CITE_PREMISES", "register_binding", "BINDINGS", "MISSING", "Window", "StepFeed", "examined_steps", "present_robot_steps",
            "slot_of"]
 
 MISSING = object()
@@ -86,6 +86,30 @@ class Window:
 
     def present_at(self, t):
         return self._present[t]
+
+
+class StepFeed:
+    """The streaming monitor of a check with memory across steps (an object with ``scan(trace)``
+    and ``result()``, e.g. song2016's ``TreeLinkCases``): the engine feeds it every step
+    (``simulate(observers=...)``) and it scans that step as a :class:`Window`, so a check that
+    reads every step runs on every step whatever a sparse trace keeps.  ``name`` is the property's
+    (:meth:`~swarmproof.invariants.registry.Property.judge` finds it by that name)."""
+
+    def __init__(self, name: str, scanner) -> None:
+        self.name, self.scanner = name, scanner
+        self._prev = None
+
+    def start(self, ids) -> None:
+        self.ids = np.asarray(ids)
+
+    def observe(self, t, poses, states, present) -> None:
+        cur = (int(t), np.array(poses, copy=True), states, np.array(present, copy=True))
+        prev, self._prev = self._prev, cur
+        if prev is not None:
+            self.scanner.scan(Window(self.ids, {}, prev, cur))
+
+    def result(self) -> InvariantResult:
+        return self.scanner.result()
 
 
 def present_robot_steps(trace):
@@ -271,15 +295,14 @@ class PremisesMonitor:
     def __init__(self, monitors, phi: float, v: float, dt: float, *, meta=None) -> None:
         self.monitors = _known(monitors)
         self.phi, self.v, self.dt = float(phi), float(v), float(dt)
-        #: run facts for the accumulating monitors (e.g. ``{"params": {"extra": ...}}``: the clock
-        #: rates and broadcast period :class:`GridHeard` reads); the one-step windows carry no meta
+        #: run facts for the accumulating monitors (e.g. ``{"params": {"extra": ...}}``); the
+        #: one-step windows carry no meta
         self.meta = dict(meta or {})
         self._prev = None
         self.steps = 0
         self.final: dict = {}            # monitor -> a violated or inconclusive result (it stops there)
         self.checked = {m: 0 for m in self.monitors}
-        # monitors that keep memory across steps: they scan every step they see (tree_link_cases
-        # judges them all, grid_heard keeps the frames of the last windows)
+        # monitors that keep memory across steps (a binding's: it judges every step it sees)
         self.accumulating = {m: _ACCUMULATING[m](self.phi, self.v, self.dt, self.meta) for m in self.monitors
                              if m in _ACCUMULATING}
 
@@ -293,7 +316,7 @@ class PremisesMonitor:
         if prev is None:
             return
         self.steps += 1
-        window = Window(self.ids, {}, prev, cur)     # (GridHeard got self.meta when it was made)
+        window = Window(self.ids, {}, prev, cur)     # (accumulating monitors got self.meta when made)
         for name in self.monitors:
             if name in self.accumulating:
                 self.accumulating[name].scan(window)

@@ -17,10 +17,10 @@ Examples
 ['connectivity', 'tree_links', 'termination', 'formation']
 >>> get_property("collision").kind
 'safety'
->>> get_property("no-such")
+>>> get_property("no-such")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'invariants', 'no_crash', 'completion_sound'], or module:name of a property you registered
+swarmproof.models.errors.UsageError: property='no-such' is not known; fix: use one of ['connectivity', 'tree_links', 'termination', 'formation', 'collision', 'deadlock', 'oscillation', 'premises', 'invariants', 'no_crash', 'completion_sound'], ...or module:name of a property you registered
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from .result import InvariantResult
 from .termination import THEOREM_13
 
 __all__ = ["Property", "PropertyContext", "register_property", "unregister_property", "property_check",
-           "get_property", "properties", "property_names", "progress_values",
+           "get_property", "properties", "property_names", "own_properties_of", "progress_values",
            "DEFAULT_RADIUS", "DEFAULT_POS_TOL", "DEFAULT_PROGRESS_WINDOW", "collision_radius"]
 
 DEFAULT_RADIUS = 0.1        # robot disc radius for "collision", lattice edges have unit length
@@ -116,6 +116,12 @@ class Property:
         ``"messages"``, ``"lattice_target"``, ``"premise_monitors"``, ``"invariants"``).  An
         algorithm that declares it cannot give one gets no verdict for the property: *not
         applicable* (:meth:`not_applicable_to`), decided before any run.
+    own : bool
+        An algorithm's own property (issue 32: a check of its paper that no lemma states, e.g.
+        ``tree_link_cases``, which cases of the paper's argument cover each tree link): it applies only to an algorithm that names it in its class
+        attribute ``properties`` (:func:`own_properties_of`), and the explorer and ``verify`` judge it
+        for those algorithms only (no row for the others).  A paper's package registers its own
+        properties when it is imported.
     """
 
     name: str
@@ -129,6 +135,7 @@ class Property:
     stream: Callable[[Any, Any, Mapping[str, Any]], Any] | None = None
     every_step: bool = False
     needs: tuple = ()
+    own: bool = False
 
     def not_applicable_to(self, algorithm, target=None) -> str | None:
         """Why this property is not applicable to ``algorithm`` (what it lacks), or None.
@@ -142,6 +149,8 @@ class Property:
         """
         from .capabilities import not_applicable
 
+        if self.own and self.name not in _declared_properties(algorithm):
+            return f"{self.name} is another algorithm's own property (not in its properties)"
         return not_applicable(algorithm, self.needs, target)
 
     def judge(self, trace, ctx: "PropertyContext") -> InvariantResult:
@@ -233,9 +242,40 @@ def property_check(name: str, kind: str, *, reads=(), blind_spots: str = "", cit
     return deco
 
 
-def property_names() -> list[str]:
-    """Registered names, in registration order."""
-    return list(_REGISTRY)
+def property_names(*, own: bool = True) -> list[str]:
+    """Registered names, in registration order (``own=False``: without the algorithms' own
+    properties, which apply only to the algorithms that declare them)."""
+    return [n for n, p in _REGISTRY.items() if own or not p.own]
+
+
+def _declared_properties(algorithm) -> tuple:
+    names = getattr(algorithm, "properties", None) or ()
+    return (names,) if isinstance(names, str) else tuple(names)
+
+
+def own_properties_of(algorithm) -> tuple[str, ...]:
+    """The names of ``algorithm``'s own properties: its class attribute ``properties`` (each a
+    registered property with ``own=True``, e.g. ``tree_link_cases``), else ``()``.
+    A name that is not registered, or not an own property, is a usage error naming the algorithm.
+
+    >>> own_properties_of(type("A", (), {"name": "mine"})())
+    ()
+    >>> own_properties_of(type("B", (), {"name": "mine", "properties": ("collision",)})())
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: properties entry='collision' of algorithm='mine' is not an own property (every algorithm gets it); fix: list in properties only the algorithm's own properties (Property(..., own=True), registered by its package)
+    """
+    out = []
+    for n in _declared_properties(algorithm):
+        p = _REGISTRY.get(n) if isinstance(n, str) else None
+        if p is None or not p.own:
+            who = getattr(algorithm, "name", algorithm)
+            why = "is not a registered property" if p is None else "is not an own property (every algorithm gets it)"
+            raise UsageError(f"properties entry={n!r} of algorithm={who!r} {why}",
+                             fix="list in properties only the algorithm's own properties (Property(..., own=True), "
+                                 "registered by its package)")
+        out.append(n)
+    return tuple(out)
 
 
 def properties() -> list[Property]:
@@ -270,8 +310,11 @@ def get_property(name) -> Property:
             return _REGISTRY[attr]
         raise UsageError(f"property={name!r}: {modname} has no Property {attr!r} and registers none of that name",
                          fix="define it with Property(...) or @property_check(name, kind)")
+    own = [n for n, p in _REGISTRY.items() if p.own]
     raise UsageError(f"property={name!r} is not known{did_you_mean(name, property_names())}",
-                     fix=f"use one of {property_names()!r}, or module:name of a property you registered")
+                     fix=f"use one of {property_names(own=False)!r}"
+                         + (f", an algorithm's own property ({', '.join(own)})" if own else "")
+                         + ", or module:name of a property you registered")
 
 
 # ----------------------------------------------------------------------------
@@ -364,7 +407,7 @@ def _collision_stream(algorithm, params, options):
 def _premises_stream(algorithm, params, options):
     from .premises import PremisesMonitor, premise_monitors_of
 
-    # the clock rates and broadcast period (params.extra) tell grid_heard the window's span
+    # the run's params.extra, for monitors with memory across steps (the one-step windows carry none)
     return PremisesMonitor(premise_monitors_of(algorithm), params.range, params.v, params.dt,
                            meta={"params": {"extra": dict(getattr(params, "extra", None) or {})}})
 

@@ -11,9 +11,12 @@ The package holds everything about this paper:
 * :mod:`.geometry` -- the motion geometry: bounded ranges (Def. 8), safe regions, NCLB;
 * :mod:`.lemmas` -- the z3 encodings of the geometric safety lemmas (Lemma 7, NCLB,
   Lemma 11's per-link cases; also those of 000 Lemma 7) and the whole-tree cases of Lemma 11;
-* :mod:`.monitors` -- the runtime monitors of those lemmas' premises.
+* :mod:`.monitors` -- the runtime monitors of those lemmas' premises;
+* :mod:`.properties` -- its own property ``tree_link_cases`` (every tree link in a case of
+  Lemma 11's argument), which no lemma states.
 """
 
 from . import monitors as _monitors  # noqa: F401  (registers this paper's premise monitors)
+from . import properties as _properties  # noqa: F401  (registers this paper's own properties)
 from .algorithm import *  # noqa: F401,F403
 from .algorithm import __all__  # noqa: F401

@@ -1207,10 +1207,14 @@ class Song2016:
         "connectivity": "001 Lemma 11 (communication graph stays connected)",
         "tree_links": "001 Lemma 11, Sec. V-C (NCLB keeps every spanning-tree link)",
     }
-    #: The lemma premises 001's proof uses (docs/proofs.md): Lemma 7's step bound, NCLB of
-    #: Sec. V-C, the relocate case of Lemma 11, a child moving toward a still parent, and every
-    #: link of the decided tree in a proved case (issue 19).
-    premise_monitors = ("step_bounded", "nclb", "relocate", "child_toward_parent", "tree_link_cases")
+    #: The lemma premises 001's proof uses (docs/proofs.md), each monitored from its lemma's
+    #: definition: Lemma 7's step bound, NCLB of Sec. V-C, the relocate case of Lemma 11, a child
+    #: moving toward a still parent.
+    premise_monitors = ("step_bounded", "nclb", "relocate", "child_toward_parent")
+    #: Its own properties (:mod:`.properties`): every link of the decided tree in a case of Lemma
+    #: 11's argument, by the algorithm's own reasons (issue 19; a property since issue 32: no lemma
+    #: states the case coverage).
+    properties = ("tree_link_cases",)
     #: ``swarmproof prove``'s lemmas about it (001's: Lemma 7, NCLB, one link of Lemma 11's
     #: proof, the relocate robot's path, the safe region; ``swarmproof prove --algorithm song2016``).
     lemmas = ("bounded_range", "bounded_range_strict", "nclb_link_kept", "spanning_tree_kept",

@@ -14,8 +14,12 @@ module registers them with :mod:`swarmproof.invariants.premises` (the shared mec
 * ``child_toward_parent`` -- :func:`children_toward_still_parents`: a robot whose parent stays
   still in a step does not end farther from it (``spanning_tree_kept``, case
   ``child_toward_still_parent``; the relocate robot excepted).
-* ``tree_link_cases`` -- :func:`tree_links_in_proved_cases` / :class:`TreeLinkCases`: every
-  link of the tree is in a case the per-link lemma proves (``spanning_tree_kept``).
+
+Every one is derived from its lemma's one definition (a binding, issue 32).  The check of which
+case of Lemma 11's argument covers each tree link, :func:`tree_links_in_proved_cases` /
+:class:`TreeLinkCases`, is here too (it reads the same states) but is no premise monitor: no
+lemma states the case coverage by the algorithm's own reasons, so it is the property
+``tree_link_cases`` of song2016 (:mod:`.properties`; docs/proofs.md, "Premise monitors").
 
 Measured findings (docs/proofs.md, "Premise monitors"): song2016 met every premise on all 240
 acceptance runs.  Blind spots: those of :mod:`swarmproof.invariants.premises` (step ends only,
@@ -34,7 +38,7 @@ import math
 import numpy as np
 
 from swarmproof.invariants.lemma_monitor import Batch, Binding, Instance
-from swarmproof.invariants.premises import MISSING, present_robot_steps, register_binding, register_monitor, slot_of
+from swarmproof.invariants.premises import MISSING, present_robot_steps, register_binding, slot_of
 from swarmproof.invariants.result import InvariantResult, state_value
 
 from .lemmas import BOUNDED_RANGE, NCLB_LINK_KEPT, RELOCATE_STAYS_IN_RANGE, SPANNING_TREE_KEPT
@@ -206,7 +210,8 @@ TREE_LINK_CASES = ("nclb", "child_not_farther_from_still_parent", "relocate_in_r
 
 def tree_links_in_proved_cases(trace, phi: float, v: float, dt: float, *,
                                tol: float = 1e-9) -> InvariantResult:
-    """Every link of the tree a step decided falls in a case whose link-keeping is proved.
+    """Every link of the tree a step decided falls in a case whose link-keeping is proved (the
+    property ``tree_link_cases``, :mod:`.properties`).
 
     For every robot ``c`` and the parent ``p`` it holds after step ``t`` (state key
     ``"parent"`` recorded after the step decided -- newly chosen parents included, the
@@ -255,7 +260,9 @@ UNCOVERED_KEPT = 200
 
 class TreeLinkCases:
     """The accumulating form of :func:`tree_links_in_proved_cases`: :meth:`scan` a whole trace
-    or, step by step, the one-step windows of :class:`PremisesMonitor`; :meth:`result` judges
+    or, step by step, the one-step windows of
+    :class:`~swarmproof.invariants.premises.StepFeed` (the property's streaming monitor, fed by
+    the engine); :meth:`result` judges
     everything scanned (it does not stop at the first uncovered link)."""
 
     cites = "spanning_tree_kept (001 Lemma 11's proof, Sec. V-C, Def. 8)"
@@ -339,7 +346,7 @@ class TreeLinkCases:
                 self.first_broken = (witness, why)
 
     def result(self) -> InvariantResult:
-        name, cites = "premise:tree_link_cases", self.cites
+        name, cites = "tree_link_cases", self.cites
         if self.missing is not None:
             return InvariantResult(name, "inconclusive", cites, None, self.missing)
         checked = sum(self.counts.values())
@@ -364,5 +371,3 @@ class TreeLinkCases:
 
 for _binding in (STEP_BOUNDED, NCLB, RELOCATE, CHILD_TOWARD_PARENT):
     register_binding(_binding)
-register_monitor("tree_link_cases", lambda trace, phi, v, dt: tree_links_in_proved_cases(trace, phi, v, dt),
-                 "spanning_tree_kept", accumulating=lambda phi, v, dt, meta: TreeLinkCases(phi, v, dt))

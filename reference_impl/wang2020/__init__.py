@@ -18,5 +18,6 @@ The shapes and goal sets are a target kind every algorithm shares: :mod:`swarmpr
 """
 
 from . import monitors as _monitors  # noqa: F401  (registers this paper's premise monitors)
+from . import properties as _properties  # noqa: F401  (registers this paper's own properties)
 from .algorithm import *  # noqa: F401,F403
 from .algorithm import __all__  # noqa: F401

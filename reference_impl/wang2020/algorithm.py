@@ -1117,9 +1117,14 @@ class Wang2020:
     parameters = PARAMETERS
     target_kinds = ("shape",)
     #: The premises of the z3 lemmas (reference_impl/wang2020/lemmas.py) monitored on every step (the
-    #: ``premises`` property): claims distinct and no swap, distinct priorities within R, waited
-    #: longer than the window, every neighbour within R heard (invariants/premises.py).
-    premise_monitors = ("grid_claims", "grid_priorities", "grid_waited", "grid_heard")
+    #: ``premises`` property), each from its lemma's definition: distinct priorities within R,
+    #: waited longer than the window (invariants/premises.py).
+    premise_monitors = ("grid_priorities", "grid_waited")
+    #: Its own properties (:mod:`.properties`; premise monitors until issue 32, which no lemma states
+    #: as a run reads them): claims and cells distinct and no edge swap at every moment (Thms.
+    #: IV-A.1/IV-A.2's conclusions), every robot within R throughout a window heard (Sec. II-A),
+    #: the grid length against Sec. III-A's and V-B3's bounds at the run's parameters.
+    properties = ("grid_claims", "grid_heard", "grid_spacing")
     #: ``swarmproof prove``'s lemmas about it (004's Sec. IV-A and V-B3, the lemmas of
     #: reference_impl/wang2020/lemmas.py; ``swarmproof prove --algorithm wang2020``).
     lemmas = ("wang2020_time_normalisation", "wang2020_planner_vertex_one_moment",

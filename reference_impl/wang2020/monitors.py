@@ -5,15 +5,17 @@ under premises about claims, priorities, spacing and what each robot has heard; 
 over a trace (or one step of a streaming run) say whether a run met them.  Importing this
 module registers them with :mod:`swarmproof.invariants.premises` (the shared mechanism).
 
-Derived from their lemma's one definition (bindings, issue 32): ``grid_priorities``
-(:data:`GRID_PRIORITIES`, :func:`grid_priorities_distinct`: premise ``distinct_priorities`` of
-``wang2020_planner_vertex_one_moment``) and ``grid_waited`` (:data:`GRID_WAITED`,
-:func:`grid_waited_window`: premise ``i_waited_longer_than_window`` of ``wang2020_lemma_iv_a_1``).
-Hand-written, each for a reason (docs/proofs.md, "Premise monitors of these lemmas"):
-``grid_claims`` (:func:`grid_claims_distinct`: Thms. IV-A.1/IV-A.2's conclusions at one moment,
-which the lemmas state over claim intervals a state does not record), ``grid_heard``
-(:func:`grid_heard_neighbours`, :class:`GridHeard`: memory across the frames of a window) and
-``grid_spacing`` (:func:`grid_spacing_of_trace`: the run's parameters, not a step).
+The premise monitors, derived from their lemma's one definition (bindings, issue 32):
+``grid_priorities`` (:data:`GRID_PRIORITIES`, :func:`grid_priorities_distinct`: premise
+``distinct_priorities`` of ``wang2020_planner_vertex_one_moment``) and ``grid_waited``
+(:data:`GRID_WAITED`, :func:`grid_waited_window`: premise ``i_waited_longer_than_window`` of
+``wang2020_lemma_iv_a_1``).  The checks of the properties of :mod:`.properties` live here too
+(they read the same states), each a property because no lemma states it as a run reads it
+(docs/proofs.md, "Premise monitors of these lemmas"): ``grid_claims``
+(:func:`grid_claims_distinct`: Thms. IV-A.1/IV-A.2's conclusions at one moment, which the lemmas
+state over claim intervals a state does not record), ``grid_heard``
+(:func:`grid_heard_neighbours`, :class:`GridHeard`: who is owed a message, from the frames of a
+whole window) and ``grid_spacing`` (:func:`grid_spacing_of_trace`: the run's parameters, not a step).
 
 References
 ----------
@@ -27,7 +29,7 @@ import math
 import numpy as np
 
 from swarmproof.invariants.lemma_monitor import Batch, Binding, MissingState
-from swarmproof.invariants.premises import MISSING, examined_steps, register_binding, register_monitor
+from swarmproof.invariants.premises import MISSING, examined_steps, register_binding
 from swarmproof.invariants.result import InvariantResult, state_value
 from swarmproof.models.sensing import INCLUSIVE_SLACK
 
@@ -80,7 +82,8 @@ def _grid_steps(trace):
 
 def grid_claims_distinct(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.0) -> InvariantResult:
     """Claims distinct and no edge swap, in every recorded state (004 Constraints III-A.1/2, the
-    conclusions of Thms. IV-A.1/IV-A.2 and premises of ``wang2020_separation_equal_speeds``).
+    conclusions of Thms. IV-A.1/IV-A.2 and premises of ``wang2020_separation_equal_speeds``): the
+    property ``grid_claims`` (:mod:`.properties`).
 
     A robot's claim (Alg. 2's ``wp``) is its state's ``"next"`` when that is not None (the
     waypoint it moves or decided to move to), else its ``"cell"``.  Violated when two robots
@@ -98,7 +101,7 @@ def grid_claims_distinct(trace, phi: float = 0.0, v: float = 0.0, dt: float = 1.
     >>> r.status, r.witness["robots"], r.witness["waypoint"], r.witness["lemma"]
     ('violated', [1, 2], [1, 1], 'wang2020_separation_equal_speeds')
     """
-    name, cites = "premise:grid_claims", _GRID_CITES["claims"]
+    name, cites = "grid_claims", _GRID_CITES["claims"]
     checked = 0
     for t in _grid_steps(trace):
         rows = _grid_states(trace, t, ("cell", "next"))
@@ -221,7 +224,7 @@ def grid_spacing_bound(l: float, r: float, R: float, v_min: float | None = None,
     >>> slow.status, slow.witness["bound"], round(slow.witness["need"], 6)
     ('violated', 'l >= 2 r sqrt(v_max^2 + v_min^2) / v_min', 0.223607)
     """
-    name, cites = "premise:grid_spacing", _GRID_CITES["spacing"]
+    name, cites = "grid_spacing", _GRID_CITES["spacing"]
     vals = {"l": l, "r": r, "R": R}
     speeds = {} if v_min is None or v_max is None else {"v_min": v_min, "v_max": v_max}
     for key, val in {**vals, **speeds}.items():
@@ -283,7 +286,7 @@ def grid_spacing_of_trace(trace, phi: float, v: float = 0.0, dt: float = 1.0) ->
     about, not the range they were drawn from, which the ``speed_buffer`` assumption checks)."""
     l, r = _grid_params(trace, phi)
     if l is None or r is None:
-        return InvariantResult("premise:grid_spacing", "inconclusive", _GRID_CITES["spacing"], None,
+        return InvariantResult("grid_spacing", "inconclusive", _GRID_CITES["spacing"], None,
                                "the trace records no grid_spacing and robot_radius (params.extra)")
     v_min, v_max = _run_speeds(trace)
     return grid_spacing_bound(float(l), float(r), phi, v_min, v_max)
@@ -445,9 +448,11 @@ _HEARD_HISTORY = 64
 
 
 class GridHeard:
-    """The premise ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1``, exactly as the lemma
-    uses it, over a whole trace or step by step (:meth:`scan` the one-step windows of
-    :class:`PremisesMonitor`; it keeps the frames of the last windows itself).
+    """The property ``grid_heard`` (:mod:`.properties`): the delivery that the premise
+    ``lossless_delivery_within_R`` of ``wang2020_lemma_iv_a_1`` takes for granted, with who is owed
+    it selected as the lemma's proof uses it, over a whole trace or step by step (:meth:`scan` the
+    one-step windows of :class:`~swarmproof.invariants.premises.StepFeed`, fed by the engine; it
+    keeps the frames of the last windows itself).
 
     The statement (004 Lemma IV-A.1's proof, Sec. II-A b, c, e; the engine's timing,
     docs/engine.md): robot ``i`` sets off in step ``t`` (Alg. 2 lines 30-31) reading its
@@ -478,7 +483,7 @@ class GridHeard:
     not judged (``inconclusive`` if no violation is found; the streaming form sees every step).
     """
 
-    name = "premise:grid_heard"
+    name = "grid_heard"
 
     def __init__(self, phi: float, meta=None) -> None:
         self.phi = float(phi)
@@ -594,9 +599,5 @@ class GridHeard:
 
 
 # the premises of reference_impl/wang2020/lemmas.py's lemmas
-register_monitor("grid_claims", grid_claims_distinct, "wang2020_separation_equal_speeds")
 register_binding(GRID_PRIORITIES)
-register_monitor("grid_spacing", grid_spacing_of_trace, "wang2020_separation_equal_speeds")
 register_binding(GRID_WAITED)
-register_monitor("grid_heard", grid_heard_neighbours, "wang2020_lemma_iv_a_1",
-                 accumulating=lambda phi, v, dt, meta: GridHeard(phi, meta=meta))

@@ -85,13 +85,22 @@ def list_algorithms() -> list[dict]:
 
 
 def list_properties() -> list[dict]:
-    """Every registered property: its kind, what it reads, what it needs of an algorithm."""
-    from swarmproof.invariants.registry import properties
+    """Every registered property: its kind, what it reads, what it needs of an algorithm; the
+    algorithms' own properties last (by name), each with the algorithms that declare it."""
+    from swarmproof.invariants.registry import own_properties_of, properties
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names
 
+    owners: dict = {}
+    for name in algorithm_names():        # (imports every bundled package: their own properties register)
+        for prop in own_properties_of(algorithm_factory(name)):
+            owners.setdefault(prop, []).append(name)
     out = []
-    for p in properties():
-        out.append(_entry(p.name, f"{p.kind}; reads {', '.join(p.reads) or '-'}", p.cites,
-                          kind=p.kind, needs=list(p.needs), blind_spots=p.blind_spots))
+    for p in sorted(properties(), key=lambda p: (p.own, p.name if p.own else "")):
+        desc = f"{p.kind}; reads {', '.join(p.reads) or '-'}"
+        if p.own:
+            desc += f"; own property of {', '.join(owners.get(p.name, [])) or 'an algorithm not bundled'}"
+        out.append(_entry(p.name, desc, p.cites, kind=p.kind, needs=list(p.needs), blind_spots=p.blind_spots,
+                          own=p.own, algorithms=owners.get(p.name, []) if p.own else None))
     return out
 
 

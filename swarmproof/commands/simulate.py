@@ -234,10 +234,14 @@ def _report_lines(args, checked) -> list:
     kind = doc["target"]["kind"]
     claims, na = checked.claims, checked.not_applicable
 
+    own = getattr(checked, "own", None) or {}
+
     def judged(prop: str, res) -> str:
         """``status - message``; ``not applicable - why`` (no verdict); ``*`` when not claimed."""
         if prop in na:
             return f"not applicable - {na[prop]}"
+        if res is None:                 # an own property that does not apply
+            return "not applicable"
         mark = "" if claims.get(prop) is not None else "*"
         return f"{res.status}{mark} - {res.message}"
 
@@ -265,6 +269,8 @@ def _report_lines(args, checked) -> list:
     if prem is not None:                # only algorithms that declare lemma premise monitors
         # a transfer failure decides the exit code whatever is claimed: no "*"
         lines.append(f"  lemma premises: {prem.status}{'' if transfer else '*'} - {prem.message}")
+    for prop, res in own.items():       # the algorithm's own properties (e.g. song2016's tree_link_cases)
+        lines.append(f"  {prop}: {judged(prop, res)}")
     if result.crash is not None:
         c = result.crash
         who = "the algorithm" if c["robot"] is None else f"robot {c['robot']}'s controller"
@@ -278,7 +284,7 @@ def _report_lines(args, checked) -> list:
     if args.gif is not None:
         lines.append(f"  animation: {doc['gif']}")
     shown = {"formation": sat, "connectivity": conn, "tree_links": links, "termination": term,
-             "completion_sound": completion, "premises": None if transfer else prem}
+             "completion_sound": completion, "premises": None if transfer else prem, **own}
     unclaimed = [p for p, r in shown.items() if r is not None and p not in na and claims.get(p) is None]
     if unclaimed:
         paper = getattr(checked.algorithm, "paper", None)
@@ -319,7 +325,7 @@ def run(args) -> int:
                 extra=_extra_with_options(args, spec), min_separation=args.min_separation,
                 allow_violations=args.allow_violations, progress=progress, record_every=args.record_every,
                 tree_link_mode=args.tree_link_mode,
-                strict=args.strict, vectorised=args.vectorised, premises=True)
+                strict=args.strict, vectorised=args.vectorised, premises=True, own_properties=True)
     except Overstayed as exc:
         return _timed_out(args, exc)
     finally:

@@ -381,22 +381,62 @@ def test_heard_monitor():
 
 
 def test_monitors_registered_with_their_lemmas_and_run_by_check_premises():
-    names = ["grid_claims", "grid_priorities", "grid_waited", "grid_heard"]
-    for n in names + ["grid_spacing"]:
+    names = ["grid_priorities", "grid_waited"]
+    for n in names:
         assert premises.MONITOR_LEMMAS[n] in LEMMAS
+    for n in ("grid_claims", "grid_heard", "grid_spacing"):      # properties since issue 32, not monitors
+        assert n not in premises.MONITORS
     tr = _timing_trace(3.0, (2, 3))
     out = premises.check_premises(tr, phi=0.6, v=0.05, dt=1.0, monitors=names)
-    assert [r.status for r in out] == ["held"] * 4
+    assert [r.status for r in out] == ["held"] * 2
 
 
-def test_streaming_monitor_finds_the_same_violation():
-    tr = _trace([GOOD[0], GOOD[1], [((0, 0), (1, 1)), ((1, 0), (1, 1)), ((0, 1), None)]])
-    mon = premises.PremisesMonitor(["grid_claims"], 0.6, 0.05, 1.0)
+def _judge(name, tr, streamed=False, phi=0.6):
+    """The registered property ``name`` on ``tr``: its check over the whole trace, or its streaming
+    monitor fed every step as the engine feeds it."""
+    from swarmproof.invariants.registry import PropertyContext, get_property
+    from swarmproof.reference_impl.protocol import Params
+    from swarmproof.reference_impl.wang2020.algorithm import Wang2020
+
+    prop, params = get_property(name), Params(range=phi, v=0.05)
+    if not streamed:
+        return prop.check(tr, PropertyContext(Wang2020(), None, params, None))
+    mon = prop.stream(Wang2020(), params, {})
     mon.start(tr.ids)
-    for t in range(3):
-        mon.observe(t, tr.poses[t], tr.states[t], np.ones(3, dtype=bool))
-    (_, r), = mon.results()
-    assert r.status == "violated" and r.witness["step"] == 2
+    for t in range(len(tr.poses)):
+        mon.observe(t, tr.poses[t], tr.states[t], np.ones(tr.n, dtype=bool))
+    return mon.result()
+
+
+@pytest.mark.parametrize("streamed", [False, True], ids=["trace", "streamed"])
+def test_grid_claims_property_fires_on_a_bad_trace_and_is_quiet_on_a_good_one(streamed):
+    good = _judge("grid_claims", _trace(GOOD), streamed)
+    assert good.name == "grid_claims" and good.status == "held" and good.detail["checked"] == 9
+    bad = _judge("grid_claims", _trace([GOOD[0], GOOD[1], [((0, 0), (1, 1)), ((1, 0), (1, 1)), ((0, 1), None)]]),
+                 streamed)
+    assert bad.status == "violated" and bad.witness["step"] == 2 and bad.witness["kind"] == "shared_claim"
+    swap = _judge("grid_claims", _trace([GOOD[0], [((0, 0), (1, 0)), ((1, 0), (0, 0)), ((0, 1), None)]]), streamed)
+    assert swap.status == "violated" and swap.witness["kind"] == "edge_swap" and swap.witness["robots"] == [1, 2]
+
+
+@pytest.mark.parametrize("streamed", [False, True], ids=["trace", "streamed"])
+def test_grid_heard_property_fires_on_a_bad_trace_and_is_quiet_on_a_good_one(streamed):
+    good = _judge("grid_heard", _timing_trace(3.0, (2, 3), lead=2), streamed)
+    assert good.name == "grid_heard" and good.status == "held" and good.detail["checked"] > 0
+    bad = _judge("grid_heard", _timing_trace(3.0, (2,), lead=2), streamed)
+    assert bad.status == "violated" and bad.witness["unheard"] == [3] and bad.witness["robot"] == 1
+    assert bad.witness["step"] == 2 and bad.witness["frames"] == [1, 2]
+
+
+def test_grid_spacing_property_fires_on_bad_parameters_and_is_quiet_on_the_papers():
+    tr = _trace(GOOD)
+    tr.meta["params"] = {"range": 0.6, "v": 0.05, "dt": 1.0, "extra": {"grid_spacing": 0.2, "robot_radius": 0.05}}
+    good = _judge("grid_spacing", tr)
+    assert good.name == "grid_spacing" and good.status == "held"
+    tr.meta["params"]["extra"]["grid_spacing"] = 0.12
+    bad = _judge("grid_spacing", tr)
+    assert bad.status == "violated" and bad.witness["bound"] == "l >= 2 sqrt(2) r"
+    assert _judge("grid_spacing", _trace(GOOD)).status == "inconclusive"      # no parameters recorded
 
 
 def test_swarmproof_prove_runs_the_speed_buffer_lemma_and_lists_both(capsys):

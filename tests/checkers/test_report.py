@@ -185,7 +185,7 @@ def test_exploration_row_mapping(entry, verdict, detail):
 def test_exploration_reads_the_explorer_properties_at_run_time(monkeypatch):
     from swarmproof.checkers import explore as explore_mod
 
-    monkeypatch.setattr(explore_mod, "explore_properties", lambda: ("connectivity", "termination"))
+    monkeypatch.setattr(explore_mod, "explore_properties", lambda algorithm=None: ("connectivity", "termination"))
     calls = []
 
     class _Rep:
@@ -277,7 +277,7 @@ def test_a_plan_may_explore_fewer_examples(monkeypatch):
     from swarmproof.checkers import explore as explore_mod
     from swarmproof.checkers.report import section_exploration
 
-    monkeypatch.setattr(explore_mod, "explore_properties", lambda: ("collision",))
+    monkeypatch.setattr(explore_mod, "explore_properties", lambda algorithm=None: ("collision",))
     seen = []
 
     class _Rep:

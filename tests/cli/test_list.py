@@ -34,14 +34,16 @@ def test_properties_exact_line_with_citation(capsys):
     code, out, _ = run(capsys, "properties")
     lines = out.splitlines()
     assert code == 0
-    assert lines[0] == "properties (11):"
+    assert lines[0] == "properties (15):"           # 11, and the algorithms' own 4 (issue 32), last
     assert lines[1] == ("  connectivity      safety; reads poses, presence, range "
                         "[Song & O'Kane 2016, Lemma 11 (connectivity is preserved)]")
     assert "  no_crash          safety; reads exceptions the algorithm's code raised [swarmproof: the algorithm " \
            "under test raises no exception (a crash is a finding)]" in lines
-    assert lines[-1] == ("  completion_sound  safety; reads poses, states, the algorithm's completion_invariants "
+    assert lines[11] == ("  completion_sound  safety; reads poses, states, the algorithm's completion_invariants "
                          "[the algorithm's own completion detection is sound: whenever a robot declares the "
                          "formation complete, it is formed (its completion_invariants)]")
+    assert [line.split()[0] for line in lines[12:]] == ["grid_claims", "grid_heard", "grid_spacing", "tree_link_cases"]
+    assert "own property of song2016, song2016-literal, song2016-subtree-clock [" in lines[-1]
 
 
 def test_targets_patterns_shapes_lines(capsys):

@@ -26,7 +26,7 @@ def small(monkeypatch):
     def set_(algorithms, properties):
         plans = dict(registry.verify_plans())
         monkeypatch.setattr(registry, "verify_plans", lambda: [(a, plans[a]) for a in algorithms])
-        monkeypatch.setattr(explore_mod, "explore_properties", lambda: tuple(properties))
+        monkeypatch.setattr(explore_mod, "explore_properties", lambda algorithm=None: tuple(properties))
     return set_
 
 

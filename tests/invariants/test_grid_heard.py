@@ -1,6 +1,7 @@
-"""The premise monitor ``grid_heard`` (invariants/premises.py, :class:`GridHeard`): which robots
-004 Lemma IV-A.1's premise ``lossless_delivery_within_R`` says a departing robot must have heard,
-over which frames (docs/decisions.md, "Wang & Rubenstein 2020: grid_heard (issue 15)")."""
+"""wang2020's property ``grid_heard`` (a premise monitor until issue 32; reference_impl/wang2020/
+properties.py, :class:`GridHeard`): which robots a departing robot must have heard, over which
+frames, for 004 Lemma IV-A.1's premise ``lossless_delivery_within_R`` to hold (docs/decisions.md,
+"Wang & Rubenstein 2020: grid_heard (issue 15)")."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.invariants.premises import PremisesMonitor, check_premises
+from swarmproof.invariants.registry import get_property
 from swarmproof.reference_impl.wang2020.monitors import GridHeard, grid_heard_neighbours
 from swarmproof.models.trace import InitialConfiguration, Trace
 
@@ -100,11 +101,13 @@ def test_missing_keys_inconclusive_and_sparse_windows_not_a_pass():
 
 def test_streaming_form_keeps_its_own_frames_and_agrees():
     tr = _trace(2)
-    mon = PremisesMonitor(["grid_heard"], 0.6, 0.05, 1.0)
+    from swarmproof.reference_impl.protocol import Params
+
+    mon = get_property("grid_heard").stream(None, Params(range=0.6, v=0.05), {})
     mon.start(tr.ids)
     for t in range(tr.frames):
         mon.observe(t, tr.poses[t], tr.states[t], np.ones(2, dtype=bool))
-    (_, r), = mon.results()
+    r = mon.result()
     assert r.status == "violated" and r.witness == grid_heard_neighbours(tr, 0.6).witness
 
 
@@ -140,18 +143,19 @@ def test_the_explorer_counterexample_was_a_late_arrival_and_holds_now():
     # its broadcasts of steps 44 and 46 were sent from beyond R; the next (step 48) is heard in step 49
     assert 1 in st(50, 3)["heard"]
     assert _old_monitor_flags(tr, 0.6)
-    (res,) = check_premises(tr, monitors=["grid_heard"])
+    res = grid_heard_neighbours(tr, 0.6)
     assert res.status == "held" and res.detail["arrived_unheard"] == 1 and res.detail["checked"] == 10
 
 
 def test_message_loss_is_found_streaming_and_on_the_trace():
-    from swarmproof.invariants.registry import get_property
+    from swarmproof.invariants.registry import PropertyContext
 
     alg, params, _ = _column()
-    mon = get_property("premises").stream(alg, params, {})
+    prop = get_property("grid_heard")
+    mon = prop.stream(alg, params, {})
     _, _, r = _column(loss=0.5, observers=[mon])
-    streamed = dict(mon.results())["grid_heard"]
-    (batch,) = check_premises(r.trace, monitors=["grid_heard"])
+    streamed = mon.result()
+    batch = prop.check(r.trace, PropertyContext(alg, None, params, r))
     assert streamed.status == batch.status == "violated"
     assert streamed.witness == batch.witness == {"step": 10, "robot": 0, "unheard": [1], "frames": [6, 10],
                                                  "window_steps": 4, "lemma": "wang2020_lemma_iv_a_1"}

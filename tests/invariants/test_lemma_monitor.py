@@ -27,14 +27,18 @@ from swarmproof.reference_impl.registry import lemma_sets
 from swarmproof.reference_impl.song2016.lemmas import NCLB_LINK_KEPT
 from swarmproof.reference_impl.song2016.monitors import NCLB
 
-#: The monitors still written by hand (docs/proofs.md, "Premise monitors": not yet derived from a
-#: lemma definition).  Issue 32 wants this set empty; a new hand-written monitor fails this test.
-HAND_WRITTEN = {"tree_link_cases", "grid_claims", "grid_spacing", "grid_heard"}
+#: The monitors still written by hand: none (issue 32).  The four that were (tree_link_cases,
+#: grid_claims, grid_heard, grid_spacing) check what no lemma states and became properties of
+#: their algorithms (docs/proofs.md, "Premise monitors"); a new hand-written monitor fails this test.
+HAND_WRITTEN: set = set()
 
 
-def test_every_other_premise_monitor_is_derived_from_a_lemma_definition():
+def test_every_premise_monitor_is_derived_from_a_lemma_definition():
+    import swarmproof.reference_impl.wang2020  # noqa: F401  (registers wang2020's monitors)
+
     derived = {name for name in MONITORS if name in BINDINGS}
-    assert set(MONITORS) - derived == HAND_WRITTEN
+    assert set(MONITORS) - derived == HAND_WRITTEN == set()
+    assert set(MONITORS) == derived
     assert {"step_bounded", "nclb", "relocate", "child_toward_parent", "parent_bounded_range",
             "gather_link", "grid_priorities", "grid_waited"} <= derived
     specs = {id(s) for module in lemma_sets() for s in getattr(module, "SPECS", {}).values()}
@@ -42,6 +46,33 @@ def test_every_other_premise_monitor_is_derived_from_a_lemma_definition():
         b = BINDINGS[name]
         assert isinstance(b.lemma, LemmaSpec) and id(b.lemma) in specs, name   # the suite's own definition
         assert MONITORS[name] == b.check
+    # every monitor an algorithm declares is one of them: no premise code outside a binding
+    from swarmproof.invariants.premises import premise_monitors_of
+    from swarmproof.reference_impl.registry import algorithm_factory, algorithm_names
+
+    for algo in algorithm_names():
+        assert set(premise_monitors_of(algorithm_factory(algo))) <= derived, algo
+
+
+def test_the_former_hand_written_monitors_are_their_algorithms_own_properties():
+    """Not premise monitors: own properties (registered, own=True), declared by their algorithms
+    and applicable to no other (no verify row for another algorithm)."""
+    from swarmproof.checkers.explore import explore_properties
+    from swarmproof.invariants.registry import get_property, own_properties_of
+    from swarmproof.reference_impl.registry import algorithm_factory
+
+    mine = {"song2016": ("tree_link_cases",), "wang2020": ("grid_claims", "grid_heard", "grid_spacing")}
+    for algo, names in mine.items():
+        factory = algorithm_factory(algo)
+        assert own_properties_of(factory) == names
+        assert explore_properties(factory)[-len(names):] == names
+        for n in names:
+            p = get_property(n)
+            assert p.own and n not in MONITORS and p.not_applicable_to(factory) is None
+            other = algorithm_factory("song2014")
+            assert p.not_applicable_to(other) is not None and n not in explore_properties(other)
+    assert get_property("tree_link_cases").stream is not None and get_property("grid_heard").stream is not None
+    assert get_property("grid_claims").every_step and not get_property("grid_spacing").every_step
 
 
 def _link_trace(parent_end, child_end):

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from swarmproof.invariants.premises import check_premises
+from swarmproof.invariants.premises import check_premises, params_of
 from swarmproof.reference_impl.song2016.monitors import (children_toward_still_parents, parents_in_bounded_ranges,
                                                         relocate_path_in_range, step_bounded,
                                                         tree_links_in_proved_cases)
@@ -47,14 +47,15 @@ def _copy(trace, poses=None):
 def test_song2016_meets_every_premise_but_the_links_chosen_in_a_step(seed):
     trace = run16("hexagon", 10, seed)
     results = check_premises(trace)
-    assert [r.name for r in results][-1] == "premise:tree_link_cases"
+    assert [r.name for r in results] == ["premise:step_bounded", "premise:nclb", "premise:relocate",
+                                         "premise:child_toward_parent"]
     # held, or vacuous (issue 32: no instance with every premise holding -- no parent moved in
     # this run, say -- is inconclusive for the run, never a pass)
     for r in results[:4]:
         assert r.held or (r.status == "inconclusive" and r.detail["vacuous"]), r.message
     assert results[0].held and results[2].held
     assert results[2].detail["checked"] > 0  # the relocate monitor really examined steps
-    cases = results[4]
+    cases = tree_links_in_proved_cases(trace, *params_of(trace))     # song2016's property (issue 32)
     if seed == 0:
         assert cases.held and cases.detail["checked"] > 1000, cases.message
     else:
@@ -224,11 +225,12 @@ def test_premises_on_the_song2016_acceptance_matrix(lattice, n):
     # (tree_link_cases, issue 19) are all links a child chose in the step its parent moved
     # (the one-step lag of 001's proof of Lemma 11), never another kind.
     for seed in range(20):
-        results = check_premises(run16(lattice, n, seed))
-        bad = [r for r in results if r.status != "held" and r.name != "premise:tree_link_cases"]
+        trace = run16(lattice, n, seed)
+        results = check_premises(trace)
+        bad = [r for r in results if r.status != "held"]
         assert not bad, f"{lattice} n={n} seed={seed}: {[r.message for r in bad]}"
-        cases = results[-1]
-        assert cases.name == "premise:tree_link_cases" and cases.status in ("held", "violated")
+        cases = tree_links_in_proved_cases(trace, *params_of(trace))    # song2016's property (issue 32)
+        assert cases.name == "tree_link_cases" and cases.status in ("held", "violated")
         kinds = {u[4] for u in cases.detail["uncovered_links"]}
         assert kinds <= {"newly_chosen"}, f"{lattice} n={n} seed={seed}: {cases.message}"
 
@@ -254,8 +256,7 @@ def test_child_toward_parent_monitor_fires_on_the_old_case3_rule(monkeypatch):
     assert r.witness["premise"] == "child_not_farther"
     assert r.message == ("step 12, child 1, parent 2: premise child_not_farther of lemma spanning_tree_kept "
                          "failed, before 1, after 1.6")
-    others = [x for x in check_premises(old.result.trace)
-              if x.name not in ("premise:child_toward_parent", "premise:tree_link_cases")]
+    others = [x for x in check_premises(old.result.trace) if x.name != "premise:child_toward_parent"]
     assert not any(x.violated for x in others)   # the gap the monitor closes
     cases = tree_links_in_proved_cases(old.result.trace, 1.2, 0.8, 1.0)   # issue 19's covers it too
     assert cases.violated and (cases.witness["step"], cases.witness["child"], cases.witness["parent"]) == (12, 1, 2)

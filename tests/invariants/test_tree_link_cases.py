@@ -1,4 +1,5 @@
-"""Issue 19: the premise monitors cover every link of the tree Lemma 11 is about.
+"""Issue 19: the premise monitors and song2016's property ``tree_link_cases`` (a premise monitor
+until issue 32) cover every link of the tree Lemma 11 is about.
 
 * a link a child chose in the very step its parent moved (messages take one step, so the
   parent cannot know of it) is in no proved case: song2016 on square, n = 20, seed 1 breaks
@@ -14,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarmproof.invariants.premises import PremisesMonitor, check_premises
+from swarmproof.invariants.premises import check_premises
+from swarmproof.invariants.registry import get_property
 from swarmproof.reference_impl.song2014.monitors import descendants_in_parent_bounded_ranges
 from swarmproof.reference_impl.song2016.monitors import tree_links_in_proved_cases
 from swarmproof.models.library import load
@@ -44,8 +46,9 @@ def test_the_newly_chosen_link_of_square_n20_seed1_breaks_and_the_monitor_names_
     assert (w["step"], w["child"], w["parent"], w["newly_chosen"]) == (344, 2, 16, True)
     assert w["distance_before"] < PHI <= w["distance_after"]
     prem = {r.name: r for r in check_premises(c.result.trace)}
-    cases = prem["premise:tree_link_cases"]
-    assert cases.violated
+    assert "premise:tree_link_cases" not in prem          # a property since issue 32
+    cases = tree_links_in_proved_cases(c.result.trace, PHI, V, 1.0)
+    assert cases.name == "tree_link_cases" and cases.violated
     assert (cases.witness["step"], cases.witness["child"], cases.witness["parent"]) == (344, 2, 16)
     assert cases.witness["broke"] and cases.witness["newly_chosen"] and cases.witness["parent_moved"]
     assert [344, 2, 16, True, "newly_chosen"] in cases.detail["uncovered_links"]
@@ -55,16 +58,18 @@ def test_the_newly_chosen_link_of_square_n20_seed1_breaks_and_the_monitor_names_
 
 
 @pytest.mark.xdist_group("song2016-square-n20-seed1")
-def test_streaming_premises_judge_like_the_whole_trace(square_n20_seed1):
+def test_the_streamed_property_judges_like_the_whole_trace(square_n20_seed1):
+    """The property's streaming monitor, fed every step as the engine feeds it, gives the verdict
+    of the check over the whole trace (and simulate, which streams it, says the same)."""
     c = square_n20_seed1
     trace = c.result.trace
-    mon = PremisesMonitor(trace.meta["premise_monitors"], PHI, V, 1.0)
+    mon = get_property("tree_link_cases").stream(c.algorithm, c.params, {})
     mon.start(trace.ids)
     for t in range(trace.frames):
         mon.observe(t, trace.poses[t], trace.states[t], trace.present_at(t))
-    streamed = dict(mon.results())["tree_link_cases"]
     whole = tree_links_in_proved_cases(trace, PHI, V, 1.0)
-    assert streamed.as_dict() == whole.as_dict()
+    assert mon.result().as_dict() == whole.as_dict()
+    assert mon.name == "tree_link_cases"
 
 
 def _msg(sender, parent, stable, path_root, path_reloc, *, subtree=False, relocate=5):
@@ -109,8 +114,8 @@ def test_the_relocate_robot_moving_away_from_its_non_root_parent_is_flagged():
     assert r.violated
     assert (r.witness["child"], r.witness["parent"], r.witness["broke"]) == (5, 7, True)
     assert "not the root" in r.message and r.witness["why"] == "relocate_away_from_non_root_parent"
-    # and it is the only monitor that sees it
-    others = [x for x in check_premises(trace) if x.name != "premise:tree_link_cases"]
+    # and no premise monitor sees it: only the property does
+    others = check_premises(trace)
     assert all(not x.violated for x in others), others
 
 

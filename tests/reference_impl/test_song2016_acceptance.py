@@ -35,7 +35,7 @@ import numpy as np
 import pytest
 
 from swarmproof.invariants.connectivity import connected_throughout, tree_links_survive
-from swarmproof.invariants.premises import check_premises
+from swarmproof.invariants.premises import params_of
 from swarmproof.invariants.satisfaction import satisfies_lattice
 from swarmproof.models.library import load
 from swarmproof.models.se2 import relative_many
@@ -43,6 +43,7 @@ from swarmproof.reference_impl.engine import simulate
 from swarmproof.reference_impl.initial import random_connected
 from swarmproof.reference_impl.protocol import Params
 from swarmproof.reference_impl.song2016.algorithm import Song2016, sequential_fill
+from swarmproof.reference_impl.song2016.monitors import tree_links_in_proved_cases
 
 LATTICES = ("square", "hexagon", "octagon-square")
 SIZES = (10, 20, 30, 40)
@@ -129,16 +130,15 @@ TREE_LINK_BREAKS: list = []
 
 def check_tree_link_breaks_are_flagged(trace, where) -> None:
     """Issue 19: a tree link that breaks (every link of the decided tree, newly chosen ones
-    included) is always flagged by a premise monitor: ``tree_link_cases`` names that very
-    link as in no proved case.  Zero breaks with every monitor holding."""
+    included) is always flagged by song2016's property ``tree_link_cases`` (a premise monitor
+    until issue 32): it names that very link as in no proved case."""
     links = tree_links_survive(trace, trace.meta["params"]["range"])
     if not links.violated:
         return
     w = links.witness
     TREE_LINK_BREAKS.append((where, w["step"], w["child"], w["parent"]))
-    prem = {p.name: p for p in check_premises(trace)}
-    assert any(p.violated for p in prem.values()), f"{where}: {links.message} with every premise monitor holding"
-    cases = prem["premise:tree_link_cases"]
+    phi, v, dt = params_of(trace)
+    cases = tree_links_in_proved_cases(trace, phi, v, dt)     # song2016's property (issue 32)
     assert cases.violated, f"{where}: {links.message}, but tree_link_cases held"
     cw = cases.witness
     assert (cw["step"], cw["child"], cw["parent"], cw["broke"]) == (w["step"], w["child"], w["parent"], True), \
