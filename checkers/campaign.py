@@ -60,7 +60,7 @@ class Task:
 
     key: str
     cell: str
-    kind: str            # "explore" | "simulate" | "experiment"
+    kind: str            # "explore" | "simulate" | "experiment" | "exhaustive"
     args: dict
 
     def as_dict(self) -> dict:
@@ -189,6 +189,36 @@ def _check_names(spec) -> None:
             raise spec.error(cell.path + ("experiment",), exc.message, exc.fix or "see docs/campaigns.md") from None
 
 
+def _check_exhaustive_cells(spec) -> None:
+    """An exhaustive cell's algorithm, properties, choice kinds and bound, and target, each error at
+    its field."""
+    from swarmproof.checkers.exhaustive import Bound
+    from swarmproof.checkers.explore import explore_properties, resolve_algorithm
+    from swarmproof.models.targets import resolve_target
+
+    for cell in getattr(spec, "exhaustive", ()):
+        try:
+            algo = resolve_algorithm(cell.algorithm)
+        except UsageError as exc:
+            raise spec.error(cell.path + ("algorithm",), exc.message, exc.fix or "use a registry name") from None
+        props = set(explore_properties(algo.factory))
+        for k, p in enumerate(cell.properties or ()):
+            if p not in props and ":" not in p:
+                raise spec.error(cell.path + ("properties", k), f"property={p!r} is not registered",
+                                 f"use one of {sorted(props)!r}")
+        try:
+            Bound(steps=cell.steps, deviations=cell.deviations, kinds=tuple(cell.choices), max_delay=cell.max_delay,
+                  max_crashes=cell.max_crashes)
+        except UsageError as exc:
+            raise spec.error(cell.path + ("choices",), exc.message, exc.fix or "see docs/exhaustive.md") from None
+        if cell.target is not None:
+            try:
+                resolve_target(cell.target, prefer="lattice")
+            except UsageError as exc:
+                raise spec.error(cell.path + ("target",), f"target={cell.target!r}: {exc.message}",
+                                 exc.fix or "use a bundled name") from None
+
+
 def _check_run_inputs(spec) -> None:
     """What every task will run, checked before any task starts, with the same checks and messages as
     ``explore`` and ``simulate`` (issue 29), each error located at its field: team sizes the explorer
@@ -256,6 +286,7 @@ def plan_tasks(spec) -> list[Task]:
     from swarmproof.checkers.explore import explore_properties, resolve_algorithm
 
     _check_names(spec)
+    _check_exhaustive_cells(spec)
     _check_run_inputs(spec)
     tasks: list[Task] = []
     for cell in spec.explore:
@@ -285,6 +316,15 @@ def plan_tasks(spec) -> list[Task]:
                         "seed": seed, "options": dict(options)}
                 tasks.append(Task(f"experiment[{cell.index}]/{cell.experiment}/n{n}/seed{seed}", cell.label,
                                   "experiment", args))
+    for cell in getattr(spec, "exhaustive", ()):
+        for prop in (cell.properties or explore_properties(resolve_algorithm(cell.algorithm).factory)):
+            for n in cell.robots:
+                for seed in cell.seeds:
+                    args = {"algorithm": cell.algorithm, "property": prop, "robots": n, "seed": seed,
+                            "choices": list(cell.choices), "steps": cell.steps, "deviations": cell.deviations,
+                            "max_delay": cell.max_delay, "max_crashes": cell.max_crashes, "target": cell.target}
+                    tasks.append(Task(f"exhaustive[{cell.index}]/{prop}/n{n}/seed{seed}", cell.label, "exhaustive",
+                                      args))
     return tasks
 
 
@@ -375,7 +415,32 @@ def _experiment_task(a: dict) -> dict:
     return {"verdict": MEASURED, "figures": figures, "counterexample": None, "first_failure_seconds": None}
 
 
-_TASKS = {"explore": "_explore_task", "simulate": "_simulate_task", "experiment": "_experiment_task"}
+def _exhaustive_task(a: dict) -> dict:
+    """Every choice sequence within the bound from one seeded start, for one property (a start is a
+    task of its own: the starts of a cell are independent)."""
+    from swarmproof.checkers.exhaustive import Bound, exhaustive
+
+    bound = Bound(steps=a["steps"], deviations=a["deviations"], kinds=tuple(a["choices"]), max_delay=a["max_delay"],
+                  max_crashes=a["max_crashes"])
+    rep = exhaustive(a["algorithm"], [a["property"]], target=a["target"], robots=a["robots"], seed=a["seed"],
+                     bound=bound)
+    v = rep.properties[a["property"]]
+    cx = v.counterexample
+    from swarmproof.checkers.algorithm_spec import resolve_algorithm
+
+    claim = None if rep.broken_assumptions else resolve_algorithm(a["algorithm"]).claims.get(a["property"])
+    figures = {"runs": v.runs, "distinct_states": v.distinct_states, "pruned": v.pruned,
+               "symmetric_pruned": v.symmetric_pruned, "complete": v.complete, "deviations": v.deviations,
+               "message": v.message, "claim": claim, "broken_assumptions": ", ".join(rep.broken_assumptions),
+               "counterexample_robots": None if cx is None else len(cx.robots),
+               "violation": None if cx is None else dict(cx.violation)}
+    status = "n/a" if v.status == "not_applicable" else v.status
+    return {"verdict": status, "figures": figures, "counterexample": None if cx is None else cx.as_dict(),
+            "first_failure_seconds": None}
+
+
+_TASKS = {"explore": "_explore_task", "simulate": "_simulate_task", "experiment": "_experiment_task",
+          "exhaustive": "_exhaustive_task"}
 
 
 @contextlib.contextmanager

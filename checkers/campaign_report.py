@@ -205,7 +205,29 @@ def markdown(result, plots: dict | None = None) -> str:
             lines += ["", f"## {c['cell']}", ""] + paper_experiment_table(result, c["cell"])
             if c["cell"] in plots:
                 lines += ["", f"![{c['cell']}]({plots[c['cell']]})"]
+    for c in result.cells():
+        if c["kind"] == "exhaustive":
+            lines += ["", f"## {c['cell']}", ""] + exhaustive_table(result, c["cell"])
     return readable("\n".join(lines) + "\n")
+
+
+def exhaustive_table(result, cell_label: str) -> list[str]:
+    """One row per finished task of an exhaustive cell: property, team, start, verdict, and what the
+    search covered (runs, distinct states, pruned, complete) or the counterexample's deviations."""
+    out = ["Every choice sequence within the cell's bound from each start (docs/exhaustive.md); *complete*: "
+           "the whole bound was searched.", "",
+           "| property | robots | start | verdict | runs | states | pruned | complete | deviations |",
+           "|---|---:|---:|---|---:|---:|---:|---|---:|"]
+    for t in result.tasks:
+        if t.cell != cell_label or t.key not in result.results:
+            continue
+        r = result.results[t.key]
+        f = r.get("figures") or {}
+        dev = "" if f.get("deviations") is None else str(f["deviations"])
+        out.append(f"| {t.args['property']} | {t.args['robots']} | seed {t.args['seed']} | {r['verdict']} | "
+                   f"{f.get('runs', '')} | {f.get('distinct_states', '')} | {f.get('pruned', '')} | "
+                   f"{'yes' if f.get('complete') else 'no'} | {dev} |")
+    return out
 
 
 # -- paper-experiment cells ----------------------------------------------------------------------

@@ -27,6 +27,14 @@ YAML (or JSON, a subset of YAML)::
         robots: [16, 64]              # team sizes: one task per size and seed
         seeds: {count: 200}
         options: {arena: 32}          # the experiment's own options (checked against its declaration)
+    exhaustive:                       # exhaustive bounded checking (docs/exhaustive.md)
+      - algorithm: song2014
+        properties: [connectivity]    # default: every property that applies
+        robots: [3, 4]                # team sizes: one task per property, size and start
+        seeds: [0, 1]                 # seeded starts (simulate --robots N --seed S)
+        choices: [activate]           # the choice kinds enumerated
+        steps: 15                     # the bound: steps, and deviations (K)
+        deviations: 2
 
 Every problem is an :class:`~swarmproof.models.errors.InputFileError` naming
 the file, the line and the field (``explore[0].robots``) and how to fix it.
@@ -67,8 +75,8 @@ import yaml
 from swarmproof.models.errors import InputFileError
 from swarmproof.models.lattice_io import _field   # one field-path notation for every input file
 
-__all__ = ["CAMPAIGN_FORMAT", "CampaignSpec", "ExploreCell", "SimulateCell", "ExperimentCell", "loads_campaign",
-           "load_campaign_file"]
+__all__ = ["CAMPAIGN_FORMAT", "CampaignSpec", "ExploreCell", "SimulateCell", "ExperimentCell", "ExhaustiveSpecCell",
+           "loads_campaign", "load_campaign_file"]
 
 CAMPAIGN_FORMAT = "swarmproof-campaign/1"
 
@@ -78,11 +86,13 @@ MAX_SEEDS = 100_000
 MAX_TASKS = 1_000_000
 MAX_ROBOTS = 100_000
 
-_TOP = ("format", "name", "explore", "simulate", "experiment", "description")
+_TOP = ("format", "name", "explore", "simulate", "experiment", "exhaustive", "description")
 _EXPLORE = ("algorithm", "properties", "robots", "seeds", "max_examples", "lattices", "draw_faults", "speeds",
             "max_steps", "params", "allow_violations")
 _SIMULATE = ("algorithm", "targets", "robots", "seeds", "max_steps", "start")
 _EXPERIMENT = ("algorithm", "experiment", "robots", "seeds", "options")
+_EXHAUSTIVE = ("algorithm", "properties", "robots", "seeds", "choices", "steps", "deviations", "max_delay",
+               "max_crashes", "target")
 
 
 @dataclass(frozen=True)
@@ -158,6 +168,33 @@ class ExperimentCell:
         return f"experiment[{self.index}] {self.algorithm} {self.experiment}{opts}"
 
 
+@dataclass(frozen=True)
+class ExhaustiveSpecCell:
+    """One exhaustive cell: every choice sequence within the bound, for each property, team size
+    and seeded start (one task each: the starts are independent)."""
+
+    index: int
+    algorithm: str
+    properties: tuple[str, ...] | None
+    robots: tuple[int, ...]
+    seeds: tuple[int, ...]
+    choices: tuple[str, ...] = ("activate",)
+    steps: int = 20
+    deviations: int = 2
+    max_delay: int = 1
+    max_crashes: int = 1
+    target: str | None = None
+
+    @property
+    def path(self) -> tuple:
+        return ("exhaustive", self.index)
+
+    @property
+    def label(self) -> str:
+        return (f"exhaustive[{self.index}] {self.algorithm} {'+'.join(self.choices)} S={self.steps} "
+                f"K={self.deviations}")
+
+
 @dataclass
 class CampaignSpec:
     """A checked campaign file."""
@@ -169,6 +206,7 @@ class CampaignSpec:
     source: str = "<string>"
     lines: dict = field(default_factory=dict, repr=False)
     experiment: list[ExperimentCell] = field(default_factory=list)
+    exhaustive: list[ExhaustiveSpecCell] = field(default_factory=list)
 
     @property
     def digest(self) -> str:
@@ -375,6 +413,24 @@ def _experiment_cell(c: _Check, i: int, d) -> ExperimentCell:
     return ExperimentCell(i, algo, name, sizes, seeds, dict(options))
 
 
+def _exhaustive_cell(c: _Check, i: int, d) -> ExhaustiveSpecCell:
+    p = ("exhaustive", i)
+    algo = c.cell_head(p, d, _EXHAUSTIVE)
+    props = None if d.get("properties") is None else c.names(p + ("properties",), d["properties"],
+                                                              "properties: [connectivity]")
+    sizes = _robots_list(c, p, dict(d, robots=d.get("robots", [3])))
+    seeds = c.seeds(p + ("seeds",), d.get("seeds", [0]))
+    kinds = c.names(p + ("choices",), d.get("choices", ["activate"]), "choices: [activate, loss]")
+    steps = c.int_(p + ("steps",), d.get("steps", 20), 1, 1_000_000, "steps: 20")
+    k = c.int_(p + ("deviations",), d.get("deviations", 2), 0, 1000, "deviations: 2")
+    delay = c.int_(p + ("max_delay",), d.get("max_delay", 1), 0, 1000, "max_delay: 1")
+    crashes = c.int_(p + ("max_crashes",), d.get("max_crashes", 1), 0, 1000, "max_crashes: 1")
+    target = d.get("target")
+    if target is not None and not (isinstance(target, str) and target):
+        c.fail(p + ("target",), f"exhaustive[{i}].target={target!r} must be a target name", "e.g. target: square")
+    return ExhaustiveSpecCell(i, algo, props, sizes, seeds, kinds, steps, k, delay, crashes, target)
+
+
 def loads_campaign(text: str, source: str = "<string>") -> CampaignSpec:
     """Parse and check a campaign document (YAML or JSON).
 
@@ -395,20 +451,23 @@ def loads_campaign(text: str, source: str = "<string>") -> CampaignSpec:
     if not isinstance(name, str) or not name.strip() or len(name) > 100:
         c.fail(("name",), f"name={name!r} must be a short non-empty text", "e.g. name: small")
     cells: dict[str, list] = {}
-    for part, build in (("explore", _explore_cell), ("simulate", _simulate_cell), ("experiment", _experiment_cell)):
+    for part, build in (("explore", _explore_cell), ("simulate", _simulate_cell), ("experiment", _experiment_cell),
+                        ("exhaustive", _exhaustive_cell)):
         items = data.get(part) or []
         if not isinstance(items, list):
             c.fail((part,), f"{part}={items!r} must be a list of cells", f"write each cell as '- algorithm: ...'")
         cells[part] = [build(c, i, d) for i, d in enumerate(items)]
-    if not cells["explore"] and not cells["simulate"] and not cells["experiment"]:
-        c.fail((), "the campaign has no cells (neither explore, simulate nor experiment)",
-               "add an explore:, simulate: or experiment: list (docs/campaigns.md)")
+    if not any(cells.values()):
+        c.fail((), "the campaign has no cells (neither explore, simulate, experiment nor exhaustive)",
+               "add an explore:, simulate:, experiment: or exhaustive: list (docs/campaigns.md)")
     n_tasks = (sum(len(x.seeds) * len(x.properties or (0,) * 8) for x in cells["explore"])
                + sum(len(x.targets) * len(x.robots) * len(x.seeds) for x in cells["simulate"])
-               + sum(len(x.robots) * len(x.seeds) for x in cells["experiment"]))
+               + sum(len(x.robots) * len(x.seeds) for x in cells["experiment"])
+               + sum(len(x.robots) * len(x.seeds) * len(x.properties or (0,) * 8) for x in cells["exhaustive"]))
     if n_tasks > MAX_TASKS:
         c.fail((), f"the campaign has {n_tasks} tasks (more than {MAX_TASKS})", "split it into several campaigns")
-    spec = CampaignSpec(name.strip(), cells["explore"], cells["simulate"], data, source, lines, cells["experiment"])
+    spec = CampaignSpec(name.strip(), cells["explore"], cells["simulate"], data, source, lines, cells["experiment"],
+                        cells["exhaustive"])
     return spec
 
 

@@ -431,3 +431,80 @@ def test_verify_has_exhaustive_rows_bounded_by_steps_k_and_kinds_and_the_baselin
         "complete"] is True
     again = verify(algorithms=["testkit:ToggleRows"], sections=["exhaustive"], baseline=path)
     assert again.comparison.exit_code == 0 and {c.outcome for c in again.comparison.changes} <= {"same", "known"}
+
+
+# ---------------------------------------------------------------- campaign cells
+
+EXHAUSTIVE_CAMPAIGN = """\
+format: swarmproof-campaign/1
+name: exhaustive-small
+exhaustive:
+  - algorithm: song2014
+    properties: [connectivity]
+    robots: [3]
+    seeds: [0, 1]
+    choices: [activate]
+    steps: 10
+    deviations: 1
+"""
+
+
+def test_a_campaign_s_exhaustive_cell_plans_a_task_per_start_and_a_task_is_the_search():
+    from swarmproof.checkers.campaign import plan_tasks, run_task
+    from swarmproof.models.campaign_spec import loads_campaign
+
+    tasks = plan_tasks(loads_campaign(EXHAUSTIVE_CAMPAIGN))
+    assert [t.key for t in tasks] == ["exhaustive[0]/connectivity/n3/seed0", "exhaustive[0]/connectivity/n3/seed1"]
+    assert {t.cell for t in tasks} == {"exhaustive[0] song2014 activate S=10 K=1"}
+    out = run_task({"kind": "exhaustive", "args": tasks[1].args})
+    direct = exhaustive("song2014", ["connectivity"], robots=3, seed=1,
+                        bound=Bound(steps=10, deviations=1)).properties["connectivity"]
+    assert out["verdict"] == "held" and out["figures"]["complete"] is True
+    assert (out["figures"]["runs"], out["figures"]["distinct_states"]) == (direct.runs, direct.distinct_states)
+    assert out["figures"]["claim"] is None and out["figures"]["broken_assumptions"] == "synchronous_clocks"
+
+
+@pytest.mark.parametrize("cell, match, fld", [
+    ("    choices: [teleport]\n", "choice kind='teleport' is not known", "exhaustive[0].choices"),
+    ("    properties: [conectivity]\n", "property='conectivity' is not registered", "exhaustive[0].properties[0]"),
+    ("    steps: 0\n", "exhaustive[0].steps=0 must be an integer in 1..1000000", "exhaustive[0].steps"),
+    ("    bound: 3\n", "key 'bound' is not known here", "exhaustive[0].bound"),
+])
+def test_bad_exhaustive_cells_are_located(cell, match, fld):
+    from swarmproof.checkers.campaign import plan_tasks
+    from swarmproof.models.campaign_spec import loads_campaign
+
+    text = "format: swarmproof-campaign/1\nname: bad\nexhaustive:\n  - algorithm: song2014\n" + cell
+    with pytest.raises(InputFileError) as info:
+        plan_tasks(loads_campaign(text))
+    assert match in str(info.value) and info.value.field == fld
+
+
+# slow by nature: a real `dask scheduler` and `dask worker` subprocesses (as the other campaigns' test)
+@pytest.mark.slow
+def test_exhaustive_cells_on_a_real_scheduler_give_the_direct_results(tmp_path):
+    import importlib.util
+    import pathlib
+
+    from swarmproof.checkers.campaign import run_campaign
+    from swarmproof.models.campaign_spec import loads_campaign
+
+    path = pathlib.Path(__file__).with_name("test_campaign.py")
+    spec_ = importlib.util.spec_from_file_location("campaign_tests", path)
+    mod = importlib.util.module_from_spec(spec_)
+    spec_.loader.exec_module(mod)
+    addr, procs = mod._start_cluster(tmp_path)
+    try:
+        res = run_campaign(loads_campaign(EXHAUSTIVE_CAMPAIGN), out_dir=str(tmp_path / "remote"), scheduler=addr)
+    finally:
+        mod._stop(procs)
+    assert res.exit_code == 0 and res.ran == 2
+    for seed in (0, 1):
+        direct = exhaustive("song2014", ["connectivity"], robots=3, seed=seed,
+                            bound=Bound(steps=10, deviations=1)).properties["connectivity"]
+        got = res.results[f"exhaustive[0]/connectivity/n3/seed{seed}"]
+        assert got["figures"]["runs"] == direct.runs and got["verdict"] == "held"
+    from swarmproof.checkers.campaign_report import write_report
+
+    report = open(write_report(res), encoding="utf-8").read()
+    assert "## exhaustive[0] song2014 activate S=10 K=1" in report and "| connectivity | 3 | seed 1 | held |" in report
