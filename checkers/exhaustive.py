@@ -427,6 +427,108 @@ def _starts(spec, algorithm, target, params, phi, robots: int, seed: int, starts
             for s in range(seed, seed + starts)]
 
 
+class _Violation(Exception):
+    """A drawn start whose search found a violation (Hypothesis shrinks it)."""
+
+
+class _Spent(BaseException):
+    """The searches allowed while drawing and shrinking starts are spent."""
+
+
+#: Exhaustive searches a drawn-starts check may run, shrinking included, per drawn start asked
+#: for (a count: the result depends on the seed and the counts only).
+SEARCHES_PER_DRAW = 20
+
+
+def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *, seed, options, symmetry, max_runs,
+                 budget, out_dir, progress, broken) -> ExhaustiveVerdict:
+    """Hypothesis-drawn starts (the explorer's strategy), each searched exhaustively; a violating
+    start is shrunk by Hypothesis to the smallest that still violates within the bound."""
+    from hypothesis import HealthCheck, Phase, given, settings
+    from hypothesis import seed as hseed
+
+    from swarmproof.checkers.explore import scenario_strategy
+    from swarmproof.models.hypothesis_seed import without_local_constants
+    from swarmproof.models.trace import InitialConfiguration
+
+    base, phi, team = drawing
+    algo = spec.build(n_robots=robots_range[1])
+    grid = None
+    if getattr(algo.model, "motion", None) == "grid":
+        grid = float((team(robots_range[1])[1].extra or {}).get("grid_spacing", 1.0))
+    strategy = scenario_strategy(tuple(robots_range), [label], {label: phi}, grid_spacing=grid,
+                                 targets={label: base}, scale_target=getattr(algo, "scale_target", None),
+                                 free_starts=grid is not None and callable(getattr(algo, "initial", None)),
+                                 algorithm=spec.factory)
+    v = ExhaustiveVerdict(prop, "held", complete=True)
+    t0 = time.process_time()
+    last: dict = {}
+    inconclusive: list = []
+    cap = SEARCHES_PER_DRAW * draws
+
+    @hseed(seed)
+    # report_multiple_bugs=False: with it, Hypothesis goes on generating for up to 10 s of wall clock
+    # after the first failure, and the starts searched would depend on the machine's speed
+    @settings(max_examples=draws, database=None, deadline=None, print_blob=False, report_multiple_bugs=False,
+              suppress_health_check=list(HealthCheck), phases=[Phase.generate, Phase.shrink])
+    @given(strategy)
+    def probe(scn) -> None:
+        if v.starts >= cap:
+            raise _Spent
+        init = InitialConfiguration(list(scn.ids), [list(p) for p in scn.poses])
+        tgt, params = team(init.n)
+        deadline = None if budget is None else time.monotonic() + float(budget)
+        out = search_start(spec.build(n_robots=init.n), tgt, init, params, prop, bound, seed=seed, options=options,
+                           symmetry=symmetry, max_runs=max_runs, deadline=deadline, factory=spec.factory,
+                           progress=None if progress is None else (lambda d: progress(prop, d)))
+        v.starts += 1
+        v.runs += out.runs
+        v.distinct_states += out.distinct_states
+        v.pruned += out.pruned
+        v.symmetric_pruned += out.symmetric_pruned
+        if out.status == "violated":
+            last.update(init=init, tgt=tgt, params=params, out=out)   # the shrunk one comes last
+            raise _Violation
+        if out.status == "inconclusive":
+            inconclusive.append(f"a drawn start of {init.n} robots: {out.message}")
+
+    from swarmproof.checkers.explore import _count_bounded_shrinking
+
+    try:
+        with without_local_constants(), _count_bounded_shrinking():    # shrinking bounded by counts, not time
+            probe()
+    except _Violation:
+        pass
+    except _Spent:
+        pass              # the smallest violating start found so far (if any) stands
+    v.cpu = time.process_time() - t0
+    if last:
+        out = last["out"]
+        v.status, v.complete, v.deviations = "violated", False, out.chooser.used
+        cx = _counterexample(spec, last["tgt"], label, last["params"], last["init"], seed, prop, out, bound, options,
+                             broken)
+        v.counterexample = cx
+        v.message = (f"{out.message} (a drawn start of {last['init'].n} robots, shrunk; {v.deviations} "
+                     f"deviation(s), the fewest from that start; {v.starts} starts searched)")
+        if out_dir is not None:
+            from swarmproof.checkers.explore import _file_label
+
+            os.makedirs(out_dir, exist_ok=True)
+            path = os.path.join(os.fspath(out_dir), f"{_file_label(spec)}-{prop}-exhaustive-seed{seed}.json")
+            v.counterexample_path = cx.save(path)
+    elif v.starts < draws and v.starts >= cap:
+        v.status, v.complete = "inconclusive", False
+        v.message = f"the {cap} searches allowed were spent after {v.starts} drawn starts"
+    elif inconclusive:
+        v.status, v.complete = "inconclusive", False
+        v.message = "; ".join(inconclusive[:3])
+    else:
+        v.message = (f"held for every choice sequence within the bound ({bound.text()}) from {v.starts} drawn "
+                     f"start(s) of {robots_range[0]}..{robots_range[1]} robots, for the robots' draws of seed "
+                     f"{seed}: {v.runs} runs, {v.distinct_states} distinct states")
+    return v
+
+
 def _counterexample(spec, target, label, params, initial, seed: int, prop: str, outcome: _StartOutcome,
                     bound: Bound, options, broken) -> Any:
     from swarmproof.checkers.explore import _cx_lattice, _cx_target
@@ -487,7 +589,15 @@ def _inputs(algorithm, properties, target, robots, seed, initial, starts, bound,
     for q in props:
         get_property(q)            # unknown names: a usage error before any run
     start_list = _starts(spec, algo, tgt, params_obj, phi, n, seed, starts, initial)
-    return spec, algo, tgt, label, params_obj, props, start_list
+    base = loaded[label]
+
+    def team(m: int):
+        """The target and parameters of a team of ``m`` robots (a drawn start's size)."""
+        a = spec.build(n_robots=m)
+        t = scale(base, m) if callable(scale) else base
+        return t, build_params(a, phi, m, v=p.get("v"), omega=p.get("omega"), dt=p.get("dt"), extra=p.get("extra"))
+
+    return spec, algo, tgt, label, params_obj, props, start_list, (base, phi, team)
 
 
 def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, seed, options, symmetry, max_runs,
@@ -541,7 +651,8 @@ def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=Non
                initial=None, starts: int = 1, bound: Bound | None = None, params: Mapping[str, Any] | None = None,
                options: Mapping[str, Any] | None = None, max_runs: int | None = None, budget: float | None = None,
                symmetry: bool = True, out_dir: str | os.PathLike | None = None,
-               progress: Callable[[str, dict], None] | None = None) -> ExhaustiveReport:
+               progress: Callable[[str, dict], None] | None = None, draw_starts: int | None = None,
+               draw_robots: tuple[int, int] | None = None) -> ExhaustiveReport:
     """Check ``properties`` of ``algorithm`` for every choice sequence within ``bound`` from each start.
 
     Parameters
@@ -568,8 +679,14 @@ def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=Non
     out_dir : path, optional
         Where counterexample files are written.
     progress : callable ``(property, {"deviations", "runs", "states", "depth"})``, optional
+    draw_starts : int, optional
+        Instead of seeded starts: Hypothesis draws this many connected starts (the explorer's
+        scenario strategy, seeded with ``seed``; ``draw_robots`` (MIN, MAX) robots, default
+        ``robots``), each searched exhaustively; a start with a violation is shrunk (fewer
+        robots, links nearer the range) to the smallest start Hypothesis finds that still
+        violates within the bound.
     """
-    spec, algo, tgt, label, params_obj, props, start_list = _inputs(
+    spec, algo, tgt, label, params_obj, props, start_list, drawing = _inputs(
         algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget)
     bound = bound if bound is not None else Bound(steps=20, deviations=2)
     from swarmproof.invariants.registry import get_property
@@ -579,14 +696,19 @@ def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=Non
     broken = Choices(FaultModel(), None, SequenceSearch(bound, [], bound.deviations)).broken_assumptions(algo.model)
     model = algo.model
     symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False))
-    report = ExhaustiveReport(spec.label, seed, bound, start_list[0][1].n, [s for s, _ in start_list], symmetric,
+    starts_text = ([f"{draw_starts} drawn"] if draw_starts else [s for s, _ in start_list])
+    report = ExhaustiveReport(spec.label, seed, bound, start_list[0][1].n, starts_text, symmetric,
                               broken_assumptions=broken)
     for prop in props:
         why = get_property(prop).not_applicable_to(algo, tgt)
         if why is not None:
             report.properties[prop] = ExhaustiveVerdict(prop, "not_applicable", f"not applicable: {why}")
             continue
-        report.properties[prop] = _check_property(
-            spec, tgt, label, params_obj, prop, bound, start_list, seed=seed, options=options, symmetry=symmetry,
-            max_runs=max_runs, budget=budget, out_dir=out_dir, progress=progress, broken=broken)
+        kw = dict(seed=seed, options=options, symmetry=symmetry, max_runs=max_runs, budget=budget, out_dir=out_dir,
+                  progress=progress, broken=broken)
+        if draw_starts:
+            report.properties[prop] = _check_drawn(spec, label, drawing, prop, bound, draw_robots or (robots, robots),
+                                                   draw_starts, **kw)
+        else:
+            report.properties[prop] = _check_property(spec, tgt, label, params_obj, prop, bound, start_list, **kw)
     return report

@@ -571,7 +571,7 @@ def cross_check(spec: LemmaSpec, *, examples: int = 200, seed: int = 0) -> dict:
     counted = {"held": 0, "last": None}
 
     @hseed(seed)
-    @settings(max_examples=examples, database=None, deadline=None, print_blob=False,
+    @settings(max_examples=examples, database=None, deadline=None, print_blob=False, report_multiple_bugs=False,
               suppress_health_check=list(HealthCheck), phases=[Phase.generate, Phase.shrink])
     @given(draws)
     def probe(values) -> None:

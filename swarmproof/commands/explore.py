@@ -81,7 +81,7 @@ def add_arguments(p) -> None:
                         "start instead of sampling: held means held for every one of them")
     g.add_argument("--initial", metavar="FILE", help="the one start to search from (an initial-configuration file)")
     g.add_argument("--starts", type=int, default=None, metavar="N",
-                   help="without --initial: N seeded starts, seeds S, S+1, ... (default 1)")
+                   help="N seeded starts (the ones simulate --robots N --seed S draws), seeds S, S+1, ...")
     g.add_argument("--deviations", type=int, default=None, metavar="K",
                    help="most non-default choices per sequence (default 2); deepened from 0, so a "
                         "counterexample has the fewest")
@@ -91,6 +91,10 @@ def add_arguments(p) -> None:
     g.add_argument("--max-delay", type=int, default=None, metavar="D", help="largest delay of a delay choice (default 1)")
     g.add_argument("--max-crashes", type=int, default=None, metavar="C",
                    help="most robots a crash choice crashes in one run (default 1)")
+    g.add_argument("--draw-starts", type=int, metavar="N",
+                   help="Hypothesis draws N connected starts of --robots MIN..MAX robots (seeded by --seed), each "
+                        "searched exhaustively; a violating start is shrunk to the smallest it finds (the default "
+                        "without --initial or --starts: 5)")
     g.add_argument("--max-runs", type=int, metavar="N",
                    help="runs per start and property before the search gives up: inconclusive with the coverage")
     g.add_argument("--no-symmetry", action="store_true",
@@ -184,6 +188,7 @@ _SAMPLING_ONLY = (("faults", "--fault", []), ("speeds", "--speeds", None), ("dat
 _EXHAUSTIVE_ONLY = (("initial", "--initial", None), ("starts", "--starts", None), ("deviations", "--deviations", None),
                     ("choices", "--choices", None), ("max_delay", "--max-delay", None),
                     ("max_crashes", "--max-crashes", None), ("max_runs", "--max-runs", None),
+                    ("draw_starts", "--draw-starts", None),
                     ("no_symmetry", "--no-symmetry", False))
 
 
@@ -273,6 +278,10 @@ def _exhaustive_progress():
     return show
 
 
+#: Starts Hypothesis draws for ``--exhaustive`` when none are given (``--initial``, ``--starts``).
+DEFAULT_DRAWN_STARTS = 5
+
+
 def _run_exhaustive(args) -> int:
     """``explore --exhaustive``: every choice sequence within the bound (checkers/exhaustive.py)."""
     from swarmproof.checkers.exhaustive import Bound, exhaustive
@@ -313,12 +322,21 @@ def _run_exhaustive(args) -> int:
         check_output_dir(args.out, "--out")
     progress = _exhaustive_progress()
     reports = []
-    for n in range(lo, hi + 1):
+    if args.draw_starts is None and initial is None and args.starts is None:
+        args.draw_starts = DEFAULT_DRAWN_STARTS      # Hypothesis-drawn starts unless starts are given
+    if args.draw_starts is not None:
+        if initial is not None or args.starts is not None:
+            raise UsageError("--draw-starts draws the starts: not with --initial or --starts",
+                             fix="drop --initial / --starts, or --draw-starts")
+        if args.draw_starts < 1:
+            raise UsageError(f"--draw-starts {args.draw_starts!r} must be >= 1", fix="e.g. --draw-starts 20")
+    for n in (range(lo, hi + 1) if args.draw_starts is None else (lo,)):
         report = exhaustive(args.algorithm, args.properties, target=(args.targets or [None])[0], robots=n,
                             seed=args.seed, initial=initial, starts=1 if args.starts is None else args.starts,
                             bound=bound, params=params,
                             options=_options(args), max_runs=args.max_runs, budget=args.budget,
-                            symmetry=not args.no_symmetry, out_dir=args.out, progress=progress)
+                            symmetry=not args.no_symmetry, out_dir=args.out, progress=progress,
+                            draw_starts=args.draw_starts, draw_robots=(lo, hi) if args.draw_starts else None)
         reports.append(report)
         if report.exit_code == 1 or initial is not None:
             break           # the smallest team with a violation (teams in increasing size)
@@ -330,7 +348,8 @@ def _run_exhaustive(args) -> int:
                    "exit_code": max(r.exit_code for r in reports)})
     lines = []
     for report in reports:
-        lines.append(f"explore {report.algorithm} --exhaustive: {report.robots} robots, starts "
+        team = f"{lo}..{hi}" if args.draw_starts and hi > lo else report.robots
+        lines.append(f"explore {report.algorithm} --exhaustive: {team} robots, starts "
                      f"{', '.join(report.starts)}, bound {report.bound.text()}"
                      + (", symmetry reduction (anonymous robots)" if report.symmetric else ""))
         if report.broken_assumptions:

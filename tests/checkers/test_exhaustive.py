@@ -508,3 +508,24 @@ def test_exhaustive_cells_on_a_real_scheduler_give_the_direct_results(tmp_path):
 
     report = open(write_report(res), encoding="utf-8").read()
     assert "## exhaustive[0] song2014 activate S=10 K=1" in report and "| connectivity | 3 | seed 1 | held |" in report
+
+
+# ---------------------------------------------------------------- Hypothesis-drawn starts
+
+def test_drawn_starts_are_searched_and_a_violating_one_shrinks_to_the_smallest_team():
+    bound = Bound(steps=3, deviations=2)
+    a = exhaustive("testkit:ToggleRows", ["no_crash"], target="square", draw_starts=4, draw_robots=(3, 5),
+                   bound=bound).properties["no_crash"]
+    b = exhaustive("testkit:ToggleRows", ["no_crash"], target="square", draw_starts=4, draw_robots=(3, 5),
+                   bound=bound).properties["no_crash"]
+    assert a.status == "violated" and len(a.counterexample.robots) == 3 and a.deviations <= 2
+    assert "shrunk" in a.message and a.counterexample == b.counterexample      # the same, seed for seed
+    held = exhaustive("testkit:Toggle", ["no_crash"], target="square", draw_starts=3, draw_robots=(3, 4),
+                      bound=Bound(steps=2, deviations=1)).properties["no_crash"]
+    assert held.status == "held" and held.starts == 3 and "from 3 drawn start(s) of 3..4 robots" in held.message
+
+
+def test_cli_drawn_starts_refuse_a_given_start(cli, tmp_path):
+    code, out, err = cli("explore", "testkit:Toggle", "--exhaustive", "--initial", _initial_file(tmp_path),
+                         "--draw-starts", "3", "--target", "square")
+    assert code == 2 and "--draw-starts draws the starts: not with --initial or --starts" in err
