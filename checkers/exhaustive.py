@@ -502,23 +502,12 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
     except _Spent:
         pass              # the smallest violating start found so far (if any) stands
     v.cpu = time.process_time() - t0
-    if last:
+    if last:     # (the search cap can only stop the shrinking: a violating start is known then)
         out = last["out"]
-        v.status, v.complete, v.deviations = "violated", False, out.chooser.used
-        cx = _counterexample(spec, last["tgt"], label, last["params"], last["init"], seed, prop, out, bound, options,
-                             broken)
-        v.counterexample = cx
+        _mark_violated(v, spec, last["tgt"], label, last["params"], last["init"], seed, prop, out, bound, options,
+                       broken, out_dir)
         v.message = (f"{out.message} (a drawn start of {last['init'].n} robots, shrunk; {v.deviations} "
                      f"deviation(s), the fewest from that start; {v.starts} starts searched)")
-        if out_dir is not None:
-            from swarmproof.checkers.explore import _file_label
-
-            os.makedirs(out_dir, exist_ok=True)
-            path = os.path.join(os.fspath(out_dir), f"{_file_label(spec)}-{prop}-exhaustive-seed{seed}.json")
-            v.counterexample_path = cx.save(path)
-    elif v.starts < draws and v.starts >= cap:
-        v.status, v.complete = "inconclusive", False
-        v.message = f"the {cap} searches allowed were spent after {v.starts} drawn starts"
     elif inconclusive:
         v.status, v.complete = "inconclusive", False
         v.message = "; ".join(inconclusive[:3])
@@ -527,6 +516,19 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
                      f"start(s) of {robots_range[0]}..{robots_range[1]} robots, for the robots' draws of seed "
                      f"{seed}: {v.runs} runs, {v.distinct_states} distinct states")
     return v
+
+
+def _mark_violated(v: ExhaustiveVerdict, spec, tgt, label, params, init, seed, prop, out, bound, options, broken,
+                   out_dir) -> None:
+    """``v`` violated by ``out``'s run from ``init``: its counterexample, saved into ``out_dir``."""
+    v.status, v.complete, v.deviations = "violated", False, out.chooser.used
+    v.counterexample = cx = _counterexample(spec, tgt, label, params, init, seed, prop, out, bound, options, broken)
+    if out_dir is not None:
+        from swarmproof.checkers.explore import _file_label
+
+        os.makedirs(out_dir, exist_ok=True)
+        path = os.path.join(os.fspath(out_dir), f"{_file_label(spec)}-{prop}-exhaustive-seed{seed}.json")
+        v.counterexample_path = cx.save(path)
 
 
 def _counterexample(spec, target, label, params, initial, seed: int, prop: str, outcome: _StartOutcome,
@@ -620,18 +622,9 @@ def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, se
         v.complete = v.complete and out.complete
         v.levels.append({"start": start_label, "levels": out.levels})
         if out.status == "violated":
-            v.status = "violated"
-            v.deviations = out.chooser.used
-            cx = _counterexample(spec, tgt, label, params_obj, init, seed, prop, out, bound, options, broken)
-            v.counterexample = cx
+            _mark_violated(v, spec, tgt, label, params_obj, init, seed, prop, out, bound, options, broken, out_dir)
             v.message = (f"{out.message} (start {start_label}, {v.deviations} deviation(s), found after "
                          f"{v.runs} runs; fewest within the bound)")
-            if out_dir is not None:
-                from swarmproof.checkers.explore import _file_label
-
-                os.makedirs(out_dir, exist_ok=True)
-                path = os.path.join(os.fspath(out_dir), f"{_file_label(spec)}-{prop}-exhaustive-seed{seed}.json")
-                v.counterexample_path = cx.save(path)
             break
         if out.status == "inconclusive":
             inconclusive.append(f"start {start_label}: {out.message}")
