@@ -396,7 +396,9 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
                                "complete": False})
                 return _StartOutcome("violated", verdict.message, total_runs, len(stats.table), stats.pruned,
                                      stats.symmetric_pruned, False, levels, ch, result, verdict)
-            if result.status == "step_cap" and not safety and verdict.status == "inconclusive":
+            if result.status == "step_cap" and not safety:
+                # a liveness property on a run cut by the step bound: undecided (oscillation, for
+                # one, says held of a run with no cycle yet), never a pass
                 bound_reached += 1
             if progress is not None:
                 progress({"deviations": k, "runs": total_runs, "states": len(stats.table), "depth": len(ch.trail)})
@@ -586,7 +588,7 @@ def _inputs(algorithm, properties, target, robots, seed, initial, starts, bound,
     phi = _run_range(spec, tgt, getattr(tgt, "kind", "lattice"), None)
     p = dict(params or {})
     params_obj = build_params(algo, phi, n, v=p.get("v"), omega=p.get("omega"), dt=p.get("dt"), extra=p.get("extra"))
-    props = list(properties) if properties else [q for q in explore_properties()
+    props = list(properties) if properties else [q for q in explore_properties(spec.factory)
                                                  if get_property(q).not_applicable_to(algo) is None]
     for q in props:
         get_property(q)            # unknown names: a usage error before any run
