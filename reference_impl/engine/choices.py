@@ -47,6 +47,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import struct
+import types
 from typing import Sequence
 
 import numpy as np
@@ -307,20 +308,27 @@ def phase_classes(phase: float, rate: float, every: float, steps: int) -> list[f
 
 
 def deterministic_from(deviations) -> int:
-    """The first step whose state a run's later decisions are all defaults from: one past the step
-    of the last non-default decision (``clock_phase``: before step 0), 0 with none.
+    """The first recorded state from which a run is the default continuation of a state with no
+    trace of its non-default decisions left outside the robots' poses and states: two steps past
+    the step of the last decision (a robot left out at step s broadcast nothing in s, which its
+    neighbours hear, or not, in s + 1), plus a late delivery's delay (in flight until it is due);
+    ``clock_phase`` is chosen before step 0; 0 with no deviation.  Oscillation's cycle rule
+    compares poses and states only, so it starts there.
 
     >>> deterministic_from([{"kind": "loss", "at": [3, 0, 1]}, {"kind": "activate", "at": [7]}])
-    8
+    9
+    >>> deterministic_from([{"kind": "delay", "at": [7, 0, 1], "option": 3}])
+    12
     >>> deterministic_from([{"kind": "clock_phase", "at": [4]}]), deterministic_from([])
     (0, 0)
     """
-    last = -1
+    last = 0
     for d in deviations:
         at = list(d.get("at") or [])
         if d.get("kind") != "clock_phase" and at:
-            last = max(last, int(at[0]))
-    return last + 1
+            late = int(d.get("option") or 0) if d.get("kind") == "delay" else 0
+            last = max(last, int(at[0]) + 2 + late)
+    return last
 
 
 class RecordedChoices(Chooser):
@@ -365,9 +373,12 @@ class RecordedChoices(Chooser):
 
 # -- the state digest ----------------------------------------------------------------------
 
-def _canon(x, out: list) -> None:
+def _canon(x, out: list, _open: set | None = None) -> None:
     """Append a canonical byte encoding of ``x`` to ``out`` (floats bit for bit; dicts by
-    sorted key encodings; unknown objects by ``repr``)."""
+    sorted key encodings; other objects by their class and attributes, a cycle as a mark;
+    functions by name; anything else by ``repr``)."""
+    if _open is None:
+        _open = set()
     if x is None or isinstance(x, (bool, np.bool_)):
         out.append(b"N" if x is None else (b"T" if x else b"F"))
     elif isinstance(x, (int, np.integer)):
@@ -385,15 +396,15 @@ def _canon(x, out: list) -> None:
     elif isinstance(x, (tuple, list)):
         out.append(b"(" if isinstance(x, tuple) else b"[")
         for y in x:
-            _canon(y, out)
+            _canon(y, out, _open)
         out.append(b")")
     elif isinstance(x, (dict, frozenset, set)) or hasattr(x, "items") and callable(x.items):
         items = []
         for k, v in (x.items() if hasattr(x, "items") else ((y, None) for y in x)):
             kb: list = []
-            _canon(k, kb)
+            _canon(k, kb, _open)
             vb: list = []
-            _canon(v, vb)
+            _canon(v, vb, _open)
             items.append((b"".join(kb), b"".join(vb)))
         out.append(b"{")
         for kb, vb in sorted(items):
@@ -401,12 +412,29 @@ def _canon(x, out: list) -> None:
         out.append(b"}")
     elif hasattr(x, "__dataclass_fields__"):
         out.append(b"D" + type(x).__qualname__.encode())
-        _canon(tuple(getattr(x, f) for f in x.__dataclass_fields__), out)
+        _canon(tuple(getattr(x, f) for f in x.__dataclass_fields__), out, _open)
     elif hasattr(x, "_fields"):        # namedtuple
         out.append(b"n" + type(x).__qualname__.encode())
-        _canon(tuple(x), out)
+        _canon(tuple(x), out, _open)
     elif isinstance(x, np.random.Generator):
-        _canon(x.bit_generator.state, out)
+        _canon(x.bit_generator.state, out, _open)
+    elif isinstance(x, (type, types.FunctionType, types.BuiltinFunctionType, types.MethodType)):
+        # a function by its name and what it closes over; a bound method with its object too
+        out.append(b"c" + f"{getattr(x, '__module__', '')}.{getattr(x, '__qualname__', repr(x))}".encode())
+        if isinstance(x, types.MethodType):
+            _canon(x.__self__, out, _open)
+        elif isinstance(x, types.FunctionType) and x.__closure__:
+            _canon(tuple(c.cell_contents for c in x.__closure__), out, _open)
+    elif hasattr(x, "__dict__") or hasattr(type(x), "__slots__"):
+        if id(x) in _open:
+            out.append(b"<cycle>")
+            return
+        _open.add(id(x))
+        names = sorted(set(getattr(x, "__dict__", {})) | {n for c in type(x).__mro__
+                                                          for n in getattr(c, "__slots__", ()) if hasattr(x, n)})
+        out.append(b"o" + type(x).__qualname__.encode())
+        _canon({n: getattr(x, n) for n in names if not n.startswith("__")}, out, _open)
+        _open.discard(id(x))
     else:
         out.append(b"r" + repr(x).encode())
 
@@ -438,9 +466,28 @@ def _mover_state(mover, n: int) -> tuple[list, dict]:
     return [tuple(a[k] for a in per) for k in range(n)], common
 
 
+def _controller_fields(run, k: int) -> dict | None:
+    """Every attribute of robot ``k``'s controller but the run's constants (its parameters, target
+    and algorithm) and its generator (digested apart): ``state()`` need not return a controller's
+    whole memory (wang2020's ``last_check``, handshake deadlines and queues are not in it), and
+    whatever decides its future must be in the digest."""
+    controllers = getattr(run, "controllers", None)
+    c = controllers[k] if controllers is not None and k < len(controllers) else None
+    if c is None:
+        return None
+    skip = {id(run.params), id(run.lattice), id(run.algorithm)}
+    rng = run.robot_rngs[k] if k < len(getattr(run, "robot_rngs", ())) else None
+    if rng is not None:
+        skip.add(id(rng))
+    names = set(getattr(c, "__dict__", {})) | {n for t in type(c).__mro__ for n in getattr(t, "__slots__", ())
+                                               if hasattr(c, n)}
+    return {n: getattr(c, n) for n in sorted(names) if id(getattr(c, n)) not in skip and not n.startswith("__")}
+
+
 def state_digest(run, *, symmetric: bool = False) -> bytes:
     """A digest of everything that decides a run's future (issue 33): the step number, the
-    poses bit for bit, who is present, each controller's ``state()``, each robot's generator,
+    poses bit for bit, who is present, each controller's ``state()`` and every attribute of it
+    (:func:`_controller_fields`), each robot's generator,
     last step's broadcasts and what each robot heard, the messages in flight (queues, backlogs,
     exchanges), the clocks, the motion model's state, the fault generator, the quiet-step count
     and the choices still allowed (crashes left).
@@ -455,9 +502,8 @@ def state_digest(run, *, symmetric: bool = False) -> bytes:
     (it then merges fewer states, never more).
 
     Two states with the same digest are equal in every field listed (up to relabelling with
-    ``symmetric``); a field not listed -- a controller attribute its ``state()`` does not
-    return -- is not seen, which is why ``state()`` must return the controller's whole state
-    (docs/exhaustive.md).
+    ``symmetric``): a controller's memory counts whether its ``state()`` returns it or not (a
+    value reached only through a closure, or a module-level global, is not seen).
     """
     n = run.n_total
     delivery, exchanges = run.delivery, run.exchanges
@@ -469,7 +515,7 @@ def state_digest(run, *, symmetric: bool = False) -> bytes:
     own_rng = not symmetric or getattr(run.algorithm, "randomized", False)
     keys = [canonical_bytes((bool(run.present[k]), run.poses[k].tobytes(), run.states[k] if run.states else None,
                              run.robot_rngs[k] if own_rng and k < len(run.robot_rngs) else None, moving[k],
-                             clock[k]))
+                             clock[k], _controller_fields(run, k)))
             for k in range(n)]
     symmetric = symmetric and len(set(keys)) == n
     name = keys if symmetric else list(range(n))     # how a robot is referred to
