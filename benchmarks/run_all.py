@@ -52,6 +52,7 @@ SMALL_ARGS: dict[str, list[str]] = {
     "bench_jiang": ["perf", "--seeds", "1", "--sizes", "10,20"],
     "bench_wang2020": ["perf", "--robots", "64", "--trial-robots", "16"],
     "bench_wang2020_ratio": ["decompose", "--n", "16", "--seeds", "0"],
+    "bench_exhaustive": ["jiang", "--starts", "1", "--deviations", "1"],   # about 20 s
 }
 
 #: Arguments a benchmark needs even with ``--full`` (it has no default mode).
@@ -60,6 +61,7 @@ REQUIRED_ARGS: dict[str, list[str]] = {
     "bench_jiang": ["perf"],
     "bench_wang2020": ["perf"],
     "bench_wang2020_ratio": ["decompose", "--n", "144"],   # the ratio study's own instance (docs/wang2020.md)
+    "bench_exhaustive": ["perf"],
 }
 
 #: Where each benchmark's figures are recorded (docs/performance.md sections).
@@ -76,6 +78,7 @@ FIGURES: dict[str, str] = {
     "bench_jiang": 'docs/performance.md "Jiang et al. (issue 16)" (experiments: docs/jiang.md)',
     "bench_wang2020": 'docs/performance.md "Wang & Rubenstein 2020 (issue 15)" (experiments: docs/wang2020.md)',
     "bench_wang2020_ratio": 'docs/wang2020.md (the distance-ratio study)',
+    "bench_exhaustive": 'docs/performance.md "Exhaustive checking (issue 33)" (results: docs/exhaustive.md "Results")',
 }
 
 

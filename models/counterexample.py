@@ -453,8 +453,14 @@ def _choice_phrase(d: Mapping) -> str:
     'step 2: only robots 1, 3 act (decision 4)'
     >>> _choice_phrase({"index": 9, "kind": "delay", "at": [3, 1, 2], "option": 2})
     'step 3: the message from robot 1 to robot 2 arrives 2 step(s) late (decision 9)'
+    >>> _choice_phrase({"index": 1, "kind": "clock_phase", "at": [1], "option": 0.75})
+    "before step 0: robot 1's clock phase is 0.75 (decision 1)"
     """
     kind, at, opt = d.get("kind"), list(d.get("at") or []), d.get("option")
+    if kind == "clock_phase":       # at = (robot,): chosen before the first step, not in a step
+        who = f"robot {at[0]}'s" if at else "a robot's"
+        phase = f"{opt:g}" if isinstance(opt, (int, float)) else repr(opt)
+        return f"before step 0: {who} clock phase is {phase} (decision {d.get('index')})"
     step = f"step {at[0]}: " if at else ""
     link = f"the message from robot {at[1]} to robot {at[2]}" if len(at) >= 3 else "a message"
     text = {

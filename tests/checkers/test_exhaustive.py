@@ -129,6 +129,22 @@ def test_an_exhaustive_counterexample_replays_bit_for_bit(tmp_path):
     assert _trace_bytes(out.result)[2] == _trace_bytes(rr.result)[2]
 
 
+def test_a_clock_phase_deviation_is_told_as_a_robot_s_phase_not_as_a_step(tmp_path):
+    """A clock_phase decision's ``at`` is ``(robot,)``, made before step 0: the counterexample's
+    steps said "step 1: clock_phase = 0.75" for robot 1's phase (found while measuring wang2020's
+    variant, docs/exhaustive.md "Results")."""
+    rep = exhaustive("testkit:ToggleBuggy", ["no_crash"], target="square", initial=toggle_start(),
+                     bound=Bound(steps=4, deviations=3), out_dir=tmp_path)
+    cx = Counterexample.load(rep.properties["no_crash"].counterexample_path)
+    cx.choices = {**cx.choices, "kinds": ["activate", "clock_phase"],
+                  "deviations": [{"index": 1, "kind": "clock_phase", "at": [1], "option": 0.75},
+                                 {"index": 4, "kind": "activate", "at": [2], "option": [1, 3]}]}
+    text = "\n".join(cx.format_steps())
+    assert "before step 0: robot 1's clock phase is 0.75 (decision 1)" in text
+    assert "step 1: clock_phase" not in text
+    assert "step 2: only robots 1, 3 act (decision 4)" in text
+
+
 def test_a_replay_whose_run_makes_other_decisions_is_refused(tmp_path):
     rep = exhaustive("testkit:ToggleBuggy", ["no_crash"], target="square", initial=toggle_start(),
                      bound=Bound(steps=4, deviations=3), out_dir=tmp_path)
