@@ -207,10 +207,16 @@ def _check_exhaustive_cells(spec) -> None:
                 raise spec.error(cell.path + ("properties", k), f"property={p!r} is not registered",
                                  f"use one of {sorted(props)!r}")
         try:
-            Bound(steps=cell.steps, deviations=cell.deviations, kinds=tuple(cell.choices), max_delay=cell.max_delay,
-                  max_crashes=cell.max_crashes)
+            bound = Bound(steps=cell.steps, deviations=cell.deviations, kinds=tuple(cell.choices),
+                          max_delay=cell.max_delay, max_crashes=cell.max_crashes)
         except UsageError as exc:
             raise spec.error(cell.path + ("choices",), exc.message, exc.fix or "see docs/exhaustive.md") from None
+        for k, n in enumerate(cell.robots):
+            try:
+                bound.check_applies(algo.build(n_robots=n), n)
+            except UsageError as exc:
+                where = ("robots", k) if "robots=" in exc.message else ("choices",)
+                raise spec.error(cell.path + where, exc.message, exc.fix or "see docs/exhaustive.md") from None
         if cell.target is not None:
             try:
                 resolve_target(cell.target, prefer="lattice")

@@ -48,6 +48,9 @@ __all__ = ["Bound", "ExhaustiveVerdict", "ExhaustiveReport", "exhaustive", "sear
 
 #: Kinds enumerated when none are named: asynchronous activation.
 DEFAULT_KINDS = ("activate",)
+#: The bound's integer fields, the command-line flag of each and an example value.
+_BOUND_FIELDS = (("steps", "--max-steps", "20"), ("deviations", "--deviations", "2"), ("max_delay", "--max-delay", "1"),
+                 ("max_crashes", "--max-crashes", "1"))
 
 
 @dataclass(frozen=True)
@@ -76,18 +79,47 @@ class Bound:
     max_crashes: int = 1
 
     def __post_init__(self) -> None:
-        for name in ("steps", "deviations", "max_delay", "max_crashes"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int) or v < (1 if name == "steps" else 0):
-                raise UsageError(f"{name}={v!r} must be an integer >= {1 if name == 'steps' else 0}",
-                                 fix="e.g. steps=20, deviations=2")
         kinds = tuple(self.kinds)
+        for name, flag, example in _BOUND_FIELDS:
+            v = getattr(self, name)
+            lo = 1 if name == "steps" or (name == "max_delay" and "delay" in kinds) or \
+                (name == "max_crashes" and "crash" in kinds) else 0
+            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+                why = {("max_delay", 1): " (the delay kind needs a delay to choose)",
+                       ("max_crashes", 1): " (the crash kind needs a crash to choose)"}.get((name, lo), "")
+                raise UsageError(f"{name}={v!r} ({flag}) must be an integer >= {lo}{why}", fix=f"e.g. {flag} {example}")
         if not kinds:
-            raise UsageError("kinds=() names no choice kind", fix=f"give some of {list(CHOICE_KINDS)}")
+            raise UsageError("choices=() names no choice kind (--choices)", fix=f"give some of {list(CHOICE_KINDS)}")
         bad = [k for k in kinds if k not in CHOICE_KINDS]
         if bad:
-            raise UsageError(f"choice kind={bad[0]!r} is not known", fix=f"use some of {list(CHOICE_KINDS)}")
+            raise UsageError(f"choice kind={bad[0]!r} is not known (--choices)", fix=f"use some of {list(CHOICE_KINDS)}")
         object.__setattr__(self, "kinds", tuple(sorted(set(kinds), key=CHOICE_KINDS.index)))
+
+    def check_applies(self, algorithm, robots: int) -> None:
+        """Refuse, before any run, a kind the algorithm's robot model has no decision of, and
+        activation choices over more robots than they enumerate.
+
+        Raises
+        ------
+        UsageError
+            ``clock_phase`` for synchronous clocks, a message kind for robots that send none,
+            ``activate`` with more than :data:`MAX_ACTIVATION_ROBOTS` robots.
+        """
+        from swarmproof.reference_impl.engine.choices import MAX_ACTIVATION_ROBOTS
+
+        model, name = algorithm.model, getattr(algorithm, "name", type(algorithm).__name__)
+        if "clock_phase" in self.kinds and getattr(model, "clocks", "sync") != "async":
+            raise UsageError(f"choice kind='clock_phase': algorithm {name!r} has synchronous clocks "
+                             f"(RobotModel.clocks={model.clocks!r}): there is no phase to choose",
+                             fix="drop clock_phase from --choices (activate enumerates schedules)")
+        sent = [k for k in ("loss", "delay", "duplicate", "reorder") if k in self.kinds]
+        if sent and getattr(model, "communication", "neighbors") == "none":
+            raise UsageError(f"choice kind={sent[0]!r}: algorithm {name!r} sends no messages "
+                             "(RobotModel.communication='none')", fix=f"drop {', '.join(sent)} from --choices")
+        if "activate" in self.kinds and robots > MAX_ACTIVATION_ROBOTS:
+            raise UsageError(f"robots={robots} with choice kind='activate': 2^{robots} - 1 schedules a step "
+                             f"(at most {MAX_ACTIVATION_ROBOTS} robots)",
+                             fix=f"give at most {MAX_ACTIVATION_ROBOTS} robots (--robots), or drop activate")
 
     def as_dict(self) -> dict:
         out = {"steps": self.steps, "deviations": self.deviations, "kinds": list(self.kinds)}
@@ -310,6 +342,7 @@ class _StartOutcome:
     result: Any = None
     verdict: Any = None
     bound_reached: int = 0
+    kinds_seen: frozenset = frozenset()
 
 
 class _OutOfBudget(Exception):
@@ -349,6 +382,8 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
     levels: list = []
     total_runs = 0
     bound_reached = 0
+    undecided, first_undecided = 0, ""
+    kinds_seen: set = set()
     ks = range(bound.deviations + 1) if iterative else (bound.deviations,)
     last = _Stats()
 
@@ -381,6 +416,7 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
             ch, result = run_once(prefix, k, stats, prune)
             stats.runs += 1
             total_runs += 1
+            kinds_seen.update(p.kind for p in ch.trail)
             if result.status == "pruned" and not safety:     # (unsound_liveness_pruning) no end to judge
                 prefix = ch.next_prefix()
                 continue
@@ -400,18 +436,30 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
                 # a liveness property on a run cut by the step bound: undecided (oscillation, for
                 # one, says held of a run with no cycle yet), never a pass
                 bound_reached += 1
+            elif verdict.status == "inconclusive" and result.status != "pruned":
+                # a run the property could not judge (vacuous: nothing to check): not covered.  A
+                # pruned run's prefix may be vacuous; its future was judged on the first visit
+                undecided += 1
+                first_undecided = first_undecided or verdict.message
             if progress is not None:
                 progress({"deviations": k, "runs": total_runs, "states": len(stats.table), "depth": len(ch.trail)})
             prefix = ch.next_prefix()
         levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
                        "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned, "complete": True})
         last = stats
+    seen = frozenset(kinds_seen)
     if bound_reached:
         return _StartOutcome("inconclusive",
                              f"{bound_reached} of the runs reached the {bound.steps}-step bound before {prop} "
                              "could be judged (bound reached: never held)", total_runs, len(last.table),
-                             last.pruned, last.symmetric_pruned, True, levels, bound_reached=bound_reached)
-    return _StartOutcome("held", "", total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels)
+                             last.pruned, last.symmetric_pruned, True, levels, bound_reached=bound_reached,
+                             kinds_seen=seen)
+    if undecided:
+        return _StartOutcome("inconclusive", f"{undecided} of the runs could not be judged ({first_undecided})",
+                             total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels,
+                             kinds_seen=seen)
+    return _StartOutcome("held", "", total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels,
+                         kinds_seen=seen)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -466,6 +514,7 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
     t0 = time.process_time()
     last: dict = {}
     inconclusive: list = []
+    seen_kinds: set = set()
     cap = SEARCHES_PER_DRAW * draws
 
     @hseed(seed)
@@ -488,6 +537,7 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
         v.distinct_states += out.distinct_states
         v.pruned += out.pruned
         v.symmetric_pruned += out.symmetric_pruned
+        seen_kinds.update(out.kinds_seen)
         if out.status == "violated":
             last.update(init=init, tgt=tgt, params=params, out=out)   # the shrunk one comes last
             raise _Violation
@@ -516,7 +566,7 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
     else:
         v.message = (f"held for every choice sequence within the bound ({bound.text()}) from {v.starts} drawn "
                      f"start(s) of {robots_range[0]}..{robots_range[1]} robots, for the robots' draws of seed "
-                     f"{seed}: {v.runs} runs, {v.distinct_states} distinct states")
+                     f"{seed}: {v.runs} runs, {v.distinct_states} distinct states" + _unseen_kinds(bound, seen_kinds))
     return v
 
 
@@ -552,7 +602,8 @@ def _counterexample(spec, target, label, params, initial, seed: int, prop: str, 
                  "deviations": ch.deviations(), "choice_points": len(ch.trail)})
 
 
-def _inputs(algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget):
+def _inputs(algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget,
+            draw_robots=None):
     """The checked inputs of :func:`exhaustive`: the algorithm, its target (scaled to the team),
     the parameters, the properties and the starts."""
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
@@ -566,13 +617,15 @@ def _inputs(algorithm, properties, target, robots, seed, initial, starts, bound,
     if initial is None and (isinstance(robots, bool) or not isinstance(robots, int) or robots < 1):
         raise UsageError(f"robots={robots!r} must be an integer >= 1", fix="e.g. --robots 3")
     if isinstance(starts, bool) or not isinstance(starts, int) or starts < 1:
-        raise UsageError(f"starts={starts!r} must be an integer >= 1", fix="e.g. --starts 3")
+        raise UsageError(f"starts={starts!r} (--starts) must be an integer >= 1", fix="e.g. --starts 3")
     if max_runs is not None and (isinstance(max_runs, bool) or not isinstance(max_runs, int) or max_runs < 1):
-        raise UsageError(f"max_runs={max_runs!r} must be an integer >= 1", fix="e.g. --max-runs 10000")
+        raise UsageError(f"max_runs={max_runs!r} (--max-runs) must be an integer >= 1", fix="e.g. --max-runs 10000")
     if budget is not None and not (isinstance(budget, (int, float)) and budget > 0):
-        raise UsageError(f"budget={budget!r} must be a number of seconds > 0, or None")
+        raise UsageError(f"budget={budget!r} (--budget) must be a number of seconds > 0, or none",
+                         fix="e.g. --budget 60, or --budget none to bound the search by its bound alone")
     n = initial.n if initial is not None else robots
     algo = spec.build(n_robots=n)
+    (bound or Bound(steps=20, deviations=2)).check_applies(algo, max(n, (draw_robots or (n, n))[1]))
     if target is None:
         # the algorithm's own default targets (explore's), else its verify plan's, else square
         own = getattr(spec.factory, "explore_targets", None)
@@ -610,6 +663,7 @@ def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, se
     v = ExhaustiveVerdict(prop, "held", complete=True)
     t0 = time.process_time()
     inconclusive = []
+    seen_kinds: set = set()
     for start_label, init in start_list:
         deadline = None if budget is None else time.monotonic() + float(budget)
         out = search_start(spec.build(n_robots=init.n), tgt, init, params_obj, prop, bound, seed=seed,
@@ -622,11 +676,12 @@ def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, se
         v.pruned += out.pruned
         v.symmetric_pruned += out.symmetric_pruned
         v.complete = v.complete and out.complete
+        seen_kinds |= set(out.kinds_seen)
         v.levels.append({"start": start_label, "levels": out.levels})
         if out.status == "violated":
             _mark_violated(v, spec, tgt, label, params_obj, init, seed, prop, out, bound, options, broken, out_dir)
-            v.message = (f"{out.message} (start {start_label}, {v.deviations} deviation(s), found after "
-                         f"{v.runs} runs; fewest within the bound)")
+            v.message = (f"{out.message} (start {start_label}, {v.deviations} deviation(s), the fewest from that "
+                         f"start; found after {v.runs} runs)")
             break
         if out.status == "inconclusive":
             inconclusive.append(f"start {start_label}: {out.message}")
@@ -638,8 +693,18 @@ def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, se
         else:
             v.message = (f"held for every choice sequence within the bound ({bound.text()}) from "
                          f"{v.starts} start(s), for the robots' draws of seed {seed}: {v.runs} runs, "
-                         f"{v.distinct_states} distinct states")
+                         f"{v.distinct_states} distinct states" + _unseen_kinds(bound, seen_kinds))
     return v
+
+
+def _unseen_kinds(bound: Bound, seen: set) -> str:
+    """``"; no decision of kind loss arose"`` for the bound's kinds no run was asked to decide."""
+    never = [k for k in bound.kinds if k not in seen]
+    if not never:
+        return ""
+    if len(never) == len(bound.kinds):
+        return "; no decision of the kinds asked arose: this was the one run the defaults make"
+    return f"; no decision of kind {', '.join(never)} arose"
 
 
 def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=None, robots: int = 3, seed: int = 0,
@@ -682,7 +747,8 @@ def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=Non
         violates within the bound.
     """
     spec, algo, tgt, label, params_obj, props, start_list, drawing = _inputs(
-        algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget)
+        algorithm, properties, target, robots, seed, initial, starts, bound, params, max_runs, budget,
+        draw_robots if draw_starts else None)
     bound = bound if bound is not None else Bound(steps=20, deviations=2)
     from swarmproof.invariants.registry import get_property
     from swarmproof.reference_impl.engine.choices import Choices

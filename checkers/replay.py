@@ -170,10 +170,12 @@ def replay(cx: Counterexample, *, file: str | None = None) -> ReplayResult:
         raise
     except UsageError as exc:
         raise bad("params", exc, cx.params) from None
-    if chooser is not None and chooser.diverged is not None:
-        raise InputFileError(f"choices: the run did not make the recorded decisions ({chooser.diverged}), so it "
+    misfit = None if chooser is None else chooser.check_end(cx.choices.get("choice_points"))
+    if misfit is not None:
+        raise InputFileError(f"choices: the run did not make the recorded decisions ({misfit}), so it "
                              "is not the run the file records", file=file, field="choices",
-                             fix="replay it with the swarmproof and algorithm version that wrote it (made_by)")
+                             fix="replay it with the swarmproof and algorithm version that wrote it (made_by), or "
+                                 "restore the file's choices as the search wrote them")
     verdict = judge(cx.property, algorithm, lattice, params, result, cx.options)
     verdict = _before_the_recorded_step(cx, verdict, result)
     return ReplayResult(cx, bool(verdict.violated), verdict, result)

@@ -879,14 +879,14 @@ def exhaustive_command(ref: str, cell) -> str:
 
     >>> from swarmproof.reference_impl.protocol import ExhaustiveCell
     >>> exhaustive_command("song2014", ExhaustiveCell(("connectivity",), steps=15))
-    'swarmproof explore song2014 --exhaustive --property connectivity --choices activate --max-steps 15 --deviations 2 --robots 3 --seed 0 --budget none --out DIR'
+    'swarmproof explore song2014 --exhaustive --property connectivity --choices activate --max-steps 15 --deviations 2 --robots 3 --seed 0 --starts 1 --budget none --out DIR'
     """
     props = " ".join(f"--property {p}" for p in cell.properties)
     extra = (f" --max-delay {cell.max_delay}" if "delay" in cell.kinds else "") + \
             (f" --max-crashes {cell.max_crashes}" if "crash" in cell.kinds else "") + \
             (f" --target {cell.target}" if cell.target else "")
     return (f"swarmproof explore {ref} --exhaustive {props} --choices {','.join(cell.kinds)} --max-steps "
-            f"{cell.steps} --deviations {cell.deviations} --robots {cell.robots} --seed {cell.seed}{extra} "
+            f"{cell.steps} --deviations {cell.deviations} --robots {cell.robots} --seed {cell.seed} --starts 1{extra} "
             "--budget none --out DIR")
 
 

@@ -427,6 +427,8 @@ class Counterexample:
         if clocks is not None:
             sched = _clocks_text(clocks, extra, len(self.robots)) + (
                 "; a schedule from the file" if self.schedule else "")
+        if self.choices is not None:      # an exhaustive search's decisions, not the plain schedule
+            sched = "decisions chosen as below" if clocks is None else sched + "; decisions chosen as below"
         active = _fault_phrases(self.faults or {})
         fault_text = "no faults" if not active else "faults: " + "; ".join(active)
         cap = "" if self.max_steps is None else f" for at most {self.max_steps} steps"

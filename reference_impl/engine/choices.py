@@ -363,12 +363,31 @@ class RecordedChoices(Chooser):
             return default
         want = d.get("option")
         want = tuple(want) if isinstance(want, list) else want
+        recorded_at = d.get("at")
+        why = None
         if d.get("kind") != kind or want not in options:
+            why = f"the recording has {d.get('kind')} option {d.get('option')!r}"
+        elif recorded_at is not None and list(recorded_at) != [int(x) for x in at]:
+            why = f"the recording places it at {list(recorded_at)}"
+        elif want == default:
+            why = f"the recording lists the default {d.get('option')!r} as a deviation"
+        if why is not None:
             if self.diverged is None:
-                self.diverged = (f"decision {i} is {kind} at {list(at)}, the recording has {d.get('kind')} "
-                                 f"option {d.get('option')!r}")
+                self.diverged = f"decision {i} is {kind} at {list(at)}, {why}"
             return default
         return want
+
+    def check_end(self, choice_points=None) -> str | None:
+        """After the run: :attr:`diverged`, else why the recording does not fit the run (a recorded
+        decision the run never reached, another count of decisions), else None."""
+        if self.diverged is not None:
+            return self.diverged
+        beyond = [i for i in self.at_index if i >= self.n]
+        if beyond:
+            return f"the run made {self.n} decisions, the recording has a deviation at decision {beyond[0]}"
+        if choice_points is not None and int(choice_points) != self.n:
+            return f"the run made {self.n} decisions, the recording says choice_points={choice_points}"
+        return None
 
 
 # -- the state digest ----------------------------------------------------------------------

@@ -295,7 +295,9 @@ def _run_exhaustive(args) -> int:
         raise UsageError("--max-examples is for sampling exploration", fix="drop it; bound the search with "
                          "--max-steps, --deviations and --choices (and --max-runs / --budget)")
     steps = 20 if args.max_steps is None else args.max_steps
-    kinds = tuple(k.strip() for k in (args.choices or "activate").split(",") if k.strip())
+    kinds = tuple(k.strip() for k in ("activate" if args.choices is None else args.choices).split(",") if k.strip())
+    if not kinds:
+        raise UsageError(f"--choices {args.choices!r} names no choice kind", fix="e.g. --choices activate,loss")
     bound = Bound(steps=steps, deviations=2 if args.deviations is None else args.deviations, kinds=kinds,
                   max_delay=1 if args.max_delay is None else args.max_delay,
                   max_crashes=1 if args.max_crashes is None else args.max_crashes)
@@ -309,7 +311,8 @@ def _run_exhaustive(args) -> int:
         raise UsageError(f"--robots {args.robots} disagrees with --initial {args.initial!r} ({initial.n} robots)",
                          fix="drop --robots or make them agree")
     if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
-        raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0, or none")
+        raise UsageError(f"--budget {args.budget!r} must be a number of seconds > 0, or none",
+                         fix="e.g. --budget 60, or --budget none to bound the search by its bound alone")
     if args.targets and len(args.targets) > 1:
         raise UsageError(f"--target given {len(args.targets)} times: an exhaustive search runs on one target",
                          fix="give one --target")
@@ -322,6 +325,9 @@ def _run_exhaustive(args) -> int:
         check_output_dir(args.out, "--out")
     progress = _exhaustive_progress()
     reports = []
+    if initial is not None and args.starts is not None:
+        raise UsageError("--starts N gives seeded starts: not with --initial FILE (one start of yours)",
+                         fix="drop --starts, or drop --initial")
     if args.draw_starts is None and initial is None and args.starts is None:
         args.draw_starts = DEFAULT_DRAWN_STARTS      # Hypothesis-drawn starts unless starts are given
     if args.draw_starts is not None:

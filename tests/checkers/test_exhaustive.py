@@ -328,7 +328,7 @@ def test_chosen_crash_delay_and_loss_change_the_run_as_named():
 
 
 def test_bounds_are_checked():
-    with pytest.raises(UsageError, match="steps=0"):
+    with pytest.raises(UsageError, match=r"steps=0 \(--max-steps\)"):
         Bound(steps=0, deviations=1)
     with pytest.raises(UsageError, match="teleport"):
         Bound(steps=3, deviations=1, kinds=("teleport",))
@@ -403,11 +403,11 @@ def test_cli_exhaustive_out_of_runs_is_inconclusive_exit_3(cli, tmp_path):
 
 @pytest.mark.parametrize("argv, match", [
     (["--choices", "activate,teleport"], "choice kind='teleport' is not known"),
-    (["--deviations", "-1"], "deviations=-1 must be an integer >= 0"),
-    (["--max-steps", "0"], "steps=0 must be an integer >= 1"),
+    (["--deviations", "-1"], "deviations=-1 (--deviations) must be an integer >= 0"),
+    (["--max-steps", "0"], "steps=0 (--max-steps) must be an integer >= 1"),
     (["--fault", "delays"], "--fault is for sampling exploration"),
     (["--max-examples", "5"], "--max-examples is for sampling exploration"),
-    (["--max-runs", "0"], "max_runs=0 must be an integer >= 1"),
+    (["--max-runs", "0"], "max_runs=0 (--max-runs) must be an integer >= 1"),
     (["--robots", "4"], "disagrees with --initial"),
 ])
 def test_cli_exhaustive_bad_input_exit_2(cli, tmp_path, argv, match):
@@ -438,7 +438,8 @@ def test_verify_has_exhaustive_rows_bounded_by_steps_k_and_kinds_and_the_baselin
     assert "the choices break synchronous_clocks" in bad.detail and bad.data["counterexample"]
     assert good.verdict.value == "held" and good.data["exhaustive"]["complete"] is True
     assert good.data["reproduce"].startswith("swarmproof explore testkit:ToggleRows --exhaustive --property "
-                                             "no_crash --choices loss --max-steps 3 --deviations 1")
+                                             "no_crash --choices loss --max-steps 3 --deviations 1 --robots 3 --seed 0 "
+                                             "--starts 1")
     doc = json.loads(path.read_text())
     saved = {r["subject"]: r for r in doc["rows"]}
     assert saved["toggle-rows n=3 loss S=3 K=1"]["exhaustive"] == {
@@ -546,3 +547,54 @@ def test_cli_drawn_starts_refuse_a_given_start(cli, tmp_path):
     code, out, err = cli("explore", "testkit:Toggle", "--exhaustive", "--initial", _initial_file(tmp_path),
                          "--draw-starts", "3", "--target", "square")
     assert code == 2 and "--draw-starts draws the starts: not with --initial or --starts" in err
+
+
+@pytest.mark.parametrize("edit, match", [
+    (lambda d: d["choices"]["deviations"][0].update(option=[1, 2, 3]), "lists the default"),
+    (lambda d: d["choices"]["deviations"][0].update(index=100000), "a deviation at decision 100000"),
+    (lambda d: d["choices"]["deviations"][0].update(at=[3]), r"places it at \[3\]"),
+    (lambda d: d["choices"].update(choice_points=7), "choice_points=7"),
+])
+def test_a_replay_refuses_choices_that_do_not_fit_the_run(tmp_path, edit, match):
+    rep = exhaustive("testkit:ToggleBuggy", ["no_crash"], target="square", initial=toggle_start(),
+                     bound=Bound(steps=4, deviations=3), out_dir=tmp_path)
+    path = rep.properties["no_crash"].counterexample_path
+    doc = json.loads(open(path, encoding="utf-8").read())
+    edit(doc)
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(doc, fh)
+    with pytest.raises(InputFileError, match=match):
+        replay_file(path)
+
+
+def test_kinds_the_model_has_no_decision_of_are_refused_before_any_run():
+    with pytest.raises(UsageError, match="synchronous clocks"):
+        exhaustive("testkit:Toggle", ["no_crash"], target="square", initial=toggle_start(),
+                   bound=Bound(steps=2, deviations=1, kinds=("clock_phase",)))
+    with pytest.raises(UsageError, match="at most 10 robots"):
+        exhaustive("song2014", ["connectivity"], robots=11, starts=1, bound=Bound(steps=2, deviations=1))
+    with pytest.raises(UsageError, match="the delay kind needs a delay"):
+        Bound(steps=2, deviations=1, kinds=("delay",), max_delay=0)
+
+
+def test_a_vacuous_safety_verdict_is_not_held():
+    from swarmproof.invariants.registry import Property, register_property, unregister_property
+    from swarmproof.invariants.result import InvariantResult
+
+    register_property(Property("nothing_to_check", "safety",
+                               lambda trace, ctx: InvariantResult("nothing_to_check", "inconclusive", "test", None,
+                                                                  "vacuous: nothing to judge")), replace=True)
+    try:
+        out = search_start(Toggle(), None, toggle_start(), PARAMS, "nothing_to_check", Bound(steps=2, deviations=1))
+        assert out.status == "inconclusive" and "could not be judged (vacuous: nothing to judge)" in out.message
+    finally:
+        unregister_property("nothing_to_check")
+
+
+def test_a_kind_that_never_arose_is_named_in_the_held_message():
+    v = exhaustive("testkit:Toggle", ["no_crash"], target="square", initial=toggle_start(),
+                   bound=Bound(steps=2, deviations=1, kinds=("activate", "crash"), max_crashes=1)).properties["no_crash"]
+    assert v.status == "held" and "no decision of kind" not in v.message
+    v = exhaustive("testkit:Toggle", ["no_crash"], target="square", initial=toggle_start(),
+                   bound=Bound(steps=1, deviations=1, kinds=("delay",))).properties["no_crash"]
+    assert v.status == "held" and "no decision of the kinds asked arose" in v.message
