@@ -177,6 +177,11 @@ class _Stats:
         self.table: dict = {}          # digest -> most budget left it was explored with
         self.sym_table: dict = {}
 
+    def level(self, k: int, complete: bool) -> dict:
+        """What the level of budget ``k`` searched (the JSON's ``levels``)."""
+        return {"deviations": k, "runs": self.runs, "distinct_states": len(self.table), "pruned": self.pruned,
+                "symmetric_pruned": self.symmetric_pruned, "complete": complete}
+
 
 class SequenceSearch(Chooser):
     """The chooser of one run of the search: it follows ``prefix`` (option indices), then takes
@@ -404,9 +409,7 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
         while prefix is not None:
             if (max_runs is not None and total_runs >= max_runs) or \
                     (deadline is not None and time.monotonic() > deadline):
-                levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
-                               "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned,
-                               "complete": False})
+                levels.append(stats.level(k, False))
                 covered = f"K <= {k - 1} covered completely, " if k > 0 else ""
                 why = "max_runs" if max_runs is not None and total_runs >= max_runs else "the time budget"
                 return _StartOutcome("inconclusive",
@@ -427,9 +430,7 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
                 ch, result = run_once(prefix, k, None, False)
                 verdict = judge(prop, algorithm, target, params, result, options)
             if verdict.violated:
-                levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
-                               "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned,
-                               "complete": False})
+                levels.append(stats.level(k, False))
                 return _StartOutcome("violated", verdict.message, total_runs, len(stats.table), stats.pruned,
                                      stats.symmetric_pruned, False, levels, ch, result, verdict)
             if result.status == "step_cap" and not safety:
@@ -444,22 +445,24 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
             if progress is not None:
                 progress({"deviations": k, "runs": total_runs, "states": len(stats.table), "depth": len(ch.trail)})
             prefix = ch.next_prefix()
-        levels.append({"deviations": k, "runs": stats.runs, "distinct_states": len(stats.table),
-                       "pruned": stats.pruned, "symmetric_pruned": stats.symmetric_pruned, "complete": True})
+        levels.append(stats.level(k, True))
         last = stats
-    seen = frozenset(kinds_seen)
+    return _covered(prop, bound, bound_reached, undecided, first_undecided, total_runs, last, levels,
+                    frozenset(kinds_seen))
+
+
+def _covered(prop, bound, bound_reached, undecided, first_undecided, total_runs, last, levels, seen) -> _StartOutcome:
+    """The outcome of a search that covered its whole bound: held, unless some runs could not be
+    judged (a liveness property at the step bound, a vacuous verdict): inconclusive then."""
+    stats = (total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels)
     if bound_reached:
-        return _StartOutcome("inconclusive",
-                             f"{bound_reached} of the runs reached the {bound.steps}-step bound before {prop} "
-                             "could be judged (bound reached: never held)", total_runs, len(last.table),
-                             last.pruned, last.symmetric_pruned, True, levels, bound_reached=bound_reached,
-                             kinds_seen=seen)
+        return _StartOutcome("inconclusive", f"{bound_reached} of the runs reached the {bound.steps}-step bound before "
+                             f"{prop} could be judged (bound reached: never held)", *stats,
+                             bound_reached=bound_reached, kinds_seen=seen)
     if undecided:
-        return _StartOutcome("inconclusive", f"{undecided} of the runs could not be judged ({first_undecided})",
-                             total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels,
+        return _StartOutcome("inconclusive", f"{undecided} of the runs could not be judged ({first_undecided})", *stats,
                              kinds_seen=seen)
-    return _StartOutcome("held", "", total_runs, len(last.table), last.pruned, last.symmetric_pruned, True, levels,
-                         kinds_seen=seen)
+    return _StartOutcome("held", "", *stats, kinds_seen=seen)
 
 
 # ----------------------------------------------------------------------------------------------
