@@ -382,7 +382,12 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
         raise UsageError(f"prune=True for the {rule.kind} property {prop!r}: a pruned run has no end to judge",
                          fix="prune only safety properties (the default)")
     model = algorithm.model
-    symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False))
+    # relabelling robots is sound only when nothing is drawn in slot order (a fault model's loss,
+    # delays or noise draw from one generator, robot by robot)
+    drawn_faults = faults is not None and (faults.drops_messages or faults.late_messages or faults.noisy
+                                           or faults.schedule is not None)
+    symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False)
+                     and not drawn_faults)
     monitor_of = rule.run_monitor if safety else None
     levels: list = []
     total_runs = 0
@@ -541,6 +546,7 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
         v.pruned += out.pruned
         v.symmetric_pruned += out.symmetric_pruned
         seen_kinds.update(out.kinds_seen)
+        v.levels.append({"start": f"drawn {v.starts} ({init.n} robots)", "levels": out.levels})
         if out.status == "violated":
             last.update(init=init, tgt=tgt, params=params, out=out)   # the shrunk one comes last
             raise _Violation

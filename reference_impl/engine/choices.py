@@ -503,6 +503,15 @@ def _controller_fields(run, k: int) -> dict | None:
     return {n: getattr(c, n) for n in sorted(names) if id(getattr(c, n)) not in skip and not n.startswith("__")}
 
 
+def _some_robot_drew(run) -> bool:
+    """Whether some robot's generator is no longer at its seeded start (a robot drew)."""
+    from .common import _robot_rng
+
+    rngs = getattr(run, "robot_rngs", ()) or ()
+    return any(g is not None and g.bit_generator.state != _robot_rng(run.seed, k).bit_generator.state
+               for k, g in enumerate(rngs))
+
+
 def state_digest(run, *, symmetric: bool = False) -> bytes:
     """A digest of everything that decides a run's future (issue 33): the step number, the
     poses bit for bit, who is present, each controller's ``state()`` and every attribute of it
@@ -530,8 +539,9 @@ def state_digest(run, *, symmetric: bool = False) -> bytes:
     clocks = run.clocks
     clock = [(clocks.phase[k], clocks.rate[k]) if hasattr(clocks, "phase") else None for k in range(n)]
     # a deterministic algorithm's robots (no ``randomized = True``) never draw: up to relabelling
-    # their generators (distinct per slot) are not part of who they are
-    own_rng = not symmetric or getattr(run.algorithm, "randomized", False)
+    # their generators (distinct per slot) are not part of who they are -- checked: a robot whose
+    # generator moved makes them part of it again
+    own_rng = not symmetric or getattr(run.algorithm, "randomized", False) or _some_robot_drew(run)
     keys = [canonical_bytes((bool(run.present[k]), run.poses[k].tobytes(), run.states[k] if run.states else None,
                              run.robot_rngs[k] if own_rng and k < len(run.robot_rngs) else None, moving[k],
                              clock[k], _controller_fields(run, k)))

@@ -323,6 +323,10 @@ def _run_exhaustive(args) -> int:
         from swarmproof.models.fileio import check_output_dir
 
         check_output_dir(args.out, "--out")
+    if initial is None:                 # the largest team first: a bound it cannot take, before any search
+        from swarmproof.checkers.algorithm_spec import resolve_algorithm
+
+        bound.check_applies(resolve_algorithm(args.algorithm).build(n_robots=hi), hi)
     progress = _exhaustive_progress()
     reports = []
     if initial is not None and args.starts is not None:

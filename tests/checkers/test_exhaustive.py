@@ -213,7 +213,7 @@ def _fake_run(**over):
         outbox=None, last_outbox=None, delivery=SimpleNamespace(pending={}, backlog={}),
         exchanges=SimpleNamespace(queue=[]), clocks=SimpleNamespace(), mover=SimpleNamespace(max_turn=1.0),
         t=3, quiet=0, fault_rng=np.random.default_rng(1), choices=SimpleNamespace(crashes_left=0), status=None,
-        idx_l_prev=[0, 1], ids_list=[1, 2], algorithm=Toggle())
+        idx_l_prev=[0, 1], ids_list=[1, 2], algorithm=Toggle(), seed=0)
     for k, v in over.items():
         setattr(run, k, v)
     return run
@@ -598,3 +598,13 @@ def test_a_kind_that_never_arose_is_named_in_the_held_message():
     v = exhaustive("testkit:Toggle", ["no_crash"], target="square", initial=toggle_start(),
                    bound=Bound(steps=1, deviations=1, kinds=("delay",))).properties["no_crash"]
     assert v.status == "held" and "no decision of the kinds asked arose" in v.message
+
+
+def test_the_symmetric_digest_keeps_generators_once_a_robot_drew():
+    run = _fake_run(states=((("x", 0),), (("x", 1),)), last_msgs=[None, None])
+    swapped = _fake_run(poses=run.poses[::-1].copy(), states=run.states[::-1], last_msgs=[None, None])
+    run.seed = swapped.seed = 0
+    assert state_digest(run, symmetric=True) == state_digest(swapped, symmetric=True)
+    run.robot_rngs[0].random()          # robot 0 drew: its generator is part of it now
+    swapped.robot_rngs[0].random()
+    assert state_digest(run, symmetric=True) != state_digest(swapped, symmetric=True)
