@@ -73,7 +73,7 @@ def test_iterative_deepening_runs_each_level_and_reports_it():
 def test_pruning_ends_runs_at_states_explored_before_and_keeps_the_verdict():
     """Toggle's states merge (a bit flipped twice is as if never flipped, the messages name only
     the step): pruning cuts runs, never the bug."""
-    bound = Bound(steps=5, deviations=3)
+    bound = Bound(steps=5, deviations=2)
     plain = _search(Toggle(), bound, prune=False)
     pruned = _search(Toggle(), bound)
     assert plain.status == pruned.status == "held"

@@ -36,10 +36,12 @@ def _module():
 EXPECTED = json.loads((ROOT / "tests" / "reference_impl" / "data" / "trace_hashes.json").read_text())
 #: The default suite's cases: each algorithm on each lattice once (seed 0, n = 10), every fault
 #: hook for both algorithms (late, duplicated, reordered messages since issue 33), wang2020 with and
-#: without late and lost messages, the recorded messages and the n = 30 stable-first run.  The other
+#: without late and lost messages (the late run, 1,458 steps, in the slow suite: the default keeps the
+#: late-delivery path on example-gather and song2016), the recorded messages and the n = 30 stable-first run.  The other
 #: seeds and the n = 20 runs take the same code paths on other starts (slow suite).
 FAST = [k for k in EXPECTED
-        if " n=20 " not in k and not (" n=10 " in k and not k.endswith(" seed=0"))]
+        if " n=20 " not in k and not (" n=10 " in k and not k.endswith(" seed=0"))
+        and not (k.startswith("wang2020 ") and k.endswith("faults=late"))]
 SLOW = [k for k in EXPECTED if k not in FAST]
 
 
@@ -58,7 +60,7 @@ def test_the_pinned_cases_are_exactly_the_scripts_cases():
     set, and the script runs no case the file does not pin (labels only: nothing simulated)."""
     assert sorted(label for label, _ in _module().cases()) == sorted(EXPECTED)
     assert sorted(FAST + SLOW) == sorted(EXPECTED)
-    assert len(FAST) == 19 and len(SLOW) == 21
+    assert len(FAST) == 18 and len(SLOW) == 22
 
 
 @pytest.mark.parametrize("label", FAST)
