@@ -434,7 +434,7 @@ def _exhaustive_task(a: dict) -> dict:
     cx = v.counterexample
     from swarmproof.checkers.algorithm_spec import resolve_algorithm
 
-    claim = None if rep.broken_assumptions else resolve_algorithm(a["algorithm"]).claims.get(a["property"])
+    claim = rep.claim(resolve_algorithm(a["algorithm"]).claims, a["property"])
     figures = {"runs": v.runs, "distinct_states": v.distinct_states, "pruned": v.pruned,
                "symmetric_pruned": v.symmetric_pruned, "complete": v.complete, "deviations": v.deviations,
                "message": v.message, "claim": claim, "broken_assumptions": ", ".join(rep.broken_assumptions),

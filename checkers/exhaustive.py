@@ -285,6 +285,14 @@ class ExhaustiveVerdict:
     def violated(self) -> bool:
         return self.status == "violated"
 
+    def add(self, out) -> None:
+        """Count one start's search (a :class:`_StartOutcome`)."""
+        self.starts += 1
+        self.runs += out.runs
+        self.distinct_states += out.distinct_states
+        self.pruned += out.pruned
+        self.symmetric_pruned += out.symmetric_pruned
+
     def as_dict(self, bound: Bound) -> dict:
         out = {"status": self.status, "message": self.message,
                "exhaustive": {"runs": self.runs, "distinct_states": self.distinct_states, "pruned": self.pruned,
@@ -310,6 +318,12 @@ class ExhaustiveReport:
     symmetric: bool
     properties: dict = field(default_factory=dict)
     broken_assumptions: list = field(default_factory=list)
+
+    def claim(self, claims, prop: str):
+        """Where the paper claims ``prop`` (``claims``: the algorithm's), None when it does not, or
+        when the choices break one of its assumptions: it claims its properties under them, so a
+        search outside them gives findings (asynchronous activation of a synchronous model)."""
+        return None if self.broken_assumptions else claims.get(prop)
 
     @property
     def exit_code(self) -> int:
@@ -350,6 +364,15 @@ class _StartOutcome:
     kinds_seen: frozenset = frozenset()
 
 
+def symmetry_applies(model, symmetry: bool = True, faults=None) -> bool:
+    """Whether states are taken up to relabelling the robots: asked for, anonymous robots without
+    their own ID (the robot model says so), and nothing drawn in slot order (a fault model's loss,
+    delays, noise or schedule draw from one generator, robot by robot)."""
+    drawn = faults is not None and (faults.drops_messages or faults.late_messages or faults.noisy
+                                    or faults.schedule is not None)
+    return bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False) and not drawn)
+
+
 class _OutOfBudget(Exception):
     pass
 
@@ -381,13 +404,7 @@ def search_start(algorithm, target, initial, params, prop: str, bound: Bound, *,
     if prune and not safety and not unsound_liveness_pruning:
         raise UsageError(f"prune=True for the {rule.kind} property {prop!r}: a pruned run has no end to judge",
                          fix="prune only safety properties (the default)")
-    model = algorithm.model
-    # relabelling robots is sound only when nothing is drawn in slot order (a fault model's loss,
-    # delays or noise draw from one generator, robot by robot)
-    drawn_faults = faults is not None and (faults.drops_messages or faults.late_messages or faults.noisy
-                                           or faults.schedule is not None)
-    symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False)
-                     and not drawn_faults)
+    symmetric = symmetry_applies(algorithm.model, symmetry, faults)
     monitor_of = rule.run_monitor if safety else None
     levels: list = []
     total_runs = 0
@@ -540,11 +557,7 @@ def _check_drawn(spec, label, drawing, prop, bound, robots_range, draws: int, *,
         out = search_start(spec.build(n_robots=init.n), tgt, init, params, prop, bound, seed=seed, options=options,
                            symmetry=symmetry, max_runs=max_runs, deadline=deadline, factory=spec.factory,
                            progress=None if progress is None else (lambda d: progress(prop, d)))
-        v.starts += 1
-        v.runs += out.runs
-        v.distinct_states += out.distinct_states
-        v.pruned += out.pruned
-        v.symmetric_pruned += out.symmetric_pruned
+        v.add(out)
         seen_kinds.update(out.kinds_seen)
         v.levels.append({"start": f"drawn {v.starts} ({init.n} robots)", "levels": out.levels})
         if out.status == "violated":
@@ -679,11 +692,7 @@ def _check_property(spec, tgt, label, params_obj, prop, bound, start_list, *, se
                            options=options, symmetry=symmetry, max_runs=max_runs, deadline=deadline,
                            factory=spec.factory,
                            progress=None if progress is None else (lambda d, prop=prop: progress(prop, d)))
-        v.starts += 1
-        v.runs += out.runs
-        v.distinct_states += out.distinct_states
-        v.pruned += out.pruned
-        v.symmetric_pruned += out.symmetric_pruned
+        v.add(out)
         v.complete = v.complete and out.complete
         seen_kinds |= set(out.kinds_seen)
         v.levels.append({"start": start_label, "levels": out.levels})
@@ -765,7 +774,7 @@ def exhaustive(algorithm, properties: Sequence[str] | None = None, *, target=Non
 
     broken = Choices(FaultModel(), None, SequenceSearch(bound, [], bound.deviations)).broken_assumptions(algo.model)
     model = algo.model
-    symmetric = bool(symmetry and model.sensing == "anonymous" and not getattr(model, "own_id", False))
+    symmetric = symmetry_applies(model, symmetry)
     starts_text = ([f"{draw_starts} drawn"] if draw_starts else [s for s, _ in start_list])
     report = ExhaustiveReport(spec.label, seed, bound, start_list[0][1].n, starts_text, symmetric,
                               broken_assumptions=broken)

@@ -915,9 +915,7 @@ def section_exhaustive(*, subjects=None, progress: Progress | None = None, out_d
                                         "reproduce": exhaustive_command(s.ref, cell),
                                         "exhaustive": v.as_dict(bound)["exhaustive"], "cpu": round(v.cpu, 2),
                                         "broken_assumptions": list(rep.broken_assumptions)}
-                # the paper claims its properties under its assumptions: choices that break one
-                # (asynchronous activation of a synchronous model, lost messages) make a finding
-                claim = None if rep.broken_assumptions else s.claims.get(prop)
+                claim = rep.claim(s.claims, prop)
                 if v.status == "not_applicable":
                     rows.append(not_applicable_row("exhaustive", subject, prop, v.message.removeprefix(
                         "not applicable: "), data, claim, s.paper))

@@ -183,9 +183,7 @@ class Choices:
         """Who acts in step ``t`` among the present robots ``ids`` (a boolean mask), or None when
         every one of them acts."""
         if "activate" in self.kinds:
-            opts = activation_options(ids.tolist())
-            pick = self.chooser.choose("activate", opts, opts[0], (int(t),))
-            return np.isin(ids, np.asarray(pick, dtype=np.int64))
+            return self._chosen_subset(t, ids)
         sched = self.faults.schedule
         if sched is None:
             return None
@@ -197,12 +195,15 @@ class Choices:
     def ticking(self, t: int, ids: np.ndarray, ticks: np.ndarray) -> np.ndarray:
         """Asynchronous clocks with the ``activate`` kind: which of the robots whose clock ticks
         (``ticks``) act (the chooser picks among them)."""
-        who = ids[ticks]
-        if len(who) == 0:
+        if not ticks.any():
             return ticks
-        opts = activation_options(who.tolist())
+        return ticks & np.isin(ids, ids[ticks][self._chosen_subset(t, ids[ticks])])
+
+    def _chosen_subset(self, t: int, ids: np.ndarray) -> np.ndarray:
+        """The chooser's ``activate`` decision among ``ids``: a boolean mask over them."""
+        opts = activation_options(ids.tolist())
         pick = self.chooser.choose("activate", opts, opts[0], (int(t),))
-        return ticks & np.isin(ids, np.asarray(pick, dtype=np.int64))
+        return np.isin(ids, np.asarray(pick, dtype=np.int64))
 
     def lost(self, t: int, from_id, to_id) -> bool:
         """Whether the delivery from ``from_id`` to ``to_id`` sent in step ``t`` is lost: the fault
@@ -249,13 +250,13 @@ class Choices:
             opts = phase_classes(float(clocks.phase[k]), float(clocks.rate[k]), float(clocks.every), int(steps))
             clocks.phase[k] = float(self.chooser.choose("clock_phase", tuple(opts), opts[0], (int(rid),)))
 
-    def crashed(self, t: int, present_ids) -> tuple:
+    def crashed(self, t: int, ids: np.ndarray, present: np.ndarray) -> tuple:
         """The robots that crash at the start of step ``t``: the fault model's ``crashes[t]``,
-        then the chooser's ``crash`` pick among ``present_ids()`` (called only then)."""
+        then the chooser's ``crash`` pick among the present robots (``ids[present]``)."""
         out = tuple(self.faults.crashes.get(t, ()))
         if self.crashes_left > 0:
             gone = {int(x) for x in out}
-            alive = [int(i) for i in present_ids() if int(i) not in gone]
+            alive = [int(i) for i in ids[present].tolist() if int(i) not in gone]
             if len(alive) > 1:
                 opts = (None, *alive)
                 pick = self.chooser.choose("crash", opts, None, (int(t),))

@@ -73,18 +73,18 @@ class Delivery:
     delay, duplication and reordering (every draw from the fault generator, in delivery
     order), then anonymity (no sender IDs).
 
-    Per run: ``Delivery(model, faults, phi, ids_list, choices)`` (the run's
+    Per run: ``Delivery(model, phi, ids_list, choices)`` (the run's
     :class:`.choices.Choices`: the draws, or a chooser's decisions); per step: :meth:`begin`
     (the broadcasts of the previous step), :meth:`receive` per deciding robot, :meth:`hold`
     per robot whose asynchronous clock did not tick (its backlog, read at its next tick),
     :meth:`end` (records ``drop`` and ``late_delivery`` events).
     """
 
-    def __init__(self, model, faults, phi: float, ids_list, choices) -> None:
+    def __init__(self, model, phi: float, ids_list, choices) -> None:
         self.comm = model.communication
         self.anonymous = model.sensing == "anonymous"
         self.inclusive = getattr(model, "neighbor_rule", "strict") == "inclusive"
-        self.faults, self.phi, self.ids_list, self.choices = faults, float(phi), ids_list, choices
+        self.phi, self.ids_list, self.choices = float(phi), ids_list, choices
         self.drops = choices.drops
         self.late = choices.late
         self.pending: dict = {}   # receiver slot -> [(due step, seq, sender slot, sender id, message)]
@@ -218,10 +218,10 @@ class Exchanges:
     records the lost and late ones (``drop`` and ``late_delivery`` events, key ``exchanges``).
     """
 
-    def __init__(self, model, faults, ids_list, choices) -> None:
+    def __init__(self, model, ids_list, choices) -> None:
         self.comm = model.communication
         self.anonymous = model.sensing == "anonymous"
-        self.faults, self.choices = faults, choices
+        self.choices = choices
         self.ids_list = ids_list
         self.slot_of = {int(r): s for s, r in enumerate(ids_list)}
         self.queue: list = []       # heap of (due step, seq, kind, from slot, to slot, payload, reply)

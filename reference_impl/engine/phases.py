@@ -174,7 +174,7 @@ def apply_faults(run: RunState, step: StepView) -> None:
         This step's values; the phase adds its own.
     """
     t, events, ids_list, present, poses = step.t, run.events, run.ids_list, run.present, run.poses
-    for rid in run.choices.crashed(t, lambda: run.ids[present].tolist()):
+    for rid in run.choices.crashed(t, run.ids, present):
         for k in range(run.n_total):
             if present[k] and ids_list[k] == int(rid):
                 present[k] = False

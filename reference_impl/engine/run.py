@@ -600,8 +600,8 @@ def _start(run: RunState, initial: InitialConfiguration, stop_when_static, recor
     std_xy, std_th = (float(s) for s in faults.noise_std)   # (a noise_std that is not a pair fails here)
     run.noisy = faults.noisy
     run.inclusive = model.neighbor_rule == "inclusive"
-    run.delivery = Delivery(model, faults, run.phi, run.ids_list, run.choices)
-    run.exchanges = Exchanges(model, faults, run.ids_list, run.choices)
+    run.delivery = Delivery(model, run.phi, run.ids_list, run.choices)
+    run.exchanges = Exchanges(model, run.ids_list, run.choices)
     run.record_exchanges = bool(record_messages)
     run.calling = -1
     finished = bool(algorithm.finished(tuple(s for s, p in zip(run.states, run.present) if p)))

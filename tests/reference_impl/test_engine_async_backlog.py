@@ -92,7 +92,7 @@ def test_a_crashed_receiver_loses_its_backlog():
     from swarmproof.reference_impl.engine.choices import Choices
     from swarmproof.reference_impl.engine.communication import Delivery
 
-    d = Delivery(LOCAL, FaultModel(), 5.0, [0, 1], Choices(FaultModel(), np.random.default_rng(0)))
+    d = Delivery(LOCAL, 5.0, [0, 1], Choices(FaultModel(), np.random.default_rng(0)))
     d.begin([("m", 0), None], [0, 1], True)
     d.hold(2, 1, 1, (0,), [0], np.zeros((1, 3)))
     assert d.backlog == {1: [(0, ("m", 0))]}
