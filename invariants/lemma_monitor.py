@@ -255,6 +255,10 @@ class StepView:
             return d[key]
         if default is MissingState:
             raise MissingState(f"robot {self.id(k)} has no {key!r} in its state")
+        if getattr(st, "logged_only", False):
+            # a recorded run's state holds what the log held (checkers/recorded.py): a key it lacks was
+            # not logged, which is not the controller's "absent" that the default stands for
+            raise MissingState(f"robot {self.id(k)}'s {key!r} is not in the log")
         return default
 
     def moved(self, k: int) -> bool:

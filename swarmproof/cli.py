@@ -38,6 +38,8 @@ COMMAND_MODULES: tuple[str, ...] = (
     "campaign",
     "explore",
     "replay",
+    "check_run",
+    "export",
     "list",
 )
 

@@ -51,6 +51,9 @@ OUTPUT_OPTIONS: dict[str, OutputOption] = {
     "markdown": OutputOption("file", (".md", ".markdown"), "a Markdown table"),
     "out": OutputOption("folder", (), "a folder of result files"),
     "database": OutputOption("folder", (), "Hypothesis's example database, a folder"),
+    # a recorded-run log (docs/recorded-runs.md): a .csv or .mcap file, or a new rosbag2 bag's folder
+    "export": OutputOption("log", (".csv", ".mcap"), "a .csv or .mcap log, or a rosbag2 bag (a new folder)"),
+    "to": OutputOption("log", (".csv", ".mcap"), "a .csv or .mcap log, or a rosbag2 bag (a new folder)"),
 }
 
 
@@ -66,6 +69,21 @@ def check_output(dest: str, value, option: str | None = None) -> str:
     option = option or _option_name(dest)
     if spec.kind == "folder":
         return check_output_dir(value, option)
+    if spec.kind == "log":
+        from swarmproof.models.recorded_io import export_format
+
+        try:
+            fmt = export_format(value)
+        except UsageError as exc:
+            raise UsageError(f"{option}={value!r}: {exc.message.split(': ', 1)[-1]}", fix=exc.fix) from None
+        if fmt != "rosbag2":
+            return check_output_path(value, option)
+        parent = os.path.dirname(os.path.abspath(value))
+        if not os.path.isdir(parent) or not os.access(parent, os.W_OK):
+            raise UsageError(f"{option}={value!r}: the folder {parent!r} " +
+                             ("does not exist" if not os.path.isdir(parent) else "is not writable"),
+                             fix="create the folder first, or write the bag elsewhere")
+        return os.fspath(value)
     text = check_output_path(value, option)
     suffix = os.path.splitext(text)[1].lower()
     if suffix not in spec.suffixes:

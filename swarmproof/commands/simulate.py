@@ -68,6 +68,9 @@ def add_arguments(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON document on stdout")
     p.add_argument("--plot", metavar="PNG", help="draw the final formation, tree and trajectories")
     p.add_argument("--trace", metavar="FILE", help="write the trace (.json or .npz)")
+    p.add_argument("--export", metavar="FILE.csv|FILE.mcap|FOLDER",
+                   help="write the run as a log: .csv, .mcap (ROS 2 messages) or a new rosbag2 bag's folder "
+                        "(swarmproof export; check-run reads it back)")
     p.add_argument("--gif", metavar="GIF", help="write an animation of the run (every recorded step, at most "
                                                f"{GIF_FRAMES} frames)")
     p.add_argument("--then", action="append", default=[], metavar="PATTERN",
@@ -215,6 +218,10 @@ def _write_files(args, checked) -> None:
     lattice = checked.lattice   # the target as run (an algorithm may scale a shape to --robots)
     if args.trace is not None:
         doc["trace"] = trace.save(args.trace)
+    if getattr(args, "export", None) is not None:
+        from swarmproof.commands.export import export_trace
+
+        doc["export"] = export_trace(trace, args.export)
     if args.plot is not None:
         doc["plot"] = plot_run(trace, lattice, getattr(checked.satisfaction, "roles", None), args.plot, doc["range"])
     if args.gif is not None:
@@ -279,6 +286,8 @@ def _report_lines(args, checked) -> list:
         lines.append(f"  broken assumptions: {', '.join(result.broken_assumptions)}")
     if args.trace is not None:
         lines.append(f"  trace: {doc['trace']}")
+    if getattr(args, "export", None) is not None:
+        lines.append(f"  log: {doc['export']} (swarmproof check-run {doc['export']} --range {doc['range']:g})")
     if args.plot is not None:
         lines.append(f"  plot: {doc['plot']}")
     if args.gif is not None:

@@ -33,6 +33,8 @@ BASE = {
     "campaign": ["spec.yaml"],
     "explore": ["song2016"],
     "replay": ["cx.json"],
+    "check-run": ["run.csv"],
+    "export": ["trace.json"],
     "list": [],
 }
 
@@ -49,7 +51,8 @@ def test_the_parsers_have_the_output_options_we_know_of():
     assert {("replay", "--gif"), ("replay", "--plot"), ("simulate", "--trace"), ("simulate", "--gif"),
             ("verify", "--junit"), ("verify", "--html"), ("verify", "--markdown"), ("verify", "--out"),
             ("explore", "--out"), ("explore", "--database"), ("campaign", "--out"),
-            ("check-lattice", "--plot"), ("check-pattern", "--plot")} <= found
+            ("check-lattice", "--plot"), ("check-pattern", "--plot"), ("simulate", "--export"), ("export", "--to"),
+            ("check-run", "--plot"), ("check-run", "--gif")} <= found
     assert set(BASE) == set(_subparsers())      # a new command needs its least command line here
 
 
@@ -84,8 +87,14 @@ def _case(command, option, dest, kind, tmp_path):
         return str(tmp_path / "nonexistent" / f"x{good}"), r"does not exist"
     if kind == "a-folder":
         return str(tmp_path), r"is a folder"
+    if kind == "wrong-suffix" and spec.kind == "log":
+        return str(tmp_path / "x.txt"), r"the suffix '\.txt' is not a log format; fix: end it with \.csv or \.mcap"
     if kind == "wrong-suffix":
         return str(tmp_path / "x.txt"), r"the suffix '\.txt' is not a format .* writes; fix: end the name with \."
+    if kind == "exists":              # a rosbag2 bag is a new folder: an existing one is never written into
+        return str(tmp_path), r"exists already"
+    if kind == "missing-folder-bag":
+        return str(tmp_path / "nonexistent" / "bag"), r"does not exist"
     if kind == "a-file":
         f = tmp_path / "plain-file"
         f.write_text("x")
@@ -100,7 +109,8 @@ def _case(command, option, dest, kind, tmp_path):
 BAD = [pytest.param(c, o, d, kind, id=f"{c}-{o}-{kind}")
        for c, o, d in OUTPUTS
        for kind in (("missing-folder", "a-folder", "wrong-suffix") if OUTPUT_OPTIONS[d].kind == "file"
-                    else ("a-file", "below-a-file"))]
+                    else ("missing-folder", "missing-folder-bag", "wrong-suffix", "exists")
+                    if OUTPUT_OPTIONS[d].kind == "log" else ("a-file", "below-a-file"))]
 
 
 @pytest.mark.parametrize("command, option, dest, kind", BAD)

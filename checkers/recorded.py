@@ -1,0 +1,542 @@
+"""Judge a recorded run (a real swarm's log) by the same property objects as the engine's runs.
+
+A log is asynchronous: each robot reports its pose at its own, irregular times.  The properties
+judge a run one instant after another, so the samples are first aligned on a common clock
+(:class:`Clock`):
+
+* **the clock** ticks every ``period`` (default: the median interval between a robot's
+  consecutive samples, over all robots: the log's own rate), from the first instant at which
+  every robot has reported (the latest first sample) to the last sample of the log;
+* **sample and hold**: at each instant a robot is where its latest sample (at or before the
+  instant) put it, and its parent is its latest parent sample (an event stream: a parent holds
+  until it changes, however old);
+* **staleness**: a pose sample older than ``stale`` (default 2.5 periods: one dropped sample is
+  tolerated, two are not) is not evidence at that instant.  An instant at which some robot has no
+  fresh sample is *not judged*: it splits the run into windows of judged instants, and the
+  every-step properties are judged window by window with fresh monitors (no motion is invented
+  across a gap).  A violation in any window is a violation; held needs every instant judged --
+  a log with any unjudged instant is at best inconclusive, never held.
+
+The properties are the registry's own objects (:mod:`swarmproof.invariants.registry`), fed the
+aligned instants through their streaming monitors (the engine's ``observers``), so a verdict on
+a log means what it means on a simulated run; what the log lacks makes a property not
+applicable (controller state beyond the parent, messages, exceptions, a target).  A position
+tolerance (``pos_tol``: how far a logged pose may be from the true one) widens into margins:
+the range by ``2 pos_tol`` (two robots' errors add), the collision radius by ``pos_tol``.  Each
+distance property is judged at its nominal value and at the margin that could overturn it; a
+verdict that the tolerance could overturn says so (``tolerance_sensitive``).
+
+Examples
+--------
+>>> import os, tempfile
+>>> from swarmproof.models.recorded_io import read_log
+>>> d = tempfile.mkdtemp(); p = os.path.join(d, "run.csv")
+>>> rows = [f"{k / 10},{i},{i * (0.5 + 0.1 * k)},0,0" for k in range(10) for i in range(3)]
+>>> _ = open(p, "w").write("t,id,x,y,theta\\n" + "\\n".join(rows) + "\\n")
+>>> rep = check_recorded(read_log(p), phi=1.0, properties=["connectivity"])
+>>> r = rep.results["connectivity"]
+>>> r.status, r.witness["step"], r.witness["time_s"]
+('violated', 5, 0.5)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterator, Mapping, Sequence
+
+import numpy as np
+
+from swarmproof.invariants.registry import DEFAULT_POS_TOL, DEFAULT_RADIUS, PropertyContext, get_property
+from swarmproof.invariants.registry import properties as registered_properties
+from swarmproof.invariants.result import InvariantResult
+from swarmproof.models.errors import UsageError
+from swarmproof.models.recorded_io import NS, RecordedLog
+from swarmproof.models.trace import Trace
+
+__all__ = ["Clock", "make_clock", "aligned_frames", "check_recorded", "RecordedReport", "DEFAULT_STALE_PERIODS",
+           "DEFAULT_STATIC_WINDOW_S", "MAX_INSTANTS", "TOLERANCE_KNOBS"]
+
+DEFAULT_STALE_PERIODS = 2.5
+DEFAULT_STATIC_WINDOW_S = 2.0
+#: Instants judged at most (a 100 Hz clock over 27 hours); past it, exit 2.
+MAX_INSTANTS = 10_000_000
+CHUNK = 1024
+
+#: Property -> (what the margin widens, the direction that makes the property harder to hold).
+TOLERANCE_KNOBS = {"connectivity": ("range", -1), "tree_links": ("range", -1), "collision": ("radius", +1)}
+
+
+@dataclass(frozen=True)
+class Clock:
+    """The common clock of a log: instant ``k`` is at ``start_ns + k * period_ns``."""
+
+    start_ns: int
+    period_ns: int
+    stale_ns: int
+    instants: int
+    log_start_ns: int
+    log_end_ns: int
+    time: str
+
+    def seconds(self, k: float) -> float:
+        return (self.start_ns + k * self.period_ns) / NS
+
+    def as_dict(self) -> dict:
+        return {"time": self.time, "start_s": self.start_ns / NS, "end_s": self.seconds(self.instants - 1),
+                "period_s": self.period_ns / NS, "stale_s": self.stale_ns / NS, "instants": self.instants,
+                "log_start_s": self.log_start_ns / NS, "log_end_s": self.log_end_ns / NS}
+
+
+def _seconds_ns(value: float, name: str) -> int:
+    if value is None or not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        raise UsageError(f"{name}={value!r} must be a finite positive number of seconds",
+                         fix=f"e.g. {name}=0.1")
+    return max(1, int(round(value * NS)))
+
+
+def make_clock(log: RecordedLog, *, period: float | None = None, stale: float | None = None) -> Clock:
+    """The clock of ``log``: its period (the median sampling interval unless given), staleness bound
+    (``DEFAULT_STALE_PERIODS`` periods unless given), first instant (every robot has reported) and
+    number of instants."""
+    robots = list(log.robots.values())
+    if period is None:
+        diffs = [np.diff(r.t) for r in robots if len(r.t) > 1]
+        if not diffs:
+            raise UsageError(f"log={log.path!r}: every robot has one sample; the sampling period cannot be measured",
+                             fix="give the clock's period, e.g. --period 0.1")
+        period_ns = int(np.median(np.concatenate(diffs)))
+    else:
+        period_ns = _seconds_ns(period, "--period")
+    stale_ns = int(round(DEFAULT_STALE_PERIODS * period_ns)) if stale is None else _seconds_ns(stale, "--stale")
+    first = [int(r.t[0]) for r in robots]
+    last = [int(r.t[-1]) for r in robots]
+    start, end = max(first), max(last)
+    instants = (end - start) // period_ns + 1
+    if instants > MAX_INSTANTS:
+        raise UsageError(f"the clock would have {instants} instants (period {period_ns / NS} s over "
+                         f"{(end - start) / NS} s; max_instants={MAX_INSTANTS})",
+                         fix="give a longer --period, or judge a part of the log")
+    times = sorted({r.time_source for r in robots})
+    return Clock(start, period_ns, stale_ns, int(instants), min(first), end, "+".join(times))
+
+
+class _States(tuple):
+    """The controller states of one instant as the log gives them: ``(("parent", p),)`` per robot
+    (``()`` when the log has no parents), with the fast column read the monitors use."""
+
+    def values_of(self, key: str):
+        if key == "parent":
+            return self.parents
+        return [None] * len(self)
+
+
+class _Logged(tuple):
+    """One robot's state as the log holds it: its parent only.  A lemma binding that reads another
+    key finds it missing even where it gives a default (the key was not logged; the controller
+    may well have had it): ``logged_only``."""
+
+    logged_only = True
+
+
+_EMPTY = _Logged()
+
+
+def _states(parents: Sequence | None, n: int) -> _States:
+    if parents is None:
+        s = _States((_EMPTY,) * n)
+        s.parents = [None] * n
+        return s
+    pl = [None if p < 0 else int(p) for p in parents]
+    s = _States(tuple(_Logged((("parent", p),)) for p in pl))
+    s.parents = pl
+    return s
+
+
+def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterator:
+    """``(k, poses (n x 3), parents (n,) int or None, fresh (n,) bool)`` at every instant, in order,
+    ``chunk`` instants computed at a time (memory stays bounded by the chunk)."""
+    ids = sorted(log.robots)
+    n = len(ids)
+    for k0 in range(0, clock.instants, chunk):
+        k1 = min(clock.instants, k0 + chunk)
+        grid = clock.start_ns + clock.period_ns * np.arange(k0, k1, dtype=np.int64)
+        poses = np.empty((k1 - k0, n, 3))
+        fresh = np.empty((k1 - k0, n), dtype=bool)
+        pars = np.full((k1 - k0, n), -1, dtype=np.int64) if log.parents is not None else None
+        for j, rid in enumerate(ids):
+            r = log.robots[rid]
+            idx = np.searchsorted(r.t, grid, side="right") - 1
+            ok = idx >= 0
+            idx0 = np.where(ok, idx, 0)
+            poses[:, j] = r.xyt[idx0]
+            fresh[:, j] = ok & (grid - r.t[idx0] <= clock.stale_ns)
+            if pars is not None:
+                p = log.parents[rid]
+                pi = np.searchsorted(p.t, grid, side="right") - 1
+                pars[:, j] = np.where(pi >= 0, p.parent[np.maximum(pi, 0)], -1)
+        for i in range(k1 - k0):
+            yield k0 + i, poses[i], (None if pars is None else pars[i]), fresh[i]
+
+
+# ----------------------------------------------------------------------------
+# what the log can give: the stand-in algorithm and the run's result
+# ----------------------------------------------------------------------------
+
+class _Recorded:
+    """What the properties read of "the algorithm" for a log: a range graph, the parent field
+    when the log has parents, and -- with ``--algorithm`` -- that algorithm's name, satisfaction
+    tolerance and lemma premise monitors (judged on what the log holds)."""
+
+    def __init__(self, algorithm, has_parent: bool) -> None:
+        from swarmproof.reference_impl.protocol import RobotModel
+
+        self.model = RobotModel(communication="neighbors")
+        self.state_fields = ("parent",) if has_parent else ()
+        self.name = getattr(algorithm, "name", None) or "recorded run"
+        if algorithm is not None:
+            for attr in ("satisfaction_tol", "premise_monitors", "tree_link_mode"):
+                if getattr(algorithm, attr, None) is not None:
+                    setattr(self, attr, getattr(algorithm, attr))
+
+
+@dataclass
+class _Result:
+    """The parts of a :class:`~swarmproof.reference_impl.engine.run.SimulationResult` the
+    properties read, for one window of a log."""
+
+    status: str
+    steps: int
+    max_steps: int | None
+    static_window: int
+    final_ids: np.ndarray
+    final_poses: np.ndarray
+    crash: Any = None
+    observers: tuple = ()
+    trace: Any = None
+
+
+#: Properties a log cannot judge, whatever it holds, and why.
+_NEVER = {"no_crash": "a log records no exceptions of the algorithm's code",
+          "invariants": "the log records poses and parents; an algorithm's invariants read its controller states",
+          "completion_sound": "the log records no completion declarations (controller states)"}
+_NEEDS_TARGET = ("formation", "deadlock", "oscillation")
+
+
+def _not_applicable(prop, stand_in, target, log: RecordedLog, algorithm) -> str | None:
+    if prop.name in _NEVER:
+        return _NEVER[prop.name]
+    if prop.own:
+        return f"{prop.name} is an algorithm's own property: it reads controller states a log does not hold"
+    if prop.name in _NEEDS_TARGET and target is None:
+        return ("no target given (--target): " + ("the final formation is judged against one" if prop.name == "formation"
+                else "a swarm at rest cannot be told from a swarm at its goal without one"))
+    if prop.name == "premises" and algorithm is None:
+        return "no algorithm given (--algorithm): its lemma premise monitors are what premises judges"
+    why = prop.not_applicable_to(stand_in, target)
+    if why and prop.needs == ("parent", "range_graph") or (why and "parent" in why):
+        return "the log has no parent links (a CSV 'parent' column, or parent topics)"
+    return why
+
+
+# ----------------------------------------------------------------------------
+# judging
+# ----------------------------------------------------------------------------
+
+@dataclass
+class RecordedReport:
+    """What :func:`check_recorded` found: each property's result, the not-applicable ones, the
+    clock, the windows of judged instants and the tolerances."""
+
+    log: RecordedLog
+    clock: Clock
+    results: dict
+    not_applicable: dict
+    judged_instants: int
+    gaps: list
+    tolerance: dict
+    sensitive: dict
+    phi: float
+    radius: float
+    static: bool
+    frames: list = field(default_factory=list)
+
+    @property
+    def ids(self) -> list:
+        return sorted(self.log.robots)
+
+
+def _window_runs(log: RecordedLog, clock: Clock):
+    """Judged windows ``(k0, k1)`` (k1 exclusive) and gaps ``{from_s, to_s, instants, robots}``."""
+    windows, gaps = [], []
+    ids = sorted(log.robots)
+    cur = None
+    gap = None
+    for k, _, _, fresh in aligned_frames(log, clock):
+        if fresh.all():
+            if gap is not None:
+                gaps.append(gap)
+                gap = None
+            if cur is None:
+                cur = [k, k + 1]
+            else:
+                cur[1] = k + 1
+        else:
+            if cur is not None:
+                windows.append(tuple(cur))
+                cur = None
+            stale = [ids[j] for j in np.flatnonzero(~fresh)]
+            if gap is None:
+                gap = {"from_step": k, "to_step": k, "robots": set(stale)}
+            else:
+                gap["to_step"] = k
+                gap["robots"].update(stale)
+    if cur is not None:
+        windows.append(tuple(cur))
+    if gap is not None:
+        gaps.append(gap)
+    for g in gaps:
+        g["from_s"], g["to_s"] = clock.seconds(g["from_step"]), clock.seconds(g["to_step"])
+        g["robots"] = sorted(g["robots"])
+    return windows, gaps
+
+
+def _with_time(res: InvariantResult, clock: Clock) -> InvariantResult:
+    """The witness's step as the log's time too (``time_s``; a collision inside a step: its fraction)."""
+    w = dict(res.witness or {})
+    if "step" in w and isinstance(w["step"], (int, np.integer)):
+        frac = float(w.get("fraction", 0.0) or 0.0) if res.name == "collision" else 0.0
+        w["time_s"] = round(clock.seconds(int(w["step"]) + frac), 9)
+        return InvariantResult(res.name, res.status, res.cites, w, res.message + f" (log time {w['time_s']:g} s)",
+                               res.applicable, dict(res.detail))
+    return res
+
+
+def _params(phi: float, v: float | None, clock: Clock, algorithm, n: int, radius: float):
+    from swarmproof.reference_impl.protocol import Params
+
+    base = None
+    f = getattr(algorithm, "default_params", None)
+    if callable(f):
+        try:
+            base = f(range=phi, n=n)
+        except Exception:  # noqa: BLE001 - an algorithm whose defaults need more: the log's own
+            base = None
+    extra = dict(getattr(base, "extra", None) or {})
+    extra["robot_radius"] = radius
+    return Params(range=phi, v=float(v if v is not None else getattr(base, "v", 0.05)),
+                  dt=clock.period_ns / NS, extra=extra)
+
+
+class _Judge:
+    """Every windowed property's monitors for one window, fed the window's instants."""
+
+    def __init__(self, props, stand_in, params_of, options_of, ids) -> None:
+        self.props, self.stand_in, self.params_of, self.options_of, self.ids = props, stand_in, params_of, options_of, ids
+
+    def monitors(self):
+        out = []
+        for key, prop in self.props:
+            ob = prop.stream(self.stand_in, self.params_of(key), self.options_of(key))
+            ob.start(np.asarray(self.ids))
+            out.append((key, prop, ob))
+        return out
+
+
+def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None, properties: Sequence | None = None, radius: float | None = None, pos_tol: float = 0.0,
+                   range_margin: float | None = None, collision_margin: float | None = None,
+                   period: float | None = None, stale: float | None = None, v: float | None = None,
+                   static_window: float = DEFAULT_STATIC_WINDOW_S, keep_frames: int = 0,
+                   options: Mapping | None = None) -> RecordedReport:
+    """Judge ``log`` by ``properties`` (names; default every registered property) at range ``phi``.
+
+    ``algorithm`` (an algorithm object) gives its satisfaction tolerance, speed and lemma premise
+    monitors; ``target`` the formation to judge the final instant against; ``pos_tol`` the
+    position tolerance (margins: ``range_margin`` default ``2 pos_tol``, ``collision_margin``
+    default ``pos_tol``); ``keep_frames`` keeps about that many instants for pictures.
+    """
+    names = list(properties if properties is not None else [p.name for p in registered_properties() if not p.own])
+    for name, val in (("--range", phi), ("--pos-tol", pos_tol)):
+        if not (isinstance(val, (int, float)) and math.isfinite(val) and (val > 0 if name == "--range" else val >= 0)):
+            raise UsageError(f"{name}={val!r} must be a finite {'positive' if name == '--range' else 'non-negative'} number")
+    clock = make_clock(log, period=period, stale=stale)
+    ids = sorted(log.robots)
+    n = len(ids)
+    radius = float(DEFAULT_RADIUS if radius is None else radius)
+    rm = 2.0 * pos_tol if range_margin is None else float(range_margin)
+    cm = float(pos_tol) if collision_margin is None else float(collision_margin)
+    for name, val in (("--range-margin", rm), ("--collision-margin", cm), ("--radius", radius)):
+        if not (math.isfinite(val) and val >= 0):
+            raise UsageError(f"{name}={val!r} must be a finite non-negative number")
+    stand_in = _Recorded(algorithm, log.parents is not None)
+    options = dict(options or {})
+    props, na = [], {}
+    for name in names:
+        prop = get_property(name)
+        why = _not_applicable(prop, stand_in, target, log, algorithm)
+        if why:
+            na[prop.name] = why
+        else:
+            props.append(prop)
+    params = _params(phi, v, clock, algorithm, n, radius)
+    static_k = max(1, int(math.ceil(static_window * NS / clock.period_ns)))
+    options.setdefault("deadlock_k", static_k)
+    options.setdefault("pos_tol", max(pos_tol, DEFAULT_POS_TOL))
+
+    def params_of(key):
+        prop, variant = key
+        if TOLERANCE_KNOBS.get(prop, ("",))[0] == "range" and variant:
+            return Params(range=max(phi + variant * rm, 1e-12), v=params.v, omega=params.omega, dt=params.dt,
+                          extra=params.extra)
+        return params
+
+    def options_of(key):
+        prop, variant = key
+        if TOLERANCE_KNOBS.get(prop, ("",))[0] == "radius" and variant:
+            return {**options, "radius": max(radius + variant * cm, 0.0)}
+        return {**options, "radius": radius}
+
+    from swarmproof.reference_impl.protocol import Params
+
+    windows, gaps = _window_runs(log, clock)
+    streamed = [p for p in props if p.stream is not None]
+    whole = [p for p in props if p.stream is None]
+    # nominal, then each tolerance knob's two directions (only the one that could overturn is read)
+    keys = [((p.name, 0), p) for p in streamed]
+    for p in streamed:
+        if p.name in TOLERANCE_KNOBS and (rm if TOLERANCE_KNOBS[p.name][0] == "range" else cm) > 0:
+            keys += [((p.name, -1), p), ((p.name, +1), p)]
+    judge = _Judge(keys, stand_in, params_of, options_of, ids)
+    per_key, frames_kept, final = _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target,
+                                          params, options_of, stand_in, phi)
+    judged = sum(b - a for a, b in windows)
+    results, sensitive = {}, {}
+    for p in streamed:
+        res = _combine(p, [per_key.get(((p.name, 0), w)) for w in windows], gaps, clock, judged)
+        results[p.name] = _with_time(res, clock)
+        sensitive[p.name] = _sensitivity(p, res, windows, per_key, gaps, clock, judged)
+    last_fresh = final is not None and final[0] == clock.instants - 1
+    for p in whole:
+        results[p.name] = _judge_whole(p, final, last_fresh, clock, target, params, options, stand_in, ids, static_k)
+    results = {name: results[name] for name in [p.name for p in props]}
+    tol = {"pos_tol": pos_tol, "range_margin": rm, "collision_margin": cm}
+    return RecordedReport(log, clock, results, na, judged, gaps, tol, sensitive, phi, radius,
+                          bool(final is not None and final[3].status == "static"), frames_kept)
+
+
+def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target, params, options_of, stand_in, phi):
+    """Feed every aligned instant to the monitors of its window; keep frames for pictures.
+    Returns the per-(key, window) results, the kept frames and the last window's end."""
+    n = len(ids)
+    per_key: dict = {}
+    frames_kept: list = []
+    every = max(1, clock.instants // keep_frames) if keep_frames else 0
+    last_move = 0
+    prev = None
+    win_iter = iter(windows)
+    win = next(win_iter, None)
+    mons = None
+    final = None
+    for k, poses, pars, fresh in aligned_frames(log, clock):
+        if every and (k % every == 0 or k == clock.instants - 1):
+            frames_kept.append((k, poses.copy(), None if pars is None else pars.copy(), fresh.copy()))
+        if prev is not None and np.max(np.abs(poses[:, :2] - prev), initial=0.0) > max(pos_tol, DEFAULT_POS_TOL):
+            last_move = k
+        prev = poses[:, :2].copy()
+        if win is None or k < win[0]:
+            continue
+        if mons is None:
+            mons = judge.monitors()
+        states = _states(pars, n)
+        present = np.ones(n, dtype=bool)
+        for _, _, ob in mons:
+            ob.observe(k, poses, states, present)
+        if k == win[1] - 1:
+            result = _Result("static" if k - last_move >= static_k else "step_cap", k, None, static_k,
+                             np.asarray(ids), poses.copy())
+            _close_window(mons, per_key, win, windows, target, params, options_of, stand_in, result, poses, ids, phi)
+            final = (k, poses.copy(), pars, result)
+            mons = None
+            win = next(win_iter, None)
+    return per_key, frames_kept, final
+
+
+def _close_window(mons, per_key, win, windows, target, params, options_of, stand_in, result, poses, ids, phi):
+    from swarmproof.invariants.connectivity import components, neighbor_pairs
+
+    for key, prop, ob in mons:
+        ctx = PropertyContext(stand_in, target, params, result, options_of(key))
+        judge = getattr(ob, "judge", None)
+        res = judge(ctx) if callable(judge) else ob.result()
+        if (prop.name == "connectivity" and res.status == "inconclusive" and win != windows[0]
+                and len(getattr(ob, "start_components", None) or []) > 1):
+            # a window after a gap opens split: the log's graph was connected at its start, so it
+            # split somewhere in the gap -- seen at the window's first instant
+            comps = ob.start_components
+            res = InvariantResult("connectivity", "violated", res.cites, {"step": int(win[0]), "components": comps},
+                                  f"the communication graph is split into {len(comps)} components when every robot "
+                                  f"reports again at instant {win[0]} (after a gap): {comps}")
+        per_key[(key, win)] = res
+
+
+def _combine(prop, results, gaps, clock: Clock, judged: int) -> InvariantResult:
+    """One verdict from a property's per-window results: the first violation; else held only when
+    every instant was judged; else inconclusive, naming the gaps."""
+    for r in results:
+        if r is not None and r.status == "violated":
+            return r
+    if not results:
+        return InvariantResult(prop.name, "inconclusive", prop.cites, None,
+                               f"no instant judged: at every one of the {clock.instants} instants some robot had no "
+                               f"sample fresher than {clock.stale_ns / NS:g} s", applicable=False)
+    if gaps:
+        g = gaps[0]
+        more = f" (and {len(gaps) - 1} more gaps)" if len(gaps) > 1 else ""
+        return InvariantResult(
+            prop.name, "inconclusive", prop.cites, None,
+            f"not violated in the {judged} judged instants of {clock.instants}, but not judged from {g['from_s']:g} s "
+            f"to {g['to_s']:g} s: robots {g['robots'][:8]} had no sample fresher than {clock.stale_ns / NS:g} s"
+            f"{more}", detail={"judged_instants": judged, "instants": clock.instants})
+    if len(results) == 1:
+        return results[0]
+    return results[0]
+
+
+def _sensitivity(prop, res, windows, per_key, gaps, clock, judged) -> bool | None:
+    """Whether the tolerance could overturn ``res``: held nominally but violated at the strict
+    margin, or violated nominally but not at the lenient one; None when no knob applies."""
+    knob = TOLERANCE_KNOBS.get(prop.name)
+    if knob is None or not any((((prop.name, v), w) in per_key) for v in (-1, 1) for w in windows):
+        return None
+    _, harder = knob
+    if res.status == "held":
+        other = _combine(prop, [per_key.get(((prop.name, harder), w)) for w in windows], gaps, clock, judged)
+        return other.status != "held"
+    if res.status == "violated":
+        other = _combine(prop, [per_key.get(((prop.name, -harder), w)) for w in windows], gaps, clock, judged)
+        return other.status != "violated"
+    return None
+
+
+def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_in, ids, static_k) -> InvariantResult:
+    """A property judged on the whole run (termination, formation): read at the log's last instant."""
+    if final is None or not last_fresh:
+        return InvariantResult(prop.name, "inconclusive", prop.cites, None,
+                               f"the log's last instant ({clock.seconds(clock.instants - 1):g} s) is not judged: "
+                               "some robot had no fresh sample there")
+    k, poses, pars, result = final
+    n = len(ids)
+    frames = 2 if k else 1
+    trace = Trace(ids=np.asarray(ids), poses=np.stack([poses] * frames), states=[_states(pars, n)] * frames,
+                  times=[0, k] if k else None, meta={"status": result.status})
+    ctx = PropertyContext(stand_in, target, params, result, options)
+    res = prop.check(trace, ctx)
+    if prop.name == "termination":
+        if result.status == "static":
+            return InvariantResult("termination", "held", res.cites, None,
+                                   f"the swarm was at rest (no robot moved more than the position tolerance) for the "
+                                   f"last {static_k} instants of the log, from {clock.seconds(k - static_k):g} s")
+        return InvariantResult("termination", "inconclusive", res.cites, None,
+                               f"the log ended while robots still moved (in the last {static_k} instants): a finite log "
+                               "cannot show a swarm that would never stop")
+    return res

@@ -1,0 +1,823 @@
+"""Recorded runs: read a real swarm's log (CSV, MCAP, rosbag2) into per-robot samples, and write ours.
+
+A recorded run is what a swarm logged somewhere else -- on robots, in Gazebo or Webots, through
+ROS 2 -- reduced to what the properties read: every robot's poses over time and, where the log
+has them, its spanning-tree parent.  This module only reads and writes files; aligning the
+samples on a common clock and judging them is :mod:`swarmproof.checkers.recorded`.
+
+Formats (docs/recorded-runs.md has the details and a walkthrough):
+
+* **CSV**: a header row, then one row per pose sample: ``t, id, x, y, theta`` and optionally
+  ``parent`` (empty or ``-1``: none).  ``t`` in seconds, ``theta`` in radians.  Columns in any
+  order; other columns are ignored and listed in the report.  Rows of different robots may
+  interleave in any order; within one robot ``t`` must increase.
+* **MCAP** (a ``.mcap`` file) with ROS 2 messages (``ros2msg`` schemas, CDR), read with ``mcap``
+  and ``mcap-ros2-support``.
+* **rosbag2** (a bag's folder with its ``metadata.yaml``), either storage (``sqlite3`` or
+  ``mcap``), read with ``rosbags``, which needs no ROS install.
+
+In the bags, one topic per robot carries its pose (``--topics``, default ``/robot_{id}/pose``):
+``geometry_msgs/msg/PoseStamped``, ``geometry_msgs/msg/Pose2D`` or ``nav_msgs/msg/Odometry``;
+optionally one topic per robot its parent (``--parent-topics``, default ``/robot_{id}/parent``):
+``std_msgs/msg/Int32`` or ``Int64``, ``-1`` meaning none.  Time: a message's header stamp where
+its type has one (``time="header"``, the default: the instant the pose was measured), else its
+log time; ``time="log"`` takes log times throughout.  Either way each topic's times must
+increase; topics may interleave in any order.
+
+The bag readers are an optional extra (``pip install 'swarmproof[ros]'``); without it, reading a
+bag is a usage error that names the install command.  Every malformed input is an
+:class:`~swarmproof.models.errors.InputFileError` naming the file, the topic or line, the
+message index and the field.
+
+Examples
+--------
+>>> import os, tempfile
+>>> d = tempfile.mkdtemp(); p = os.path.join(d, "run.csv")
+>>> _ = open(p, "w").write("t,id,x,y,theta,parent\\n0,1,0,0,0,\\n0,2,1,0,0,1\\n0.1,1,0,0.1,0,\\n0.1,2,1,0.1,0,1\\n")
+>>> log = read_log(p)
+>>> log.format, sorted(log.robots), log.robots[2].t.tolist(), log.parents[2].parent.tolist()
+('csv', [1, 2], [0, 100000000], [1, 1])
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import re
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from .errors import InputFileError, UsageError
+from .fileio import _umask, atomic_write_bytes, atomic_write_text
+
+__all__ = ["RobotSamples", "ParentSamples", "RecordedLog", "read_log", "log_format", "topic_regex",
+           "POSE_TYPES", "PARENT_TYPES", "DEFAULT_POSE_TOPICS", "DEFAULT_PARENT_TOPICS", "INSTALL_ROS",
+           "write_log", "EXPORT_FORMATS", "MAX_SAMPLES", "yaw_of", "quaternion_of"]
+
+#: The install command of the optional bag readers and writers.
+INSTALL_ROS = "pip install 'swarmproof[ros]'  (rosbags, mcap, mcap-ros2-support)"
+DEFAULT_POSE_TOPICS = "/robot_{id}/pose"
+DEFAULT_PARENT_TOPICS = "/robot_{id}/parent"
+POSE_TYPES = ("geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/Pose2D", "nav_msgs/msg/Odometry")
+PARENT_TYPES = ("std_msgs/msg/Int32", "std_msgs/msg/Int64")
+#: Samples held at most (poses and parents together, 40 bytes each: 2 GB); past it, exit 2.
+MAX_SAMPLES = 50_000_000
+NS = 1_000_000_000
+_CSV_REQUIRED = ("t", "id", "x", "y", "theta")
+
+
+@dataclass
+class RobotSamples:
+    """One robot's pose samples: ``t`` (int64 nanoseconds, increasing), ``xyt`` (m x 3: x, y,
+    theta in radians), where they came from (a topic, or ``csv``) and which time (``header``,
+    ``log`` or ``csv``)."""
+
+    id: int
+    t: np.ndarray
+    xyt: np.ndarray
+    source: str
+    time_source: str
+
+
+@dataclass
+class ParentSamples:
+    """One robot's parent samples: ``t`` (int64 ns, increasing) and ``parent`` (int64; -1 none)."""
+
+    id: int
+    t: np.ndarray
+    parent: np.ndarray
+    source: str
+
+
+@dataclass
+class RecordedLog:
+    """A recorded run as samples: ``robots`` id -> :class:`RobotSamples`, ``parents`` id ->
+    :class:`ParentSamples` (None when the log has no parent links), the ``format``
+    (``csv``, ``mcap``, ``rosbag2-sqlite3``, ``rosbag2-mcap``) and notes for the report
+    (ignored columns, topics that matched nothing)."""
+
+    path: str
+    format: str
+    robots: dict
+    parents: dict | None
+    notes: list = field(default_factory=list)
+
+    @property
+    def samples(self) -> int:
+        return int(sum(len(r.t) for r in self.robots.values()))
+
+
+# ----------------------------------------------------------------------------
+# angles
+# ----------------------------------------------------------------------------
+
+def yaw_of(qx: float, qy: float, qz: float, qw: float) -> float:
+    """The heading (yaw, radians in (-pi, pi]) of a unit quaternion.
+
+    >>> round(yaw_of(*quaternion_of(2.0)), 12)
+    2.0
+    """
+    return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+
+
+def quaternion_of(theta: float) -> tuple[float, float, float, float]:
+    """The unit quaternion ``(x, y, z, w)`` of a rotation by ``theta`` about z."""
+    return 0.0, 0.0, math.sin(theta / 2.0), math.cos(theta / 2.0)
+
+
+# ----------------------------------------------------------------------------
+# which format
+# ----------------------------------------------------------------------------
+
+def log_format(path: str) -> str:
+    """``csv``, ``mcap`` or ``rosbag2`` for a path; anything else is a usage error."""
+    p = str(path)
+    if os.path.isdir(p):
+        if os.path.isfile(os.path.join(p, "metadata.yaml")):
+            return "rosbag2"
+        raise InputFileError(f"log={p!r} is a folder without metadata.yaml, not a rosbag2 bag", file=p,
+                             fix="give a rosbag2 bag's folder (it holds metadata.yaml), an .mcap file or a .csv file")
+    if not os.path.exists(p):
+        raise InputFileError(f"log={p!r} does not exist", file=p, fix="check the path")
+    low = p.lower()
+    if low.endswith(".csv"):
+        return "csv"
+    if low.endswith(".mcap"):
+        return "mcap"
+    if low.endswith(".db3"):
+        raise InputFileError(f"log={p!r} is the database inside a rosbag2 bag", file=p,
+                             fix=f"give the bag's folder: {os.path.dirname(p) or '.'!r}")
+    raise InputFileError(f"log={p!r}: the suffix {os.path.splitext(p)[1]!r} is not a log format swarmproof reads",
+                         file=p, fix="give a .csv file, an .mcap file or a rosbag2 bag's folder")
+
+
+def topic_regex(pattern: str, option: str = "--topics") -> "re.Pattern":
+    """The regular expression of a topic pattern with one ``{id}`` (the robot's integer id).
+
+    >>> topic_regex("/robot_{id}/pose").match("/robot_12/pose").group("id")
+    '12'
+    >>> topic_regex("/pose")
+    Traceback (most recent call last):
+    ...
+    swarmproof.models.errors.UsageError: --topics='/pose' has no {id}; fix: name where the robot's id stands, e.g. --topics '/robot_{id}/pose'
+    """
+    if not isinstance(pattern, str) or pattern.count("{id}") != 1:
+        raise UsageError(f"{option}={pattern!r} has no {{id}}" if "{id}" not in str(pattern)
+                         else f"{option}={pattern!r} has {{id}} more than once",
+                         fix="name where the robot's id stands, e.g. --topics '/robot_{id}/pose'")
+    head, _, tail = pattern.partition("{id}")
+    return re.compile("^" + re.escape(head) + r"(?P<id>\d+)" + re.escape(tail) + "$")
+
+
+def _ros_import(what: str, path: str):
+    raise UsageError(f"reading or writing {what} needs the optional extra that is not installed (log={path!r})",
+                     fix=INSTALL_ROS)
+
+
+# ----------------------------------------------------------------------------
+# collecting samples
+# ----------------------------------------------------------------------------
+
+class _Collector:
+    """Samples of one stream (a robot's topic or CSV rows), checked as they come."""
+
+    def __init__(self, rid: int, source: str, time_source: str, path: str, kind: str) -> None:
+        self.rid, self.source, self.time_source, self.path, self.kind = rid, source, time_source, path, kind
+        self.t: list = []
+        self.v: list = []
+        self.where: list = []      # where the previous sample came from (line or index), for errors
+
+    def add(self, t_ns: int, value, where: str, line: int | None = None) -> None:
+        if self.t and t_ns <= self.t[-1]:
+            what = "repeats" if t_ns == self.t[-1] else "is earlier than"
+            raise InputFileError(
+                f"{where}: time t={t_ns / NS!r} s {what} the previous sample of robot {self.rid} "
+                f"({self.t[-1] / NS!r} s, {self.where[-1]}); times must increase within a robot's "
+                f"{'rows' if self.kind == 'csv' else 'topic'} ({self.time_source} time)",
+                file=self.path, line=line,
+                fix="sort the log by time (rows of different robots may interleave)" if self.kind == "csv" else
+                    "record with increasing stamps, or judge by log time (--time log) if the header stamps are wrong")
+        self.t.append(t_ns)
+        self.v.append(value)
+        self.where.append(where)
+        if len(self.where) > 1:
+            self.where[-2] = None     # keep one
+
+
+def _finite(values: Mapping[str, float], where: str, path: str, line: int | None = None) -> None:
+    for name, val in values.items():
+        if not math.isfinite(val):
+            raise InputFileError(f"{where}: {name}={val!r} is not a finite number", file=path, line=line,
+                                 field=name, fix="drop or repair the sample (poses must be finite)")
+
+
+def _robots_from(collectors: Mapping[int, _Collector]) -> dict:
+    out = {}
+    for rid in sorted(collectors):
+        c = collectors[rid]
+        out[rid] = RobotSamples(rid, np.asarray(c.t, dtype=np.int64),
+                                np.asarray(c.v, dtype=np.float64).reshape(-1, 3), c.source, c.time_source)
+    return out
+
+
+def _parents_from(collectors: Mapping[int, _Collector]) -> dict:
+    return {rid: ParentSamples(rid, np.asarray(c.t, dtype=np.int64), np.asarray(c.v, dtype=np.int64), c.source)
+            for rid, c in sorted(collectors.items())}
+
+
+def _check_size(count: int, path: str) -> None:
+    if count > MAX_SAMPLES:
+        raise InputFileError(f"the log holds more than {MAX_SAMPLES} samples (max_samples={MAX_SAMPLES})", file=path,
+                             fix="judge a part of the log (split it by time), or downsample it")
+
+
+# ----------------------------------------------------------------------------
+# CSV
+# ----------------------------------------------------------------------------
+
+def _read_csv(path: str) -> RecordedLog:
+    poses: dict[int, _Collector] = {}
+    parents: dict[int, _Collector] = {}
+    notes = []
+    try:
+        fh = open(path, newline="", encoding="utf-8")
+    except OSError as exc:
+        raise InputFileError(f"log={path!r} cannot be opened ({exc.strerror})", file=path, fix="check the path") from None
+    count = 0
+    with fh:
+        reader = csv.reader(fh)
+        try:
+            header = next(reader, None)
+        except (csv.Error, UnicodeDecodeError) as exc:
+            raise InputFileError(f"the CSV cannot be read ({exc})", file=path, line=1,
+                                 fix="write UTF-8 text with a header row t,id,x,y,theta[,parent]") from None
+        if header is None:
+            raise InputFileError("the log is empty (no header row, no samples)", file=path, line=1,
+                                 fix="write a header row t,id,x,y,theta[,parent] and one row per pose sample")
+        names = [h.strip().lower() for h in header]
+        missing = [c for c in _CSV_REQUIRED if c not in names]
+        if missing:
+            raise InputFileError(f"the header row {header!r} lacks the column {missing[0]!r}", file=path, line=1,
+                                 field=missing[0], fix="name the columns t,id,x,y,theta (and optionally parent)")
+        dup = sorted({n for n in names if names.count(n) > 1 and n in _CSV_REQUIRED + ("parent",)})
+        if dup:
+            raise InputFileError(f"the header row names the column {dup[0]!r} twice", file=path, line=1, field=dup[0],
+                                 fix="keep one column of each name")
+        col = {n: names.index(n) for n in _CSV_REQUIRED}
+        pcol = names.index("parent") if "parent" in names else None
+        ignored = [h for h in header if h.strip().lower() not in _CSV_REQUIRED + ("parent",)]
+        if ignored:
+            notes.append(f"CSV columns ignored: {ignored}")
+        width = len(names)
+        ti, ii, xi, yi, hi = (col[c] for c in _CSV_REQUIRED)
+        line = 1
+        try:
+            for row in reader:
+                line += 1
+                if not row or (len(row) == 1 and not row[0].strip()):
+                    continue
+                if len(row) != width:
+                    raise InputFileError(f"the row has {len(row)} fields, the header {width}", file=path, line=line,
+                                         fix="give every row the header's columns")
+                try:
+                    t = float(row[ti]); x = float(row[xi]); y = float(row[yi]); th = float(row[hi])
+                except ValueError:
+                    bad = next(n for n, k in (("t", ti), ("x", xi), ("y", yi), ("theta", hi)) if not _is_float(row[k]))
+                    raise InputFileError(f"{bad}={row[col[bad]]!r} is not a number", file=path, line=line, field=bad,
+                                         fix="write a decimal number (t in seconds, theta in radians)") from None
+                try:
+                    rid = int(row[ii])
+                except ValueError:
+                    raise InputFileError(f"id={row[ii]!r} is not an integer", file=path, line=line, field="id",
+                                         fix="name each robot by an integer id") from None
+                _finite({"t": t, "x": x, "y": y, "theta": th}, f"row {line}", path, line)
+                t_ns = int(round(t * NS))
+                c = poses.get(rid)
+                if c is None:
+                    c = poses[rid] = _Collector(rid, "csv", "csv", path, "csv")
+                c.add(t_ns, (x, y, th), f"line {line}", line)
+                if pcol is not None:
+                    raw = row[pcol].strip()
+                    try:
+                        par = -1 if raw == "" else int(raw)
+                    except ValueError:
+                        raise InputFileError(f"parent={raw!r} is not an integer", file=path, line=line, field="parent",
+                                             fix="give the parent's id, or leave it empty (or -1) for none") from None
+                    pc = parents.get(rid)
+                    if pc is None:
+                        pc = parents[rid] = _Collector(rid, "csv", "csv", path, "csv")
+                    pc.add(t_ns, -1 if par < 0 else par, f"line {line}", line)
+                count += 1
+                if count > MAX_SAMPLES:
+                    _check_size(count, path)
+        except csv.Error as exc:
+            raise InputFileError(f"the CSV cannot be read ({exc})", file=path, line=line + 1,
+                                 fix="repair the row (quotes, separators)") from None
+        except UnicodeDecodeError as exc:
+            raise InputFileError(f"the CSV is not UTF-8 text ({exc.reason})", file=path, line=line + 1,
+                                 fix="write the log as UTF-8 text") from None
+    if not poses:
+        raise InputFileError("the log is empty: a header row and no samples", file=path, line=2,
+                             fix="write one row per pose sample: t,id,x,y,theta")
+    return RecordedLog(path, "csv", _robots_from(poses), _parents_from(parents) if pcol is not None else None, notes)
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+# ----------------------------------------------------------------------------
+# bags: one decoded message -> a sample
+# ----------------------------------------------------------------------------
+
+def _stamp_ns(stamp) -> int:
+    return int(stamp.sec) * NS + int(stamp.nanosec)
+
+
+def _pose_sample(msgtype: str, msg, log_ns: int, time: str):
+    """``(t_ns, (x, y, theta), time_source)`` of a pose message."""
+    short = msgtype.replace("/msg/", "/")
+    if short == "geometry_msgs/Pose2D":
+        return log_ns, (float(msg.x), float(msg.y), float(msg.theta)), "log"
+    if short == "geometry_msgs/PoseStamped":
+        pose, header = msg.pose, msg.header
+    else:      # nav_msgs/Odometry
+        pose, header = msg.pose.pose, msg.header
+    p, q = pose.position, pose.orientation
+    t = _stamp_ns(header.stamp) if time == "header" else log_ns
+    return t, (float(p.x), float(p.y), yaw_of(float(q.x), float(q.y), float(q.z), float(q.w))), \
+        ("header" if time == "header" else "log")
+
+
+def _pose_fields(msgtype: str, msg) -> dict:
+    """The numbers of a pose message, by their field names (for the error of a non-finite one)."""
+    short = msgtype.replace("/msg/", "/")
+    if short == "geometry_msgs/Pose2D":
+        return {"x": msg.x, "y": msg.y, "theta": msg.theta}
+    pose = msg.pose if short == "geometry_msgs/PoseStamped" else msg.pose.pose
+    pre = "pose" if short == "geometry_msgs/PoseStamped" else "pose.pose"
+    p, q = pose.position, pose.orientation
+    return {f"{pre}.position.x": p.x, f"{pre}.position.y": p.y, f"{pre}.orientation.x": q.x,
+            f"{pre}.orientation.y": q.y, f"{pre}.orientation.z": q.z, f"{pre}.orientation.w": q.w}
+
+
+class _Topics:
+    """Which topics are robots' poses and parents, and their collectors."""
+
+    def __init__(self, path: str, topics: Mapping[str, str], pose_pattern: str, parent_pattern: str | None,
+                 parent_given: bool, time: str) -> None:
+        self.path, self.time = path, time
+        pose_re = topic_regex(pose_pattern, "--topics")
+        parent_re = topic_regex(parent_pattern, "--parent-topics") if parent_pattern else None
+        self.kind: dict[str, tuple[str, int, str]] = {}      # topic -> (pose|parent, id, msgtype)
+        seen: dict[tuple[str, int], str] = {}
+        for topic, msgtype in sorted(topics.items()):
+            for what, rx, types, opt in (("pose", pose_re, POSE_TYPES, "--topics"),
+                                         ("parent", parent_re, PARENT_TYPES, "--parent-topics")):
+                m = rx.match(topic) if rx is not None else None
+                if m is None:
+                    continue
+                if msgtype not in types:
+                    raise InputFileError(f"topic {topic!r} (it matches {opt}) has the message type {msgtype!r}, "
+                                         f"which swarmproof does not read as a {what}", file=path, field=topic,
+                                         fix=f"record the {what} as one of {list(types)}, or narrow {opt}")
+                rid = int(m.group("id"))
+                if (what, rid) in seen:
+                    raise InputFileError(f"robot id {rid} has two {what} topics: {seen[(what, rid)]!r} and {topic!r}",
+                                         file=path, field=topic, fix=f"keep one {what} topic per robot id (duplicate robot ids)")
+                seen[(what, rid)] = topic
+                self.kind[topic] = (what, rid, msgtype)
+        self.poses = {rid: _Collector(rid, t, "?", path, "topic") for (w, rid), t in seen.items() if w == "pose"}
+        self.parents = {rid: _Collector(rid, t, "log", path, "topic") for (w, rid), t in seen.items() if w == "parent"}
+        if not self.poses:
+            raise InputFileError(f"no topic matches --topics={pose_pattern!r}; the log's topics: "
+                                 f"{sorted(topics) or 'none'}", file=path, field="--topics",
+                                 fix="give the pattern of the robots' pose topics, e.g. --topics '/robot_{id}/pose'")
+        if parent_given and parent_pattern and not self.parents:
+            raise InputFileError(f"no topic matches --parent-topics={parent_pattern!r}; the log's topics: "
+                                 f"{sorted(topics)}", file=path, field="--parent-topics",
+                                 fix="give the pattern of the parent topics, or leave --parent-topics out")
+        orphans = sorted(set(self.parents) - set(self.poses))
+        if orphans:
+            raise InputFileError(f"robot {orphans[0]} has a parent topic {self.parents[orphans[0]].source!r} but no "
+                                 "pose topic", file=path, field=self.parents[orphans[0]].source,
+                                 fix="record every robot's pose, or check --topics")
+        if self.parents:
+            lacking = sorted(set(self.poses) - set(self.parents))
+            if lacking:
+                raise InputFileError(f"robot {lacking[0]} has no parent topic while robots "
+                                     f"{sorted(self.parents)[:5]} have one", file=path,
+                                     field=DEFAULT_PARENT_TOPICS.replace("{id}", str(lacking[0])),
+                                     fix="record every robot's parent (-1 for none), or none at all")
+        self.index: dict[str, int] = {}
+        self.count = 0
+
+    def wanted(self) -> list:
+        return sorted(self.kind)
+
+    def add(self, topic: str, msg, log_ns: int) -> None:
+        what, rid, msgtype = self.kind[topic]
+        k = self.index.get(topic, 0)
+        self.index[topic] = k + 1
+        where = f"topic {topic!r} message {k}"
+        if what == "pose":
+            t, xyt, source = _pose_sample(msgtype, msg, log_ns, self.time)
+            _finite(_pose_fields(msgtype, msg), where, self.path)
+            c = self.poses[rid]
+            c.time_source = source
+            c.add(t, xyt, where)
+        else:
+            val = int(msg.data)
+            self.parents[rid].add(log_ns, -1 if val < 0 else val, where)
+        self.count += 1
+        if self.count > MAX_SAMPLES:
+            _check_size(self.count, self.path)
+
+    def log(self, fmt: str) -> RecordedLog:
+        empty = sorted(r for r, c in self.poses.items() if not c.t)
+        if len(empty) == len(self.poses):
+            raise InputFileError("the log is empty: its pose topics hold no message", file=self.path,
+                                 field=self.poses[empty[0]].source, fix="record the robots' poses")
+        if empty:
+            raise InputFileError(f"robot {empty[0]}'s pose topic {self.poses[empty[0]].source!r} holds no message",
+                                 file=self.path, field=self.poses[empty[0]].source,
+                                 fix="record every robot's pose, or narrow --topics to the robots that ran")
+        return RecordedLog(self.path, fmt, _robots_from(self.poses),
+                           _parents_from(self.parents) if self.parents else None, [])
+
+
+def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str):
+    try:
+        from rosbags.rosbag2 import Reader
+        from rosbags.typesys import Stores, get_typestore
+    except ImportError:
+        _ros_import("a rosbag2 bag", path)
+    try:
+        reader = Reader(path)
+        reader.open()
+    except Exception as exc:  # noqa: BLE001 - the library's error names what is wrong with the bag
+        raise InputFileError(f"the rosbag2 bag cannot be opened ({type(exc).__name__}: {exc})", file=path,
+                             fix="check that the bag is complete (metadata.yaml and its storage files)") from None
+    try:
+        storage = "mcap" if any(f.endswith(".mcap") for f in os.listdir(path)) else "sqlite3"
+        topics = {c.topic: c.msgtype for c in reader.connections}
+        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time)
+        typestore = get_typestore(Stores.ROS2_HUMBLE)
+        conns = [c for c in reader.connections if c.topic in sel.kind]
+        for c in conns:
+            typestore.register(_msgdefs_of(c, typestore))
+        try:
+            for conn, log_ns, raw in reader.messages(connections=conns):
+                msg = _decode(typestore, raw, conn.msgtype, path, conn.topic, sel.index.get(conn.topic, 0))
+                sel.add(conn.topic, msg, int(log_ns))
+        except InputFileError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - a truncated or corrupt storage file
+            raise InputFileError(f"the rosbag2 bag cannot be read past message {sum(sel.index.values())} "
+                                 f"({type(exc).__name__}: {exc})", file=path,
+                                 fix="the bag is truncated or corrupt: record it again, or repair it (ros2 bag reindex)") from None
+        return sel.log(f"rosbag2-{storage}")
+    finally:
+        try:
+            reader.close()
+        except Exception:  # noqa: BLE001
+            pass
+
+
+def _msgdefs_of(conn, typestore) -> dict:
+    """Types a connection declares that the typestore lacks (a user's bag may carry its own)."""
+    if conn.msgtype in typestore.types:
+        return {}
+    from rosbags.typesys import get_types_from_msg
+
+    msgdef = getattr(getattr(conn, "ext", None), "msgdef", None) or getattr(conn, "msgdef", None)
+    text = getattr(msgdef, "data", msgdef)
+    return get_types_from_msg(text, conn.msgtype) if isinstance(text, str) and text else {}
+
+
+def _decode(typestore, raw, msgtype: str, path: str, topic: str, index: int):
+    try:
+        return typestore.deserialize_cdr(raw, msgtype)
+    except Exception as exc:  # noqa: BLE001
+        raise InputFileError(f"topic {topic!r} message {index} cannot be decoded as {msgtype} "
+                             f"({type(exc).__name__}: {exc})", file=path, field=f"{topic}[{index}]",
+                             fix="the message is corrupt, or its type is not the one the bag declares") from None
+
+
+def _read_mcap(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str):
+    try:
+        from mcap.reader import make_reader
+        from mcap_ros2.decoder import DecoderFactory
+    except ImportError:
+        _ros_import("an MCAP file", path)
+    try:
+        fh = open(path, "rb")
+    except OSError as exc:
+        raise InputFileError(f"log={path!r} cannot be opened ({exc.strerror})", file=path, fix="check the path") from None
+    with fh:
+        try:
+            reader = make_reader(fh, decoder_factories=[DecoderFactory()])
+            summary = reader.get_summary()
+            if summary is None:
+                raise ValueError("no summary section (the file is truncated, or was not closed)")
+            topics = {}
+            for ch in summary.channels.values():
+                schema = summary.schemas.get(ch.schema_id)
+                topics[ch.topic] = _ros2_type(schema.name if schema is not None else "")
+        except InputFileError:
+            raise
+        except Exception as exc:  # noqa: BLE001
+            raise InputFileError(f"the MCAP file cannot be opened ({type(exc).__name__}: {exc})", file=path,
+                                 fix="the file is truncated or corrupt: record it again, or recover it with "
+                                     "`mcap recover`") from None
+        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time)
+        try:
+            for schema, channel, message, decoded in reader.iter_decoded_messages(topics=sel.wanted(),
+                                                                                    log_time_order=True):
+                sel.add(channel.topic, decoded, int(message.log_time))
+        except InputFileError:
+            raise
+        except Exception as exc:  # noqa: BLE001
+            raise InputFileError(f"the MCAP file cannot be read past message {sum(sel.index.values())} "
+                                 f"({type(exc).__name__}: {exc})", file=path,
+                                 fix="the file is truncated or corrupt: record it again, or recover it with "
+                                     "`mcap recover`") from None
+    return sel.log("mcap")
+
+
+def _ros2_type(name: str) -> str:
+    """``geometry_msgs/msg/PoseStamped`` for a schema named either way."""
+    parts = name.split("/")
+    return f"{parts[0]}/msg/{parts[1]}" if len(parts) == 2 else name
+
+
+def read_log(path, *, topics: str | None = None, parent_topics: str | None = None, time: str = "header") -> RecordedLog:
+    """Read a recorded run (CSV, MCAP or a rosbag2 bag's folder) into samples.
+
+    Parameters
+    ----------
+    path : str
+    topics : str, optional
+        The robots' pose topics, with ``{id}`` (bags only; default ``/robot_{id}/pose``).
+    parent_topics : str, optional
+        Their parent topics (bags only; default ``/robot_{id}/parent``, used when present).
+    time : ``"header"`` or ``"log"``
+        Which time a pose message is placed at (bags; CSV has its own ``t``).
+    """
+    if time not in ("header", "log"):
+        raise UsageError(f"--time={time!r} is not one of ['header', 'log']",
+                         fix="header: the messages' header stamps (where they have one); log: the log times")
+    path = os.fspath(path)
+    fmt = log_format(path)
+    if fmt == "csv":
+        if topics is not None or parent_topics is not None:
+            raise UsageError("--topics and --parent-topics name topics of a bag; a CSV log has columns",
+                             fix="leave them out for a CSV log (columns t,id,x,y,theta[,parent])")
+        return _read_csv(path)
+    pose = topics or DEFAULT_POSE_TOPICS
+    parent = parent_topics or DEFAULT_PARENT_TOPICS
+    reader = _read_mcap if fmt == "mcap" else _read_rosbag2
+    return reader(path, pose, parent, parent_topics is not None, time)
+
+
+# ----------------------------------------------------------------------------
+# writing: our traces as logs (swarmproof export, simulate --export)
+# ----------------------------------------------------------------------------
+
+#: What ``write_log`` writes, by the destination's form.
+EXPORT_FORMATS = {
+    "csv": "a .csv file: t,id,x,y,theta,parent",
+    "mcap": "an .mcap file with ROS 2 messages (Foxglove opens it)",
+    "rosbag2": "a rosbag2 bag's folder (sqlite3 storage; --storage mcap for MCAP storage)",
+}
+
+#: ROS 2 message definitions (``ros2msg``) of what the exporter writes, for MCAP schemas.
+_MSGDEFS = None
+
+
+def _ros2_msgdefs() -> dict:
+    global _MSGDEFS
+    if _MSGDEFS is None:
+        from rosbags.typesys import Stores, get_typestore
+
+        ts = get_typestore(Stores.ROS2_HUMBLE)
+        _MSGDEFS = {name: ts.generate_msgdef(name, ros_version=2)[0] for name in
+                    ("geometry_msgs/msg/PoseStamped", "std_msgs/msg/Int32", "visualization_msgs/msg/MarkerArray")}
+    return _MSGDEFS
+
+
+def export_format(dest: str, storage: str | None = None) -> str:
+    """``csv``, ``mcap`` or ``rosbag2`` for an export destination."""
+    low = str(dest).lower()
+    if low.endswith(".csv"):
+        fmt = "csv"
+    elif low.endswith(".mcap"):
+        fmt = "mcap"
+    elif os.path.splitext(low)[1] in ("", ".bag", ".rosbag2") or low.endswith(os.sep):
+        fmt = "rosbag2"
+    else:
+        raise UsageError(f"--to={dest!r}: the suffix {os.path.splitext(dest)[1]!r} is not a log format",
+                         fix="end it with .csv or .mcap, or give a folder name (no suffix) for a rosbag2 bag")
+    if storage is not None and fmt != "rosbag2":
+        raise UsageError(f"--storage={storage!r} applies to a rosbag2 bag; --to={dest!r} is {fmt}",
+                         fix="leave --storage out, or give a folder name for a rosbag2 bag")
+    if fmt == "rosbag2" and os.path.exists(dest):
+        raise UsageError(f"--to={dest!r} exists already; a rosbag2 bag is written as a new folder",
+                         fix="give a new folder name, or remove the old bag")
+    return fmt
+
+
+def write_log(samples: Iterable, dest: str, *, ids: Iterable[int], has_parent: bool, markers=(),
+              storage: str | None = None) -> str:
+    """Write pose samples as a log; returns the path written.
+
+    ``samples`` yields ``(t_ns, id, x, y, theta, parent)`` in time order (parent None: none);
+    ``markers`` are ``(t_ns, text, [(x, y), ...])``: a violation to show (MCAP and rosbag2 write
+    them as a ``visualization_msgs/msg/MarkerArray`` on ``/swarmproof/violation``).  Nothing is
+    half-written: a file goes through an atomic rename, a bag's folder too.
+    """
+    fmt = export_format(dest, storage)
+    if fmt == "csv":
+        out = io.StringIO()
+        out.write("t,id,x,y,theta" + (",parent" if has_parent else "") + "\n")
+        for t_ns, rid, x, y, th, par in samples:
+            row = f"{t_ns / NS!r},{rid},{float(x)!r},{float(y)!r},{float(th)!r}"
+            if has_parent:
+                row += "," + ("" if par is None else str(int(par)))
+            out.write(row + "\n")
+        return atomic_write_text(dest, out.getvalue())
+    try:
+        if fmt == "mcap":
+            import mcap_ros2.writer  # noqa: F401
+        else:
+            import rosbags.rosbag2  # noqa: F401
+    except ImportError:
+        _ros_import(f"an {'MCAP file' if fmt == 'mcap' else 'rosbag2 bag'}", dest)
+    ids = sorted(int(i) for i in ids)
+    if fmt == "mcap":
+        return _write_mcap(samples, dest, ids, has_parent, markers)
+    return _write_rosbag2(samples, dest, ids, has_parent, markers, storage or "sqlite3")
+
+
+def _pose_dict(t_ns: int, x: float, y: float, th: float) -> dict:
+    qx, qy, qz, qw = quaternion_of(float(th))
+    return {"header": {"stamp": {"sec": t_ns // NS, "nanosec": t_ns % NS}, "frame_id": "world"},
+            "pose": {"position": {"x": float(x), "y": float(y), "z": 0.0},
+                     "orientation": {"x": qx, "y": qy, "z": qz, "w": qw}}}
+
+
+def _marker_dicts(t_ns: int, text: str, points) -> dict:
+    stamp = {"sec": t_ns // NS, "nanosec": t_ns % NS}
+    base = {"header": {"stamp": stamp, "frame_id": "world"}, "ns": "swarmproof", "action": 0,
+            "pose": {"position": {"x": 0.0, "y": 0.0, "z": 0.0}, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}},
+            "lifetime": {"sec": 0, "nanosec": 0}, "frame_locked": False, "colors": [], "texture_resource": "",
+            "texture": {"header": {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}, "format": "", "data": []},
+            "uv_coordinates": [], "mesh_file": {"filename": "", "data": []}, "mesh_use_embedded_materials": False}
+    pts = [{"x": float(x), "y": float(y), "z": 0.0} for x, y in points]
+    cx = sum(p["x"] for p in pts) / max(len(pts), 1)
+    cy = sum(p["y"] for p in pts) / max(len(pts), 1)
+    spheres = dict(base, id=0, type=7, scale={"x": 0.1, "y": 0.1, "z": 0.1},
+                   color={"r": 1.0, "g": 0.0, "b": 0.0, "a": 1.0}, points=pts, text="")
+    label = dict(base, id=1, type=9, scale={"x": 0.0, "y": 0.0, "z": 0.2},
+                 color={"r": 1.0, "g": 0.0, "b": 0.0, "a": 1.0}, points=[], text=text,
+                 pose={"position": {"x": cx, "y": cy, "z": 0.3}, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}})
+    return {"markers": [spheres, label]}
+
+
+def _write_mcap(samples, dest, ids, has_parent, markers) -> str:
+    from mcap_ros2.writer import Writer
+
+    defs = _ros2_msgdefs()
+    buf = io.BytesIO()
+    w = Writer(buf)
+    pose_schema = w.register_msgdef("geometry_msgs/msg/PoseStamped", defs["geometry_msgs/msg/PoseStamped"])
+    int_schema = w.register_msgdef("std_msgs/msg/Int32", defs["std_msgs/msg/Int32"]) if has_parent else None
+    seq = 0
+    for t_ns, rid, x, y, th, par in samples:
+        w.write_message(DEFAULT_POSE_TOPICS.format(id=rid), pose_schema, _pose_dict(t_ns, x, y, th),
+                        log_time=t_ns, publish_time=t_ns, sequence=seq)
+        if has_parent:
+            w.write_message(DEFAULT_PARENT_TOPICS.format(id=rid), int_schema, {"data": -1 if par is None else int(par)},
+                            log_time=t_ns, publish_time=t_ns, sequence=seq)
+        seq += 1
+    if markers:
+        m_schema = w.register_msgdef("visualization_msgs/msg/MarkerArray", defs["visualization_msgs/msg/MarkerArray"])
+        for t_ns, text, points in markers:
+            w.write_message("/swarmproof/violation", m_schema, _marker_dicts(t_ns, text, points),
+                            log_time=t_ns, publish_time=t_ns)
+    w.finish()
+    return atomic_write_bytes(dest, buf.getvalue())
+
+
+def _to_msg(typestore, typename: str, value):
+    """A rosbags message object of ``typename`` from nested dicts."""
+    cls = typestore.types[typename]
+    fields = typestore.fielddefs[typename][1]
+    kwargs = {}
+    for name, desc in fields:
+        v = value.get(name)
+        kind, sub = desc
+        if kind == 2:          # a message type
+            kwargs[name] = _to_msg(typestore, sub if isinstance(sub, str) else sub[0], v or {})
+        elif v is None:        # a field the dict leaves out: ROS 2's default value
+            base = sub[0] if kind == 1 else None
+            kwargs[name] = [] if kind in (3, 4) and sub[0][0] == 2 else \
+                np.zeros(0, dtype=np.uint8) if kind in (3, 4) else "" if base == "string" else \
+                False if base == "bool" else 0.0 if base in ("float32", "float64") else 0
+        elif kind in (3, 4):   # arrays / sequences
+            inner = sub[0]
+            if inner[0] == 2:
+                kwargs[name] = [_to_msg(typestore, inner[1], e) for e in v]
+            else:
+                base = inner[1][0] if isinstance(inner[1], tuple) else inner[1]
+                kwargs[name] = list(v) if base == "string" else \
+                    np.asarray(v, dtype=np.uint8 if base in ("uint8", "byte", "octet") else np.float64)
+        else:
+            kwargs[name] = v
+    return cls(**kwargs)
+
+
+def _write_rosbag2(samples, dest, ids, has_parent, markers, storage: str) -> str:
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    if storage not in ("sqlite3", "mcap"):
+        raise UsageError(f"--storage={storage!r} is not one of ['sqlite3', 'mcap']",
+                         fix="sqlite3 (rosbag2's default) or mcap")
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    parent_dir = os.path.dirname(os.path.abspath(dest))
+    tmp = tempfile.mkdtemp(prefix=".swarmproof-export-", dir=parent_dir)
+    bag = os.path.join(tmp, os.path.basename(os.path.normpath(dest)))
+    try:
+        plugin = StoragePlugin.SQLITE3 if storage == "sqlite3" else StoragePlugin.MCAP
+        with Writer(bag, version=8, storage_plugin=plugin) as w:
+            pose_c = {rid: w.add_connection(DEFAULT_POSE_TOPICS.format(id=rid), "geometry_msgs/msg/PoseStamped",
+                                            typestore=ts) for rid in ids}
+            par_c = {rid: w.add_connection(DEFAULT_PARENT_TOPICS.format(id=rid), "std_msgs/msg/Int32", typestore=ts)
+                     for rid in ids} if has_parent else {}
+            mark_c = w.add_connection("/swarmproof/violation", "visualization_msgs/msg/MarkerArray",
+                                      typestore=ts) if markers else None
+            Int32 = ts.types["std_msgs/msg/Int32"]
+            for t_ns, rid, x, y, th, par in samples:
+                msg = _to_msg(ts, "geometry_msgs/msg/PoseStamped", _pose_dict(t_ns, x, y, th))
+                w.write(pose_c[rid], t_ns, ts.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped"))
+                if has_parent:
+                    w.write(par_c[rid], t_ns, ts.serialize_cdr(Int32(data=-1 if par is None else int(par)),
+                                                               "std_msgs/msg/Int32"))
+            for t_ns, text, points in markers:
+                msg = _to_msg(ts, "visualization_msgs/msg/MarkerArray", _marker_dicts(t_ns, text, points))
+                w.write(mark_c, t_ns, ts.serialize_cdr(msg, "visualization_msgs/msg/MarkerArray"))
+        mask = _umask()
+        for root, dirs, files in os.walk(bag):
+            os.chmod(root, 0o777 & ~mask)
+            for f in files:
+                os.chmod(os.path.join(root, f), 0o666 & ~mask)
+        os.rename(bag, dest)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return os.fspath(dest)
+
+
+def _parent_of(state):
+    """A trace state's ``parent`` (a tuple of pairs or a mapping), ``_MISSING`` when it has none."""
+    if isinstance(state, dict):
+        return state.get("parent", _MISSING)
+    if isinstance(state, tuple):
+        for item in state:
+            if isinstance(item, tuple) and len(item) == 2 and item[0] == "parent":
+                return item[1]
+    return _MISSING
+
+
+_MISSING = object()
+
+
+def trace_samples(trace) -> tuple[list, bool, int]:
+    """A trace's poses as log samples ``(t_ns, id, x, y, theta, parent)`` in time order, whether
+    its states name parents, and the period in ns (the run's ``dt``; step ``s`` is at ``s dt``).
+    Robots absent at a step (crashed, not yet added) publish nothing there."""
+    dt = float(((trace.meta or {}).get("params") or {}).get("dt", 1.0) or 1.0)
+    period = max(1, int(round(dt * NS)))
+    has_parent = any(_parent_of(s) is not _MISSING for frame in trace.states[:1] + trace.states[-1:] for s in frame)
+    ids = [int(i) for i in trace.ids]
+    out = []
+    for i in range(len(trace.poses)):
+        t_ns = trace.time_of(i) * period
+        present = trace.present_at(i)
+        for j, rid in enumerate(ids):
+            if not present[j]:
+                continue
+            x, y, th = (float(v) for v in trace.poses[i, j])
+            par = _parent_of(trace.states[i][j]) if has_parent else None
+            out.append((t_ns, rid, x, y, th, None if par is _MISSING or par is None else int(par)))
+    return out, has_parent, period
