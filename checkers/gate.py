@@ -58,14 +58,17 @@ def resolve_gate(baseline, *, max_examples: int | None = None, robots=None, seed
     return gate
 
 
-def _scope(sections, subjects, properties):
-    """Whether a baseline row is one this run would produce (rows outside are left alone)."""
+def _scope(sections, subjects, properties, recorded_subjects=None):
+    """Whether a baseline row is one this run would produce (rows outside are left alone; with
+    ``--recorded`` folders, the recorded rows of other runs -- e.g. the bundled ones -- too)."""
     labels = {s.label for s in subjects}
     props = None if properties is None else set(properties)
 
     def in_scope(e) -> bool:
         if e.section not in sections:
             return False
+        if e.section == "recorded" and recorded_subjects is not None:
+            return e.subject in recorded_subjects
         if e.section in ("algorithms", "exploration", "exhaustive"):
             if e.algorithm is not None and e.algorithm not in labels:
                 return False
@@ -79,7 +82,7 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
            properties: Sequence[str] | None = None, baseline: str | os.PathLike | None = None,
            update_baseline: bool = False, strict: bool = False, max_examples: int | None = None,
            robots=None, seed: int | None = None, out_dir: str | None = None, progress=None,
-           workers: int | None = None):
+           workers: int | None = None, recorded: Sequence[str] | None = None):
     """One ``verify`` run, compared with ``baseline`` when given; returns the
     :class:`~swarmproof.checkers.report.Report` (``report.comparison`` holds the comparison).
 
@@ -103,6 +106,10 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
     strict : bool
         Improvements and resized counterexamples fail; a baseline row that no
         longer exists is an error (UsageError, after the run).
+    recorded : list of folders, optional
+        Folders of recorded runs with their ``recorded-runs.yaml`` (docs/recorded-runs.md): the
+        ``recorded`` section judges them instead of the bundled runs (and runs beside
+        ``algorithms`` when those are given).
 
     Raises
     ------
@@ -151,7 +158,14 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
         properties = list(properties)
         explore_props = [p for p in registered if p in properties]
     subjects = report_mod.verify_subjects(None if algorithms is None else tuple(algorithms))
-    wanted = sections or (["algorithms", "exploration", "exhaustive"] if algorithms else list(report_mod.SECTIONS))
+    recorded_subjects = None
+    if recorded is not None:
+        from swarmproof.models.recorded_runs import load_recorded_runs
+
+        recorded_subjects = {f"recorded {run.name}" for folder in recorded
+                             for run in load_recorded_runs(folder).runs}   # a bad manifest: refused first
+    wanted = sections or ((["algorithms", "exploration", "exhaustive"] + (["recorded"] if recorded else []))
+                          if algorithms else list(report_mod.SECTIONS))
     ordered = [s for s in report_mod.SECTIONS if s in wanted]
     if "exploration" in ordered:      # team sizes the explorer cannot draw: refused before any row runs
         from swarmproof.checkers.algorithm_spec import resolve_algorithm
@@ -166,8 +180,9 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
                         "subjects": [s for s in subjects if algorithms or s.plan.explore],
                         "workers": workers},
         "algorithms": {"out_dir": out_dir, "subjects": subjects, "properties": properties},
-        "exhaustive": {"out_dir": out_dir, "subjects": subjects}})
-    in_scope = _scope(ordered, subjects, properties)
+        "exhaustive": {"out_dir": out_dir, "subjects": subjects},
+        "recorded": {"out_dir": out_dir, "folders": None if recorded is None else list(recorded)}})
+    in_scope = _scope(ordered, subjects, properties, recorded_subjects)
     if base is not None:
         rep.comparison = compare(rep.rows, base, in_scope=in_scope, strict=strict)
     if update_baseline:

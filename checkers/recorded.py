@@ -305,7 +305,10 @@ def _with_time(res: InvariantResult, clock: Clock) -> InvariantResult:
     """The witness's step as the log's time too (``time_s``; a collision inside a step: its fraction)."""
     w = dict(res.witness or {})
     if "step" in w and isinstance(w["step"], (int, np.integer)):
-        frac = float(w.get("fraction", 0.0) or 0.0) if res.name == "collision" else 0.0
+        # the first log time at which the violation shows: a collision inside its step (the fraction), a
+        # tree link broken in step t at instant t + 1 (it held at t), any other at its instant
+        frac = float(w.get("fraction", 0.0) or 0.0) if res.name == "collision" else \
+            1.0 if res.name == "tree_links" else 0.0
         w["time_s"] = round(clock.seconds(int(w["step"]) + frac), 9)
         return InvariantResult(res.name, res.status, res.cites, w, res.message + f" (log time {w['time_s']:g} s)",
                                res.applicable, dict(res.detail))
@@ -540,3 +543,58 @@ def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_
                                f"the log ended while robots still moved (in the last {static_k} instants): a finite log "
                                "cannot show a swarm that would never stop")
     return res
+
+
+def _phi_of(range_, target) -> float:
+    if range_ is not None:
+        return range_
+    rng = getattr(target, "range", None)
+    if isinstance(rng, (int, float)) and not isinstance(rng, bool) and rng > 0:
+        return float(rng)
+    raise UsageError("checking a recorded run needs the communication range",
+                     fix="give --range PHI (or a lattice --target, whose range is used)")
+
+
+def _radius_of(radius, algorithm, phi):
+    if radius is not None:
+        return radius
+    f = getattr(algorithm, "default_params", None)
+    if callable(f):
+        try:
+            extra = f(range=phi, n=0).extra or {}
+        except Exception:  # noqa: BLE001 - defaults that need more than the range: the default radius
+            extra = {}
+        if "robot_radius" in extra:
+            return float(extra["robot_radius"])
+    return None
+
+
+def judge_log(path, *, range=None, target=None, algorithm=None, properties=None, topics=None,  # noqa: A002
+              parent_topics=None, time="header", keep_frames: int = 0, **options):
+    """Read and judge one log as ``swarmproof check-run`` does (the command and verify's
+    ``recorded`` rows share it): ``target`` and ``algorithm`` by name, the range from ``range`` or
+    the lattice target, the radius from ``radius`` or the algorithm's ``robot_radius``; the other
+    ``options`` are :func:`check_recorded`'s.  Returns ``(report, claims)``: claims is the
+    algorithm's (property -> citation), None without one."""
+    from swarmproof.models.recorded_io import read_log
+
+    spec = algo = None
+    if algorithm is not None:
+        from swarmproof.checkers.algorithm_spec import resolve_algorithm
+
+        spec = resolve_algorithm(algorithm)
+        algo = spec.factory()
+    tgt = None
+    if target is not None:
+        from swarmproof.models.targets import resolve_target
+
+        tgt = resolve_target(target)
+    phi = _phi_of(range, tgt)
+    if properties:
+        for p in properties:
+            get_property(p)
+    log = read_log(path, topics=topics, parent_topics=parent_topics, time=time)
+    options["radius"] = _radius_of(options.get("radius"), algo, phi)
+    rep = check_recorded(log, phi=phi, target=tgt, algorithm=algo, properties=properties, keep_frames=keep_frames,
+                         **options)
+    return rep, (dict(spec.claims) if spec is not None else None)

@@ -935,6 +935,13 @@ def section_exhaustive(*, subjects=None, progress: Progress | None = None, out_d
     return rows
 
 
+def section_recorded(**kw) -> list[Row]:
+    """Recorded runs as rows (issue 34; :mod:`swarmproof.checkers.recorded_rows`)."""
+    from swarmproof.checkers.recorded_rows import section_recorded as rows
+
+    return rows(**kw)
+
+
 SECTIONS: dict[str, Callable[..., list[Row]]] = {
     "lattices": section_lattices,
     "algorithms": section_algorithms,
@@ -942,6 +949,7 @@ SECTIONS: dict[str, Callable[..., list[Row]]] = {
     "formulas": section_formulas,
     "exploration": section_exploration,
     "exhaustive": section_exhaustive,
+    "recorded": section_recorded,
 }
 
 

@@ -64,39 +64,6 @@ def add_arguments(p) -> None:
     p.add_argument("--gif", metavar="GIF", help=f"animate the log (at most {GIF_FRAMES} frames)")
 
 
-def _algorithm(ref):
-    if ref is None:
-        return None, None
-    from swarmproof.checkers.algorithm_spec import resolve_algorithm
-
-    spec = resolve_algorithm(ref)
-    return spec, spec.factory()
-
-
-def _phi(args, target, algorithm) -> float:
-    if args.range_ is not None:
-        return args.range_
-    rng = getattr(target, "range", None)
-    if isinstance(rng, (int, float)) and rng > 0:
-        return float(rng)
-    raise UsageError("check-run needs the communication range", fix="give --range PHI (or a lattice --target, whose "
-                                                                    "range is used)")
-
-
-def _radius(args, algorithm, phi):
-    if args.radius is not None:
-        return args.radius
-    f = getattr(algorithm, "default_params", None)
-    if callable(f):
-        try:
-            extra = f(range=phi, n=0).extra or {}
-        except Exception:  # noqa: BLE001
-            extra = {}
-        if "robot_radius" in extra:
-            return float(extra["robot_radius"])
-    return None
-
-
 def report_document(rep, *, claims=None) -> dict:
     """The JSON document of a :class:`~swarmproof.checkers.recorded.RecordedReport`."""
     props = {}
@@ -157,28 +124,13 @@ def _lines(rep, doc, claims) -> list:
 
 
 def run(args) -> int:
-    from swarmproof.checkers.recorded import check_recorded
-    from swarmproof.models.recorded_io import read_log
+    from swarmproof.checkers.recorded import judge_log
 
-    spec, algorithm = _algorithm(args.algorithm)
-    target = None
-    if args.target is not None:
-        from swarmproof.models.targets import resolve_target
-
-        target = resolve_target(args.target)
-    phi = _phi(args, target, algorithm)
-    if args.property:
-        from swarmproof.invariants.registry import get_property
-
-        for p in args.property:
-            get_property(p)
-    log = read_log(args.file, topics=args.topics, parent_topics=args.parent_topics, time=args.time)
-    rep = check_recorded(log, phi=phi, target=target, algorithm=algorithm, properties=args.property,
-                         radius=_radius(args, algorithm, phi), pos_tol=args.pos_tol, range_margin=args.range_margin,
-                         collision_margin=args.collision_margin, period=args.period, stale=args.stale, v=args.v,
-                         static_window=args.static_window,
-                         keep_frames=GIF_FRAMES if (args.plot or args.gif) else 0)
-    claims = dict(spec.claims) if spec is not None else None
+    rep, claims = judge_log(args.file, range=args.range_, target=args.target, algorithm=args.algorithm,
+                            properties=args.property, topics=args.topics, parent_topics=args.parent_topics,
+                            time=args.time, radius=args.radius, pos_tol=args.pos_tol, range_margin=args.range_margin,
+                            collision_margin=args.collision_margin, period=args.period, stale=args.stale, v=args.v,
+                            static_window=args.static_window, keep_frames=GIF_FRAMES if (args.plot or args.gif) else 0)
     doc = report_document(rep, claims=claims)
     if args.plot is not None:
         from swarmproof.checkers.recorded_plot import plot_recorded

@@ -63,6 +63,9 @@ def add_arguments(p) -> None:
     p.add_argument("--algorithm", action="append", metavar="REF", dest="algorithms",
                    help="verify just this algorithm (repeatable): a registry name or module:qualname of your "
                         "class, with its own claims, verify plan and scenarios")
+    p.add_argument("--recorded", action="append", metavar="FOLDER", default=None,
+                   help="judge the recorded runs of FOLDER (its recorded-runs.yaml; repeatable) in the recorded "
+                        "section instead of the bundled ones (docs/recorded-runs.md)")
     p.add_argument("--property", action="append", metavar="NAME", dest="properties",
                    help="only this property in the algorithms and exploration rows (repeatable)")
     p.add_argument("--baseline", metavar="FILE",
@@ -110,7 +113,7 @@ def run(args) -> int:
                         baseline=args.baseline, update_baseline=args.update_baseline, strict=args.strict,
                         max_examples=args.max_examples, seed=args.seed,
                         robots=None if args.robots is None else parse_robots(args.robots),
-                        out_dir=args.out, progress=progress, workers=args.workers)
+                        out_dir=args.out, progress=progress, workers=args.workers, recorded=args.recorded)
     finally:
         if progress is not None:
             progress.clear()

@@ -1,0 +1,98 @@
+"""verify's ``recorded`` section: recorded runs judged as rows of the property matrix (issue 34).
+
+Each log of a folder's manifest (:mod:`swarmproof.models.recorded_runs`) is judged as
+``swarmproof check-run`` judges it (:func:`swarmproof.checkers.recorded.judge_log`); each property
+is one row, subject ``recorded <name>``, compared with the baseline like every other row -- so a
+team gates its CI on its own recorded runs: a known finding of a log (a split it recorded) is a
+baseline row that keeps the gate green, and a change of verdict fails it.  Which rows decide the
+gate: the manifest's ``claims`` if it lists them, else the algorithm's claims with
+``algorithm``, else every judged row.  Without ``--recorded`` verify judges the runs swarmproof
+ships (``models/recorded/``).
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+
+from swarmproof.models.verdict import Verdict
+
+__all__ = ["section_recorded", "check_run_command"]
+
+_STATUS = {"held": Verdict.HELD, "violated": Verdict.VIOLATED, "inconclusive": Verdict.INCONCLUSIVE}
+_OPTION = {"range": "--range", "target": "--target", "algorithm": "--algorithm", "topics": "--topics",
+           "parent_topics": "--parent-topics", "time": "--time", "period": "--period", "stale": "--stale",
+           "pos_tol": "--pos-tol", "range_margin": "--range-margin", "collision_margin": "--collision-margin",
+           "radius": "--radius", "static_window": "--static-window", "v": "--v"}
+
+
+def check_run_command(run) -> str:
+    """The ``swarmproof check-run`` command that repeats a run's rows.
+
+    >>> from swarmproof.models.recorded_runs import RecordedRun
+    >>> check_run_command(RecordedRun("a", "/logs/a.csv", {"range": 1.2, "pos_tol": 0.02}, ("connectivity",)))
+    'swarmproof check-run /logs/a.csv --range 1.2 --pos-tol 0.02 --property connectivity'
+    """
+    parts = ["swarmproof", "check-run", _display(run.log)]
+    for key, opt in _OPTION.items():
+        if key in run.options:
+            v = run.options[key]
+            parts += [opt, f"{v:g}" if isinstance(v, float) else str(v)]
+    for p in run.properties or ():
+        parts += ["--property", p]
+    return " ".join(shlex.quote(x) for x in parts)
+
+
+def _display(path: str) -> str:
+    """A log's path as rows show it: relative to the working folder when below it (stable files)."""
+    rel = os.path.relpath(path)
+    return path if rel.startswith("..") else rel
+
+
+def section_recorded(*, folders=None, progress=None, out_dir: str | None = None) -> list:
+    """One row per (recorded run, property) of each folder's manifest (default: the bundled runs)."""
+    from swarmproof.checkers.recorded import judge_log
+    from swarmproof.checkers.report import Row, not_applicable_row
+    from swarmproof.models.recorded_runs import bundled_folder, load_recorded_runs
+
+    rows = []
+    for folder in (folders or [bundled_folder()]):
+        manifest = load_recorded_runs(folder)
+        for run in manifest.runs:
+            if progress:
+                progress(run.name)
+            opts = dict(run.options)
+            rep, claims = judge_log(run.log, properties=list(run.properties) if run.properties else None,
+                                    range=opts.pop("range", None), target=opts.pop("target", None),
+                                    algorithm=opts.pop("algorithm", None), topics=opts.pop("topics", None),
+                                    parent_topics=opts.pop("parent_topics", None), time=opts.pop("time", "header"),
+                                    **opts)
+            subject = f"recorded {run.name}"
+            clock = rep.clock
+            data = {"file": _display(run.log), "format": rep.log.format, "robots": len(rep.log.robots),
+                    "instants": clock.instants, "judged_instants": rep.judged_instants,
+                    "period_s": clock.period_ns / 1e9, "stale_s": clock.stale_ns / 1e9,
+                    "tolerance": dict(rep.tolerance), "reproduce": check_run_command(run)}
+
+            def claim_of(prop):
+                if run.claims is not None:
+                    return f"{run.name}: claimed in {os.path.basename(manifest.source)}" if prop in run.claims else None
+                if claims is not None:
+                    return claims.get(prop)
+                return f"{run.name}: every judged property (no claims listed in {os.path.basename(manifest.source)})"
+
+            for prop, why in rep.not_applicable.items():
+                if run.properties is None and prop in ("no_crash", "invariants", "completion_sound"):
+                    continue          # never given by a log: listed by check-run, not rows of every run
+                rows.append(not_applicable_row("recorded", subject, prop, why, data, claim_of(prop)))
+            for prop, r in rep.results.items():
+                sens = rep.sensitive.get(prop)
+                detail = r.message + (" [depends on the tolerance]" if sens else "") + \
+                    f" (clock {clock.period_ns / 1e9:g} s, {rep.judged_instants} of {clock.instants} instants judged)"
+                rd = {**data, "tolerance_sensitive": sens}
+                if r.witness:
+                    rd["violation"] = {k: v for k, v in r.witness.items() if k in ("step", "time_s", "robots",
+                                                                                      "components", "child", "parent")}
+                rows.append(Row("recorded", subject, prop, _STATUS.get(r.status, Verdict.INCONCLUSIVE), detail, rd,
+                                claim=claim_of(prop)))
+    return rows
