@@ -17,7 +17,7 @@ import shlex
 
 from swarmproof.models.verdict import Verdict
 
-__all__ = ["section_recorded", "check_run_command"]
+__all__ = ["recorded_cells", "check_run_command"]
 
 _STATUS = {"held": Verdict.HELD, "violated": Verdict.VIOLATED, "inconclusive": Verdict.INCONCLUSIVE}
 _OPTION = {"range": "--range", "target": "--target", "algorithm": "--algorithm", "topics": "--topics",
@@ -49,10 +49,11 @@ def _display(path: str) -> str:
     return path if rel.startswith("..") else rel
 
 
-def section_recorded(*, folders=None, progress=None, out_dir: str | None = None) -> list:
-    """One row per (recorded run, property) of each folder's manifest (default: the bundled runs)."""
+def recorded_cells(*, folders=None, progress=None) -> list:
+    """One cell per (recorded run, property) of each folder's manifest (default: the bundled runs):
+    ``(subject, property, verdict or None, detail, data, claim)``; verdict None is not applicable
+    (the reason in the detail).  :func:`swarmproof.checkers.report.section_recorded` makes them rows."""
     from swarmproof.checkers.recorded import judge_log
-    from swarmproof.checkers.report import Row, not_applicable_row
     from swarmproof.models.recorded_runs import bundled_folder, load_recorded_runs
 
     rows = []
@@ -84,7 +85,7 @@ def section_recorded(*, folders=None, progress=None, out_dir: str | None = None)
             for prop, why in rep.not_applicable.items():
                 if run.properties is None and prop in ("no_crash", "invariants", "completion_sound"):
                     continue          # never given by a log: listed by check-run, not rows of every run
-                rows.append(not_applicable_row("recorded", subject, prop, why, data, claim_of(prop)))
+                rows.append((subject, prop, None, why, data, claim_of(prop)))
             for prop, r in rep.results.items():
                 sens = rep.sensitive.get(prop)
                 detail = r.message + (" [depends on the tolerance]" if sens else "") + \
@@ -93,6 +94,5 @@ def section_recorded(*, folders=None, progress=None, out_dir: str | None = None)
                 if r.witness:
                     rd["violation"] = {k: v for k, v in r.witness.items() if k in ("step", "time_s", "robots",
                                                                                       "components", "child", "parent")}
-                rows.append(Row("recorded", subject, prop, _STATUS.get(r.status, Verdict.INCONCLUSIVE), detail, rd,
-                                claim=claim_of(prop)))
+                rows.append((subject, prop, _STATUS.get(r.status, Verdict.INCONCLUSIVE), detail, rd, claim_of(prop)))
     return rows

@@ -935,11 +935,15 @@ def section_exhaustive(*, subjects=None, progress: Progress | None = None, out_d
     return rows
 
 
-def section_recorded(**kw) -> list[Row]:
-    """Recorded runs as rows (issue 34; :mod:`swarmproof.checkers.recorded_rows`)."""
-    from swarmproof.checkers.recorded_rows import section_recorded as rows
+def section_recorded(*, folders=None, progress: Progress | None = None, out_dir: str | None = None) -> list[Row]:
+    """Recorded runs as rows (issue 34): each log of a ``--recorded`` folder's manifest (default: the
+    bundled ones), one row per property, judged as ``swarmproof check-run`` judges it
+    (:mod:`swarmproof.checkers.recorded_rows`)."""
+    from swarmproof.checkers.recorded_rows import recorded_cells
 
-    return rows(**kw)
+    return [not_applicable_row("recorded", subject, prop, detail, data, claim) if verdict is None
+            else Row("recorded", subject, prop, verdict, detail, data, claim=claim)
+            for subject, prop, verdict, detail, data, claim in recorded_cells(folders=folders, progress=progress)]
 
 
 SECTIONS: dict[str, Callable[..., list[Row]]] = {

@@ -254,7 +254,8 @@ def test_run_report_passes_progress_and_sections_in_order():
     assert texts == ["lemmas", "lemmas: relocate_stays_in_range", "lemmas: safe_region_nonempty"]
     assert [r.subject for r in rep.rows] == ["relocate_stays_in_range", "safe_region_nonempty"]
     assert list(rep.seconds) == ["lemmas"]
-    assert list(report.SECTIONS) == ["lattices", "algorithms", "lemmas", "formulas", "exploration", "exhaustive"]
+    assert list(report.SECTIONS) == ["lattices", "algorithms", "lemmas", "formulas", "exploration", "exhaustive",
+                                    "recorded"]
 
 
 def test_formulas_section_reports_the_exact_checks_of_003():

@@ -23,7 +23,7 @@ CASES = [
     (["check-lattice", "sqare"], "no bundled lattice of that name; did you mean 'square'?"),
     (["check-pattern", "rhombus-triangle"], "did you mean 'rhombus-triangles'?"),
     (["verify", "--section", "lemma"], "invalid choice: 'lemma' (choose from 'lattices', 'algorithms', 'lemmas', "
-                                       "'formulas', 'exploration', 'exhaustive'); did you mean 'lemmas'?"),
+                                       "'formulas', 'exploration', 'exhaustive', 'recorded'); did you mean 'lemmas'?"),
     (["simulate", "song2016", "--lattice", "square", "--seed", "0", "--robots", "4",
       "--param", "comunication_timeout=3"], "did you mean 'communication_timeout'?"),
 ]

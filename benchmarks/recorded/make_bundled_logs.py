@@ -1,8 +1,7 @@
 """Make the recorded runs swarmproof ships (verify's default ``recorded`` rows; docs/recorded-runs.md).
 
-Run from the repository's root: ``python -m swarmproof.models.recorded.make_logs`` is not how it
-is used (this folder is data); run ``.venv/bin/python models/recorded/make_logs.py``.  Same
-bytes every time (seeded).
+Run from the repository's root: ``.venv/bin/python benchmarks/recorded/make_bundled_logs.py``
+writes them into ``models/recorded/``.  Same bytes every time (seeded).
 
 * ``eight-robots-split.csv``: what a hardware log looks like -- eight robots in a 2 x 4 grid
   1 m apart, sampled at 10 Hz each on its own clock (start offsets, +-5 ms jitter, a 5 mm
@@ -23,7 +22,7 @@ import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models", "recorded")
 
 
 def eight_robots_split(path: str) -> None:
