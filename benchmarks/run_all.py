@@ -53,6 +53,7 @@ SMALL_ARGS: dict[str, list[str]] = {
     "bench_wang2020": ["perf", "--robots", "64", "--trial-robots", "16"],
     "bench_wang2020_ratio": ["decompose", "--n", "16", "--seeds", "0"],
     "bench_exhaustive": ["jiang", "--starts", "1", "--deviations", "1"],   # about 20 s
+    "bench_check_run": ["--quick"],          # 20 robots for a minute in four formats: about 20 s
 }
 
 #: Arguments a benchmark needs even with ``--full`` (it has no default mode).
@@ -79,6 +80,7 @@ FIGURES: dict[str, str] = {
     "bench_wang2020": 'docs/performance.md "Wang & Rubenstein 2020 (issue 15)" (experiments: docs/wang2020.md)',
     "bench_wang2020_ratio": 'docs/wang2020.md (the distance-ratio study)',
     "bench_exhaustive": 'docs/performance.md "Exhaustive checking (issue 33)" (results: docs/exhaustive.md "Results")',
+    "bench_check_run": 'docs/performance.md "Recorded runs (check-run)"',
 }
 
 

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swarmproof.models.sensing import components, neighbor_pairs
+from swarmproof.models.sensing import INCLUSIVE_SLACK, components, neighbor_pairs, pair_distances
 
 from .result import InvariantResult, state_value
 
@@ -100,7 +100,10 @@ class ConnectivityMonitor:
 
     The engine calls it on every step whatever it records (``simulate(observers=...)``),
     so a split at a step a sparse trace does not keep is still found.  Steps whose poses
-    and presence equal the previous step's are skipped (same graph).
+    and presence equal the previous step's are skipped (same graph).  While the graph is
+    connected, a spanning tree of it (its shortest edges) is kept: a step that leaves every
+    tree edge a neighbour pair, with the same robots present, is still connected and needs no
+    components (n - 1 distances instead of every pair; the verdict is the same).
     """
 
     name = "connectivity"
@@ -109,6 +112,10 @@ class ConnectivityMonitor:
         self.phi, self.inclusive, self.what = float(phi), bool(inclusive), what
         self.ids = None
         self._prev = None
+        self._tree = None          # (present, rows i, rows j): a spanning tree of the last connected graph
+        self._certified = 0        # instants the current tree answered
+        self._backoff = 0          # trees that broke at once make the next one wait this many full checks
+        self._wait = 0
         self.start_components = None
         self.hit = None
         self.count = 0
@@ -123,14 +130,40 @@ class ConnectivityMonitor:
         if self._prev is not None and np.array_equal(poses, self._prev[0]) and np.array_equal(present, self._prev[1]):
             return
         self._prev = (np.array(poses, copy=True), np.array(present, copy=True))
+        if self._tree is not None:
+            if self._tree_holds(poses, present):
+                self._certified += 1
+                return
+            # a tree that broke at once (robots at the edge of the range) is not worth its cost at
+            # every instant: the next one waits 1, 2, 4 ... 64 full checks
+            self._backoff = min(2 * self._backoff or 1, 64) if self._certified < 4 else 0
+            self._wait = self._backoff
+            self._tree = None
         idx = np.flatnonzero(present)
-        i, j, _ = neighbor_pairs(np.asarray(poses)[idx, :2], self.phi, self.inclusive)
+        xy = np.asarray(poses)[idx, :2]
+        i, j, d = neighbor_pairs(xy, self.phi, self.inclusive)
         ids = self.ids[idx]
         comps = sorted((sorted(int(ids[k]) for k in c) for c in components(len(idx), i, j)), key=lambda c: c[0])
         if self.start_components is None:
             self.start_components = comps
         elif len(comps) > 1:
             self.hit = (int(t), comps)
+        if len(comps) == 1 and self._wait == 0:
+            self._tree, self._certified = _spanning_tree(len(idx), i, j, d, idx, self._prev[1]), 0
+        self._wait = max(self._wait - 1, 0)
+
+    def _tree_holds(self, poses, present) -> bool:
+        """Whether every edge of the last connected graph's spanning tree is still a neighbour pair
+        (same robots present): then the graph is still connected, and its components need not be
+        computed.  The distances are :func:`neighbor_pairs`' own (``pair_distances``, the same
+        strict or inclusive test), so the answer is the one a full computation would give."""
+        mask, ti, tj = self._tree
+        if not np.array_equal(present, mask):
+            return False
+        if len(ti) == 0:
+            return True
+        d = pair_distances(np.asarray(poses, dtype=float)[:, :2], ti, tj)
+        return bool(np.all(d <= self.phi * INCLUSIVE_SLACK) if self.inclusive else np.all(d < self.phi))
 
     def result(self) -> InvariantResult:
         start = self.start_components or []
@@ -145,6 +178,25 @@ class ConnectivityMonitor:
         return InvariantResult("connectivity", "violated", LEMMA_11, {"step": t, "components": comps},
                                f"the communication graph splits after step {t} into {len(comps)} "
                                f"components: {comps}")
+
+
+def _spanning_tree(n: int, i, j, d, idx, present):
+    """``(present, rows i, rows j)`` of a spanning tree of a connected neighbour graph on ``n``
+    robots (edges ``i < j`` of the present robots ``idx``, distances ``d``): its shortest edges
+    (a minimum spanning tree), the ones furthest from breaking, as rows of the poses."""
+    if n - 1 == 0 or len(i) == n - 1:
+        ti, tj = np.asarray(i, dtype=np.intp), np.asarray(j, dtype=np.intp)
+    else:
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import minimum_spanning_tree
+
+        # weights 1 + d: positive (a zero would read as no edge); the same order of edges
+        mst = minimum_spanning_tree(coo_matrix((1.0 + np.asarray(d, dtype=float), (i, j)), shape=(n, n))).tocoo()
+        if mst.nnz != n - 1:
+            return None
+        ti = np.minimum(mst.row, mst.col).astype(np.intp)
+        tj = np.maximum(mst.row, mst.col).astype(np.intp)
+    return np.array(present, copy=True), idx[ti], idx[tj]
 
 
 def connected_throughout(trace, phi: float, inclusive: bool | None = None) -> InvariantResult:
