@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any, Iterator, Mapping, Sequence
 
 import numpy as np
@@ -54,7 +55,7 @@ from swarmproof.models.errors import UsageError
 from swarmproof.models.recorded_io import NS, RecordedLog
 from swarmproof.models.trace import Trace
 
-__all__ = ["Clock", "make_clock", "aligned_frames", "check_recorded", "RecordedReport", "DEFAULT_STALE_PERIODS",
+__all__ = ["fmt_s", "Clock", "make_clock", "aligned_frames", "check_recorded", "RecordedReport", "DEFAULT_STALE_PERIODS",
            "DEFAULT_STATIC_WINDOW_S", "MAX_INSTANTS", "TOLERANCE_KNOBS"]
 
 DEFAULT_STALE_PERIODS = 2.5
@@ -65,6 +66,16 @@ CHUNK = 1024
 
 #: Property -> (what the margin widens, the direction that makes the property harder to hold).
 TOLERANCE_KNOBS = {"connectivity": ("range", -1), "tree_links": ("range", -1), "collision": ("radius", +1)}
+
+
+def fmt_s(seconds: float) -> str:
+    """Seconds as a log shows them: no exponent (epoch stamps stay readable), to the nanosecond below
+    1e5 s and to the microsecond above (a double holds no more there).
+
+    >>> fmt_s(14.9998), fmt_s(1767225600.1), fmt_s(0.25), fmt_s(3.0)
+    ('14.9998', '1767225600.1', '0.25', '3')
+    """
+    return f"{seconds:.{9 if abs(seconds) < 1e5 else 6}f}".rstrip("0").rstrip(".")
 
 
 @dataclass(frozen=True)
@@ -97,7 +108,8 @@ def _seconds_ns(value: float, name: str) -> int:
 
 def make_clock(log: RecordedLog, *, period: float | None = None, stale: float | None = None) -> Clock:
     """The clock of ``log``: its period (the median sampling interval unless given), staleness bound
-    (``DEFAULT_STALE_PERIODS`` periods unless given), first instant (every robot has reported) and
+    (``DEFAULT_STALE_PERIODS`` periods unless given), first instant (the last robot's first sample
+    when they all report within the staleness bound of the first, else the first sample) and
     number of instants."""
     robots = list(log.robots.values())
     if period is None:
@@ -111,7 +123,11 @@ def make_clock(log: RecordedLog, *, period: float | None = None, stale: float | 
     stale_ns = int(round(DEFAULT_STALE_PERIODS * period_ns)) if stale is None else _seconds_ns(stale, "--stale")
     first = [int(r.t[0]) for r in robots]
     last = [int(r.t[-1]) for r in robots]
-    start, end = max(first), max(last)
+    # robots that start together (their first samples within the staleness bound): the clock starts
+    # when the last of them has reported, so every robot is on it from its first instant; else at the
+    # first sample, and a robot is in the swarm from its own first report on (as a robot the engine
+    # adds later): nothing before a late robot's first report is dropped
+    start, end = (max(first) if max(first) - min(first) <= stale_ns else min(first)), max(last)
     instants = (end - start) // period_ns + 1
     if instants > MAX_INSTANTS:
         raise UsageError(f"the clock would have {instants} instants (period {period_ns / NS} s over "
@@ -142,19 +158,30 @@ class _Logged(tuple):
 _EMPTY = _Logged()
 
 
+@lru_cache(maxsize=1 << 16)
+def _logged_parent(p) -> _Logged:
+    """The (immutable) state of a robot whose logged parent is ``p``: one object per parent, shared by
+    every instant that holds it (building them anew was a third of judging a log with parents)."""
+    return _Logged((("parent", p),))
+
+
 def _states(parents: Sequence | None, n: int) -> _States:
     if parents is None:
         s = _States((_EMPTY,) * n)
         s.parents = [None] * n
         return s
-    pl = [None if p < 0 else int(p) for p in parents]
-    s = _States(tuple(_Logged((("parent", p),)) for p in pl))
+    raw = parents.tolist() if isinstance(parents, np.ndarray) else parents
+    pl = [None if p < 0 else int(p) for p in raw]
+    s = _States(map(_logged_parent, pl))
     s.parents = pl
     return s
 
 
 def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterator:
-    """``(k, poses (n x 3), parents (n,) int or None, fresh (n,) bool)`` at every instant, in order,
+    """``(k, poses (n x 3), parents (n,) int or None, fresh (n,) bool, present (n,) bool)`` at every
+    instant, in order (present: the robot has reported by then -- before its first sample a robot is
+    not in the swarm yet, as a robot the engine adds later; fresh: present and its pose no older
+    than the staleness bound),
     ``chunk`` instants computed at a time (memory stays bounded by the chunk)."""
     ids = sorted(log.robots)
     n = len(ids)
@@ -163,6 +190,7 @@ def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterat
         grid = clock.start_ns + clock.period_ns * np.arange(k0, k1, dtype=np.int64)
         poses = np.empty((k1 - k0, n, 3))
         fresh = np.empty((k1 - k0, n), dtype=bool)
+        present = np.empty((k1 - k0, n), dtype=bool)
         pars = np.full((k1 - k0, n), -1, dtype=np.int64) if log.parents is not None else None
         for j, rid in enumerate(ids):
             r = log.robots[rid]
@@ -171,12 +199,13 @@ def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterat
             idx0 = np.where(ok, idx, 0)
             poses[:, j] = r.xyt[idx0]
             fresh[:, j] = ok & (grid - r.t[idx0] <= clock.stale_ns)
+            present[:, j] = ok
             if pars is not None:
                 p = log.parents[rid]
                 pi = np.searchsorted(p.t, grid, side="right") - 1
                 pars[:, j] = np.where(pi >= 0, p.parent[np.maximum(pi, 0)], -1)
         for i in range(k1 - k0):
-            yield k0 + i, poses[i], (None if pars is None else pars[i]), fresh[i]
+            yield k0 + i, poses[i], (None if pars is None else pars[i]), fresh[i], present[i]
 
 
 # ----------------------------------------------------------------------------
@@ -191,7 +220,9 @@ class _Recorded:
     def __init__(self, algorithm, has_parent: bool) -> None:
         from swarmproof.reference_impl.protocol import RobotModel
 
-        self.model = RobotModel(communication="neighbors")
+        # the algorithm's model: its communication (a complete graph has no range graph to split) and
+        # neighbour rule (004's robots hear at distance <= R)
+        self.model = getattr(algorithm, "model", None) or RobotModel(communication="neighbors")
         self.state_fields = ("parent",) if has_parent else ()
         self.name = getattr(algorithm, "name", None) or "recorded run"
         if algorithm is not None:
@@ -272,8 +303,8 @@ def _window_runs(log: RecordedLog, clock: Clock):
     ids = sorted(log.robots)
     cur = None
     gap = None
-    for k, _, _, fresh in aligned_frames(log, clock):
-        if fresh.all():
+    for k, _, _, fresh, present in aligned_frames(log, clock):
+        if (fresh | ~present).all():
             if gap is not None:
                 gaps.append(gap)
                 gap = None
@@ -285,7 +316,7 @@ def _window_runs(log: RecordedLog, clock: Clock):
             if cur is not None:
                 windows.append(tuple(cur))
                 cur = None
-            stale = [ids[j] for j in np.flatnonzero(~fresh)]
+            stale = [ids[j] for j in np.flatnonzero(present & ~fresh)]
             if gap is None:
                 gap = {"from_step": k, "to_step": k, "robots": set(stale)}
             else:
@@ -310,7 +341,7 @@ def _with_time(res: InvariantResult, clock: Clock) -> InvariantResult:
         frac = float(w.get("fraction", 0.0) or 0.0) if res.name == "collision" else \
             1.0 if res.name == "tree_links" else 0.0
         w["time_s"] = round(clock.seconds(int(w["step"]) + frac), 9)
-        return InvariantResult(res.name, res.status, res.cites, w, res.message + f" (log time {w['time_s']:g} s)",
+        return InvariantResult(res.name, res.status, res.cites, w, res.message + f" (log time {fmt_s(w['time_s'])} s)",
                                res.applicable, dict(res.detail))
     return res
 
@@ -350,7 +381,7 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
                    range_margin: float | None = None, collision_margin: float | None = None,
                    period: float | None = None, stale: float | None = None, v: float | None = None,
                    static_window: float = DEFAULT_STATIC_WINDOW_S, keep_frames: int = 0,
-                   options: Mapping | None = None) -> RecordedReport:
+                   options: Mapping | None = None, progress=None) -> RecordedReport:
     """Judge ``log`` by ``properties`` (names; default every registered property) at range ``phi``.
 
     ``algorithm`` (an algorithm object) gives its satisfaction tolerance, speed and lemma premise
@@ -372,6 +403,20 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
         if not (math.isfinite(val) and val >= 0):
             raise UsageError(f"{name}={val!r} must be a finite non-negative number")
     stand_in = _Recorded(algorithm, log.parents is not None)
+    late = [(rid, r.t[0]) for rid, r in sorted(log.robots.items()) if int(r.t[0]) - clock.start_ns > clock.stale_ns]
+    if late:
+        note = ("robots that first report later than the staleness bound after the log's start, in the swarm only "
+                "from then on (as robots that join): " + ", ".join(f"{rid} at {fmt_s(t / NS)} s" for rid, t in late[:10]))
+        if note not in log.notes:
+            log.notes.append(note)
+    if log.parents is not None:
+        named = set()
+        for ps in log.parents.values():
+            named.update(int(v) for v in np.unique(ps.parent) if v >= 0)
+        strangers = sorted(named - set(log.robots))
+        note = f"parent ids that name no robot of the log: {strangers[:10]} (tree_links cannot check those links)"
+        if strangers and note not in log.notes:
+            log.notes.append(note)
     options = dict(options or {})
     props, na = [], {}
     for name in names:
@@ -396,7 +441,7 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     def options_of(key):
         prop, variant = key
         if TOLERANCE_KNOBS.get(prop, ("",))[0] == "radius" and variant:
-            return {**options, "radius": max(radius + variant * cm, 0.0)}
+            return {**options, "radius": radius + variant * cm}
         return {**options, "radius": radius}
 
     from swarmproof.reference_impl.protocol import Params
@@ -407,11 +452,13 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     # nominal, then each tolerance knob's two directions (only the one that could overturn is read)
     keys = [((p.name, 0), p) for p in streamed]
     for p in streamed:
-        if p.name in TOLERANCE_KNOBS and (rm if TOLERANCE_KNOBS[p.name][0] == "range" else cm) > 0:
-            keys += [((p.name, -1), p), ((p.name, +1), p)]
+        knob = TOLERANCE_KNOBS.get(p.name, ("",))[0]
+        if knob and (rm if knob == "range" else cm) > 0:
+            keys += [((p.name, v), p) for v in (-1, +1)
+                     if not (knob == "radius" and radius + v * cm <= 0)]   # a disc of radius <= 0: nothing collides
     judge = _Judge(keys, stand_in, params_of, options_of, ids)
     per_key, frames_kept, final = _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target,
-                                          params, options_of, stand_in, phi)
+                                          params, options_of, stand_in, phi, progress)
     judged = sum(b - a for a, b in windows)
     results, sensitive = {}, {}
     for p in streamed:
@@ -427,7 +474,8 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
                           bool(final is not None and final[3].status == "static"), frames_kept)
 
 
-def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target, params, options_of, stand_in, phi):
+def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target, params, options_of, stand_in, phi,
+            progress=None):
     """Feed every aligned instant to the monitors of its window; keep frames for pictures.
     Returns the per-(key, window) results, the kept frames and the last window's end."""
     n = len(ids)
@@ -440,9 +488,11 @@ def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, tar
     win = next(win_iter, None)
     mons = None
     final = None
-    for k, poses, pars, fresh in aligned_frames(log, clock):
+    for k, poses, pars, fresh, present in aligned_frames(log, clock):
+        if progress is not None and not k % 10_000:
+            progress(f"judged {k} of {clock.instants} instants")
         if every and (k % every == 0 or k == clock.instants - 1):
-            frames_kept.append((k, poses.copy(), None if pars is None else pars.copy(), fresh.copy()))
+            frames_kept.append((k, poses.copy(), None if pars is None else pars.copy(), fresh.copy(), present.copy()))
         if prev is not None and np.max(np.abs(poses[:, :2] - prev), initial=0.0) > max(pos_tol, DEFAULT_POS_TOL):
             last_move = k
         prev = poses[:, :2].copy()
@@ -451,7 +501,6 @@ def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, tar
         if mons is None:
             mons = judge.monitors()
         states = _states(pars, n)
-        present = np.ones(n, dtype=bool)
         for _, _, ob in mons:
             ob.observe(k, poses, states, present)
         if k == win[1] - 1:
@@ -491,14 +540,14 @@ def _combine(prop, results, gaps, clock: Clock, judged: int) -> InvariantResult:
     if not results:
         return InvariantResult(prop.name, "inconclusive", prop.cites, None,
                                f"no instant judged: at every one of the {clock.instants} instants some robot had no "
-                               f"sample fresher than {clock.stale_ns / NS:g} s", applicable=False)
+                               f"sample fresher than {fmt_s(clock.stale_ns / NS)} s", applicable=False)
     if gaps:
         g = gaps[0]
         more = f" (and {len(gaps) - 1} more gaps)" if len(gaps) > 1 else ""
         return InvariantResult(
             prop.name, "inconclusive", prop.cites, None,
-            f"not violated in the {judged} judged instants of {clock.instants}, but not judged from {g['from_s']:g} s "
-            f"to {g['to_s']:g} s: robots {g['robots'][:8]} had no sample fresher than {clock.stale_ns / NS:g} s"
+            f"not violated in the {judged} judged instants of {clock.instants}, but not judged from {fmt_s(g['from_s'])} s "
+            f"to {fmt_s(g['to_s'])} s: robots {g['robots'][:8]} had no sample fresher than {fmt_s(clock.stale_ns / NS)} s"
             f"{more}", detail={"judged_instants": judged, "instants": clock.instants})
     if len(results) == 1:
         return results[0]
@@ -516,7 +565,10 @@ def _sensitivity(prop, res, windows, per_key, gaps, clock, judged) -> bool | Non
         other = _combine(prop, [per_key.get(((prop.name, harder), w)) for w in windows], gaps, clock, judged)
         return other.status != "held"
     if res.status == "violated":
-        other = _combine(prop, [per_key.get(((prop.name, -harder), w)) for w in windows], gaps, clock, judged)
+        easier = [per_key.get(((prop.name, -harder), w)) for w in windows]
+        if all(r is None for r in easier):      # the easier margin leaves nothing to judge (a radius <= 0)
+            return True
+        other = _combine(prop, easier, gaps, clock, judged)
         return other.status != "violated"
     return None
 
@@ -525,7 +577,7 @@ def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_
     """A property judged on the whole run (termination, formation): read at the log's last instant."""
     if final is None or not last_fresh:
         return InvariantResult(prop.name, "inconclusive", prop.cites, None,
-                               f"the log's last instant ({clock.seconds(clock.instants - 1):g} s) is not judged: "
+                               f"the log's last instant ({fmt_s(clock.seconds(clock.instants - 1))} s) is not judged: "
                                "some robot had no fresh sample there")
     k, poses, pars, result = final
     n = len(ids)
@@ -538,10 +590,14 @@ def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_
         if result.status == "static":
             return InvariantResult("termination", "held", res.cites, None,
                                    f"the swarm was at rest (no robot moved more than the position tolerance) for the "
-                                   f"last {static_k} instants of the log, from {clock.seconds(k - static_k):g} s")
+                                   f"last {static_k} instants of the log, from {fmt_s(clock.seconds(k - static_k))} s")
         return InvariantResult("termination", "inconclusive", res.cites, None,
                                f"the log ended while robots still moved (in the last {static_k} instants): a finite log "
                                "cannot show a swarm that would never stop")
+    if prop.name == "formation" and res.status == "inconclusive" and result.status != "static":
+        return InvariantResult("formation", "inconclusive", res.cites, None,
+                               f"the log ended while robots still moved (in the last {static_k} instants): the formation "
+                               "at its end may not be the final one")
     return res
 
 
@@ -570,7 +626,7 @@ def _radius_of(radius, algorithm, phi):
 
 
 def judge_log(path, *, range=None, target=None, algorithm=None, properties=None, topics=None,  # noqa: A002
-              parent_topics=None, time="header", keep_frames: int = 0, **options):
+              parent_topics=None, time=None, keep_frames: int = 0, progress=None, **options):
     """Read and judge one log as ``swarmproof check-run`` does (the command and verify's
     ``recorded`` rows share it): ``target`` and ``algorithm`` by name, the range from ``range`` or
     the lattice target, the radius from ``radius`` or the algorithm's ``robot_radius``; the other
@@ -578,23 +634,32 @@ def judge_log(path, *, range=None, target=None, algorithm=None, properties=None,
     algorithm's (property -> citation), None without one."""
     from swarmproof.models.recorded_io import read_log
 
-    spec = algo = None
+    spec = None
     if algorithm is not None:
         from swarmproof.checkers.algorithm_spec import resolve_algorithm
 
         spec = resolve_algorithm(algorithm)
-        algo = spec.factory()
     tgt = None
     if target is not None:
         from swarmproof.models.targets import resolve_target
 
         tgt = resolve_target(target)
-    phi = _phi_of(range, tgt)
     if properties:
         for p in properties:
             get_property(p)
-    log = read_log(path, topics=topics, parent_topics=parent_topics, time=time)
+    phi = _phi_of(range, tgt) if range is not None or tgt is not None else None
+    if phi is None:
+        _phi_of(None, None)            # the range is needed: refused before the log is read
+    log = read_log(path, topics=topics, parent_topics=parent_topics, time=time, progress=progress)
+    algo = None
+    if spec is not None:
+        # as simulate builds it for the team (song2016's timeouts are n), and the target it runs
+        # toward with n robots (004: a shape scaled to n goal cells)
+        algo = spec.build(n_robots=len(log.robots))
+        scale = getattr(algo, "scale_target", None)
+        if callable(scale) and tgt is not None:
+            tgt = scale(tgt, len(log.robots))
     options["radius"] = _radius_of(options.get("radius"), algo, phi)
     rep = check_recorded(log, phi=phi, target=tgt, algorithm=algo, properties=properties, keep_frames=keep_frames,
-                         **options)
+                         progress=progress, **options)
     return rep, (dict(spec.claims) if spec is not None else None)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from swarmproof.checkers.plotting import ROLE_COLORS, animate_trace, new_figure, save_png
-from swarmproof.checkers.recorded import aligned_frames
+from swarmproof.checkers.recorded import aligned_frames, fmt_s
 from swarmproof.models.trace import Trace
 
 __all__ = ["plot_recorded", "gif_recorded", "focus_of"]
@@ -34,7 +34,7 @@ def focus_of(rep):
 
 
 def _frames(rep, extra: int):
-    kept = {k: (p, q, f) for k, p, q, f in rep.frames}
+    kept = {k: (p, q, f, pr) for k, p, q, f, pr in rep.frames}
     if extra not in kept:
         kept[extra] = _frame_at(rep, extra)
     return dict(sorted(kept.items()))
@@ -45,8 +45,8 @@ def _frame_at(rep, k: int):
     from dataclasses import replace
 
     clock = replace(rep.clock, start_ns=rep.clock.start_ns + k * rep.clock.period_ns, instants=1)
-    for _, poses, pars, fresh in aligned_frames(rep.log, clock, chunk=1):
-        return poses.copy(), None if pars is None else pars.copy(), fresh.copy()
+    for _, poses, pars, fresh, present in aligned_frames(rep.log, clock, chunk=1):
+        return poses.copy(), None if pars is None else pars.copy(), fresh.copy(), present.copy()
 
 
 def plot_recorded(rep, path) -> str:
@@ -60,7 +60,7 @@ def plot_recorded(rep, path) -> str:
     fig, ax = new_figure()
     for j in range(len(ids)):
         ax.plot(P[:, j, 0], P[:, j, 1], lw=0.6, color="0.75", zorder=1)
-    poses, pars, fresh = frames[k]
+    poses, pars, fresh, present = frames[k]
     xy = poses[:, :2]
     i, jj, _ = neighbor_pairs(xy, rep.phi)
     for a, b in zip(i, jj):
@@ -76,7 +76,7 @@ def plot_recorded(rep, path) -> str:
         sel = sorted(comp)
         color = ROLE_COLORS[ci % len(ROLE_COLORS)] if len(comps) > 1 else "tab:blue"
         ax.scatter(xy[sel, 0], xy[sel, 1], s=36, color=color, edgecolors="black", linewidths=0.5, zorder=3)
-    stale = [s for s in range(len(ids)) if not fresh[s]]
+    stale = [s for s in range(len(ids)) if present[s] and not fresh[s]]
     if stale:
         ax.scatter(xy[stale, 0], xy[stale, 1], s=80, marker="x", color="0.4", zorder=4, label="stale sample")
     ring = [slot[r] for r in marked if r in slot]
@@ -84,7 +84,7 @@ def plot_recorded(rep, path) -> str:
         ax.scatter(xy[ring, 0], xy[ring, 1], s=220, facecolors="none", edgecolors="tab:red", linewidths=1.8, zorder=5)
     for s, rid in enumerate(ids):
         ax.annotate(str(rid), (xy[s, 0], xy[s, 1]), xytext=(3, 3), textcoords="offset points", fontsize=7)
-    when = f"{rep.clock.seconds(k):g} s (instant {k})"
+    when = f"{fmt_s(rep.clock.seconds(k))} s (instant {k})"
     status = {n: r.status for n, r in rep.results.items()}
     head = f"{name} violated at {when}" if name else f"end of log, {when}"
     ax.set_title(f"{rep.log.path.rstrip('/').split('/')[-1]}: {len(ids)} robots; {head}\n"
@@ -102,5 +102,5 @@ def gif_recorded(rep, path) -> str:
                   states=[tuple(() for _ in rep.ids)] * len(steps), times=steps,
                   meta={"status": "recorded"})
     return animate_trace(trace, path, phi=rep.phi, mark_step=k if name else None, mark_ids=marked or None,
-                         title=f"{name} violated" if name else "recorded run", mark_label=f"{name} at {rep.clock.seconds(k):g} s",
+                         title=f"{name} violated" if name else "recorded run", mark_label=f"{name} at {fmt_s(rep.clock.seconds(k))} s",
                          max_frames=120)

@@ -53,7 +53,7 @@ def recorded_cells(*, folders=None, progress=None) -> list:
     """One cell per (recorded run, property) of each folder's manifest (default: the bundled runs):
     ``(subject, property, verdict or None, detail, data, claim)``; verdict None is not applicable
     (the reason in the detail).  :func:`swarmproof.checkers.report.section_recorded` makes them rows."""
-    from swarmproof.checkers.recorded import judge_log
+    from swarmproof.checkers.recorded import fmt_s, judge_log
     from swarmproof.models.recorded_runs import bundled_folder, load_recorded_runs
 
     rows = []
@@ -66,7 +66,7 @@ def recorded_cells(*, folders=None, progress=None) -> list:
             rep, claims = judge_log(run.log, properties=list(run.properties) if run.properties else None,
                                     range=opts.pop("range", None), target=opts.pop("target", None),
                                     algorithm=opts.pop("algorithm", None), topics=opts.pop("topics", None),
-                                    parent_topics=opts.pop("parent_topics", None), time=opts.pop("time", "header"),
+                                    parent_topics=opts.pop("parent_topics", None), time=opts.pop("time", None),
                                     **opts)
             subject = f"recorded {run.name}"
             clock = rep.clock
@@ -89,7 +89,7 @@ def recorded_cells(*, folders=None, progress=None) -> list:
             for prop, r in rep.results.items():
                 sens = rep.sensitive.get(prop)
                 detail = r.message + (" [depends on the tolerance]" if sens else "") + \
-                    f" (clock {clock.period_ns / 1e9:g} s, {rep.judged_instants} of {clock.instants} instants judged)"
+                    f" (clock {fmt_s(clock.period_ns / 1e9)} s, {rep.judged_instants} of {clock.instants} instants judged)"
                 rd = {**data, "tolerance_sensitive": sens}
                 if r.witness:
                     rd["violation"] = {k: v for k, v in r.witness.items() if k in ("step", "time_s", "robots",

@@ -48,6 +48,7 @@ import os
 import re
 import shutil
 import tempfile
+from array import array
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping
 
@@ -58,7 +59,7 @@ from .fileio import _umask, atomic_write_bytes, atomic_write_text
 
 __all__ = ["RobotSamples", "ParentSamples", "RecordedLog", "read_log", "log_format", "topic_regex",
            "POSE_TYPES", "PARENT_TYPES", "DEFAULT_POSE_TOPICS", "DEFAULT_PARENT_TOPICS", "INSTALL_ROS",
-           "write_log", "EXPORT_FORMATS", "MAX_SAMPLES", "yaw_of", "quaternion_of"]
+           "write_log", "EXPORT_FORMATS", "MAX_SAMPLES", "MAX_TIME_S", "MAX_COORDINATE", "MAX_ID", "yaw_of", "quaternion_of"]
 
 #: The install command of the optional bag readers and writers.
 INSTALL_ROS = "pip install 'swarmproof[ros]'  (rosbags, mcap, mcap-ros2-support)"
@@ -66,6 +67,11 @@ DEFAULT_POSE_TOPICS = "/robot_{id}/pose"
 DEFAULT_PARENT_TOPICS = "/robot_{id}/parent"
 POSE_TYPES = ("geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/Pose2D", "nav_msgs/msg/Odometry")
 PARENT_TYPES = ("std_msgs/msg/Int32", "std_msgs/msg/Int64")
+#: Largest |t| in seconds (nanoseconds must fit int64: epoch times of 2026 are 1.8e9 s), largest
+#: |x|, |y|, |theta|, largest robot id.
+MAX_TIME_S = 4.0e9
+MAX_COORDINATE = 1.0e9
+MAX_ID = 2**31 - 1
 #: Samples held at most (poses and parents together, 40 bytes each: 2 GB); past it, exit 2.
 MAX_SAMPLES = 50_000_000
 NS = 1_000_000_000
@@ -185,50 +191,85 @@ def _ros_import(what: str, path: str):
 # ----------------------------------------------------------------------------
 
 class _Collector:
-    """Samples of one stream (a robot's topic or CSV rows), checked as they come."""
+    """Samples of one stream (a robot's topic or CSV rows), checked as they come.  Held compactly:
+    times in an ``array('q')`` (a list once one does not fit in int64, as before: making the numpy
+    array then fails), poses as flat doubles ``x, y, theta`` (``width`` 3), parents as a list of
+    ints; where the previous sample came from is kept for the error of the next one."""
 
-    def __init__(self, rid: int, source: str, time_source: str, path: str, kind: str) -> None:
+    __slots__ = ("rid", "source", "time_source", "path", "kind", "t", "v", "last", "where", "width")
+
+    def __init__(self, rid: int, source: str, time_source: str, path: str, kind: str, width: int = 1) -> None:
         self.rid, self.source, self.time_source, self.path, self.kind = rid, source, time_source, path, kind
-        self.t: list = []
-        self.v: list = []
-        self.where: list = []      # where the previous sample came from (line or index), for errors
+        self.width = width
+        self.t = array("q")
+        self.v = array("d") if width == 3 else []
+        self.last = None           # the previous sample's time
+        self.where = None          # where it came from: a CSV line, (topic, index), or a text
 
-    def add(self, t_ns: int, value, where: str, line: int | None = None) -> None:
-        if self.t and t_ns <= self.t[-1]:
-            what = "repeats" if t_ns == self.t[-1] else "is earlier than"
+    def add(self, t_ns: int, value, where, line: int | None = None) -> None:
+        last = self.last
+        if last is not None and t_ns <= last:
+            what = "repeats" if t_ns == last else "is earlier than"
             raise InputFileError(
-                f"{where}: time t={t_ns / NS!r} s {what} the previous sample of robot {self.rid} "
-                f"({self.t[-1] / NS!r} s, {self.where[-1]}); times must increase within a robot's "
+                ("" if line is not None else f"{_where_text(where)}: ") +
+                f"time t={t_ns / NS!r} s {what} the previous sample of robot {self.rid} "
+                f"({last / NS!r} s, {_where_text(self.where)}); times must increase within a robot's "
                 f"{'rows' if self.kind == 'csv' else 'topic'} ({self.time_source} time)",
                 file=self.path, line=line,
                 fix="sort the log by time (rows of different robots may interleave)" if self.kind == "csv" else
                     "record with increasing stamps, or judge by log time (--time log) if the header stamps are wrong")
-        self.t.append(t_ns)
-        self.v.append(value)
-        self.where.append(where)
-        if len(self.where) > 1:
-            self.where[-2] = None     # keep one
+        try:
+            self.t.append(t_ns)
+        except OverflowError:      # past int64: kept as a Python int (as before; the arrays cannot hold it)
+            self.t = list(self.t)
+            self.t.append(t_ns)
+        if self.width == 3:
+            self.v.extend(value)
+        else:
+            self.v.append(value)
+        self.last = t_ns
+        self.where = where
+
+
+def _where_text(where) -> str:
+    """``line 12`` for a CSV line number, ``topic '/robot_1/pose' message 3`` for ``(topic, index)``."""
+    if isinstance(where, int):
+        return f"line {where}"
+    if isinstance(where, tuple):
+        return f"topic {where[0]!r} message {where[1]}"
+    return str(where)
 
 
 def _finite(values: Mapping[str, float], where: str, path: str, line: int | None = None) -> None:
+    """A non-finite number, or one past the magnitudes a log may hold (:data:`MAX_TIME_S`,
+    :data:`MAX_COORDINATE`), is an error naming its field (``where`` only when no line says it)."""
     for name, val in values.items():
-        if not math.isfinite(val):
-            raise InputFileError(f"{where}: {name}={val!r} is not a finite number", file=path, line=line,
-                                 field=name, fix="drop or repair the sample (poses must be finite)")
+        bound = MAX_TIME_S if name == "t" else MAX_COORDINATE
+        if not math.isfinite(val) or abs(val) > bound:
+            said = "is not a finite number" if not math.isfinite(val) else f"is beyond +-{bound:g}"
+            fix = ("drop or repair the sample (poses must be finite)" if not math.isfinite(val) else
+                   "write t in seconds (not nanoseconds)" if name == "t" else
+                   "write positions in metres and headings in radians")
+            raise InputFileError(("" if line is not None else f"{where}: ") + f"{name}={val!r} {said}", file=path,
+                                 line=line, field=name, fix=fix)
 
 
 def _robots_from(collectors: Mapping[int, _Collector]) -> dict:
     out = {}
     for rid in sorted(collectors):
         c = collectors[rid]
-        out[rid] = RobotSamples(rid, np.asarray(c.t, dtype=np.int64),
-                                np.asarray(c.v, dtype=np.float64).reshape(-1, 3), c.source, c.time_source)
+        out[rid] = RobotSamples(rid, np.array(c.t, dtype=np.int64),
+                                np.array(c.v, dtype=np.float64).reshape(-1, 3), c.source, c.time_source)
+        c.t = c.v = None           # the collector's copy goes as the arrays are made
     return out
 
 
 def _parents_from(collectors: Mapping[int, _Collector]) -> dict:
-    return {rid: ParentSamples(rid, np.asarray(c.t, dtype=np.int64), np.asarray(c.v, dtype=np.int64), c.source)
-            for rid, c in sorted(collectors.items())}
+    out = {}
+    for rid, c in sorted(collectors.items()):
+        out[rid] = ParentSamples(rid, np.array(c.t, dtype=np.int64), np.asarray(c.v, dtype=np.int64), c.source)
+        c.t = c.v = None
+    return out
 
 
 def _check_size(count: int, path: str) -> None:
@@ -241,7 +282,7 @@ def _check_size(count: int, path: str) -> None:
 # CSV
 # ----------------------------------------------------------------------------
 
-def _read_csv(path: str) -> RecordedLog:
+def _read_csv(path: str, progress=None) -> RecordedLog:
     poses: dict[int, _Collector] = {}
     parents: dict[int, _Collector] = {}
     notes = []
@@ -277,12 +318,13 @@ def _read_csv(path: str) -> RecordedLog:
         width = len(names)
         ti, ii, xi, yi, hi = (col[c] for c in _CSV_REQUIRED)
         line = 1
+        isfinite = math.isfinite
         try:
             for row in reader:
                 line += 1
-                if not row or (len(row) == 1 and not row[0].strip()):
-                    continue
                 if len(row) != width:
+                    if not row or (len(row) == 1 and not row[0].strip()):
+                        continue
                     raise InputFileError(f"the row has {len(row)} fields, the header {width}", file=path, line=line,
                                          fix="give every row the header's columns")
                 try:
@@ -296,12 +338,17 @@ def _read_csv(path: str) -> RecordedLog:
                 except ValueError:
                     raise InputFileError(f"id={row[ii]!r} is not an integer", file=path, line=line, field="id",
                                          fix="name each robot by an integer id") from None
-                _finite({"t": t, "x": x, "y": y, "theta": th}, f"row {line}", path, line)
+                if not (-MAX_TIME_S <= t <= MAX_TIME_S and -MAX_COORDINATE <= x <= MAX_COORDINATE
+                        and -MAX_COORDINATE <= y <= MAX_COORDINATE and -MAX_COORDINATE <= th <= MAX_COORDINATE):
+                    _finite({"t": t, "x": x, "y": y, "theta": th}, f"row {line}", path, line)   # NaN fails too
+                if not 0 <= rid <= MAX_ID:
+                    raise InputFileError(f"id={rid!r} is not in 0..{MAX_ID}", file=path, line=line, field="id",
+                                         fix="name each robot by a non-negative integer id")
                 t_ns = int(round(t * NS))
                 c = poses.get(rid)
                 if c is None:
-                    c = poses[rid] = _Collector(rid, "csv", "csv", path, "csv")
-                c.add(t_ns, (x, y, th), f"line {line}", line)
+                    c = poses[rid] = _Collector(rid, "csv", "csv", path, "csv", 3)
+                c.add(t_ns, (x, y, th), line, line)
                 if pcol is not None:
                     raw = row[pcol].strip()
                     try:
@@ -309,13 +356,18 @@ def _read_csv(path: str) -> RecordedLog:
                     except ValueError:
                         raise InputFileError(f"parent={raw!r} is not an integer", file=path, line=line, field="parent",
                                              fix="give the parent's id, or leave it empty (or -1) for none") from None
+                    if par > MAX_ID:
+                        raise InputFileError(f"parent={raw!r} is not in 0..{MAX_ID}", file=path, line=line,
+                                             field="parent", fix="give the parent's id, or leave it empty (or -1)")
                     pc = parents.get(rid)
                     if pc is None:
                         pc = parents[rid] = _Collector(rid, "csv", "csv", path, "csv")
-                    pc.add(t_ns, -1 if par < 0 else par, f"line {line}", line)
+                    pc.add(t_ns, -1 if par < 0 else par, line, line)
                 count += 1
                 if count > MAX_SAMPLES:
                     _check_size(count, path)
+                if progress is not None and not count % 100_000:
+                    progress(f"read {count} rows")
         except csv.Error as exc:
             raise InputFileError(f"the CSV cannot be read ({exc})", file=path, line=line + 1,
                                  fix="repair the row (quotes, separators)") from None
@@ -371,12 +423,31 @@ def _pose_fields(msgtype: str, msg) -> dict:
             f"{pre}.orientation.y": q.y, f"{pre}.orientation.z": q.z, f"{pre}.orientation.w": q.w}
 
 
+def _pose_finite(msgtype: str, msg) -> bool:
+    """Whether every number :func:`_pose_fields` names is finite and within :data:`MAX_COORDINATE`
+    (the common case, without its dict; NaN fails every comparison)."""
+    def ok(v) -> bool:
+        return -MAX_COORDINATE <= v <= MAX_COORDINATE
+
+    if msgtype == "geometry_msgs/msg/PoseStamped":
+        pose = msg.pose
+    elif msgtype == "nav_msgs/msg/Odometry":
+        pose = msg.pose.pose
+    else:
+        return all(ok(v) for v in _pose_fields(msgtype, msg).values())
+    p, q = pose.position, pose.orientation
+    return ok(p.x) and ok(p.y) and ok(q.x) and ok(q.y) and ok(q.z) and ok(q.w)
+
+
 class _Topics:
     """Which topics are robots' poses and parents, and their collectors."""
 
     def __init__(self, path: str, topics: Mapping[str, str], pose_pattern: str, parent_pattern: str | None,
-                 parent_given: bool, time: str) -> None:
-        self.path, self.time = path, time
+                 parent_given: bool, time: str, progress=None) -> None:
+        self.path, self.time, self.progress = path, time, progress
+        if not topics:
+            raise InputFileError("the log is empty: it has no topic (no message)", file=path,
+                                 fix="record the robots' poses, one topic per robot")
         pose_re = topic_regex(pose_pattern, "--topics")
         parent_re = topic_regex(parent_pattern, "--parent-topics") if parent_pattern else None
         self.kind: dict[str, tuple[str, int, str]] = {}      # topic -> (pose|parent, id, msgtype)
@@ -392,12 +463,15 @@ class _Topics:
                                          f"which swarmproof does not read as a {what}", file=path, field=topic,
                                          fix=f"record the {what} as one of {list(types)}, or narrow {opt}")
                 rid = int(m.group("id"))
+                if rid > MAX_ID:
+                    raise InputFileError(f"topic {topic!r}: robot id {m.group('id')} is not in 0..{MAX_ID}", file=path,
+                                         field=topic, fix="name each robot by a non-negative integer id")
                 if (what, rid) in seen:
                     raise InputFileError(f"robot id {rid} has two {what} topics: {seen[(what, rid)]!r} and {topic!r}",
                                          file=path, field=topic, fix=f"keep one {what} topic per robot id (duplicate robot ids)")
                 seen[(what, rid)] = topic
                 self.kind[topic] = (what, rid, msgtype)
-        self.poses = {rid: _Collector(rid, t, "?", path, "topic") for (w, rid), t in seen.items() if w == "pose"}
+        self.poses = {rid: _Collector(rid, t, "?", path, "topic", 3) for (w, rid), t in seen.items() if w == "pose"}
         self.parents = {rid: _Collector(rid, t, "log", path, "topic") for (w, rid), t in seen.items() if w == "parent"}
         if not self.poses:
             raise InputFileError(f"no topic matches --topics={pose_pattern!r}; the log's topics: "
@@ -429,10 +503,11 @@ class _Topics:
         what, rid, msgtype = self.kind[topic]
         k = self.index.get(topic, 0)
         self.index[topic] = k + 1
-        where = f"topic {topic!r} message {k}"
+        where = (topic, k)         # formatted only for an error (_where_text)
         if what == "pose":
             t, xyt, source = _pose_sample(msgtype, msg, log_ns, self.time)
-            _finite(_pose_fields(msgtype, msg), where, self.path)
+            if not _pose_finite(msgtype, msg):
+                _finite(_pose_fields(msgtype, msg), _where_text(where), self.path)
             c = self.poses[rid]
             c.time_source = source
             c.add(t, xyt, where)
@@ -442,6 +517,8 @@ class _Topics:
         self.count += 1
         if self.count > MAX_SAMPLES:
             _check_size(self.count, self.path)
+        if self.progress is not None and not self.count % 50_000:
+            self.progress(f"decoded {self.count} messages")
 
     def log(self, fmt: str) -> RecordedLog:
         empty = sorted(r for r, c in self.poses.items() if not c.t)
@@ -456,7 +533,8 @@ class _Topics:
                            _parents_from(self.parents) if self.parents else None, [])
 
 
-def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str):
+def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str,
+                  progress=None):
     try:
         from rosbags.rosbag2 import Reader
         from rosbags.typesys import Stores, get_typestore
@@ -466,12 +544,12 @@ def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, pare
         reader = Reader(path)
         reader.open()
     except Exception as exc:  # noqa: BLE001 - the library's error names what is wrong with the bag
-        raise InputFileError(f"the rosbag2 bag cannot be opened ({type(exc).__name__}: {exc})", file=path,
+        raise InputFileError(f"the rosbag2 bag cannot be opened ({type(exc).__name__}: {_one_line(exc)})", file=path,
                              fix="check that the bag is complete (metadata.yaml and its storage files)") from None
     try:
         storage = "mcap" if any(f.endswith(".mcap") for f in os.listdir(path)) else "sqlite3"
         topics = {c.topic: c.msgtype for c in reader.connections}
-        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time)
+        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time, progress)
         typestore = get_typestore(Stores.ROS2_HUMBLE)
         conns = [c for c in reader.connections if c.topic in sel.kind]
         for c in conns:
@@ -484,14 +562,71 @@ def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, pare
             raise
         except Exception as exc:  # noqa: BLE001 - a truncated or corrupt storage file
             raise InputFileError(f"the rosbag2 bag cannot be read past message {sum(sel.index.values())} "
-                                 f"({type(exc).__name__}: {exc})", file=path,
+                                 f"({type(exc).__name__}: {_one_line(exc)})", file=path,
                                  fix="the bag is truncated or corrupt: record it again, or repair it (ros2 bag reindex)") from None
+        _check_complete(path, storage, conns, sel)
         return sel.log(f"rosbag2-{storage}")
     finally:
         try:
             reader.close()
         except Exception:  # noqa: BLE001
             pass
+
+
+def _check_complete(path: str, storage: str, conns, sel) -> None:
+    """A bag whose storage lost bytes may still read (SQLite fills a cut page with zeros): the
+    messages read must be the ones metadata.yaml counts, and a sqlite3 file must pass SQLite's
+    own ``PRAGMA quick_check``."""
+    for c in conns:
+        want, got = getattr(c, "msgcount", None), sel.index.get(c.topic, 0)
+        if isinstance(want, int) and want != got:
+            raise InputFileError(f"topic {c.topic!r}: {got} messages read, metadata.yaml counts {want}", file=path,
+                                 field=c.topic, fix="the bag is truncated or corrupt: record it again, or repair it "
+                                                    "(ros2 bag reindex)")
+    if storage != "sqlite3":
+        return
+    import sqlite3
+
+    for name in sorted(os.listdir(path)):
+        if not name.endswith(".db3"):
+            continue
+        db = os.path.join(path, name)
+        short = _sqlite_short(db)
+        if short:
+            raise InputFileError(f"the storage file {name!r} is cut short: {short}", file=path, field=name,
+                                 fix="the bag is truncated: record it again, or recover what is left (ros2 bag reindex)")
+        try:
+            con = sqlite3.connect(f"file:{db}?mode=ro", uri=True)
+            try:
+                ok = con.execute("PRAGMA quick_check").fetchone()[0]
+            finally:
+                con.close()
+        except sqlite3.Error as exc:
+            ok = str(exc)
+        if ok != "ok":
+            raise InputFileError(f"the storage file {name!r} fails SQLite's integrity check ({_one_line(ok)})", file=path,
+                                 field=name, fix="the bag is truncated or corrupt: record it again, or repair it "
+                                                 "(ros2 bag reindex)")
+
+
+def _sqlite_short(db: str) -> str | None:
+    """Why a SQLite file is shorter than its header says (a cut file), or None.  The header's page
+    size (offset 16) times its page count (offset 28, valid when offset 92 equals the change counter
+    at 24) is the file's size; SQLite itself reads a missing tail as zeros."""
+    try:
+        with open(db, "rb") as fh:
+            head = fh.read(100)
+        size = os.path.getsize(db)
+    except OSError as exc:
+        return f"it cannot be read ({exc.strerror})"
+    if len(head) < 100 or not head.startswith(b"SQLite format 3\x00"):
+        return "it has no SQLite header"
+    page = int.from_bytes(head[16:18], "big")
+    page = 65536 if page == 1 else page
+    count = int.from_bytes(head[28:32], "big")
+    if head[92:96] == head[24:28] and count and size < page * count:
+        return f"{size} bytes, its header says {page * count} ({count} pages of {page})"
+    return None
 
 
 def _msgdefs_of(conn, typestore) -> dict:
@@ -514,9 +649,43 @@ def _decode(typestore, raw, msgtype: str, path: str, topic: str, index: int):
                              fix="the message is corrupt, or its type is not the one the bag declares") from None
 
 
-def _read_mcap(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str):
+_MCAP_MAGIC = b"\x89MCAP0\r\n"
+_MCAP_FIX = "the file is truncated or corrupt: record it again, or recover it with `mcap recover`"
+
+
+def _mcap_records(fh, path: str, summary):
+    """``(schema, channel, message)`` of every message: indexed reading where the file has a
+    summary, else the records in file order (the summary is optional in MCAP)."""
+    from mcap.reader import NonSeekingReader, make_reader
+
+    if summary is not None:
+        return make_reader(fh).iter_messages(log_time_order=True)
+    fh.seek(0)
+    return NonSeekingReader(fh).iter_messages()
+
+
+def _mcap_topics(fh, path: str):
+    """``(topics -> type, summary or None)``: from the summary, else from a pass over the records
+    (a complete file without one); a file that does not end in MCAP's magic is truncated."""
+    from mcap.reader import NonSeekingReader, make_reader
+
+    summary = make_reader(fh).get_summary()
+    if summary is not None:
+        return {ch.topic: _ros2_type(summary.schemas[ch.schema_id].name if ch.schema_id in summary.schemas else "")
+                for ch in summary.channels.values()}, summary
+    fh.seek(-len(_MCAP_MAGIC), os.SEEK_END)
+    if fh.read() != _MCAP_MAGIC:
+        raise ValueError("it does not end with MCAP's magic bytes: truncated, or never closed")
+    fh.seek(0)
+    topics = {}
+    for schema, channel, _ in NonSeekingReader(fh).iter_messages():
+        topics.setdefault(channel.topic, _ros2_type(schema.name if schema is not None else ""))
+    return topics, None
+
+
+def _read_mcap(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str,
+               progress=None):
     try:
-        from mcap.reader import make_reader
         from mcap_ros2.decoder import DecoderFactory
     except ImportError:
         _ros_import("an MCAP file", path)
@@ -526,33 +695,46 @@ def _read_mcap(path: str, pose_pattern: str, parent_pattern: str | None, parent_
         raise InputFileError(f"log={path!r} cannot be opened ({exc.strerror})", file=path, fix="check the path") from None
     with fh:
         try:
-            reader = make_reader(fh, decoder_factories=[DecoderFactory()])
-            summary = reader.get_summary()
-            if summary is None:
-                raise ValueError("no summary section (the file is truncated, or was not closed)")
-            topics = {}
-            for ch in summary.channels.values():
-                schema = summary.schemas.get(ch.schema_id)
-                topics[ch.topic] = _ros2_type(schema.name if schema is not None else "")
-        except InputFileError:
-            raise
-        except Exception as exc:  # noqa: BLE001
-            raise InputFileError(f"the MCAP file cannot be opened ({type(exc).__name__}: {exc})", file=path,
-                                 fix="the file is truncated or corrupt: record it again, or recover it with "
-                                     "`mcap recover`") from None
-        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time)
+            topics, summary = _mcap_topics(fh, path)
+        except Exception as exc:  # noqa: BLE001 - the library's words for what is wrong with the file
+            raise InputFileError(f"the MCAP file cannot be opened ({type(exc).__name__}: {_one_line(exc)})",
+                                 file=path, fix=_MCAP_FIX) from None
+        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time, progress)
+        factory, decoders = DecoderFactory(), {}
         try:
-            for schema, channel, message, decoded in reader.iter_decoded_messages(topics=sel.wanted(),
-                                                                                    log_time_order=True):
-                sel.add(channel.topic, decoded, int(message.log_time))
+            fh.seek(0)
+            for schema, channel, message in _mcap_records(fh, path, summary):
+                topic = channel.topic
+                if topic not in sel.kind:
+                    continue
+                key = channel.schema_id
+                dec = decoders.get(key)
+                if dec is None:
+                    dec = decoders[key] = factory.decoder_for(channel.message_encoding, schema)
+                index = sel.index.get(topic, 0)
+                if dec is None:
+                    raise InputFileError(f"topic {topic!r} message {index}: encoding {channel.message_encoding!r} of "
+                                         f"{schema.name if schema else 'no schema'} cannot be decoded", file=path,
+                                         field=f"{topic}[{index}]", fix="record ROS 2 messages (cdr, ros2msg schemas)")
+                try:
+                    msg = dec(message.data)
+                except Exception as exc:  # noqa: BLE001
+                    raise InputFileError(f"topic {topic!r} message {index} cannot be decoded as {topics[topic]} "
+                                         f"({type(exc).__name__}: {_one_line(exc)})", file=path,
+                                         field=f"{topic}[{index}]",
+                                         fix="the message is corrupt, or its type is not the one its schema declares") from None
+                sel.add(topic, msg, int(message.log_time))
         except InputFileError:
             raise
         except Exception as exc:  # noqa: BLE001
             raise InputFileError(f"the MCAP file cannot be read past message {sum(sel.index.values())} "
-                                 f"({type(exc).__name__}: {exc})", file=path,
-                                 fix="the file is truncated or corrupt: record it again, or recover it with "
-                                     "`mcap recover`") from None
+                                 f"({type(exc).__name__}: {_one_line(exc)})", file=path, fix=_MCAP_FIX) from None
     return sel.log("mcap")
+
+
+def _one_line(exc) -> str:
+    """An exception's text on one line (a library's may span several)."""
+    return " ".join(str(exc).split())[:300]
 
 
 def _ros2_type(name: str) -> str:
@@ -561,7 +743,8 @@ def _ros2_type(name: str) -> str:
     return f"{parts[0]}/msg/{parts[1]}" if len(parts) == 2 else name
 
 
-def read_log(path, *, topics: str | None = None, parent_topics: str | None = None, time: str = "header") -> RecordedLog:
+def read_log(path, *, topics: str | None = None, parent_topics: str | None = None, time: str | None = None,
+             progress=None) -> RecordedLog:
     """Read a recorded run (CSV, MCAP or a rosbag2 bag's folder) into samples.
 
     Parameters
@@ -571,23 +754,25 @@ def read_log(path, *, topics: str | None = None, parent_topics: str | None = Non
         The robots' pose topics, with ``{id}`` (bags only; default ``/robot_{id}/pose``).
     parent_topics : str, optional
         Their parent topics (bags only; default ``/robot_{id}/parent``, used when present).
-    time : ``"header"`` or ``"log"``
-        Which time a pose message is placed at (bags; CSV has its own ``t``).
+    time : ``"header"`` (the default) or ``"log"``
+        Which time a pose message is placed at (bags; CSV has its own ``t``, and refuses it).
+    progress : callable, optional
+        Called with a short text every 100,000 CSV rows or 50,000 bag messages (a terminal's status line).
     """
-    if time not in ("header", "log"):
+    if time not in (None, "header", "log"):
         raise UsageError(f"--time={time!r} is not one of ['header', 'log']",
                          fix="header: the messages' header stamps (where they have one); log: the log times")
     path = os.fspath(path)
     fmt = log_format(path)
     if fmt == "csv":
-        if topics is not None or parent_topics is not None:
-            raise UsageError("--topics and --parent-topics name topics of a bag; a CSV log has columns",
+        if topics is not None or parent_topics is not None or time is not None:
+            raise UsageError("--topics, --parent-topics and --time are a bag's; a CSV log has columns and its own t",
                              fix="leave them out for a CSV log (columns t,id,x,y,theta[,parent])")
-        return _read_csv(path)
+        return _read_csv(path, progress)
     pose = topics or DEFAULT_POSE_TOPICS
     parent = parent_topics or DEFAULT_PARENT_TOPICS
     reader = _read_mcap if fmt == "mcap" else _read_rosbag2
-    return reader(path, pose, parent, parent_topics is not None, time)
+    return reader(path, pose, parent, parent_topics is not None, time or "header", progress)
 
 
 # ----------------------------------------------------------------------------

@@ -44,7 +44,7 @@ def add_arguments(p) -> None:
     p.add_argument("--parent-topics", metavar="PATTERN",
                    help=f"bags: the robots' parent topics, std_msgs/msg/Int32, -1 none (default "
                         f"{DEFAULT_PARENT_TOPICS!r}, when present)")
-    p.add_argument("--time", choices=("header", "log"), default="header",
+    p.add_argument("--time", choices=("header", "log"), default=None,
                    help="bags: place a pose at its header stamp (default; log time for types without a header) "
                         "or at its log time")
     p.add_argument("--period", type=float, metavar="SECONDS",
@@ -70,6 +70,7 @@ def report_document(rep, *, claims=None) -> dict:
     for name, r in rep.results.items():
         d = r.as_dict()
         d["tolerance_sensitive"] = rep.sensitive.get(name)
+        d["judged_at"] = _judged_at(rep, name)
         d["decides"] = claims is None or claims.get(name) is not None
         props[name] = d
     log = rep.log
@@ -84,6 +85,18 @@ def report_document(rep, *, claims=None) -> dict:
         "properties": props, "not_applicable": rep.not_applicable, "notes": list(log.notes),
         "verdict": overall(rep, claims), "exit_code": exit_code(rep, claims),
     }
+
+
+def _judged_at(rep, name: str) -> dict:
+    """The thresholds a property's verdict used, with their margins (stated in every verdict)."""
+    from swarmproof.checkers.recorded import TOLERANCE_KNOBS
+
+    knob = TOLERANCE_KNOBS.get(name, ("",))[0]
+    if knob == "range":
+        return {"range": rep.phi, "margin": rep.tolerance["range_margin"], "pos_tol": rep.tolerance["pos_tol"]}
+    if knob == "radius":
+        return {"radius": rep.radius, "margin": rep.tolerance["collision_margin"], "pos_tol": rep.tolerance["pos_tol"]}
+    return {"pos_tol": rep.tolerance["pos_tol"]}
 
 
 def overall(rep, claims=None) -> str:
@@ -102,17 +115,22 @@ def exit_code(rep, claims=None) -> int:
 
 
 def _lines(rep, doc, claims) -> list:
+    from swarmproof.checkers.recorded import fmt_s
+
     c = doc["clock"]
     lines = [f"{doc['file']}: {doc['format']}, {doc['robots']} robots, {doc['samples']} pose samples"
              + ("" if doc["has_parents"] else ", no parent links"),
-             f"clock: {c['time']} time, every {c['period_s']:g} s from {c['start_s']:g} s to {c['end_s']:g} s "
-             f"({c['instants']} instants, {c['judged_instants']} judged; a pose older than {c['stale_s']:g} s is stale; "
+             f"clock: {c['time']} time, every {fmt_s(c['period_s'])} s from {fmt_s(c['start_s'])} s to {fmt_s(c['end_s'])} s "
+             f"({c['instants']} instants, {c['judged_instants']} judged; a pose older than {fmt_s(c['stale_s'])} s is stale; "
              "sample and hold)",
              f"range {doc['range']:g}, radius {doc['radius']:g}; tolerance: position {doc['tolerance']['pos_tol']:g}, "
              f"range margin {doc['tolerance']['range_margin']:g}, collision margin {doc['tolerance']['collision_margin']:g}"]
     for name, r in rep.results.items():
         mark = "" if claims is None or claims.get(name) is not None else "*"
         sens = "  [depends on the tolerance]" if rep.sensitive.get(name) else ""
+        at = doc["properties"][name]["judged_at"]
+        if "margin" in at and at["margin"]:
+            sens += f"  ({'range' if 'range' in at else 'radius'} {at.get('range', at.get('radius')):g} +- {at['margin']:g})"
         lines.append(f"  {name}{mark}: {r.status.upper()}: {r.message}{sens}")
     for name, why in rep.not_applicable.items():
         lines.append(f"  {name}: not applicable ({why})")
@@ -126,11 +144,21 @@ def _lines(rep, doc, claims) -> list:
 def run(args) -> int:
     from swarmproof.checkers.recorded import judge_log
 
-    rep, claims = judge_log(args.file, range=args.range_, target=args.target, algorithm=args.algorithm,
-                            properties=args.property, topics=args.topics, parent_topics=args.parent_topics,
-                            time=args.time, radius=args.radius, pos_tol=args.pos_tol, range_margin=args.range_margin,
-                            collision_margin=args.collision_margin, period=args.period, stale=args.stale, v=args.v,
-                            static_window=args.static_window, keep_frames=GIF_FRAMES if (args.plot or args.gif) else 0)
+    import sys
+
+    from swarmproof.commands import StatusLine
+
+    progress = StatusLine(sys.stderr, "check-run") if sys.stderr.isatty() else None   # a long log on a terminal
+    try:
+        rep, claims = judge_log(args.file, range=args.range_, target=args.target, algorithm=args.algorithm,
+                                properties=args.property, topics=args.topics, parent_topics=args.parent_topics,
+                                time=args.time, radius=args.radius, pos_tol=args.pos_tol,
+                                range_margin=args.range_margin, collision_margin=args.collision_margin,
+                                period=args.period, stale=args.stale, v=args.v, static_window=args.static_window,
+                                keep_frames=GIF_FRAMES if (args.plot or args.gif) else 0, progress=progress)
+    finally:
+        if progress is not None:
+            progress.clear()
     doc = report_document(rep, claims=claims)
     if args.plot is not None:
         from swarmproof.checkers.recorded_plot import plot_recorded
