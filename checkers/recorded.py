@@ -165,7 +165,17 @@ def _logged_parent(p) -> _Logged:
     return _Logged((("parent", p),))
 
 
-def _states(parents: Sequence | None, n: int) -> _States:
+def _states(parents: Sequence | None, n: int, log: RecordedLog | None = None, sidx=None) -> _States:
+    """The states of one instant: with logged controller states (``log.states``, ``sidx`` each robot's
+    index of its latest state sample, -1 none yet) those states, whole; else the parents only."""
+    if sidx is not None:
+        from swarmproof.invariants.result import state_value
+
+        ids = sorted(log.states)
+        got = [log.states[rid].values[i] if i >= 0 else None for rid, i in zip(ids, sidx.tolist())]
+        s = _States(got)
+        s.parents = [state_value(st, "parent") for st in got]
+        return s
     if parents is None:
         s = _States((_EMPTY,) * n)
         s.parents = [None] * n
@@ -178,10 +188,11 @@ def _states(parents: Sequence | None, n: int) -> _States:
 
 
 def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterator:
-    """``(k, poses (n x 3), parents (n,) int or None, fresh (n,) bool, present (n,) bool)`` at every
-    instant, in order (present: the robot has reported by then -- before its first sample a robot is
-    not in the swarm yet, as a robot the engine adds later; fresh: present and its pose no older
-    than the staleness bound),
+    """``(k, poses (n x 3), parents (n,) int or None, fresh (n,) bool, present (n,) bool, sidx (n,)
+    int or None)`` at every instant, in order (present: the robot has reported by then -- before its
+    first sample a robot is not in the swarm yet, as a robot the engine adds later; fresh: present
+    and its pose no older than the staleness bound; sidx: with logged states, each robot's latest
+    state sample, -1 none yet -- a state, like a parent, holds until it changes),
     ``chunk`` instants computed at a time (memory stays bounded by the chunk)."""
     ids = sorted(log.robots)
     n = len(ids)
@@ -192,6 +203,7 @@ def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterat
         fresh = np.empty((k1 - k0, n), dtype=bool)
         present = np.empty((k1 - k0, n), dtype=bool)
         pars = np.full((k1 - k0, n), -1, dtype=np.int64) if log.parents is not None else None
+        sidx = np.full((k1 - k0, n), -1, dtype=np.int64) if log.states is not None else None
         for j, rid in enumerate(ids):
             r = log.robots[rid]
             idx = np.searchsorted(r.t, grid, side="right") - 1
@@ -204,8 +216,11 @@ def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterat
                 p = log.parents[rid]
                 pi = np.searchsorted(p.t, grid, side="right") - 1
                 pars[:, j] = np.where(pi >= 0, p.parent[np.maximum(pi, 0)], -1)
+            if sidx is not None:
+                sidx[:, j] = np.searchsorted(log.states[rid].t, grid, side="right") - 1
         for i in range(k1 - k0):
-            yield k0 + i, poses[i], (None if pars is None else pars[i]), fresh[i], present[i]
+            yield (k0 + i, poses[i], (None if pars is None else pars[i]), fresh[i], present[i],
+                   (None if sidx is None else sidx[i]))
 
 
 # ----------------------------------------------------------------------------
@@ -217,7 +232,7 @@ class _Recorded:
     when the log has parents, and -- with ``--algorithm`` -- that algorithm's name, satisfaction
     tolerance and lemma premise monitors (judged on what the log holds)."""
 
-    def __init__(self, algorithm, has_parent: bool) -> None:
+    def __init__(self, algorithm, has_parent: bool, has_states: bool = False) -> None:
         from swarmproof.reference_impl.protocol import RobotModel
 
         # the algorithm's model: its communication (a complete graph has no range graph to split) and
@@ -225,8 +240,14 @@ class _Recorded:
         self.model = getattr(algorithm, "model", None) or RobotModel(communication="neighbors")
         self.state_fields = ("parent",) if has_parent else ()
         self.name = getattr(algorithm, "name", None) or "recorded run"
+        self.has_states = has_states
+        attrs = ("satisfaction_tol", "premise_monitors", "tree_link_mode")
+        if has_states:
+            # the log holds the controllers' states: everything the algorithm declares over them
+            attrs += ("state_fields", "invariants", "completion_invariants", "properties", "progress_measure",
+                      "randomized")
         if algorithm is not None:
-            for attr in ("satisfaction_tol", "premise_monitors", "tree_link_mode"):
+            for attr in attrs:
                 if getattr(algorithm, attr, None) is not None:
                     setattr(self, attr, getattr(algorithm, attr))
 
@@ -255,10 +276,13 @@ _NEEDS_TARGET = ("formation", "deadlock", "oscillation")
 
 
 def _not_applicable(prop, stand_in, target, log: RecordedLog, algorithm) -> str | None:
-    if prop.name in _NEVER:
+    if prop.name in _NEVER and (log.states is None or prop.name == "no_crash"):
         return _NEVER[prop.name]
-    if prop.own:
+    if prop.own and log.states is None:
         return f"{prop.name} is an algorithm's own property: it reads controller states a log does not hold"
+    if prop.name in ("invariants", "completion_sound") and algorithm is None:
+        what = "runtime invariants" if prop.name == "invariants" else "completion invariants"
+        return f"no algorithm given (--algorithm): {prop.name} judges the {what} an algorithm declares"
     if prop.name in _NEEDS_TARGET and target is None:
         return ("no target given (--target): " + ("the final formation is judged against one" if prop.name == "formation"
                 else "a swarm at rest cannot be told from a swarm at its goal without one"))
@@ -303,7 +327,7 @@ def _window_runs(log: RecordedLog, clock: Clock):
     ids = sorted(log.robots)
     cur = None
     gap = None
-    for k, _, _, fresh, present in aligned_frames(log, clock):
+    for k, _, _, fresh, present, _ in aligned_frames(log, clock):
         if (fresh | ~present).all():
             if gap is not None:
                 gaps.append(gap)
@@ -390,6 +414,10 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     default ``pos_tol``); ``keep_frames`` keeps about that many instants for pictures.
     """
     names = list(properties if properties is not None else [p.name for p in registered_properties() if not p.own])
+    if properties is None and algorithm is not None and log.states is not None:
+        from swarmproof.invariants.registry import own_properties_of
+
+        names += [n for n in own_properties_of(algorithm) if n not in names]   # its own, over the logged states
     for name, val in (("--range", phi), ("--pos-tol", pos_tol)):
         if not (isinstance(val, (int, float)) and math.isfinite(val) and (val > 0 if name == "--range" else val >= 0)):
             raise UsageError(f"{name}={val!r} must be a finite {'positive' if name == '--range' else 'non-negative'} number")
@@ -402,7 +430,7 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     for name, val in (("--range-margin", rm), ("--collision-margin", cm), ("--radius", radius)):
         if not (math.isfinite(val) and val >= 0):
             raise UsageError(f"{name}={val!r} must be a finite non-negative number")
-    stand_in = _Recorded(algorithm, log.parents is not None)
+    stand_in = _Recorded(algorithm, log.parents is not None or log.states is not None, log.states is not None)
     late = [(rid, r.t[0]) for rid, r in sorted(log.robots.items()) if int(r.t[0]) - clock.start_ns > clock.stale_ns]
     if late:
         note = ("robots that first report later than the staleness bound after the log's start, in the swarm only "
@@ -488,7 +516,7 @@ def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, tar
     win = next(win_iter, None)
     mons = None
     final = None
-    for k, poses, pars, fresh, present in aligned_frames(log, clock):
+    for k, poses, pars, fresh, present, sidx in aligned_frames(log, clock):
         if progress is not None and not k % 10_000:
             progress(f"judged {k} of {clock.instants} instants")
         if every and (k % every == 0 or k == clock.instants - 1):
@@ -500,14 +528,14 @@ def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, tar
             continue
         if mons is None:
             mons = judge.monitors()
-        states = _states(pars, n)
+        states = _states(pars, n, log, sidx)
         for _, _, ob in mons:
             ob.observe(k, poses, states, present)
         if k == win[1] - 1:
             result = _Result("static" if k - last_move >= static_k else "step_cap", k, None, static_k,
                              np.asarray(ids), poses.copy())
             _close_window(mons, per_key, win, windows, target, params, options_of, stand_in, result, poses, ids, phi)
-            final = (k, poses.copy(), pars, result)
+            final = (k, poses.copy(), states, result)
             mons = None
             win = next(win_iter, None)
     return per_key, frames_kept, final
@@ -579,11 +607,13 @@ def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_
         return InvariantResult(prop.name, "inconclusive", prop.cites, None,
                                f"the log's last instant ({fmt_s(clock.seconds(clock.instants - 1))} s) is not judged: "
                                "some robot had no fresh sample there")
-    k, poses, pars, result = final
+    k, poses, states, result = final
     n = len(ids)
     frames = 2 if k else 1
-    trace = Trace(ids=np.asarray(ids), poses=np.stack([poses] * frames), states=[_states(pars, n)] * frames,
-                  times=[0, k] if k else None, meta={"status": result.status})
+    trace = Trace(ids=np.asarray(ids), poses=np.stack([poses] * frames), states=[states] * frames,
+                  times=[0, k] if k else None,
+                  meta={"status": result.status, "params": {"range": params.range, "v": params.v, "dt": params.dt,
+                                                            "extra": dict(params.extra or {})}})
     ctx = PropertyContext(stand_in, target, params, result, options)
     res = prop.check(trace, ctx)
     if prop.name == "termination":
@@ -626,7 +656,7 @@ def _radius_of(radius, algorithm, phi):
 
 
 def judge_log(path, *, range=None, target=None, algorithm=None, properties=None, topics=None,  # noqa: A002
-              parent_topics=None, time=None, keep_frames: int = 0, progress=None, **options):
+              parent_topics=None, time=None, keep_frames: int = 0, progress=None, state_topics=None, **options):
     """Read and judge one log as ``swarmproof check-run`` does (the command and verify's
     ``recorded`` rows share it): ``target`` and ``algorithm`` by name, the range from ``range`` or
     the lattice target, the radius from ``radius`` or the algorithm's ``robot_radius``; the other
@@ -650,7 +680,8 @@ def judge_log(path, *, range=None, target=None, algorithm=None, properties=None,
     phi = _phi_of(range, tgt) if range is not None or tgt is not None else None
     if phi is None:
         _phi_of(None, None)            # the range is needed: refused before the log is read
-    log = read_log(path, topics=topics, parent_topics=parent_topics, time=time, progress=progress)
+    log = read_log(path, topics=topics, parent_topics=parent_topics, time=time, progress=progress,
+                   state_topics=state_topics)
     algo = None
     if spec is not None:
         # as simulate builds it for the team (song2016's timeouts are n), and the target it runs

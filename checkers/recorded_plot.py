@@ -45,7 +45,7 @@ def _frame_at(rep, k: int):
     from dataclasses import replace
 
     clock = replace(rep.clock, start_ns=rep.clock.start_ns + k * rep.clock.period_ns, instants=1)
-    for _, poses, pars, fresh, present in aligned_frames(rep.log, clock, chunk=1):
+    for _, poses, pars, fresh, present, _ in aligned_frames(rep.log, clock, chunk=1):
         return poses.copy(), None if pars is None else pars.copy(), fresh.copy(), present.copy()
 
 

@@ -21,7 +21,7 @@ __all__ = ["recorded_cells", "check_run_command"]
 
 _STATUS = {"held": Verdict.HELD, "violated": Verdict.VIOLATED, "inconclusive": Verdict.INCONCLUSIVE}
 _OPTION = {"range": "--range", "target": "--target", "algorithm": "--algorithm", "topics": "--topics",
-           "parent_topics": "--parent-topics", "time": "--time", "period": "--period", "stale": "--stale",
+           "parent_topics": "--parent-topics", "state_topics": "--state-topics", "time": "--time", "period": "--period", "stale": "--stale",
            "pos_tol": "--pos-tol", "range_margin": "--range-margin", "collision_margin": "--collision-margin",
            "radius": "--radius", "static_window": "--static-window", "v": "--v"}
 
@@ -67,6 +67,7 @@ def recorded_cells(*, folders=None, progress=None) -> list:
                                     range=opts.pop("range", None), target=opts.pop("target", None),
                                     algorithm=opts.pop("algorithm", None), topics=opts.pop("topics", None),
                                     parent_topics=opts.pop("parent_topics", None), time=opts.pop("time", None),
+                                    state_topics=opts.pop("state_topics", None),
                                     **opts)
             subject = f"recorded {run.name}"
             clock = rep.clock

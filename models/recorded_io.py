@@ -58,15 +58,18 @@ from .errors import InputFileError, UsageError
 from .fileio import _umask, atomic_write_bytes, atomic_write_text
 
 __all__ = ["RobotSamples", "ParentSamples", "RecordedLog", "read_log", "log_format", "topic_regex",
-           "POSE_TYPES", "PARENT_TYPES", "DEFAULT_POSE_TOPICS", "DEFAULT_PARENT_TOPICS", "INSTALL_ROS",
+           "POSE_TYPES", "PARENT_TYPES", "STATE_TYPES", "DEFAULT_POSE_TOPICS", "DEFAULT_PARENT_TOPICS",
+           "DEFAULT_STATE_TOPICS", "StateSamples", "INSTALL_ROS",
            "write_log", "EXPORT_FORMATS", "MAX_SAMPLES", "MAX_TIME_S", "MAX_COORDINATE", "MAX_ID", "yaw_of", "quaternion_of"]
 
 #: The install command of the optional bag readers and writers.
 INSTALL_ROS = "pip install 'swarmproof[ros]'  (rosbags, mcap, mcap-ros2-support)"
 DEFAULT_POSE_TOPICS = "/robot_{id}/pose"
 DEFAULT_PARENT_TOPICS = "/robot_{id}/parent"
+DEFAULT_STATE_TOPICS = "/robot_{id}/state"
 POSE_TYPES = ("geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/Pose2D", "nav_msgs/msg/Odometry")
 PARENT_TYPES = ("std_msgs/msg/Int32", "std_msgs/msg/Int64")
+STATE_TYPES = ("std_msgs/msg/String",)
 #: Largest |t| in seconds (nanoseconds must fit int64: epoch times of 2026 are 1.8e9 s), largest
 #: |x|, |y|, |theta|, largest robot id.
 MAX_TIME_S = 4.0e9
@@ -102,6 +105,17 @@ class ParentSamples:
 
 
 @dataclass
+class StateSamples:
+    """One robot's controller states as logged: ``t`` (int64 ns, increasing) and ``values`` (the
+    states in the trace's JSON form turned back into tuples, :func:`~swarmproof.models.trace.from_jsonable`)."""
+
+    id: int
+    t: np.ndarray
+    values: list
+    source: str
+
+
+@dataclass
 class RecordedLog:
     """A recorded run as samples: ``robots`` id -> :class:`RobotSamples`, ``parents`` id ->
     :class:`ParentSamples` (None when the log has no parent links), the ``format``
@@ -113,6 +127,7 @@ class RecordedLog:
     robots: dict
     parents: dict | None
     notes: list = field(default_factory=list)
+    states: dict | None = None
 
     @property
     def samples(self) -> int:
@@ -272,6 +287,29 @@ def _parents_from(collectors: Mapping[int, _Collector]) -> dict:
     return out
 
 
+def _states_from(collectors: Mapping[int, _Collector]) -> dict:
+    out = {}
+    for rid, c in sorted(collectors.items()):
+        out[rid] = StateSamples(rid, np.array(c.t, dtype=np.int64), list(c.v), c.source)
+        c.t = c.v = None
+    return out
+
+
+def _parse_state(text, where: str, path: str, line: int | None, fieldname: str):
+    """A logged controller state: JSON text in the trace's form (``[["parent", 3], ...]`` or an
+    object), turned back into tuples as a loaded trace's states are."""
+    import json
+
+    from .trace import from_jsonable
+
+    try:
+        return from_jsonable(json.loads(text))
+    except (TypeError, ValueError) as exc:
+        raise InputFileError(("" if line is not None else f"{where}: ") + f"the state is not JSON ({_one_line(exc)})",
+                             file=path, line=line, field=fieldname,
+                             fix="log the controller state as JSON text, e.g. [[\"parent\", 3], [\"stable\", true]]") from None
+
+
 def _check_size(count: int, path: str) -> None:
     if count > MAX_SAMPLES:
         raise InputFileError(f"the log holds more than {MAX_SAMPLES} samples (max_samples={MAX_SAMPLES})", file=path,
@@ -281,6 +319,26 @@ def _check_size(count: int, path: str) -> None:
 # ----------------------------------------------------------------------------
 # CSV
 # ----------------------------------------------------------------------------
+
+def _csv_columns(header: list, path: str, notes: list):
+    """The columns of a CSV's header row: ``(required name -> index, parent index or None, state
+    index or None, the names)``; a missing or repeated column is an error, others are noted."""
+    names = [h.strip().lower() for h in header]
+    missing = [c for c in _CSV_REQUIRED if c not in names]
+    if missing:
+        raise InputFileError(f"the header row {header!r} lacks the column {missing[0]!r}", file=path, line=1,
+                             field=missing[0], fix="name the columns t,id,x,y,theta (and optionally parent, state)")
+    known = _CSV_REQUIRED + ("parent", "state")
+    dup = sorted({n for n in names if names.count(n) > 1 and n in known})
+    if dup:
+        raise InputFileError(f"the header row names the column {dup[0]!r} twice", file=path, line=1, field=dup[0],
+                             fix="keep one column of each name")
+    ignored = [h for h in header if h.strip().lower() not in known]
+    if ignored:
+        notes.append(f"CSV columns ignored: {ignored}")
+    return ({n: names.index(n) for n in _CSV_REQUIRED}, names.index("parent") if "parent" in names else None,
+            names.index("state") if "state" in names else None, names)
+
 
 def _read_csv(path: str, progress=None) -> RecordedLog:
     poses: dict[int, _Collector] = {}
@@ -301,20 +359,8 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
         if header is None:
             raise InputFileError("the log is empty (no header row, no samples)", file=path, line=1,
                                  fix="write a header row t,id,x,y,theta[,parent] and one row per pose sample")
-        names = [h.strip().lower() for h in header]
-        missing = [c for c in _CSV_REQUIRED if c not in names]
-        if missing:
-            raise InputFileError(f"the header row {header!r} lacks the column {missing[0]!r}", file=path, line=1,
-                                 field=missing[0], fix="name the columns t,id,x,y,theta (and optionally parent)")
-        dup = sorted({n for n in names if names.count(n) > 1 and n in _CSV_REQUIRED + ("parent",)})
-        if dup:
-            raise InputFileError(f"the header row names the column {dup[0]!r} twice", file=path, line=1, field=dup[0],
-                                 fix="keep one column of each name")
-        col = {n: names.index(n) for n in _CSV_REQUIRED}
-        pcol = names.index("parent") if "parent" in names else None
-        ignored = [h for h in header if h.strip().lower() not in _CSV_REQUIRED + ("parent",)]
-        if ignored:
-            notes.append(f"CSV columns ignored: {ignored}")
+        col, pcol, scol, names = _csv_columns(header, path, notes)
+        states: dict[int, _Collector] = {}
         width = len(names)
         ti, ii, xi, yi, hi = (col[c] for c in _CSV_REQUIRED)
         line = 1
@@ -363,6 +409,11 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
                     if pc is None:
                         pc = parents[rid] = _Collector(rid, "csv", "csv", path, "csv")
                     pc.add(t_ns, -1 if par < 0 else par, line, line)
+                if scol is not None and row[scol].strip():
+                    sc = states.get(rid)
+                    if sc is None:
+                        sc = states[rid] = _Collector(rid, "csv", "csv", path, "csv")
+                    sc.add(t_ns, _parse_state(row[scol], "", path, line, "state"), line, line)
                 count += 1
                 if count > MAX_SAMPLES:
                     _check_size(count, path)
@@ -377,7 +428,13 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
     if not poses:
         raise InputFileError("the log is empty: a header row and no samples", file=path, line=2,
                              fix="write one row per pose sample: t,id,x,y,theta")
-    return RecordedLog(path, "csv", _robots_from(poses), _parents_from(parents) if pcol is not None else None, notes)
+    if states and set(states) != set(poses):
+        lacking = sorted(set(poses) - set(states))
+        raise InputFileError(f"robot {lacking[0]} has no state in the 'state' column while robots "
+                             f"{sorted(states)[:5]} have one", file=path, field="state",
+                             fix="log every robot's state, or none (leave the column out)")
+    return RecordedLog(path, "csv", _robots_from(poses), _parents_from(parents) if pcol is not None else None, notes,
+                       _states_from(states) if states else None)
 
 
 def _is_float(text: str) -> bool:
@@ -443,18 +500,21 @@ class _Topics:
     """Which topics are robots' poses and parents, and their collectors."""
 
     def __init__(self, path: str, topics: Mapping[str, str], pose_pattern: str, parent_pattern: str | None,
-                 parent_given: bool, time: str, progress=None) -> None:
+                 parent_given: bool, time: str, progress=None, state_pattern: str | None = None,
+                 state_given: bool = False) -> None:
         self.path, self.time, self.progress = path, time, progress
         if not topics:
             raise InputFileError("the log is empty: it has no topic (no message)", file=path,
                                  fix="record the robots' poses, one topic per robot")
         pose_re = topic_regex(pose_pattern, "--topics")
         parent_re = topic_regex(parent_pattern, "--parent-topics") if parent_pattern else None
+        state_re = topic_regex(state_pattern, "--state-topics") if state_pattern else None
         self.kind: dict[str, tuple[str, int, str]] = {}      # topic -> (pose|parent, id, msgtype)
         seen: dict[tuple[str, int], str] = {}
         for topic, msgtype in sorted(topics.items()):
             for what, rx, types, opt in (("pose", pose_re, POSE_TYPES, "--topics"),
-                                         ("parent", parent_re, PARENT_TYPES, "--parent-topics")):
+                                         ("parent", parent_re, PARENT_TYPES, "--parent-topics"),
+                                         ("state", state_re, STATE_TYPES, "--state-topics")):
                 m = rx.match(topic) if rx is not None else None
                 if m is None:
                     continue
@@ -473,26 +533,31 @@ class _Topics:
                 self.kind[topic] = (what, rid, msgtype)
         self.poses = {rid: _Collector(rid, t, "?", path, "topic", 3) for (w, rid), t in seen.items() if w == "pose"}
         self.parents = {rid: _Collector(rid, t, "log", path, "topic") for (w, rid), t in seen.items() if w == "parent"}
+        self.states = {rid: _Collector(rid, t, "log", path, "topic") for (w, rid), t in seen.items() if w == "state"}
         if not self.poses:
             raise InputFileError(f"no topic matches --topics={pose_pattern!r}; the log's topics: "
                                  f"{sorted(topics) or 'none'}", file=path, field="--topics",
                                  fix="give the pattern of the robots' pose topics, e.g. --topics '/robot_{id}/pose'")
-        if parent_given and parent_pattern and not self.parents:
-            raise InputFileError(f"no topic matches --parent-topics={parent_pattern!r}; the log's topics: "
-                                 f"{sorted(topics)}", file=path, field="--parent-topics",
-                                 fix="give the pattern of the parent topics, or leave --parent-topics out")
-        orphans = sorted(set(self.parents) - set(self.poses))
-        if orphans:
-            raise InputFileError(f"robot {orphans[0]} has a parent topic {self.parents[orphans[0]].source!r} but no "
-                                 "pose topic", file=path, field=self.parents[orphans[0]].source,
-                                 fix="record every robot's pose, or check --topics")
-        if self.parents:
-            lacking = sorted(set(self.poses) - set(self.parents))
+        for what, got, pattern, given, default in (("parent", self.parents, parent_pattern, parent_given,
+                                                     DEFAULT_PARENT_TOPICS),
+                                                    ("state", self.states, state_pattern, state_given,
+                                                     DEFAULT_STATE_TOPICS)):
+            if given and pattern and not got:
+                raise InputFileError(f"no topic matches --{what}-topics={pattern!r}; the log's topics: "
+                                     f"{sorted(topics)}", file=path, field=f"--{what}-topics",
+                                     fix=f"give the pattern of the {what} topics, or leave --{what}-topics out")
+            orphans = sorted(set(got) - set(self.poses))
+            if orphans:
+                raise InputFileError(f"robot {orphans[0]} has a {what} topic {got[orphans[0]].source!r} but no "
+                                     "pose topic", file=path, field=got[orphans[0]].source,
+                                     fix="record every robot's pose, or check --topics")
+            lacking = sorted(set(self.poses) - set(got)) if got else []
             if lacking:
-                raise InputFileError(f"robot {lacking[0]} has no parent topic while robots "
-                                     f"{sorted(self.parents)[:5]} have one", file=path,
-                                     field=DEFAULT_PARENT_TOPICS.replace("{id}", str(lacking[0])),
-                                     fix="record every robot's parent (-1 for none), or none at all")
+                raise InputFileError(f"robot {lacking[0]} has no {what} topic while robots "
+                                     f"{sorted(got)[:5]} have one", file=path,
+                                     field=(pattern or default).replace("{id}", str(lacking[0])),
+                                     fix=f"record every robot's {what}" + (" (-1 for none)" if what == "parent" else "")
+                                         + ", or none at all")
         self.index: dict[str, int] = {}
         self.count = 0
 
@@ -511,9 +576,12 @@ class _Topics:
             c = self.poses[rid]
             c.time_source = source
             c.add(t, xyt, where)
-        else:
+        elif what == "parent":
             val = int(msg.data)
             self.parents[rid].add(log_ns, -1 if val < 0 else val, where)
+        else:
+            self.states[rid].add(log_ns, _parse_state(msg.data, _where_text(where), self.path, None,
+                                                      f"{topic}[{k}].data"), where)
         self.count += 1
         if self.count > MAX_SAMPLES:
             _check_size(self.count, self.path)
@@ -530,11 +598,12 @@ class _Topics:
                                  file=self.path, field=self.poses[empty[0]].source,
                                  fix="record every robot's pose, or narrow --topics to the robots that ran")
         return RecordedLog(self.path, fmt, _robots_from(self.poses),
-                           _parents_from(self.parents) if self.parents else None, [])
+                           _parents_from(self.parents) if self.parents else None, [],
+                           _states_from(self.states) if self.states else None)
 
 
 def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str,
-                  progress=None):
+                  progress=None, states=(None, False)):
     try:
         from rosbags.rosbag2 import Reader
         from rosbags.typesys import Stores, get_typestore
@@ -549,7 +618,7 @@ def _read_rosbag2(path: str, pose_pattern: str, parent_pattern: str | None, pare
     try:
         storage = "mcap" if any(f.endswith(".mcap") for f in os.listdir(path)) else "sqlite3"
         topics = {c.topic: c.msgtype for c in reader.connections}
-        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time, progress)
+        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time, progress, *states)
         typestore = get_typestore(Stores.ROS2_HUMBLE)
         conns = [c for c in reader.connections if c.topic in sel.kind]
         for c in conns:
@@ -684,7 +753,7 @@ def _mcap_topics(fh, path: str):
 
 
 def _read_mcap(path: str, pose_pattern: str, parent_pattern: str | None, parent_given: bool, time: str,
-               progress=None):
+               progress=None, states=(None, False)):
     try:
         from mcap_ros2.decoder import DecoderFactory
     except ImportError:
@@ -699,7 +768,7 @@ def _read_mcap(path: str, pose_pattern: str, parent_pattern: str | None, parent_
         except Exception as exc:  # noqa: BLE001 - the library's words for what is wrong with the file
             raise InputFileError(f"the MCAP file cannot be opened ({type(exc).__name__}: {_one_line(exc)})",
                                  file=path, fix=_MCAP_FIX) from None
-        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time, progress)
+        sel = _Topics(path, topics, pose_pattern, parent_pattern, parent_given, time, progress, *states)
         factory, decoders = DecoderFactory(), {}
         try:
             fh.seek(0)
@@ -744,7 +813,7 @@ def _ros2_type(name: str) -> str:
 
 
 def read_log(path, *, topics: str | None = None, parent_topics: str | None = None, time: str | None = None,
-             progress=None) -> RecordedLog:
+             progress=None, state_topics: str | None = None) -> RecordedLog:
     """Read a recorded run (CSV, MCAP or a rosbag2 bag's folder) into samples.
 
     Parameters
@@ -765,14 +834,16 @@ def read_log(path, *, topics: str | None = None, parent_topics: str | None = Non
     path = os.fspath(path)
     fmt = log_format(path)
     if fmt == "csv":
-        if topics is not None or parent_topics is not None or time is not None:
-            raise UsageError("--topics, --parent-topics and --time are a bag's; a CSV log has columns and its own t",
+        if topics is not None or parent_topics is not None or time is not None or state_topics is not None:
+            raise UsageError("--topics, --parent-topics, --state-topics and --time are a bag's; a CSV log has columns "
+                             "and its own t",
                              fix="leave them out for a CSV log (columns t,id,x,y,theta[,parent])")
         return _read_csv(path, progress)
     pose = topics or DEFAULT_POSE_TOPICS
     parent = parent_topics or DEFAULT_PARENT_TOPICS
     reader = _read_mcap if fmt == "mcap" else _read_rosbag2
-    return reader(path, pose, parent, parent_topics is not None, time or "header", progress)
+    return reader(path, pose, parent, parent_topics is not None, time or "header", progress,
+                  (state_topics or DEFAULT_STATE_TOPICS, state_topics is not None))
 
 
 # ----------------------------------------------------------------------------
@@ -797,7 +868,8 @@ def _ros2_msgdefs() -> dict:
 
         ts = get_typestore(Stores.ROS2_HUMBLE)
         _MSGDEFS = {name: ts.generate_msgdef(name, ros_version=2)[0] for name in
-                    ("geometry_msgs/msg/PoseStamped", "std_msgs/msg/Int32", "visualization_msgs/msg/MarkerArray")}
+                    ("geometry_msgs/msg/PoseStamped", "std_msgs/msg/Int32", "std_msgs/msg/String",
+                     "visualization_msgs/msg/MarkerArray")}
     return _MSGDEFS
 
 
@@ -823,10 +895,12 @@ def export_format(dest: str, storage: str | None = None) -> str:
 
 
 def write_log(samples: Iterable, dest: str, *, ids: Iterable[int], has_parent: bool, markers=(),
-              storage: str | None = None) -> str:
+              storage: str | None = None, has_state: bool = False) -> str:
     """Write pose samples as a log; returns the path written.
 
-    ``samples`` yields ``(t_ns, id, x, y, theta, parent)`` in time order (parent None: none);
+    ``samples`` yields ``(t_ns, id, x, y, theta, parent)`` in time order (parent None: none), or
+    ``(t_ns, id, x, y, theta, parent, state)`` with ``has_state`` (state: the controller state as
+    JSON text, written to a CSV's ``state`` column or ``/robot_{id}/state``, ``std_msgs/msg/String``);
     ``markers`` are ``(t_ns, text, [(x, y), ...])``: a violation to show (MCAP and rosbag2 write
     them as a ``visualization_msgs/msg/MarkerArray`` on ``/swarmproof/violation``).  Nothing is
     half-written: a file goes through an atomic rename, a bag's folder too.
@@ -834,12 +908,15 @@ def write_log(samples: Iterable, dest: str, *, ids: Iterable[int], has_parent: b
     fmt = export_format(dest, storage)
     if fmt == "csv":
         out = io.StringIO()
-        out.write("t,id,x,y,theta" + (",parent" if has_parent else "") + "\n")
-        for t_ns, rid, x, y, th, par in samples:
-            row = f"{t_ns / NS!r},{rid},{float(x)!r},{float(y)!r},{float(th)!r}"
+        rows = csv.writer(out, lineterminator="\n")
+        rows.writerow(["t", "id", "x", "y", "theta"] + (["parent"] if has_parent else []) + (["state"] if has_state else []))
+        for t_ns, rid, x, y, th, par, *st in samples:
+            row = [repr(t_ns / NS), str(rid), repr(float(x)), repr(float(y)), repr(float(th))]
             if has_parent:
-                row += "," + ("" if par is None else str(int(par)))
-            out.write(row + "\n")
+                row.append("" if par is None else str(int(par)))
+            if has_state:
+                row.append(st[0] or "")
+            rows.writerow(row)
         return atomic_write_text(dest, out.getvalue())
     try:
         if fmt == "mcap":
@@ -850,8 +927,8 @@ def write_log(samples: Iterable, dest: str, *, ids: Iterable[int], has_parent: b
         _ros_import(f"an {'MCAP file' if fmt == 'mcap' else 'rosbag2 bag'}", dest)
     ids = sorted(int(i) for i in ids)
     if fmt == "mcap":
-        return _write_mcap(samples, dest, ids, has_parent, markers)
-    return _write_rosbag2(samples, dest, ids, has_parent, markers, storage or "sqlite3")
+        return _write_mcap(samples, dest, ids, has_parent, markers, has_state)
+    return _write_rosbag2(samples, dest, ids, has_parent, markers, storage or "sqlite3", has_state)
 
 
 def _pose_dict(t_ns: int, x: float, y: float, th: float) -> dict:
@@ -879,7 +956,7 @@ def _marker_dicts(t_ns: int, text: str, points) -> dict:
     return {"markers": [spheres, label]}
 
 
-def _write_mcap(samples, dest, ids, has_parent, markers) -> str:
+def _write_mcap(samples, dest, ids, has_parent, markers, has_state=False) -> str:
     from mcap_ros2.writer import Writer
 
     defs = _ros2_msgdefs()
@@ -887,8 +964,12 @@ def _write_mcap(samples, dest, ids, has_parent, markers) -> str:
     w = Writer(buf)
     pose_schema = w.register_msgdef("geometry_msgs/msg/PoseStamped", defs["geometry_msgs/msg/PoseStamped"])
     int_schema = w.register_msgdef("std_msgs/msg/Int32", defs["std_msgs/msg/Int32"]) if has_parent else None
+    str_schema = w.register_msgdef("std_msgs/msg/String", defs["std_msgs/msg/String"]) if has_state else None
     seq = 0
-    for t_ns, rid, x, y, th, par in samples:
+    for t_ns, rid, x, y, th, par, *st in samples:
+        if has_state and st and st[0] is not None:
+            w.write_message(DEFAULT_STATE_TOPICS.format(id=rid), str_schema, {"data": st[0]},
+                            log_time=t_ns, publish_time=t_ns, sequence=seq)
         w.write_message(DEFAULT_POSE_TOPICS.format(id=rid), pose_schema, _pose_dict(t_ns, x, y, th),
                         log_time=t_ns, publish_time=t_ns, sequence=seq)
         if has_parent:
@@ -932,7 +1013,7 @@ def _to_msg(typestore, typename: str, value):
     return cls(**kwargs)
 
 
-def _write_rosbag2(samples, dest, ids, has_parent, markers, storage: str) -> str:
+def _write_rosbag2(samples, dest, ids, has_parent, markers, storage: str, has_state: bool = False) -> str:
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
@@ -950,10 +1031,15 @@ def _write_rosbag2(samples, dest, ids, has_parent, markers, storage: str) -> str
                                             typestore=ts) for rid in ids}
             par_c = {rid: w.add_connection(DEFAULT_PARENT_TOPICS.format(id=rid), "std_msgs/msg/Int32", typestore=ts)
                      for rid in ids} if has_parent else {}
+            st_c = {rid: w.add_connection(DEFAULT_STATE_TOPICS.format(id=rid), "std_msgs/msg/String", typestore=ts)
+                    for rid in ids} if has_state else {}
             mark_c = w.add_connection("/swarmproof/violation", "visualization_msgs/msg/MarkerArray",
                                       typestore=ts) if markers else None
             Int32 = ts.types["std_msgs/msg/Int32"]
-            for t_ns, rid, x, y, th, par in samples:
+            String = ts.types["std_msgs/msg/String"]
+            for t_ns, rid, x, y, th, par, *st in samples:
+                if has_state and st and st[0] is not None:
+                    w.write(st_c[rid], t_ns, ts.serialize_cdr(String(data=st[0]), "std_msgs/msg/String"))
                 msg = _to_msg(ts, "geometry_msgs/msg/PoseStamped", _pose_dict(t_ns, x, y, th))
                 w.write(pose_c[rid], t_ns, ts.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped"))
                 if has_parent:
@@ -987,14 +1073,22 @@ def _parent_of(state):
 _MISSING = object()
 
 
-def trace_samples(trace) -> tuple[list, bool, int]:
+def trace_samples(trace, *, states: bool = False) -> tuple[list, bool, int]:
     """A trace's poses as log samples ``(t_ns, id, x, y, theta, parent)`` in time order, whether
     its states name parents, and the period in ns (the run's ``dt``; step ``s`` is at ``s dt``).
-    Robots absent at a step (crashed, not yet added) publish nothing there."""
+    Robots absent at a step (crashed, not yet added) publish nothing there.  ``states``: each
+    sample gains a seventh element, the robot's controller state as JSON text (the trace's JSON
+    form) where it changed since the robot's last sample, else None (a state holds until it
+    changes, as check-run reads it)."""
+    import json
+
+    from .trace import to_jsonable
+
     dt = float(((trace.meta or {}).get("params") or {}).get("dt", 1.0) or 1.0)
     period = max(1, int(round(dt * NS)))
     has_parent = any(_parent_of(s) is not _MISSING for frame in trace.states[:1] + trace.states[-1:] for s in frame)
     ids = [int(i) for i in trace.ids]
+    last: dict = {}
     out = []
     for i in range(len(trace.poses)):
         t_ns = trace.time_of(i) * period
@@ -1004,5 +1098,15 @@ def trace_samples(trace) -> tuple[list, bool, int]:
                 continue
             x, y, th = (float(v) for v in trace.poses[i, j])
             par = _parent_of(trace.states[i][j]) if has_parent else None
-            out.append((t_ns, rid, x, y, th, None if par is _MISSING or par is None else int(par)))
+            sample = (t_ns, rid, x, y, th, None if par is _MISSING or par is None else int(par))
+            if states:
+                text = json.dumps(to_jsonable(trace.states[i][j]), separators=(",", ":"), sort_keys=True)
+                sample += (None if last.get(rid) == text else text,)
+                last[rid] = text
+            out.append(sample)
     return out, has_parent, period
+
+
+def has_states(trace) -> bool:
+    """Whether a trace's robots have controller states worth logging (not all None)."""
+    return any(s is not None for frame in trace.states[:1] for s in frame)

@@ -35,7 +35,7 @@ Examples
 >>> loads_recorded_runs("format: swarmproof-recorded-runs/1\\nruns:\\n  - {log: a.csv, rnage: 1}\\n", "m.yaml")
 Traceback (most recent call last):
 ...
-swarmproof.models.errors.InputFileError: m.yaml:3: field 'runs[0].rnage': key 'rnage' is not known here; did you mean 'range'?; fix: use only ['log', 'name', 'range', 'target', 'algorithm', 'properties', 'claims', 'topics', 'parent_topics', 'time', 'period', 'stale', 'pos_tol', 'range_margin', 'collision_margin', 'radius', 'static_window', 'v']
+swarmproof.models.errors.InputFileError: m.yaml:3: field 'runs[0].rnage': key 'rnage' is not known here; did you mean 'range'?; fix: use only ['log', 'name', 'range', 'target', 'algorithm', 'properties', 'claims', 'topics', 'parent_topics', 'state_topics', 'time', 'period', 'stale', 'pos_tol', 'range_margin', 'collision_margin', 'radius', 'static_window', 'v']
 """
 
 from __future__ import annotations
@@ -52,11 +52,12 @@ __all__ = ["RECORDED_RUNS_FORMAT", "MANIFEST", "RecordedRun", "RecordedRuns", "l
 
 RECORDED_RUNS_FORMAT = "swarmproof-recorded-runs/1"
 MANIFEST = "recorded-runs.yaml"
-_KEYS = ("log", "name", "range", "target", "algorithm", "properties", "claims", "topics", "parent_topics", "time",
+_KEYS = ("log", "name", "range", "target", "algorithm", "properties", "claims", "topics", "parent_topics",
+         "state_topics", "time",
          "period", "stale", "pos_tol", "range_margin", "collision_margin", "radius", "static_window", "v")
 _NUMBERS = {"range": True, "period": True, "stale": True, "pos_tol": False, "range_margin": False,
             "collision_margin": False, "radius": False, "static_window": True, "v": False}   # True: > 0
-_STRINGS = ("target", "algorithm", "topics", "parent_topics")
+_STRINGS = ("target", "algorithm", "topics", "parent_topics", "state_topics")
 
 
 @dataclass(frozen=True)

@@ -44,6 +44,10 @@ def add_arguments(p) -> None:
     p.add_argument("--parent-topics", metavar="PATTERN",
                    help=f"bags: the robots' parent topics, std_msgs/msg/Int32, -1 none (default "
                         f"{DEFAULT_PARENT_TOPICS!r}, when present)")
+    p.add_argument("--state-topics", metavar="PATTERN",
+                   help="bags: the robots' controller-state topics, std_msgs/msg/String with the state as JSON "
+                        "(default '/robot_{id}/state', when present): premises, invariants and the algorithm's own "
+                        "properties then apply")
     p.add_argument("--time", choices=("header", "log"), default=None,
                    help="bags: place a pose at its header stamp (default; log time for types without a header) "
                         "or at its log time")
@@ -152,6 +156,7 @@ def run(args) -> int:
     try:
         rep, claims = judge_log(args.file, range=args.range_, target=args.target, algorithm=args.algorithm,
                                 properties=args.property, topics=args.topics, parent_topics=args.parent_topics,
+                                state_topics=args.state_topics,
                                 time=args.time, radius=args.radius, pos_tol=args.pos_tol,
                                 range_margin=args.range_margin, collision_margin=args.collision_margin,
                                 period=args.period, stale=args.stale, v=args.v, static_window=args.static_window,

@@ -82,10 +82,12 @@ def _marker(trace, rr):
 
 def export_trace(trace, dest: str, *, markers=(), storage=None) -> str:
     """Write ``trace`` to ``dest`` (format by its form) with ``markers``; returns the path."""
-    from swarmproof.models.recorded_io import trace_samples, write_log
+    from swarmproof.models.recorded_io import has_states, trace_samples, write_log
 
-    samples, has_parent, _ = trace_samples(trace)
-    return write_log(iter(samples), dest, ids=trace.ids, has_parent=has_parent, markers=markers, storage=storage)
+    with_states = has_states(trace)
+    samples, has_parent, _ = trace_samples(trace, states=with_states)
+    return write_log(iter(samples), dest, ids=trace.ids, has_parent=has_parent, markers=markers, storage=storage,
+                     has_state=with_states)
 
 
 def run(args) -> int:

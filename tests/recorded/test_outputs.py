@@ -70,7 +70,7 @@ def test_export_an_npz_trace_equals_its_json_trace(sim_trace, tmp_path, cli):
     assert cli("export", trace_npz, "--to", str(tmp_path / "b.csv"))[0] == 0
     assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
     header = (tmp_path / "a.csv").read_text().splitlines()[0]
-    assert header == "t,id,x,y,theta,parent"
+    assert header == "t,id,x,y,theta,parent,state"     # the controller states as JSON, where they change
 
 
 @pytest.mark.parametrize("args, match", [

@@ -325,8 +325,8 @@ def test_an_exported_counterexample_is_violated_at_its_step(fmt, counterexample,
     assert f"into 2 components: {conn['witness']['components']}" in replayed["message"]
     assert "splits after step 17" in conn["message"] and "splits after step 17" in replayed["message"]
     assert doc["robots"] == 10 and doc["samples"] == 10 * 189
-    if fmt == "csv":                 # poses and parents only: no marker in a CSV
-        assert open(dest).readline() == "t,id,x,y,theta,parent\n"
+    if fmt == "csv":                 # poses, parents and states: no marker in a CSV
+        assert open(dest).readline() == "t,id,x,y,theta,parent,state\n"
         return
     # the violation on /swarmproof/violation at its step, for RViz and Foxglove
     types, msgs = lk.topics_and_messages(dest, "/swarmproof/violation")
