@@ -58,6 +58,26 @@ def resolve_gate(baseline, *, max_examples: int | None = None, robots=None, seed
     return gate
 
 
+def _recorded_subjects(recorded) -> set | None:
+    """The row subjects of the ``--recorded`` folders (None without them): each manifest checked,
+    and a run name given twice across folders refused (their rows would overwrite each other)."""
+    if recorded is None:
+        return None
+    from swarmproof.checkers.recorded_rows import check_manifest
+    from swarmproof.models.recorded_runs import load_recorded_runs
+
+    seen: dict = {}
+    for folder in recorded:
+        manifest = load_recorded_runs(folder)
+        check_manifest(manifest)
+        for run in manifest.runs:
+            if run.name in seen:
+                raise UsageError(f"run name={run.name!r} is in {seen[run.name]} and in {manifest.source}: their rows "
+                                 "would be one row", fix="give the runs distinct names (name: in the manifests)")
+            seen[run.name] = manifest.source
+    return {f"recorded {name}" for name in seen}
+
+
 def _scope(sections, subjects, properties, recorded_subjects=None):
     """Whether a baseline row is one this run would produce (rows outside are left alone; with
     ``--recorded`` folders, the recorded rows of other runs -- e.g. the bundled ones -- too)."""
@@ -158,12 +178,7 @@ def verify(*, algorithms: Sequence[str] | None = None, sections: Sequence[str] |
         properties = list(properties)
         explore_props = [p for p in registered if p in properties]
     subjects = report_mod.verify_subjects(None if algorithms is None else tuple(algorithms))
-    recorded_subjects = None
-    if recorded is not None:
-        from swarmproof.models.recorded_runs import load_recorded_runs
-
-        recorded_subjects = {f"recorded {run.name}" for folder in recorded
-                             for run in load_recorded_runs(folder).runs}   # a bad manifest: refused first
+    recorded_subjects = _recorded_subjects(recorded)        # a bad manifest: refused before any row runs
     wanted = sections or ((["algorithms", "exploration", "exhaustive"] + (["recorded"] if recorded else []))
                           if algorithms else list(report_mod.SECTIONS))
     ordered = [s for s in report_mod.SECTIONS if s in wanted]

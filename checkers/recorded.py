@@ -41,6 +41,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -55,7 +56,7 @@ from swarmproof.models.errors import UsageError
 from swarmproof.models.recorded_io import NS, RecordedLog
 from swarmproof.models.trace import Trace
 
-__all__ = ["fmt_s", "Clock", "make_clock", "aligned_frames", "check_recorded", "RecordedReport", "DEFAULT_STALE_PERIODS",
+__all__ = ["fmt_s", "shown_at", "Clock", "make_clock", "aligned_frames", "check_recorded", "RecordedReport", "DEFAULT_STALE_PERIODS",
            "DEFAULT_STATIC_WINDOW_S", "MAX_INSTANTS", "TOLERANCE_KNOBS"]
 
 DEFAULT_STALE_PERIODS = 2.5
@@ -89,14 +90,17 @@ class Clock:
     log_start_ns: int
     log_end_ns: int
     time: str
+    #: each robot's staleness bound (ns), in id order: its own sampling interval's multiple, or --stale
+    stale_by: tuple = ()
 
     def seconds(self, k: float) -> float:
         return (self.start_ns + k * self.period_ns) / NS
 
     def as_dict(self) -> dict:
+        lo = min(self.stale_by) if self.stale_by else self.stale_ns
         return {"time": self.time, "start_s": self.start_ns / NS, "end_s": self.seconds(self.instants - 1),
-                "period_s": self.period_ns / NS, "stale_s": self.stale_ns / NS, "instants": self.instants,
-                "log_start_s": self.log_start_ns / NS, "log_end_s": self.log_end_ns / NS}
+                "period_s": self.period_ns / NS, "stale_s": self.stale_ns / NS, "stale_min_s": lo / NS,
+                "instants": self.instants, "log_start_s": self.log_start_ns / NS, "log_end_s": self.log_end_ns / NS}
 
 
 def _seconds_ns(value: float, name: str) -> int:
@@ -111,16 +115,23 @@ def make_clock(log: RecordedLog, *, period: float | None = None, stale: float | 
     (``DEFAULT_STALE_PERIODS`` periods unless given), first instant (the last robot's first sample
     when they all report within the staleness bound of the first, else the first sample) and
     number of instants."""
-    robots = list(log.robots.values())
+    robots = [log.robots[rid] for rid in sorted(log.robots)]
+    _one_time_base(log, robots)
+    diffs = [np.diff(r.t) for r in robots if len(r.t) > 1]
     if period is None:
-        diffs = [np.diff(r.t) for r in robots if len(r.t) > 1]
         if not diffs:
             raise UsageError(f"log={log.path!r}: every robot has one sample; the sampling period cannot be measured",
                              fix="give the clock's period, e.g. --period 0.1")
         period_ns = int(np.median(np.concatenate(diffs)))
     else:
         period_ns = _seconds_ns(period, "--period")
-    stale_ns = int(round(DEFAULT_STALE_PERIODS * period_ns)) if stale is None else _seconds_ns(stale, "--stale")
+    if stale is None:
+        # each robot by its own rate: a 5 Hz robot among 50 Hz ones is not stale between its samples
+        own = [int(np.median(np.diff(r.t))) if len(r.t) > 1 else period_ns for r in robots]
+        stale_by = tuple(int(round(DEFAULT_STALE_PERIODS * max(o, period_ns))) for o in own)
+    else:
+        stale_by = (_seconds_ns(stale, "--stale"),) * len(robots)
+    stale_ns = max(stale_by)
     first = [int(r.t[0]) for r in robots]
     last = [int(r.t[-1]) for r in robots]
     # robots that start together (their first samples within the staleness bound): the clock starts
@@ -128,13 +139,40 @@ def make_clock(log: RecordedLog, *, period: float | None = None, stale: float | 
     # first sample, and a robot is in the swarm from its own first report on (as a robot the engine
     # adds later): nothing before a late robot's first report is dropped
     start, end = (max(first) if max(first) - min(first) <= stale_ns else min(first)), max(last)
-    instants = (end - start) // period_ns + 1
+    instants = -(-(end - start) // period_ns) + 1      # the last instant at or after the last sample
     if instants > MAX_INSTANTS:
         raise UsageError(f"the clock would have {instants} instants (period {period_ns / NS} s over "
                          f"{(end - start) / NS} s; max_instants={MAX_INSTANTS})",
                          fix="give a longer --period, or judge a part of the log")
     times = sorted({r.time_source for r in robots})
-    return Clock(start, period_ns, stale_ns, int(instants), min(first), end, "+".join(times))
+    return Clock(start, period_ns, stale_ns, int(instants), min(first), end, "+".join(times), stale_by)
+
+
+def _span(ts) -> tuple:
+    return min(int(t[0]) for t in ts), max(int(t[-1]) for t in ts)
+
+
+def _one_time_base(log: RecordedLog, robots) -> None:
+    """Header stamps and log times may count from different origins (simulated time from 0, the
+    recorder's wall clock from 1970): poses on one and parents or states (log time) or other poses
+    on the other never meet.  Refused with the fix, instead of a clock of 10^10 instants or parents
+    that silently never apply."""
+    groups: dict = {}
+    for r in robots:
+        groups.setdefault(r.time_source, []).append(r.t)
+    extra = [("parents", [p.t for p in (log.parents or {}).values() if len(p.t)]),
+             ("states", [s.t for s in (log.states or {}).values() if len(s.t)])]
+    spans = [(f"poses ({src} time)", _span(ts)) for src, ts in sorted(groups.items())]
+    if "header" in groups:
+        spans += [(f"{what} (log time)", _span(ts)) for what, ts in extra if ts]
+    for i in range(len(spans)):
+        for j in range(i + 1, len(spans)):
+            (a, (a0, a1)), (b, (b0, b1)) = spans[i], spans[j]
+            if a1 < b0 or b1 < a0:
+                raise UsageError(f"the log's times are on two bases: {a} from {fmt_s(a0 / NS)} s to {fmt_s(a1 / NS)} s, "
+                                 f"{b} from {fmt_s(b0 / NS)} s to {fmt_s(b1 / NS)} s (they never overlap: header "
+                                 "stamps on simulated time, log times on the recorder's clock?)",
+                                 fix="judge every message by its log time: --time log")
 
 
 class _States(tuple):
@@ -210,7 +248,7 @@ def aligned_frames(log: RecordedLog, clock: Clock, chunk: int = CHUNK) -> Iterat
             ok = idx >= 0
             idx0 = np.where(ok, idx, 0)
             poses[:, j] = r.xyt[idx0]
-            fresh[:, j] = ok & (grid - r.t[idx0] <= clock.stale_ns)
+            fresh[:, j] = ok & (grid - r.t[idx0] <= (clock.stale_by[j] if clock.stale_by else clock.stale_ns))
             present[:, j] = ok
             if pars is not None:
                 p = log.parents[rid]
@@ -321,6 +359,20 @@ class RecordedReport:
         return sorted(self.log.robots)
 
 
+def _unseen_samples(log: RecordedLog, clock: Clock) -> int:
+    """How many pose samples no instant holds: sample i holds over [t_i, t_i+1) (the last to the
+    clock's end), and is seen when an instant falls in it."""
+    total = 0
+    last_instant = clock.start_ns + (clock.instants - 1) * clock.period_ns
+    for r in log.robots.values():
+        t = r.t
+        k = -((clock.start_ns - t) // clock.period_ns)                # the first instant at or after t_i
+        at = clock.start_ns + np.maximum(k, 0) * clock.period_ns
+        until = np.append(t[1:], last_instant + 1)
+        total += int(np.count_nonzero(at >= until))
+    return total
+
+
 def _window_runs(log: RecordedLog, clock: Clock):
     """Judged windows ``(k0, k1)`` (k1 exclusive) and gaps ``{from_s, to_s, instants, robots}``."""
     windows, gaps = [], []
@@ -356,16 +408,33 @@ def _window_runs(log: RecordedLog, clock: Clock):
     return windows, gaps
 
 
+def shown_at(name: str, witness: Mapping) -> float:
+    """The step count (fractional) at which a property's violation first shows: a collision inside
+    its step, at its fraction; a tree link broken in step t at t + 1 (it held at t); any other at its
+    step.  check-run's ``time_s`` and ``instant``, the picture's focus and export's marker use it.
+
+    >>> shown_at("collision", {"step": 39, "fraction": 1.0}), shown_at("tree_links", {"step": 2}), shown_at("connectivity", {"step": 3})
+    (40.0, 3.0, 3.0)
+    """
+    step = float(witness["step"])
+    if name == "collision":
+        return step + float(witness.get("fraction", 0.0) or 0.0)
+    return step + 1.0 if name == "tree_links" else step
+
+
 def _with_time(res: InvariantResult, clock: Clock) -> InvariantResult:
-    """The witness's step as the log's time too (``time_s``; a collision inside a step: its fraction)."""
+    """The witness's step as the log's time too: ``time_s`` and ``instant``, where the violation first
+    shows (a collision inside its step, at its fraction; a link broken in step t at instant t + 1;
+    any other at its step's instant).  ``step`` stays the monitor's own count, as in simulated runs."""
     w = dict(res.witness or {})
     if "step" in w and isinstance(w["step"], (int, np.integer)):
         # the first log time at which the violation shows: a collision inside its step (the fraction), a
         # tree link broken in step t at instant t + 1 (it held at t), any other at its instant
-        frac = float(w.get("fraction", 0.0) or 0.0) if res.name == "collision" else \
-            1.0 if res.name == "tree_links" else 0.0
-        w["time_s"] = round(clock.seconds(int(w["step"]) + frac), 9)
-        return InvariantResult(res.name, res.status, res.cites, w, res.message + f" (log time {fmt_s(w['time_s'])} s)",
+        at = shown_at(res.name, w)
+        w["time_s"] = round(clock.seconds(at), 9)
+        w["instant"] = int(math.ceil(round(at, 9)))
+        return InvariantResult(res.name, res.status, res.cites, w,
+                               res.message + f" (seen at {fmt_s(w['time_s'])} s, instant {w['instant']})",
                                res.applicable, dict(res.detail))
     return res
 
@@ -427,33 +496,19 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     radius = float(DEFAULT_RADIUS if radius is None else radius)
     rm = 2.0 * pos_tol if range_margin is None else float(range_margin)
     cm = float(pos_tol) if collision_margin is None else float(collision_margin)
-    for name, val in (("--range-margin", rm), ("--collision-margin", cm), ("--radius", radius)):
-        if not (math.isfinite(val) and val >= 0):
-            raise UsageError(f"{name}={val!r} must be a finite non-negative number")
+    for name, val in (("--range-margin", rm), ("--collision-margin", cm), ("--radius", radius),
+                      ("--static-window", static_window), ("--v", 0.0 if v is None else v)):
+        positive = name in ("--radius", "--static-window")
+        if isinstance(val, bool) or not (isinstance(val, (int, float)) and math.isfinite(val)
+                                         and (val > 0 if positive else val >= 0)):
+            raise UsageError(f"{name}={val!r} must be a finite {'positive' if positive else 'non-negative'} number",
+                             fix="e.g. --radius 0.1 (a robot's disc), --static-window 2 (seconds)" if positive else
+                                 "e.g. 0.02")
     stand_in = _Recorded(algorithm, log.parents is not None or log.states is not None, log.states is not None)
-    late = [(rid, r.t[0]) for rid, r in sorted(log.robots.items()) if int(r.t[0]) - clock.start_ns > clock.stale_ns]
-    if late:
-        note = ("robots that first report later than the staleness bound after the log's start, in the swarm only "
-                "from then on (as robots that join): " + ", ".join(f"{rid} at {fmt_s(t / NS)} s" for rid, t in late[:10]))
-        if note not in log.notes:
-            log.notes.append(note)
-    if log.parents is not None:
-        named = set()
-        for ps in log.parents.values():
-            named.update(int(v) for v in np.unique(ps.parent) if v >= 0)
-        strangers = sorted(named - set(log.robots))
-        note = f"parent ids that name no robot of the log: {strangers[:10]} (tree_links cannot check those links)"
-        if strangers and note not in log.notes:
-            log.notes.append(note)
+    base_tol = _widen_satisfaction(stand_in, algorithm, target, pos_tol)
+    _add_notes(log, clock)
     options = dict(options or {})
-    props, na = [], {}
-    for name in names:
-        prop = get_property(name)
-        why = _not_applicable(prop, stand_in, target, log, algorithm)
-        if why:
-            na[prop.name] = why
-        else:
-            props.append(prop)
+    props, na = _select(names, stand_in, target, log, algorithm)
     params = _params(phi, v, clock, algorithm, n, radius)
     static_k = max(1, int(math.ceil(static_window * NS / clock.period_ns)))
     options.setdefault("deadlock_k", static_k)
@@ -496,10 +551,67 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     last_fresh = final is not None and final[0] == clock.instants - 1
     for p in whole:
         results[p.name] = _judge_whole(p, final, last_fresh, clock, target, params, options, stand_in, ids, static_k)
+        if p.name == "formation" and base_tol is not None:
+            # judged with the tolerance widened by the log's position tolerance; at the algorithm's own
+            # tolerance too, so that a verdict the widening decides says so
+            strict = copy.copy(stand_in)
+            strict.satisfaction_tol = base_tol
+            other = _judge_whole(p, final, last_fresh, clock, target, params, options, strict, ids, static_k)
+            sensitive["formation"] = other.status != results[p.name].status
     results = {name: results[name] for name in [p.name for p in props]}
     tol = {"pos_tol": pos_tol, "range_margin": rm, "collision_margin": cm}
     return RecordedReport(log, clock, results, na, judged, gaps, tol, sensitive, phi, radius,
                           bool(final is not None and final[3].status == "static"), frames_kept)
+
+
+def _widen_satisfaction(stand_in, algorithm, target, pos_tol: float):
+    """Def. 2's position tolerance widened by the two robots' errors of a relative position (2D), on
+    a lattice target; returns the algorithm's own tolerance (None when nothing was widened)."""
+    if not (pos_tol > 0 and target is not None and getattr(target, "kind", "lattice") == "lattice"):
+        return None
+    from swarmproof.models.satisfaction import DEFAULT_SAT_ANG_TOL, DEFAULT_SAT_POS_TOL
+
+    base = tuple(getattr(algorithm, "satisfaction_tol", None) or (DEFAULT_SAT_POS_TOL, DEFAULT_SAT_ANG_TOL))
+    stand_in.satisfaction_tol = (base[0] + 2 * pos_tol, base[1])
+    return base
+
+
+def _select(names, stand_in, target, log, algorithm) -> tuple:
+    """``(properties judged, name -> why not applicable)``."""
+    props, na = [], {}
+    for name in names:
+        prop = get_property(name)
+        why = _not_applicable(prop, stand_in, target, log, algorithm)
+        if why:
+            na[prop.name] = why
+        else:
+            props.append(prop)
+    return props, na
+
+def _add_notes(log: RecordedLog, clock: Clock) -> None:
+    """What the report's notes say of a log: robots that joined late, samples no instant holds,
+    parent ids that name no robot."""
+    late = [(rid, r.t[0]) for rid, r in sorted(log.robots.items()) if int(r.t[0]) - clock.start_ns > clock.stale_ns]
+    if late:
+        note = ("robots that first report later than the staleness bound after the log's start, in the swarm only "
+                "from then on (as robots that join): " + ", ".join(f"{rid} at {fmt_s(t / NS)} s" for rid, t in late[:10]))
+        if note not in log.notes:
+            log.notes.append(note)
+    unseen = _unseen_samples(log, clock)
+    if unseen:
+        note = (f"{unseen} pose samples fall between the clock's instants and are not judged (sample and hold keeps "
+                f"the latest at each instant; a robot reported faster than the period {fmt_s(clock.period_ns / NS)} s): "
+                "a shorter --period judges them")
+        if note not in log.notes:
+            log.notes.append(note)
+    if log.parents is not None:
+        named = set()
+        for ps in log.parents.values():
+            named.update(int(v) for v in np.unique(ps.parent) if v >= 0)
+        strangers = sorted(named - set(log.robots))
+        note = f"parent ids that name no robot of the log: {strangers[:10]} (tree_links cannot check those links)"
+        if strangers and note not in log.notes:
+            log.notes.append(note)
 
 
 def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target, params, options_of, stand_in, phi,
@@ -521,9 +633,13 @@ def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, tar
             progress(f"judged {k} of {clock.instants} instants")
         if every and (k % every == 0 or k == clock.instants - 1):
             frames_kept.append((k, poses.copy(), None if pars is None else pars.copy(), fresh.copy(), present.copy()))
-        if prev is not None and np.max(np.abs(poses[:, :2] - prev), initial=0.0) > max(pos_tol, DEFAULT_POS_TOL):
-            last_move = k
-        prev = poses[:, :2].copy()
+        # at rest: no robot farther than twice the position tolerance (two samples of a robot standing
+        # still differ by up to that) from where it was when the swarm last moved -- measured from
+        # that anchor, not step to step, so that a slow drift adds up
+        if prev is None or np.max(np.abs(poses[:, :2] - prev), initial=0.0) > max(2 * pos_tol, DEFAULT_POS_TOL):
+            if prev is not None:
+                last_move = k
+            prev = poses[:, :2].copy()
         if win is None or k < win[0]:
             continue
         if mons is None:
@@ -586,8 +702,10 @@ def _sensitivity(prop, res, windows, per_key, gaps, clock, judged) -> bool | Non
     """Whether the tolerance could overturn ``res``: held nominally but violated at the strict
     margin, or violated nominally but not at the lenient one; None when no knob applies."""
     knob = TOLERANCE_KNOBS.get(prop.name)
-    if knob is None or not any((((prop.name, v), w) in per_key) for v in (-1, 1) for w in windows):
+    if knob is None:
         return None
+    if not any((((prop.name, v), w) in per_key) for v in (-1, 1) for w in windows):
+        return False if res.status != "inconclusive" else None      # no margin: nothing to overturn it
     _, harder = knob
     if res.status == "held":
         other = _combine(prop, [per_key.get(((prop.name, harder), w)) for w in windows], gaps, clock, judged)
@@ -616,10 +734,15 @@ def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_
                                                             "extra": dict(params.extra or {})}})
     ctx = PropertyContext(stand_in, target, params, result, options)
     res = prop.check(trace, ctx)
+    short = k < static_k
+    if short and prop.name in ("termination", "formation") and res.status != "violated":
+        return InvariantResult(prop.name, "inconclusive", res.cites, None,
+                               f"the log ({k + 1} instants) is shorter than the static window ({static_k} instants): "
+                               "it cannot show the swarm at rest")
     if prop.name == "termination":
         if result.status == "static":
             return InvariantResult("termination", "held", res.cites, None,
-                                   f"the swarm was at rest (no robot moved more than the position tolerance) for the "
+                                   f"the swarm was at rest (no robot moved more than twice the position tolerance) for the "
                                    f"last {static_k} instants of the log, from {fmt_s(clock.seconds(k - static_k))} s")
         return InvariantResult("termination", "inconclusive", res.cites, None,
                                f"the log ended while robots still moved (in the last {static_k} instants): a finite log "

@@ -26,7 +26,7 @@ def focus_of(rep):
         w = r.witness or {}
         if r.status != "violated" or not isinstance(w.get("step"), (int, np.integer)):
             continue
-        k = int(w["step"]) + (1 if name == "tree_links" else 0)
+        k = int(w.get("instant", w["step"]))          # where it first shows (checkers.recorded.shown_at)
         robots = list(w.get("robots") or []) + [w[x] for x in ("child", "parent", "robot") if x in w]
         if best is None or k < best[0]:
             best = (min(k, rep.clock.instants - 1), name, [int(x) for x in robots])
@@ -98,9 +98,10 @@ def gif_recorded(rep, path) -> str:
     k, name, marked = focus_of(rep)
     frames = _frames(rep, k)
     steps = list(frames)
+    # a robot that has not reported yet is not drawn (present), as the engine's robots added later
     trace = Trace(ids=np.asarray(rep.ids), poses=np.stack([f[0] for f in frames.values()]),
                   states=[tuple(() for _ in rep.ids)] * len(steps), times=steps,
-                  meta={"status": "recorded"})
+                  present=np.stack([f[3] for f in frames.values()]), meta={"status": "recorded"})
     return animate_trace(trace, path, phi=rep.phi, mark_step=k if name else None, mark_ids=marked or None,
                          title=f"{name} violated" if name else "recorded run", mark_label=f"{name} at {fmt_s(rep.clock.seconds(k))} s",
                          max_frames=120)

@@ -17,7 +17,7 @@ import shlex
 
 from swarmproof.models.verdict import Verdict
 
-__all__ = ["recorded_cells", "check_run_command"]
+__all__ = ["recorded_cells", "check_run_command", "check_manifest"]
 
 _STATUS = {"held": Verdict.HELD, "violated": Verdict.VIOLATED, "inconclusive": Verdict.INCONCLUSIVE}
 _OPTION = {"range": "--range", "target": "--target", "algorithm": "--algorithm", "topics": "--topics",
@@ -43,6 +43,40 @@ def check_run_command(run) -> str:
     return " ".join(shlex.quote(x) for x in parts)
 
 
+def check_manifest(manifest) -> None:
+    """The names a manifest gives, checked before any log is read, each refused at its run's line:
+    properties and claims known, claims among the run's properties, the target and algorithm known."""
+    from swarmproof.invariants.registry import get_property
+    from swarmproof.models.errors import InputFileError, UsageError
+
+    for i, run in enumerate(manifest.runs):
+        def fail(field, exc_or_text, fix=None):
+            text = exc_or_text.message if isinstance(exc_or_text, UsageError) else exc_or_text
+            raise InputFileError(text, file=manifest.source, line=run.line, field=f"runs[{i}].{field}",
+                                 fix=fix or getattr(exc_or_text, "fix", None) or "see docs/recorded-runs.md")
+        for key in ("properties", "claims"):
+            for j, name in enumerate(getattr(run, key) or ()):
+                try:
+                    get_property(name)
+                except UsageError as exc:
+                    fail(f"{key}[{j}]", exc)
+        for j, name in enumerate(run.claims or ()):
+            if run.properties is not None and name not in run.properties:
+                fail(f"claims[{j}]", f"claims entry {name!r} is not among the run's properties {list(run.properties)}",
+                     "claim only properties the run judges (add it to properties)")
+        try:
+            if "target" in run.options:
+                from swarmproof.models.targets import resolve_target
+
+                resolve_target(run.options["target"])
+            if "algorithm" in run.options:
+                from swarmproof.checkers.algorithm_spec import resolve_algorithm
+
+                resolve_algorithm(run.options["algorithm"])
+        except UsageError as exc:
+            fail("target" if "target" in str(exc.message) and "algorithm" not in str(exc.message) else "algorithm", exc)
+
+
 def _display(path: str) -> str:
     """A log's path as rows show it: relative to the working folder when below it (stable files)."""
     rel = os.path.relpath(path)
@@ -59,6 +93,7 @@ def recorded_cells(*, folders=None, progress=None) -> list:
     rows = []
     for folder in (folders or [bundled_folder()]):
         manifest = load_recorded_runs(folder)
+        check_manifest(manifest)
         for run in manifest.runs:
             if progress:
                 progress(run.name)

@@ -162,6 +162,12 @@ def log_format(path: str) -> str:
     if os.path.isdir(p):
         if os.path.isfile(os.path.join(p, "metadata.yaml")):
             return "rosbag2"
+        storage = [f for f in sorted(os.listdir(p)) if f.endswith((".db3", ".mcap"))]
+        if storage:
+            raise InputFileError(f"log={p!r} holds {storage[0]!r} but no metadata.yaml: a bag whose recorder "
+                                 "was stopped before it wrote it", file=p,
+                                 fix=f"rebuild metadata.yaml with `ros2 bag reindex {p}`, or give "
+                                     f"{os.path.join(p, storage[0])!r} if it is an MCAP file")
         raise InputFileError(f"log={p!r} is a folder without metadata.yaml, not a rosbag2 bag", file=p,
                              fix="give a rosbag2 bag's folder (it holds metadata.yaml), an .mcap file or a .csv file")
     if not os.path.exists(p):
@@ -172,8 +178,12 @@ def log_format(path: str) -> str:
     if low.endswith(".mcap"):
         return "mcap"
     if low.endswith(".db3"):
+        folder = os.path.dirname(p) or "."
+        has_meta = os.path.isfile(os.path.join(folder, "metadata.yaml"))
         raise InputFileError(f"log={p!r} is the database inside a rosbag2 bag", file=p,
-                             fix=f"give the bag's folder: {os.path.dirname(p) or '.'!r}")
+                             fix=f"give the bag's folder: {folder!r}" if has_meta else
+                                 f"its folder has no metadata.yaml: rebuild it with `ros2 bag reindex {folder}`, then "
+                                 "give the folder")
     raise InputFileError(f"log={p!r}: the suffix {os.path.splitext(p)[1]!r} is not a log format swarmproof reads",
                          file=p, fix="give a .csv file, an .mcap file or a rosbag2 bag's folder")
 
@@ -323,6 +333,9 @@ def _check_size(count: int, path: str) -> None:
 def _csv_columns(header: list, path: str, notes: list):
     """The columns of a CSV's header row: ``(required name -> index, parent index or None, state
     index or None, the names)``; a missing or repeated column is an error, others are noted."""
+    if len(header) == 1 and ";" in header[0]:
+        raise InputFileError(f"the header row {header[0]!r} is separated by ';'", file=path, line=1,
+                             fix="separate the columns with commas (t,id,x,y,theta[,parent])")
     names = [h.strip().lower() for h in header]
     missing = [c for c in _CSV_REQUIRED if c not in names]
     if missing:
@@ -345,7 +358,7 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
     parents: dict[int, _Collector] = {}
     notes = []
     try:
-        fh = open(path, newline="", encoding="utf-8")
+        fh = open(path, newline="", encoding="utf-8-sig")     # a spreadsheet's byte-order mark is not a column
     except OSError as exc:
         raise InputFileError(f"log={path!r} cannot be opened ({exc.strerror})", file=path, fix="check the path") from None
     count = 0
@@ -402,8 +415,8 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
                     except ValueError:
                         raise InputFileError(f"parent={raw!r} is not an integer", file=path, line=line, field="parent",
                                              fix="give the parent's id, or leave it empty (or -1) for none") from None
-                    if par > MAX_ID:
-                        raise InputFileError(f"parent={raw!r} is not in 0..{MAX_ID}", file=path, line=line,
+                    if par > MAX_ID or par < -1:
+                        raise InputFileError(f"parent={raw!r} is not in -1..{MAX_ID}", file=path, line=line,
                                              field="parent", fix="give the parent's id, or leave it empty (or -1)")
                     pc = parents.get(rid)
                     if pc is None:
@@ -507,6 +520,9 @@ class _Topics:
             raise InputFileError("the log is empty: it has no topic (no message)", file=path,
                                  fix="record the robots' poses, one topic per robot")
         pose_re = topic_regex(pose_pattern, "--topics")
+        head, _, tail = pose_pattern.partition("{id}")
+        near = re.compile("^" + re.escape(head) + r"[^/]+" + re.escape(tail) + "$")
+        self.ignored = sorted(t for t in topics if near.match(t) and not pose_re.match(t))
         parent_re = topic_regex(parent_pattern, "--parent-topics") if parent_pattern else None
         state_re = topic_regex(state_pattern, "--state-topics") if state_pattern else None
         self.kind: dict[str, tuple[str, int, str]] = {}      # topic -> (pose|parent, id, msgtype)
@@ -597,8 +613,10 @@ class _Topics:
             raise InputFileError(f"robot {empty[0]}'s pose topic {self.poses[empty[0]].source!r} holds no message",
                                  file=self.path, field=self.poses[empty[0]].source,
                                  fix="record every robot's pose, or narrow --topics to the robots that ran")
+        notes = [f"topics ignored: their robot id is not a non-negative integer: {self.ignored[:10]}"] \
+            if self.ignored else []
         return RecordedLog(self.path, fmt, _robots_from(self.poses),
-                           _parents_from(self.parents) if self.parents else None, [],
+                           _parents_from(self.parents) if self.parents else None, notes,
                            _states_from(self.states) if self.states else None)
 
 
@@ -876,6 +894,8 @@ def _ros2_msgdefs() -> dict:
 def export_format(dest: str, storage: str | None = None) -> str:
     """``csv``, ``mcap`` or ``rosbag2`` for an export destination."""
     low = str(dest).lower()
+    if not str(dest).strip():
+        raise UsageError(f"--to={dest!r} is empty", fix="name the log: run.csv, run.mcap, or a new folder for a bag")
     if low.endswith(".csv"):
         fmt = "csv"
     elif low.endswith(".mcap"):
@@ -924,7 +944,7 @@ def write_log(samples: Iterable, dest: str, *, ids: Iterable[int], has_parent: b
         else:
             import rosbags.rosbag2  # noqa: F401
     except ImportError:
-        _ros_import(f"an {'MCAP file' if fmt == 'mcap' else 'rosbag2 bag'}", dest)
+        _ros_import("an MCAP file" if fmt == "mcap" else "a rosbag2 bag", dest)
     ids = sorted(int(i) for i in ids)
     if fmt == "mcap":
         return _write_mcap(samples, dest, ids, has_parent, markers, has_state)

@@ -159,8 +159,14 @@ def loads_recorded_runs(text: str, source: str) -> RecordedRuns:
 def load_recorded_runs(folder: str | os.PathLike) -> RecordedRuns:
     """The manifest of ``folder`` (its ``recorded-runs.yaml``), or the manifest file itself."""
     path = os.fspath(folder)
+    if not os.path.exists(path):
+        raise InputFileError(f"--recorded={path!r} does not exist", file=path,
+                             fix=f"give a folder of logs with its {MANIFEST} (docs/recorded-runs.md)")
     if os.path.isdir(path):
         path = os.path.join(path, MANIFEST)
+    elif not path.lower().endswith((".yaml", ".yml")):
+        raise InputFileError(f"--recorded={path!r} is a file, not a folder of logs or its manifest", file=path,
+                             fix=f"give the folder that holds the logs and {MANIFEST} (check-run judges one log)")
     if not os.path.isfile(path):
         raise InputFileError(f"--recorded={os.fspath(folder)!r} has no {MANIFEST}", file=path,
                              fix=f"write {MANIFEST} in the folder (docs/recorded-runs.md): format: "

@@ -125,7 +125,10 @@ def _lines(rep, doc, claims) -> list:
     lines = [f"{doc['file']}: {doc['format']}, {doc['robots']} robots, {doc['samples']} pose samples"
              + ("" if doc["has_parents"] else ", no parent links"),
              f"clock: {c['time']} time, every {fmt_s(c['period_s'])} s from {fmt_s(c['start_s'])} s to {fmt_s(c['end_s'])} s "
-             f"({c['instants']} instants, {c['judged_instants']} judged; a pose older than {fmt_s(c['stale_s'])} s is stale; "
+             f"({c['instants']} instants, {c['judged_instants']} judged; a pose older than "
+             + (f"{fmt_s(c['stale_s'])} s" if c["stale_min_s"] == c["stale_s"] else
+                f"2.5 of its robot's own sampling intervals ({fmt_s(c['stale_min_s'])} s to {fmt_s(c['stale_s'])} s)")
+             + " is stale; "
              "sample and hold)",
              f"range {doc['range']:g}, radius {doc['radius']:g}; tolerance: position {doc['tolerance']['pos_tol']:g}, "
              f"range margin {doc['tolerance']['range_margin']:g}, collision margin {doc['tolerance']['collision_margin']:g}"]

@@ -38,8 +38,14 @@ def _load(path: str):
     from swarmproof.models.counterexample import COUNTEREXAMPLE_FORMAT
     from swarmproof.models.trace import Trace
 
+    low = str(path).lower()
+    if not low.endswith((".json", ".npz")):
+        from swarmproof.models.errors import UsageError
+
+        raise UsageError(f"TRACE_OR_COUNTEREXAMPLE={str(path)!r} is not a trace or counterexample file (.json or .npz)",
+                         fix="give a file of simulate --trace or explore --out (a log is read by check-run, not export)")
     head = None
-    if not str(path).lower().endswith(".npz"):
+    if not low.endswith(".npz"):
         try:
             with open(path, encoding="utf-8") as fh:
                 head = json.load(fh).get("format")
@@ -76,8 +82,13 @@ def _marker(trace, rr):
     w = rr.verdict.witness or {}
     robots = set(int(x) for x in (w.get("robots") or [])) | {int(w[k]) for k in ("child", "parent", "robot")
                                                               if isinstance(w.get(k), int)}
-    return marker_of(trace, int(rr.step), f"{rr.counterexample.property}: {rr.verdict.message}"[:200],
-                     robots or None)
+    import math
+
+    from swarmproof.checkers.recorded import shown_at
+
+    # at the step where the violation first shows (a broken link one step after the step it broke in)
+    step = int(math.ceil(round(shown_at(rr.counterexample.property, w), 9)))
+    return marker_of(trace, step, f"{rr.counterexample.property}: {rr.verdict.message}"[:200], robots or None)
 
 
 def export_trace(trace, dest: str, *, markers=(), storage=None) -> str:
@@ -101,6 +112,7 @@ def run(args) -> int:
            "robots": int(trace.n), "steps": int(trace.steps), "markers": len(markers)}
     if args.json:
         emit_json(doc)
-    human(args, f"{what} {args.file}: {trace.n} robots, {trace.steps} steps -> {doc['format']} {path}"
-                + (f" (the violation marked on /swarmproof/violation at {markers[0][0] / 1e9:g} s)" if markers else ""))
+    where = "" if not markers else (" (the violation is not marked: a CSV has no topic for markers)" if fmt == "csv"
+                                    else f" (the violation marked on /swarmproof/violation at {markers[0][0] / 1e9:g} s)")
+    human(args, f"{what} {args.file}: {trace.n} robots, {trace.steps} steps -> {doc['format']} {path}{where}")
     return 0

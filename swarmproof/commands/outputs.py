@@ -75,7 +75,9 @@ def check_output(dest: str, value, option: str | None = None) -> str:
         try:
             fmt = export_format(value)
         except UsageError as exc:
-            raise UsageError(f"{option}={value!r}: {exc.message.split(': ', 1)[-1]}", fix=exc.fix) from None
+            text = exc.message if exc.message.startswith(f"{option}=") else \
+                f"{option}={value!r}: {exc.message.split(': ', 1)[-1]}"
+            raise UsageError(text, fix=exc.fix) from None
         if fmt != "rosbag2":
             return check_output_path(value, option)
         parent = os.path.dirname(os.path.abspath(value))

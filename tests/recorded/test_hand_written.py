@@ -30,7 +30,7 @@ def test_a_known_split_is_violated_at_its_time(fmt, tmp_path, check_run):
     assert conn["status"] == "violated"
     assert conn["witness"]["step"] == 15 and conn["witness"]["time_s"] == 1.5
     assert conn["witness"]["components"] == [[0, 1], [2]]
-    assert "(log time 1.5 s)" in conn["message"]
+    assert "(seen at 1.5 s, instant 15)" in conn["message"]
     assert doc["format"] == fmt and doc["ids"] == [0, 1, 2] and doc["samples"] == 93
     assert doc["has_parents"] is False and "tree_links" in doc["not_applicable"]
     clock = doc["clock"]

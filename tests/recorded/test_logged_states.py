@@ -78,7 +78,7 @@ def test_the_properties_over_states_judge_a_log_as_the_run(case, fmt, folder, tm
     for name, (status, message) in want.items():
         assert got[name][0] == status, (name, got[name], message)
         # the same counts: every instance the run's monitors saw, the log's saw
-        assert got[name][1].split(" (log time")[0] == message.split(" (log time")[0], name
+        assert got[name][1].split(" (seen at")[0] == message.split(" (seen at")[0], name
 
 
 def test_a_log_without_states_leaves_them_not_applicable(folder, tmp_path, capsys):

@@ -188,6 +188,6 @@ def test_human_output(tmp_path, cli):
         "sample and hold)",
         "range 1.2, radius 0.1; tolerance: position 0, range margin 0, collision margin 0",
         "  connectivity: VIOLATED: the communication graph splits after step 15 into 2 components: [[0, 1], [2]] "
-        "(log time 1.5 s)",
+        "(seen at 1.5 s, instant 15)",
         "result: violated (exit 1)",
     ]
