@@ -28,6 +28,8 @@ def focus_of(rep):
             continue
         k = int(w.get("instant", w["step"]))          # where it first shows (checkers.recorded.shown_at)
         robots = list(w.get("robots") or []) + [w[x] for x in ("child", "parent", "robot") if x in w]
+        comps = sorted(w.get("components") or [], key=len)
+        robots += [r for c in comps[:-1] for r in c]        # a split: the robots cut off from the largest part
         if best is None or k < best[0]:
             best = (min(k, rep.clock.instants - 1), name, [int(x) for x in robots])
     return best or (rep.clock.instants - 1, None, [])
@@ -82,14 +84,25 @@ def plot_recorded(rep, path) -> str:
     ring = [slot[r] for r in marked if r in slot]
     if ring:
         ax.scatter(xy[ring, 0], xy[ring, 1], s=220, facecolors="none", edgecolors="tab:red", linewidths=1.8, zorder=5)
-    for s, rid in enumerate(ids):
-        ax.annotate(str(rid), (xy[s, 0], xy[s, 1]), xytext=(3, 3), textcoords="offset points", fontsize=7)
+    for s, rid in enumerate(ids):        # beside the ring a violation draws, not under it
+        ax.annotate(str(rid), (xy[s, 0], xy[s, 1]), xytext=(7, 7), textcoords="offset points", fontsize=7)
+    # a log along a line keeps some height: pad the shorter side to a third of the longer
+    allxy = P[:, :, :2].reshape(-1, 2)
+    lo, hi = allxy.min(axis=0), allxy.max(axis=0)
+    span = max(float(np.max(hi - lo)), rep.phi)
+    mid = (lo + hi) / 2
+    half = np.maximum((hi - lo) / 2, span / 6) + 0.1 * span
+    ax.set_xlim(mid[0] - half[0], mid[0] + half[0])
+    ax.set_ylim(mid[1] - half[1], mid[1] + half[1])
+    if len(comps) > 1:
+        ax.scatter([], [], s=36, color=ROLE_COLORS[0], edgecolors="black", linewidths=0.5,
+                   label=f"{len(comps)} components (colours)")
     when = f"{fmt_s(rep.clock.seconds(k))} s (instant {k})"
     status = {n: r.status for n, r in rep.results.items()}
     head = f"{name} violated at {when}" if name else f"end of log, {when}"
     ax.set_title(f"{rep.log.path.rstrip('/').split('/')[-1]}: {len(ids)} robots; {head}\n"
                  + ", ".join(f"{n} {s}" for n, s in status.items()), fontsize=8)
-    if stale:
+    if stale or len(comps) > 1:
         ax.legend(loc="best", fontsize=7)
     return save_png(fig, path)
 
