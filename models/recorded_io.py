@@ -393,7 +393,7 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
                     raise InputFileError(f"{bad}={row[col[bad]]!r} is not a number", file=path, line=line, field=bad,
                                          fix="write a decimal number (t in seconds, theta in radians)") from None
                 try:
-                    rid = int(row[ii])
+                    rid = _integer(row[ii])
                 except ValueError:
                     raise InputFileError(f"id={row[ii]!r} is not an integer", file=path, line=line, field="id",
                                          fix="name each robot by an integer id") from None
@@ -411,7 +411,7 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
                 if pcol is not None:
                     raw = row[pcol].strip()
                     try:
-                        par = -1 if raw == "" else int(raw)
+                        par = -1 if raw == "" else _integer(raw)
                     except ValueError:
                         raise InputFileError(f"parent={raw!r} is not an integer", file=path, line=line, field="parent",
                                              fix="give the parent's id, or leave it empty (or -1) for none") from None
@@ -448,6 +448,32 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
                              fix="log every robot's state, or none (leave the column out)")
     return RecordedLog(path, "csv", _robots_from(poses), _parents_from(parents) if pcol is not None else None, notes,
                        _states_from(states) if states else None)
+
+
+def _integer(text: str) -> int:
+    """An id written as an integer, or as a float with nothing after the point (``3.0``: a spreadsheet's
+    or pandas' way); anything else is a ``ValueError``."""
+    try:
+        return int(text)
+    except ValueError:
+        value = float(text)
+        if not (math.isfinite(value) and value.is_integer()):
+            raise
+        return int(value)
+
+
+def _guess_pattern(topics: Mapping[str, str]) -> str | None:
+    """The ``--topics`` pattern most pose-typed topics share with their one number as ``{id}``
+    (``/tb3_0/odom`` and ``/tb3_1/odom``: ``/tb3_{id}/odom``), or None."""
+    counts: dict = {}
+    for topic, msgtype in topics.items():
+        if msgtype not in POSE_TYPES:
+            continue
+        for m in re.finditer(r"\d+", topic):         # each number of the name may be the id
+            key = topic[:m.start()] + "{id}" + topic[m.end():]
+            counts[key] = counts.get(key, 0) + 1
+    best = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))
+    return best[0][0] if best else None
 
 
 def _is_float(text: str) -> bool:
@@ -551,9 +577,12 @@ class _Topics:
         self.parents = {rid: _Collector(rid, t, "log", path, "topic") for (w, rid), t in seen.items() if w == "parent"}
         self.states = {rid: _Collector(rid, t, "log", path, "topic") for (w, rid), t in seen.items() if w == "state"}
         if not self.poses:
+            guess = _guess_pattern(topics)
             raise InputFileError(f"no topic matches --topics={pose_pattern!r}; the log's topics: "
-                                 f"{sorted(topics) or 'none'}", file=path, field="--topics",
-                                 fix="give the pattern of the robots' pose topics, e.g. --topics '/robot_{id}/pose'")
+                                 f"{sorted(topics)[:20] or 'none'}", file=path, field="--topics",
+                                 fix=(f"give the pattern of the robots' pose topics: --topics '{guess}' fits this log"
+                                      if guess else "give the pattern of the robots' pose topics, e.g. --topics "
+                                                    "'/robot_{id}/pose'"))
         for what, got, pattern, given, default in (("parent", self.parents, parent_pattern, parent_given,
                                                      DEFAULT_PARENT_TOPICS),
                                                     ("state", self.states, state_pattern, state_given,

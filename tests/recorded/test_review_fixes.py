@@ -126,3 +126,24 @@ def test_a_run_name_in_two_folders_is_refused(tmp_path):
 def test_recorded_paths_that_are_not_folders(tmp_path, make, match):
     with pytest.raises(InputFileError, match=match):
         verify(sections=["recorded"], recorded=[make(tmp_path)])
+
+
+def test_ids_written_as_floats_with_nothing_after_the_point(tmp_path, check_run):
+    path = lk.write_csv(tmp_path / "f.csv", [(k, f"{i}.0", float(i), 0.0, 0.0, "" if i == 0 else "0.0")
+                                             for k in range(3) for i in range(2)],
+                        ("t", "id", "x", "y", "theta", "parent"))
+    code, doc, _ = check_run(path, "--range", "1.5", "--property", "tree_links")
+    assert code == 0 and doc["ids"] == [0, 1]
+    bad = lk.write_csv(tmp_path / "g.csv", [(0, "1.5", 0.0, 0.0, 0.0)])
+    code, doc, err = check_run(bad, "--range", "1.5")
+    assert code == 2 and "id='1.5' is not an integer" in err
+
+
+def test_no_topic_match_guesses_the_pattern_from_the_log(tmp_path, cli):
+    msgs = [lk.pose(r, k / 10, float(r), 0.0, topic=f"/tb3_{r}/pose_stamped") for k in range(5) for r in range(2)]
+    path = lk.write("mcap", tmp_path / "tb3", msgs)
+    code, _, err = cli("check-run", path, "--range", "1.5")
+    assert code == 2 and "--topics '/tb3_{id}/pose_stamped' fits this log" in err
+    code, _, err = cli("check-run", path, "--range", "1.5", "--topics", "/tb3_{id}/pose_stamped",
+                       "--property", "connectivity")
+    assert code == 0, err
