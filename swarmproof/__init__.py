@@ -7,9 +7,23 @@ subpackages ``swarmproof.models``, ``swarmproof.reference_impl``,
 
 __version__ = "0.1.0"
 
-from swarmproof.models import (SE2, AssumptionError, Edge, InputFileError, LatticeGraph,
-                               SwarmproofError, UsageError)
-from swarmproof.models.verdict import Verdict
+#: The facade's names, imported on first use (PEP 562): ``import swarmproof`` stays light, so the
+#: console script handles Ctrl-C before numpy and the rest load (swarmproof.entry).
+_LAZY = {"SE2": "swarmproof.models", "AssumptionError": "swarmproof.models", "Edge": "swarmproof.models",
+         "InputFileError": "swarmproof.models", "LatticeGraph": "swarmproof.models",
+         "SwarmproofError": "swarmproof.models", "UsageError": "swarmproof.models",
+         "Verdict": "swarmproof.models.verdict"}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'swarmproof' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
 
 __all__ = [
     "__version__", "SE2", "Edge", "LatticeGraph", "Verdict",

@@ -251,6 +251,8 @@ def _emit_error(doc: dict) -> None:
 
 
 def run_main() -> None:  # pragma: no cover
+    """The old console-script target; :mod:`swarmproof.entry` is the one installed now (it handles a
+    Ctrl-C while this module loads)."""
     sys.exit(main())
 
 

@@ -131,3 +131,28 @@ def test_no_file_is_written_after_ctrl_c(tmp_path):
     finally:
         interrupt.reset()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_ctrl_c_while_the_modules_load_is_exit_130_without_a_traceback():
+    """The console script's entry (swarmproof.entry) imports only sys before the CLI loads: a Ctrl-C
+    while numpy, z3 and the commands load (the first half second) ends the command as one pressed
+    later does (a new user's review of issue 34 found the traceback).  The KeyboardInterrupt is
+    raised where a real SIGINT lands, inside the import of the CLI -- deterministic, unlike a timer."""
+    child = ("import sys, types\n"
+             "class Loading(types.ModuleType):\n"
+             "    def __getattr__(self, name):\n"
+             "        raise KeyboardInterrupt\n"
+             "sys.modules['swarmproof.cli'] = Loading('swarmproof.cli')\n"
+             "from swarmproof.entry import main\n"
+             "main()\n")
+    proc = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 130 and "Traceback" not in proc.stderr
+    assert proc.stderr.strip() == "swarmproof: interrupted (Ctrl-C); no report was written" and proc.stdout == ""
+
+
+def test_the_package_loads_nothing_heavy_before_the_entry_runs():
+    """``import swarmproof.entry`` (what the console script does first) imports neither numpy nor the CLI."""
+    proc = subprocess.run([sys.executable, "-c", "import sys, swarmproof.entry; "
+                           "print(sorted(m for m in ('numpy', 'z3', 'swarmproof.cli', 'swarmproof.models') "
+                           "if m in sys.modules))"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0 and proc.stdout.strip() == "[]", proc.stderr
