@@ -373,41 +373,6 @@ def _unseen_samples(log: RecordedLog, clock: Clock) -> int:
     return total
 
 
-def _window_runs(log: RecordedLog, clock: Clock):
-    """Judged windows ``(k0, k1)`` (k1 exclusive) and gaps ``{from_s, to_s, instants, robots}``."""
-    windows, gaps = [], []
-    ids = sorted(log.robots)
-    cur = None
-    gap = None
-    for k, _, _, fresh, present, _ in aligned_frames(log, clock):
-        if (fresh | ~present).all():
-            if gap is not None:
-                gaps.append(gap)
-                gap = None
-            if cur is None:
-                cur = [k, k + 1]
-            else:
-                cur[1] = k + 1
-        else:
-            if cur is not None:
-                windows.append(tuple(cur))
-                cur = None
-            stale = [ids[j] for j in np.flatnonzero(present & ~fresh)]
-            if gap is None:
-                gap = {"from_step": k, "to_step": k, "robots": set(stale)}
-            else:
-                gap["to_step"] = k
-                gap["robots"].update(stale)
-    if cur is not None:
-        windows.append(tuple(cur))
-    if gap is not None:
-        gaps.append(gap)
-    for g in gaps:
-        g["from_s"], g["to_s"] = clock.seconds(g["from_step"]), clock.seconds(g["to_step"])
-        g["robots"] = sorted(g["robots"])
-    return windows, gaps
-
-
 def shown_at(name: str, witness: Mapping) -> float:
     """The step count (fractional) at which a property's violation first shows: a collision inside
     its step, at its fraction; a tree link broken in step t at t + 1 (it held at t); any other at its
@@ -529,7 +494,6 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
 
     from swarmproof.reference_impl.protocol import Params
 
-    windows, gaps = _window_runs(log, clock)
     streamed = [p for p in props if p.stream is not None]
     whole = [p for p in props if p.stream is None]
     # nominal, then each tolerance knob's two directions (only the one that could overturn is read)
@@ -540,8 +504,8 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
             keys += [((p.name, v), p) for v in (-1, +1)
                      if not (knob == "radius" and radius + v * cm <= 0)]   # a disc of radius <= 0: nothing collides
     judge = _Judge(keys, stand_in, params_of, options_of, ids)
-    per_key, frames_kept, final = _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target,
-                                          params, options_of, stand_in, phi, progress)
+    per_key, frames_kept, final, windows, gaps = _stream(log, clock, judge, keep_frames, pos_tol, static_k, ids,
+                                                         target, params, options_of, stand_in, progress)
     judged = sum(b - a for a, b in windows)
     results, sensitive = {}, {}
     for p in streamed:
@@ -614,20 +578,33 @@ def _add_notes(log: RecordedLog, clock: Clock) -> None:
             log.notes.append(note)
 
 
-def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, target, params, options_of, stand_in, phi,
+def _stream(log, clock, judge, keep_frames, pos_tol, static_k, ids, target, params, options_of, stand_in,
             progress=None):
-    """Feed every aligned instant to the monitors of its window; keep frames for pictures.
-    Returns the per-(key, window) results, the kept frames and the last window's end."""
+    """One pass over the aligned instants: each judged instant (every present robot fresh) is fed to
+    the monitors of its window, a window closes at the first unjudged instant after it (or the
+    log's end), the unjudged ones make the gaps; frames are kept for pictures.  Returns the
+    per-(key, window) results, the kept frames, the last window's end, the windows ``(k0, k1)``
+    (k1 exclusive) and the gaps ``{from_step, to_step, from_s, to_s, robots}``."""
     n = len(ids)
+    id_arr = np.asarray(ids)
     per_key: dict = {}
     frames_kept: list = []
+    windows: list = []
+    gaps: list = []
     every = max(1, clock.instants // keep_frames) if keep_frames else 0
     last_move = 0
     prev = None
-    win_iter = iter(windows)
-    win = next(win_iter, None)
-    mons = None
+    mons = cur = gap = None            # the open window's monitors and (k0, last instant, its frame), the open gap
     final = None
+
+    def close(cur):
+        k0, k, poses, states, static = cur
+        win = (k0, k + 1)
+        result = _Result("static" if static else "step_cap", k, None, static_k, id_arr, poses.copy())
+        _close_window(mons, per_key, win, not windows, target, params, options_of, stand_in, result)
+        windows.append(win)
+        return (k, poses.copy(), states, result)
+
     for k, poses, pars, fresh, present, sidx in aligned_frames(log, clock):
         if progress is not None and not k % 10_000:
             progress(f"judged {k} of {clock.instants} instants")
@@ -640,31 +617,42 @@ def _stream(log, clock, windows, judge, keep_frames, pos_tol, static_k, ids, tar
             if prev is not None:
                 last_move = k
             prev = poses[:, :2].copy()
-        if win is None or k < win[0]:
+        if not (fresh | ~present).all():
+            if cur is not None:
+                final, cur = close(cur), None
+            stale = id_arr[present & ~fresh].tolist()
+            if gap is None:
+                gap = {"from_step": k, "to_step": k, "robots": set(stale)}
+            else:
+                gap["to_step"] = k
+                gap["robots"].update(stale)
             continue
-        if mons is None:
+        if gap is not None:
+            gaps.append(gap)
+            gap = None
+        if cur is None:
             mons = judge.monitors()
         states = _states(pars, n, log, sidx)
         for _, _, ob in mons:
             ob.observe(k, poses, states, present)
-        if k == win[1] - 1:
-            result = _Result("static" if k - last_move >= static_k else "step_cap", k, None, static_k,
-                             np.asarray(ids), poses.copy())
-            _close_window(mons, per_key, win, windows, target, params, options_of, stand_in, result, poses, ids, phi)
-            final = (k, poses.copy(), states, result)
-            mons = None
-            win = next(win_iter, None)
-    return per_key, frames_kept, final
+        cur = (k if cur is None else cur[0], k, poses, states, k - last_move >= static_k)
+    if cur is not None:
+        final = close(cur)
+    if gap is not None:
+        gaps.append(gap)
+    for g in gaps:
+        g["from_s"], g["to_s"] = clock.seconds(g["from_step"]), clock.seconds(g["to_step"])
+        g["robots"] = sorted(g["robots"])
+    return per_key, frames_kept, final, windows, gaps
 
 
-def _close_window(mons, per_key, win, windows, target, params, options_of, stand_in, result, poses, ids, phi):
-    from swarmproof.invariants.connectivity import components, neighbor_pairs
-
+def _close_window(mons, per_key, win, first: bool, target, params, options_of, stand_in, result):
+    """Each monitor's result for the window ``win`` (``first``: the log's first window)."""
     for key, prop, ob in mons:
         ctx = PropertyContext(stand_in, target, params, result, options_of(key))
         judge = getattr(ob, "judge", None)
         res = judge(ctx) if callable(judge) else ob.result()
-        if (prop.name == "connectivity" and res.status == "inconclusive" and win != windows[0]
+        if (prop.name == "connectivity" and res.status == "inconclusive" and not first
                 and len(getattr(ob, "start_components", None) or []) > 1):
             # a window after a gap opens split: the log's graph was connected at its start, so it
             # split somewhere in the gap -- seen at the window's first instant
@@ -693,9 +681,7 @@ def _combine(prop, results, gaps, clock: Clock, judged: int) -> InvariantResult:
             f"not violated in the {judged} judged instants of {clock.instants}, but not judged from {fmt_s(g['from_s'])} s "
             f"to {fmt_s(g['to_s'])} s: robots {g['robots'][:8]} had no sample fresher than {fmt_s(clock.stale_ns / NS)} s"
             f"{more}", detail={"judged_instants": judged, "instants": clock.instants})
-    if len(results) == 1:
-        return results[0]
-    return results[0]
+    return results[0]       # no gap: one window
 
 
 def _sensitivity(prop, res, windows, per_key, gaps, clock, judged) -> bool | None:
@@ -726,7 +712,6 @@ def _judge_whole(prop, final, last_fresh, clock, target, params, options, stand_
                                f"the log's last instant ({fmt_s(clock.seconds(clock.instants - 1))} s) is not judged: "
                                "some robot had no fresh sample there")
     k, poses, states, result = final
-    n = len(ids)
     frames = 2 if k else 1
     trace = Trace(ids=np.asarray(ids), poses=np.stack([poses] * frames), states=[states] * frames,
                   times=[0, k] if k else None,
