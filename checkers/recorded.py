@@ -42,6 +42,7 @@ Examples
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -49,7 +50,7 @@ from typing import Any, Iterator, Mapping, Sequence
 
 import numpy as np
 
-from swarmproof.invariants.registry import DEFAULT_POS_TOL, DEFAULT_RADIUS, PropertyContext, get_property
+from swarmproof.invariants.registry import DEFAULT_POS_TOL, PropertyContext, collision_radius, get_property
 from swarmproof.invariants.registry import properties as registered_properties
 from swarmproof.invariants.result import InvariantResult
 from swarmproof.models.errors import UsageError
@@ -404,7 +405,9 @@ def _with_time(res: InvariantResult, clock: Clock) -> InvariantResult:
     return res
 
 
-def _params(phi: float, v: float | None, clock: Clock, algorithm, n: int, radius: float):
+def _params(phi: float, v: float | None, clock: Clock, algorithm, n: int):
+    """The run's parameters as a log gives them: the algorithm's defaults (its speed and ``extra``,
+    e.g. 004's ``robot_radius``), the range, and one step per instant of the clock."""
     from swarmproof.reference_impl.protocol import Params
 
     base = None
@@ -415,7 +418,6 @@ def _params(phi: float, v: float | None, clock: Clock, algorithm, n: int, radius
         except Exception:  # noqa: BLE001 - an algorithm whose defaults need more: the log's own
             base = None
     extra = dict(getattr(base, "extra", None) or {})
-    extra["robot_radius"] = radius
     return Params(range=phi, v=float(v if v is not None else getattr(base, "v", 0.05)),
                   dt=clock.period_ns / NS, extra=extra)
 
@@ -458,7 +460,9 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     clock = make_clock(log, period=period, stale=stale)
     ids = sorted(log.robots)
     n = len(ids)
-    radius = float(DEFAULT_RADIUS if radius is None else radius)
+    params = _params(phi, v, clock, algorithm, n)
+    # collision's own rule: the radius given, else the algorithm's robot_radius, else the default
+    radius = collision_radius(params, {} if radius is None else {"radius": radius})
     rm = 2.0 * pos_tol if range_margin is None else float(range_margin)
     cm = float(pos_tol) if collision_margin is None else float(collision_margin)
     for name, val in (("--range-margin", rm), ("--collision-margin", cm), ("--radius", radius),
@@ -474,7 +478,7 @@ def check_recorded(log: RecordedLog, *, phi: float, target=None, algorithm=None,
     _add_notes(log, clock)
     options = dict(options or {})
     props, na = _select(names, stand_in, target, log, algorithm)
-    params = _params(phi, v, clock, algorithm, n, radius)
+    params = dataclasses.replace(params, extra={**params.extra, "robot_radius": radius})
     static_k = max(1, int(math.ceil(static_window * NS / clock.period_ns)))
     options.setdefault("deadlock_k", static_k)
     options.setdefault("pos_tol", max(pos_tol, DEFAULT_POS_TOL))
@@ -749,20 +753,6 @@ def _phi_of(range_, target) -> float:
                      fix="give --range PHI (or a lattice --target, whose range is used)")
 
 
-def _radius_of(radius, algorithm, phi):
-    if radius is not None:
-        return radius
-    f = getattr(algorithm, "default_params", None)
-    if callable(f):
-        try:
-            extra = f(range=phi, n=0).extra or {}
-        except Exception:  # noqa: BLE001 - defaults that need more than the range: the default radius
-            extra = {}
-        if "robot_radius" in extra:
-            return float(extra["robot_radius"])
-    return None
-
-
 def judge_log(path, *, range=None, target=None, algorithm=None, properties=None, topics=None,  # noqa: A002
               parent_topics=None, time=None, keep_frames: int = 0, progress=None, state_topics=None, **options):
     """Read and judge one log as ``swarmproof check-run`` does (the command and verify's
@@ -798,7 +788,6 @@ def judge_log(path, *, range=None, target=None, algorithm=None, properties=None,
         scale = getattr(algo, "scale_target", None)
         if callable(scale) and tgt is not None:
             tgt = scale(tgt, len(log.robots))
-    options["radius"] = _radius_of(options.get("radius"), algo, phi)
     rep = check_recorded(log, phi=phi, target=tgt, algorithm=algo, properties=properties, keep_frames=keep_frames,
                          progress=progress, **options)
     return rep, (dict(spec.claims) if spec is not None else None)

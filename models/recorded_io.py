@@ -50,14 +50,14 @@ import shutil
 import tempfile
 from array import array
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Mapping
+from typing import Iterable, Mapping
 
 import numpy as np
 
 from .errors import InputFileError, UsageError
 from .fileio import _umask, atomic_write_bytes, atomic_write_text
 
-__all__ = ["RobotSamples", "ParentSamples", "RecordedLog", "read_log", "log_format", "topic_regex",
+__all__ = ["trace_period_ns", "RobotSamples", "ParentSamples", "RecordedLog", "read_log", "log_format", "topic_regex",
            "POSE_TYPES", "PARENT_TYPES", "STATE_TYPES", "DEFAULT_POSE_TOPICS", "DEFAULT_PARENT_TOPICS",
            "DEFAULT_STATE_TOPICS", "StateSamples", "INSTALL_ROS",
            "write_log", "EXPORT_FORMATS", "MAX_SAMPLES", "MAX_TIME_S", "MAX_COORDINATE", "MAX_ID", "yaw_of", "quaternion_of"]
@@ -377,7 +377,6 @@ def _read_csv(path: str, progress=None) -> RecordedLog:
         width = len(names)
         ti, ii, xi, yi, hi = (col[c] for c in _CSV_REQUIRED)
         line = 1
-        isfinite = math.isfinite
         try:
             for row in reader:
                 line += 1
@@ -1122,6 +1121,13 @@ def _parent_of(state):
 _MISSING = object()
 
 
+def trace_period_ns(trace) -> int:
+    """A run's step in nanoseconds (its params' ``dt``, 1 s without one): step ``s`` is logged at
+    ``s`` times it."""
+    dt = float(((trace.meta or {}).get("params") or {}).get("dt", 1.0) or 1.0)
+    return max(1, int(round(dt * NS)))
+
+
 def trace_samples(trace, *, states: bool = False) -> tuple[list, bool, int]:
     """A trace's poses as log samples ``(t_ns, id, x, y, theta, parent)`` in time order, whether
     its states name parents, and the period in ns (the run's ``dt``; step ``s`` is at ``s dt``).
@@ -1133,8 +1139,7 @@ def trace_samples(trace, *, states: bool = False) -> tuple[list, bool, int]:
 
     from .trace import to_jsonable
 
-    dt = float(((trace.meta or {}).get("params") or {}).get("dt", 1.0) or 1.0)
-    period = max(1, int(round(dt * NS)))
+    period = trace_period_ns(trace)
     has_parent = any(_parent_of(s) is not _MISSING for frame in trace.states[:1] + trace.states[-1:] for s in frame)
     ids = [int(i) for i in trace.ids]
     last: dict = {}

@@ -14,7 +14,6 @@ topic, message and field named); 3 one was inconclusive (unjudged instants, a va
 from __future__ import annotations
 
 from swarmproof.commands import emit_json, human
-from swarmproof.models.errors import UsageError
 
 NAME = "check-run"
 HELP = "judge a recorded run (ROS 2 bag, MCAP or CSV) by the same properties as simulated runs"

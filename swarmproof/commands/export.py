@@ -65,9 +65,8 @@ def _load(path: str):
 
 def marker_of(trace, step: int, text: str, robots=None):
     """``(t_ns, text, points)``: the robots ``robots`` (default: every present one) at ``step``."""
-    from swarmproof.models.recorded_io import NS
+    from swarmproof.models.recorded_io import trace_period_ns
 
-    dt = float(((trace.meta or {}).get("params") or {}).get("dt", 1.0) or 1.0)
     f = trace.frame_of(int(step))
     if f is None:
         f = len(trace.poses) - 1
@@ -75,7 +74,7 @@ def marker_of(trace, step: int, text: str, robots=None):
     pres = trace.present_at(f)
     pick = [j for j, rid in enumerate(ids) if pres[j] and (robots is None or rid in robots)]
     points = [(float(trace.poses[f, j, 0]), float(trace.poses[f, j, 1])) for j in pick]
-    return int(step) * max(1, int(round(dt * NS))), text, points
+    return int(step) * trace_period_ns(trace), text, points
 
 
 def _marker(trace, rr):

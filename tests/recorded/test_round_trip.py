@@ -20,7 +20,6 @@ from __future__ import annotations
 import functools
 import json
 import math
-import types
 
 import numpy as np
 import pytest
@@ -33,7 +32,6 @@ from swarmproof.invariants.registry import PropertyContext, collision_radius, ge
 from swarmproof.models.recorded_io import NS, read_log
 from swarmproof.models.targets import resolve_target
 from swarmproof.reference_impl.initial import random_grid_connected
-from swarmproof.reference_impl.protocol import RobotModel
 from swarmproof.reference_impl.registry import algorithm_names
 
 HEADING_TOL = 1e-9           # rad: quaternion -> yaw is not bit-exact
